@@ -1,0 +1,120 @@
+// The hierarchical scene (Farnsworth & Erbacher, Figure 4): groups ("Sets") with transforms,
+// instances that place a shared group again, and shape leaves. Every node has a bounding volume.
+// This is the renderer-independent description; accel/ maps it onto Embree.
+#pragma once
+
+#include "core/math.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rayproc {
+
+enum class MaterialType { Diffuse, Mirror, Dielectric, Glossy };
+
+// One material per leaf. `color` is the diffuse albedo, the mirror reflectance, the glossy
+// specular colour (Schlick F0) or the dielectric transmission tint, depending on `type`.
+struct Material {
+    std::string name;
+    MaterialType type = MaterialType::Diffuse;
+    Vec3 color{0.5f, 0.5f, 0.5f};
+    float ior = 1.5f;       // dielectric only
+    float roughness = 0.2f; // glossy only: GGX alpha = roughness^2
+};
+
+const char* materialTypeName(MaterialType t);
+
+struct TriangleMesh {
+    std::vector<Vec3> positions;
+    std::vector<Vec3> normals; // empty, or one per position (shading normals)
+    std::vector<Vec2> uvs;     // empty, or one per position
+    std::vector<std::uint32_t> indices; // 3 per triangle
+    std::size_t triangleCount() const { return indices.size() / 3; }
+    Bounds3 bounds() const;
+};
+
+enum class ShapeType { Mesh, Sphere, Disk };
+
+// A leaf. Geometry is in the space of the enclosing group. Rectangles and quads are meshes of
+// two triangles with `isQuad` set, so that preview mode can put a point light at each corner.
+struct Shape {
+    ShapeType type = ShapeType::Mesh;
+    std::string name;
+    int material = 0; // index into Scene::materials
+    Vec3 emission{0, 0, 0}; // radiance emitted from the front side (and back when twoSided)
+    bool twoSided = false;
+    // Mesh
+    std::shared_ptr<const TriangleMesh> mesh;
+    bool isQuad = false;
+    // Sphere and disk
+    Vec3 center{0, 0, 0};
+    float radius = 1.0f;
+    Vec3 normal{0, 1, 0}; // disk only: the front side
+
+    bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+    Bounds3 bounds() const;
+};
+
+struct Node;
+
+// A node of the hierarchy. Groups own children; an instance refers to a prototype group held in
+// Scene::prototypes. `transform` maps the node's space into its parent's.
+struct Node {
+    enum class Kind { Group, Instance, Shape };
+    Kind kind = Kind::Group;
+    std::string name;
+    Affine transform;
+    std::vector<std::unique_ptr<Node>> children; // Group
+    const Node* prototype = nullptr;             // Instance
+    Shape shape;                                 // Shape
+    Bounds3 bounds;                              // in the parent's space (computeBounds)
+};
+
+enum class LightType { Point, Spot, Directional, Environment };
+
+// Lights without geometry. Emissive shapes are area lights; they live in the tree.
+struct Light {
+    LightType type = LightType::Point;
+    std::string name;
+    Vec3 position{0, 0, 0};     // point, spot
+    Vec3 direction{0, -1, 0};   // spot: where it points; directional: where light travels
+    Vec3 intensity{1, 1, 1};    // point, spot: W/sr; directional: irradiance; environment: radiance
+    float coneAngle = 30.0f;    // spot: full-intensity half angle, degrees
+    float falloffAngle = 5.0f;  // spot: smooth falloff beyond the cone, degrees
+};
+
+struct Camera {
+    Vec3 position{0, 0, 5};
+    Vec3 lookAt{0, 0, 0};
+    Vec3 up{0, 1, 0};
+    float fovY = 40.0f; // vertical field of view, degrees
+    int width = 512, height = 512;
+    float apertureRadius = 0.0f; // thin lens; 0 = pinhole
+    float focusDistance = 0.0f;  // 0 = distance to lookAt
+};
+
+// Render settings that a scene file may carry; the CLI overrides each one it sets.
+struct SceneRenderSettings {
+    std::string mode;  // empty: the CLI default
+    int spp = 0;       // 0: the mode's default
+    int maxDepth = 0;  // 0: the mode's default
+    int lightSamples = 0;
+    long long seed = -1; // -1: default
+};
+
+struct Scene {
+    std::string path; // file it came from, for messages
+    Camera camera;
+    std::vector<Material> materials;
+    std::vector<Light> lights;
+    std::unique_ptr<Node> root;                        // a group
+    std::vector<std::unique_ptr<Node>> prototypes;     // groups placed by instances
+    SceneRenderSettings render;
+
+    int findMaterial(const std::string& name) const; // -1 if absent
+    void computeBounds(); // fills Node::bounds bottom-up
+    Bounds3 worldBounds() const;
+};
+
+} // namespace rayproc
