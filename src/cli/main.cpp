@@ -1,1 +1,37 @@
-int main() { return 0; }
+// rayproc: a global-illumination renderer built as a data-parallel ray processor.
+#include "cli/commands.h"
+#include "core/error.h"
+#include "image/image.h"
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+    CLI::App app{"rayproc " RAYPROC_VERSION
+                 " - a multi-mode global-illumination renderer (ray-processor architecture).\n"
+                 "Run 'rayproc COMMAND --help' for the options of a command.",
+                 "rayproc"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "rayproc " RAYPROC_VERSION);
+    auto render = rayproc::cli::addRenderCommand(app);
+    auto info = rayproc::cli::addInfoCommand(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    // Every error that escapes a command ends here as one clear line and a non-zero status.
+    try {
+        if (app.got_subcommand("render")) return render();
+        if (app.got_subcommand("info")) return info();
+    } catch (const rayproc::InputError& e) {
+        rayproc::cli::printError(e.what());
+    } catch (const rayproc::ImageIoError& e) {
+        rayproc::cli::printError(e.what());
+    } catch (const std::bad_alloc&) {
+        rayproc::cli::printError("out of memory");
+    } catch (const std::exception& e) {
+        rayproc::cli::printError(std::string("error: ") + e.what());
+    }
+    return 1;
+}

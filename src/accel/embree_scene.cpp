@@ -1,0 +1,261 @@
+#include "accel/embree_scene.h"
+
+#include "core/error.h"
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+
+namespace rayproc {
+
+namespace {
+
+std::atomic<long long> g_embreeBytes{0};
+
+bool memoryMonitor(void*, ssize_t bytes, bool) {
+    g_embreeBytes += bytes;
+    return true;
+}
+
+void embreeError(void*, RTCError code, const char* str) {
+    // Embree reports API misuse and allocation failures here; both are fatal for a render.
+    throw std::runtime_error(std::string("Embree error ") + std::to_string(int(code)) + ": " +
+                             (str ? str : ""));
+}
+
+} // namespace
+
+EmbreeScene::EmbreeScene(const Scene& scene) : m_scene(scene) {
+    auto start = std::chrono::steady_clock::now();
+    long long bytesBefore = g_embreeBytes.load();
+    m_device = rtcNewDevice(nullptr);
+    if (!m_device) throw std::runtime_error("Embree: cannot create device");
+    rtcSetDeviceErrorFunction(m_device, embreeError, nullptr);
+    rtcSetDeviceMemoryMonitorFunction(m_device, memoryMonitor, nullptr);
+    m_top = rtcNewScene(m_device);
+    rtcSetSceneBuildQuality(m_top, RTC_BUILD_QUALITY_HIGH);
+
+    RAYPROC_CHECK(scene.root && scene.root->kind == Node::Kind::Group);
+    place(*scene.root, scene.root->transform, true);
+    for (auto& p : m_prototypes) rtcCommitScene(p.scene);
+    rtcCommitScene(m_top);
+
+    m_stats.prototypes = m_prototypes.size();
+    m_stats.instances = m_instances.size();
+    for (auto& p : m_prototypes)
+        for (const Shape* s : p.leaves)
+            if (s->type == ShapeType::Mesh) m_stats.uniqueTriangles += s->mesh->triangleCount();
+    m_stats.memoryBytes = std::size_t(std::max(0LL, g_embreeBytes.load() - bytesBefore));
+    m_stats.buildSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+EmbreeScene::~EmbreeScene() {
+    for (auto& p : m_prototypes) rtcReleaseScene(p.scene);
+    if (m_top) rtcReleaseScene(m_top);
+    if (m_device) rtcReleaseDevice(m_device);
+}
+
+// Leaves of a group that share its space: its own shapes and those of identity-transformed
+// child groups. Transformed child groups and instances are placed separately.
+void EmbreeScene::collectLeaves(const Node& group, std::vector<const Shape*>& out) const {
+    for (auto& c : group.children) {
+        if (c->kind == Node::Kind::Shape) out.push_back(&c->shape);
+        else if (c->kind == Node::Kind::Group && c->transform.isIdentity()) collectLeaves(*c, out);
+    }
+}
+
+unsigned EmbreeScene::attachShape(RTCScene target, const Shape& shape) {
+    RTCGeometry geom = nullptr;
+    switch (shape.type) {
+    case ShapeType::Mesh: {
+        const TriangleMesh& m = *shape.mesh;
+        geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        // Copies (not shared buffers): Embree reads vertex buffers with 16-byte loads and
+        // needs padding past the last vertex that a std::vector<Vec3> does not guarantee.
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+            m.positions.size()));
+        std::memcpy(v, m.positions.data(), m.positions.size() * sizeof(Vec3));
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+            m.triangleCount()));
+        std::memcpy(idx, m.indices.data(), m.indices.size() * sizeof(unsigned));
+        break;
+    }
+    case ShapeType::Sphere: {
+        geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+        v[0] = shape.center.x; v[1] = shape.center.y; v[2] = shape.center.z; v[3] = shape.radius;
+        break;
+    }
+    case ShapeType::Disk: {
+        geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+        v[0] = shape.center.x; v[1] = shape.center.y; v[2] = shape.center.z; v[3] = shape.radius;
+        auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 1));
+        Vec3 nn = normalize(shape.normal);
+        n[0] = nn.x; n[1] = nn.y; n[2] = nn.z;
+        break;
+    }
+    }
+    rtcCommitGeometry(geom);
+    unsigned id = rtcAttachGeometry(target, geom);
+    rtcReleaseGeometry(geom);
+    return id;
+}
+
+int EmbreeScene::prototypeFor(const Node& group) {
+    auto it = m_prototypeOf.find(&group);
+    if (it != m_prototypeOf.end()) return it->second;
+    Prototype p;
+    p.scene = rtcNewScene(m_device);
+    rtcSetSceneBuildQuality(p.scene, RTC_BUILD_QUALITY_HIGH);
+    collectLeaves(group, p.leaves);
+    for (std::size_t i = 0; i < p.leaves.size(); ++i) {
+        unsigned id = attachShape(p.scene, *p.leaves[i]);
+        RAYPROC_CHECK(id == i);
+    }
+    int index = int(m_prototypes.size());
+    m_prototypes.push_back(std::move(p));
+    m_prototypeOf[&group] = index;
+    return index;
+}
+
+namespace {
+// Visits the children of a group that are placed on their own: transformed groups and
+// instances, looking through identity groups whose leaves were merged into the parent.
+template <class F>
+void forEachPlacedChild(const Node& group, F&& f) {
+    for (auto& c : group.children) {
+        if (c->kind == Node::Kind::Instance) f(*c);
+        else if (c->kind == Node::Kind::Group) {
+            if (c->transform.isIdentity()) forEachPlacedChild(*c, f);
+            else f(*c);
+        }
+    }
+}
+} // namespace
+
+void EmbreeScene::place(const Node& group, const Affine& toWorld, bool isRoot) {
+    std::vector<const Shape*> leaves;
+    collectLeaves(group, leaves);
+    auto countPlaced = [&](const Shape* s, const Affine& w) {
+        ++m_stats.leaves;
+        if (s->type == ShapeType::Mesh) m_stats.placedTriangles += s->mesh->triangleCount();
+        if (s->type == ShapeType::Sphere) ++m_stats.spheres;
+        if (s->type == ShapeType::Disk) ++m_stats.disks;
+        if (s->isEmissive()) m_emitters.push_back({s, w, w.inverse()});
+    };
+    if (!leaves.empty()) {
+        if (isRoot && toWorld.isIdentity()) {
+            for (const Shape* s : leaves) {
+                unsigned id = attachShape(m_top, *s);
+                RAYPROC_CHECK(id == m_topEntries.size());
+                m_topEntries.push_back({s, -1});
+                countPlaced(s, toWorld);
+            }
+        } else {
+            int proto = prototypeFor(group);
+            RTCGeometry inst = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_INSTANCE);
+            rtcSetGeometryInstancedScene(inst, m_prototypes[proto].scene);
+            float m[12];
+            toWorld.toColumnMajor(m);
+            rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
+            rtcCommitGeometry(inst);
+            unsigned id = rtcAttachGeometry(m_top, inst);
+            rtcReleaseGeometry(inst);
+            RAYPROC_CHECK(id == m_topEntries.size());
+            m_topEntries.push_back({nullptr, int(m_instances.size())});
+            m_instances.push_back({proto, toWorld, toWorld.inverse()});
+            for (const Shape* s : leaves) countPlaced(s, toWorld);
+        }
+    }
+    forEachPlacedChild(group, [&](const Node& child) {
+        if (child.kind == Node::Kind::Instance) {
+            const Node& proto = *child.prototype;
+            place(proto, toWorld * child.transform * proto.transform, false);
+        } else {
+            place(child, toWorld * child.transform, false);
+        }
+    });
+}
+
+SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primId, float u,
+                                float v, const Vec3& rayOrigin, const Vec3& rayDir,
+                                float t) const {
+    SurfaceHit h;
+    const Affine* toWorld = nullptr;
+    const Affine* toLocal = nullptr;
+    if (instId != RTC_INVALID_GEOMETRY_ID) {
+        const TopEntry& e = m_topEntries[instId];
+        const InstanceRecord& inst = m_instances[e.instance];
+        h.shape = m_prototypes[inst.prototype].leaves[geomId];
+        h.instance = e.instance;
+        toWorld = &inst.toWorld;
+        toLocal = &inst.toLocal;
+    } else {
+        h.shape = m_topEntries[geomId].leaf;
+    }
+    const Shape& s = *h.shape;
+    h.material = s.material;
+    Vec3 pl, ngl, nsl;
+    switch (s.type) {
+    case ShapeType::Mesh: {
+        const TriangleMesh& m = *s.mesh;
+        unsigned i0 = m.indices[3 * primId], i1 = m.indices[3 * primId + 1],
+                 i2 = m.indices[3 * primId + 2];
+        const Vec3 &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
+        float w = 1.0f - u - v;
+        // The point from barycentrics is more accurate than o + t d far from the origin.
+        pl = p0 * w + p1 * u + p2 * v;
+        ngl = cross(p1 - p0, p2 - p0);
+        nsl = m.normals.empty() ? ngl
+                                : m.normals[i0] * w + m.normals[i1] * u + m.normals[i2] * v;
+        if (!m.uvs.empty()) {
+            h.uv = {m.uvs[i0].x * w + m.uvs[i1].x * u + m.uvs[i2].x * v,
+                    m.uvs[i0].y * w + m.uvs[i1].y * u + m.uvs[i2].y * v};
+        } else {
+            h.uv = {u, v};
+        }
+        break;
+    }
+    case ShapeType::Sphere: {
+        Vec3 pw = rayOrigin + rayDir * t;
+        Vec3 p = toLocal ? toLocal->point(pw) : pw;
+        ngl = p - s.center;
+        // Re-project onto the surface: removes the error of o + t d along the normal.
+        pl = s.center + normalize(ngl) * s.radius;
+        nsl = ngl;
+        h.uv = {u, v};
+        break;
+    }
+    case ShapeType::Disk: {
+        Vec3 pw = rayOrigin + rayDir * t;
+        Vec3 p = toLocal ? toLocal->point(pw) : pw;
+        ngl = s.normal;
+        pl = p - ngl * (dot(p - s.center, ngl) / dot(ngl, ngl));
+        nsl = ngl;
+        h.uv = {u, v};
+        break;
+    }
+    }
+    if (toWorld) {
+        h.p = toWorld->point(pl);
+        h.ng = normalize(toLocal->normalByInverse(ngl));
+        h.ns = normalize(toLocal->normalByInverse(nsl));
+        // The inverse transpose keeps the front side the side the winding named in the
+        // shape's own space, also under mirroring transforms (as pbrt's handedness flip does).
+    } else {
+        h.p = pl;
+        h.ng = normalize(ngl);
+        h.ns = normalize(nsl);
+    }
+    if (dot(h.ns, h.ng) < 0) h.ns = -h.ns;
+    return h;
+}
+
+} // namespace rayproc

@@ -1,0 +1,107 @@
+// Maps the scene hierarchy onto Embree. Debian's Embree 3.13 supports one instance level
+// (RTC_MAX_INSTANCE_LEVEL_COUNT = 1), so the tree is flattened into a top-level scene that holds
+// the root's own leaves plus one Embree instance per placement of a prototype scene. A group
+// with a non-identity transform, and every instanced group, becomes one prototype RTCScene,
+// committed once however often it is placed: geometry is never duplicated per instance.
+#pragma once
+
+#include "core/math.h"
+#include "scene/scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace rayproc {
+
+// One leaf as Embree sees it: the shape, in its prototype's space.
+struct LeafRecord {
+    const Shape* shape = nullptr;
+    const Affine* localToPrototype = nullptr; // unused today: leaves live in prototype space
+};
+
+// One placement of a prototype scene in the world.
+struct InstanceRecord {
+    int prototype = -1;
+    Affine toWorld;
+    Affine toLocal;
+};
+
+// An emissive leaf placed in the world (one per placement of its prototype).
+struct EmitterRecord {
+    const Shape* shape = nullptr;
+    Affine toWorld;
+    Affine toLocal;
+};
+
+// What an intersection is, in world space.
+struct SurfaceHit {
+    Vec3 p;        // world-space hit point
+    Vec3 ng;       // unit geometric normal (front side by the shape's winding/outward rule)
+    Vec3 ns;       // unit shading normal, on the same side as ng
+    Vec2 uv;
+    const Shape* shape = nullptr;
+    int material = 0;
+    int instance = -1; // index of the InstanceRecord, -1 for root-level leaves
+};
+
+struct AccelStats {
+    std::size_t prototypes = 0;
+    std::size_t instances = 0;          // Embree instances in the top-level scene
+    std::size_t uniqueTriangles = 0;    // triangles stored once
+    std::size_t placedTriangles = 0;    // triangles as seen in the world, counting instances
+    std::size_t spheres = 0, disks = 0; // placed
+    std::size_t leaves = 0;             // placed shape leaves
+    std::size_t memoryBytes = 0;        // Embree's allocations (BVHs, buffers)
+    double buildSeconds = 0;
+};
+
+class EmbreeScene {
+public:
+    explicit EmbreeScene(const Scene& scene);
+    ~EmbreeScene();
+    EmbreeScene(const EmbreeScene&) = delete;
+    EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+    RTCScene root() const { return m_top; }
+    RTCDevice device() const { return m_device; }
+    const Scene& scene() const { return m_scene; }
+    const AccelStats& stats() const { return m_stats; }
+    const std::vector<EmitterRecord>& emitters() const { return m_emitters; }
+    const std::vector<InstanceRecord>& instances() const { return m_instances; }
+
+    // Resolves an Embree hit (instID[0], geomID, primID, u, v) and the ray into world space.
+    SurfaceHit surface(unsigned instId, unsigned geomId, unsigned primId, float u, float v,
+                       const Vec3& rayOrigin, const Vec3& rayDir, float t) const;
+
+private:
+    struct Prototype {
+        RTCScene scene = nullptr;
+        std::vector<const Shape*> leaves; // by geomID
+    };
+    // Top-level geometry: a root leaf or an instance.
+    struct TopEntry {
+        const Shape* leaf = nullptr;
+        int instance = -1;
+    };
+
+    void place(const Node& group, const Affine& toWorld, bool isRoot);
+    int prototypeFor(const Node& group);
+    void collectLeaves(const Node& group, std::vector<const Shape*>& out) const;
+    unsigned attachShape(RTCScene target, const Shape& shape);
+
+    const Scene& m_scene;
+    RTCDevice m_device = nullptr;
+    RTCScene m_top = nullptr;
+    std::vector<Prototype> m_prototypes;
+    std::unordered_map<const Node*, int> m_prototypeOf;
+    std::vector<InstanceRecord> m_instances;
+    std::vector<TopEntry> m_topEntries;
+    std::vector<EmitterRecord> m_emitters;
+    AccelStats m_stats;
+};
+
+} // namespace rayproc

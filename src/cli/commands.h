@@ -1,0 +1,17 @@
+// The rayproc command line: one function per subcommand, each returning the process status.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace rayproc::cli {
+
+// Registers a subcommand on the app; the returned function runs it after parsing.
+std::function<int()> addRenderCommand(CLI::App& app);
+std::function<int()> addInfoCommand(CLI::App& app);
+
+// Prints "rayproc: <message>" to stderr.
+void printError(const std::string& message);
+
+} // namespace rayproc::cli

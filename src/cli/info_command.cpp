@@ -1,0 +1,125 @@
+#include "accel/embree_scene.h"
+#include "cli/commands.h"
+#include "scene/scene_loader.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <map>
+#include <memory>
+
+namespace rayproc::cli {
+
+namespace {
+
+struct NodeCounts {
+    std::size_t groups = 0, instances = 0, shapes = 0;
+};
+
+void countNodes(const Node& n, NodeCounts& c) {
+    switch (n.kind) {
+    case Node::Kind::Group: ++c.groups; break;
+    case Node::Kind::Instance: ++c.instances; break;
+    case Node::Kind::Shape: ++c.shapes; break;
+    }
+    for (auto& ch : n.children) countNodes(*ch, c);
+}
+
+nlohmann::ordered_json describe(const Scene& scene, const EmbreeScene& accel) {
+    NodeCounts nodes;
+    if (scene.root) countNodes(*scene.root, nodes);
+    for (auto& p : scene.prototypes) countNodes(*p, nodes);
+    const AccelStats& a = accel.stats();
+
+    std::map<std::string, std::size_t> lights{{"area", accel.emitters().size()},
+                                              {"point", 0}, {"spot", 0}, {"directional", 0},
+                                              {"environment", 0}};
+    for (const Light& l : scene.lights) {
+        switch (l.type) {
+        case LightType::Point: ++lights["point"]; break;
+        case LightType::Spot: ++lights["spot"]; break;
+        case LightType::Directional: ++lights["directional"]; break;
+        case LightType::Environment: ++lights["environment"]; break;
+        }
+    }
+    std::map<std::string, std::size_t> materials{
+        {"diffuse", 0}, {"mirror", 0}, {"dielectric", 0}, {"glossy", 0}};
+    for (const Material& m : scene.materials) ++materials[materialTypeName(m.type)];
+
+    Bounds3 b = scene.worldBounds();
+    nlohmann::ordered_json j;
+    j["scene"] = scene.path;
+    j["camera"] = {{"resolution", {scene.camera.width, scene.camera.height}},
+                   {"fov", scene.camera.fovY}};
+    j["nodes"] = {{"groups", nodes.groups}, {"instances", nodes.instances},
+                  {"shapes", nodes.shapes}, {"prototypes", scene.prototypes.size()}};
+    j["geometry"] = {{"triangles_unique", a.uniqueTriangles},
+                     {"triangles_placed", a.placedTriangles},
+                     {"spheres", a.spheres},
+                     {"disks", a.disks},
+                     {"leaves_placed", a.leaves}};
+    j["lights"] = lights;
+    j["materials"] = materials;
+    j["bounds"] = {{"min", {b.lo.x, b.lo.y, b.lo.z}}, {"max", {b.hi.x, b.hi.y, b.hi.z}}};
+    j["acceleration"] = {{"embree_prototype_scenes", a.prototypes},
+                         {"embree_instances", a.instances},
+                         {"memory_bytes", a.memoryBytes},
+                         {"build_seconds", a.buildSeconds}};
+    return j;
+}
+
+void printText(const nlohmann::ordered_json& j) {
+    auto& g = j["geometry"];
+    auto& n = j["nodes"];
+    auto& l = j["lights"];
+    auto& m = j["materials"];
+    auto& a = j["acceleration"];
+    auto& b = j["bounds"];
+    std::printf("scene        %s\n", j["scene"].get<std::string>().c_str());
+    std::printf("camera       %dx%d, fov %.4g deg\n", j["camera"]["resolution"][0].get<int>(),
+                j["camera"]["resolution"][1].get<int>(), j["camera"]["fov"].get<double>());
+    std::printf("nodes        %zu groups, %zu instances, %zu shapes, %zu prototypes\n",
+                n["groups"].get<std::size_t>(), n["instances"].get<std::size_t>(),
+                n["shapes"].get<std::size_t>(), n["prototypes"].get<std::size_t>());
+    std::printf("triangles    %zu unique, %zu placed\n", g["triangles_unique"].get<std::size_t>(),
+                g["triangles_placed"].get<std::size_t>());
+    std::printf("spheres      %zu\ndisks        %zu\n", g["spheres"].get<std::size_t>(),
+                g["disks"].get<std::size_t>());
+    std::printf("lights       %zu area, %zu point, %zu spot, %zu directional, %zu environment\n",
+                l["area"].get<std::size_t>(), l["point"].get<std::size_t>(),
+                l["spot"].get<std::size_t>(), l["directional"].get<std::size_t>(),
+                l["environment"].get<std::size_t>());
+    std::printf("materials    %zu diffuse, %zu mirror, %zu dielectric, %zu glossy\n",
+                m["diffuse"].get<std::size_t>(), m["mirror"].get<std::size_t>(),
+                m["dielectric"].get<std::size_t>(), m["glossy"].get<std::size_t>());
+    std::printf("bounds       (%g, %g, %g) - (%g, %g, %g)\n", b["min"][0].get<double>(),
+                b["min"][1].get<double>(), b["min"][2].get<double>(), b["max"][0].get<double>(),
+                b["max"][1].get<double>(), b["max"][2].get<double>());
+    std::printf("embree       %zu prototype scenes, %zu instances, %.2f MiB, built in %.3f s\n",
+                a["embree_prototype_scenes"].get<std::size_t>(),
+                a["embree_instances"].get<std::size_t>(),
+                double(a["memory_bytes"].get<std::size_t>()) / 1048576.0,
+                a["build_seconds"].get<double>());
+}
+
+} // namespace
+
+std::function<int()> addInfoCommand(CLI::App& app) {
+    auto scenePath = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    CLI::App* cmd = app.add_subcommand(
+        "info", "Print what a scene holds: nodes, instances, triangles, spheres, lights and "
+                "materials by type, world bounds, acceleration memory and build time");
+    cmd->add_option("scene", *scenePath, "Scene file (JSON)")->required()->check(CLI::ExistingFile);
+    cmd->add_flag("--json", *json, "Print the figures as JSON");
+    return [scenePath, json] {
+        std::unique_ptr<Scene> scene = loadScene(*scenePath);
+        EmbreeScene accel(*scene);
+        nlohmann::ordered_json j = describe(*scene, accel);
+        if (*json) std::printf("%s\n", j.dump(2).c_str());
+        else printText(j);
+        return 0;
+    };
+}
+
+} // namespace rayproc::cli

@@ -1,0 +1,192 @@
+#include "accel/embree_scene.h"
+#include "cli/commands.h"
+#include "core/error.h"
+#include "engine/cancel.h"
+#include "engine/intersect.h"
+#include "image/image.h"
+#include "modes/modes.h"
+#include "scene/scene_loader.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+namespace rayproc::cli {
+
+void printError(const std::string& message) {
+    std::fprintf(stderr, "rayproc: %s\n", message.c_str());
+}
+
+namespace {
+
+struct RenderArgs {
+    std::string scene;
+    std::string output;
+    std::string mode;
+    int spp = 0, threads = 0, width = 0, height = 0, maxDepth = 0, lightSamples = 0;
+    long long seed = -1;
+    int packetWidth = 16;
+    bool quiet = false, stats = false, progressive = false;
+    double progressiveSeconds = 5.0;
+    std::string statsJson;
+    float exposure = 0;
+    std::string tonemap = "clamp";
+};
+
+std::string joinModes() {
+    std::string s;
+    for (auto& m : knownModes()) s += (s.empty() ? "" : ", ") + m;
+    return s;
+}
+
+// Fails before rendering, not after: an output that cannot be written is known up front.
+void checkOutputDirectory(const std::string& path) {
+    std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    if (dir.empty()) dir = ".";
+    if (!std::filesystem::is_directory(dir))
+        throw ImageIoError(path + ": the directory " + dir.string() + " does not exist");
+}
+
+void writeTextAtomically(const std::string& path, const std::string& text) {
+    std::string tmp = path + ".tmp";
+    {
+        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+        f << text;
+        f.flush();
+        if (!f) {
+            std::filesystem::remove(tmp);
+            throw ImageIoError(path + ": cannot write");
+        }
+    }
+    std::filesystem::rename(tmp, path);
+}
+
+int runRender(const RenderArgs& a) {
+    std::unique_ptr<Scene> scene = loadScene(a.scene);
+    if (a.width > 0) scene->camera.width = a.width;
+    if (a.height > 0) scene->camera.height = a.height;
+
+    std::string mode = !a.mode.empty() ? a.mode
+                       : !scene->render.mode.empty() ? scene->render.mode
+                                                     : defaultMode();
+    bool known = false;
+    for (auto& m : knownModes()) known |= m == mode;
+    if (!known) throw InputError("unknown mode '" + mode + "'; known modes: " + joinModes());
+
+    std::string output = a.output;
+    if (output.empty()) output = std::filesystem::path(a.scene).stem().string() + ".png";
+    imageFormatFromPath(output); // throws for an unknown extension
+    checkOutputDirectory(output);
+    if (!a.statsJson.empty()) checkOutputDirectory(a.statsJson);
+
+    EngineSettings engine;
+    engine.threads = a.threads;
+    engine.packetWidth = a.packetWidth;
+    engine.seed = a.seed >= 0 ? std::uint64_t(a.seed)
+                  : scene->render.seed >= 0 ? std::uint64_t(scene->render.seed)
+                                            : 1;
+    engine.quiet = a.quiet;
+    ToneMapSettings tm;
+    tm.exposure = a.exposure;
+    tm.op = a.tonemap == "reinhard" ? ToneMap::Reinhard
+            : a.tonemap == "aces"   ? ToneMap::Aces
+                                    : ToneMap::Clamp;
+    if (a.progressive) {
+        engine.progressiveSeconds = a.progressiveSeconds;
+        engine.onProgress = [output, tm](const Image& img) { writeImage(output, img, tm); };
+    }
+
+    EmbreeScene accel(*scene);
+    if (scene->lights.empty() && accel.emitters().empty())
+        std::fprintf(stderr, "rayproc: warning: %s has no lights; the image will be black\n",
+                     a.scene.c_str());
+
+    ModeOverrides overrides{a.spp, a.maxDepth, a.lightSamples};
+    installInterruptHandler();
+    RenderResult result;
+    std::string settings;
+    if (mode == "preview") {
+        PreviewSettings s = previewSettings(scene->render, overrides);
+        settings = s.toString();
+        if (!a.quiet) std::fprintf(stderr, "rayproc render %s: %s %s %dx%d\n", a.scene.c_str(),
+                                   settings.c_str(), engine.toString().c_str(),
+                                   scene->camera.width, scene->camera.height);
+        result = renderPreview(*scene, accel, s, engine);
+    } else {
+        RaytraceSettings s = raytraceSettings(scene->render, overrides);
+        settings = s.toString();
+        if (!a.quiet) std::fprintf(stderr, "rayproc render %s: %s %s %dx%d\n", a.scene.c_str(),
+                                   settings.c_str(), engine.toString().c_str(),
+                                   scene->camera.width, scene->camera.height);
+        result = renderRaytrace(*scene, accel, s, engine);
+    }
+
+    writeImage(output, result.image, tm);
+    if (a.stats) std::fputs(result.stats.toTable().c_str(), stderr);
+    if (!a.statsJson.empty()) writeTextAtomically(a.statsJson, result.stats.toJson() + "\n");
+    if (result.cancelled) {
+        std::fprintf(stderr,
+                     "rayproc: interrupted: wrote the partial image (%zu pixels had no sample)\n",
+                     result.stats.pixelsWithoutSamples);
+        std::printf("%s\n", output.c_str());
+        return 130;
+    }
+    std::printf("%s\n", output.c_str());
+    return 0;
+}
+
+} // namespace
+
+std::function<int()> addRenderCommand(CLI::App& app) {
+    auto args = std::make_shared<RenderArgs>();
+    CLI::App* cmd = app.add_subcommand("render", "Render a scene to an image");
+    cmd->add_option("scene", args->scene, "Scene file (JSON, see docs/scene-format.md)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    cmd->add_option("-o,--output", args->output,
+                    "Output image: .png (8-bit sRGB, tone-mapped), .exr, .hdr or .pfm (linear "
+                    "radiance). Default: <scene name>.png in the current directory");
+    cmd->add_option("--mode", args->mode,
+                    "Rendering mode: preview (real-time approximation: point lights at area-light "
+                    "corners, hard shadows) or raytrace (direct light with soft shadows, mirror "
+                    "reflection, Fresnel refraction). Default: the scene's render.mode, else "
+                    "raytrace");
+    cmd->add_option("--spp", args->spp, "Samples per pixel (default: the mode's, or the scene's)")
+        ->check(CLI::Range(1, 1000000));
+    cmd->add_option("--threads", args->threads, "Worker threads (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+    cmd->add_option("--seed", args->seed,
+                    "Random seed; the same seed, scene and options give the same image whatever "
+                    "the thread count (default 1)")
+        ->check(CLI::Range(0LL, (1LL << 62)));
+    cmd->add_option("--width", args->width, "Override the image width")->check(CLI::Range(1, 16384));
+    cmd->add_option("--height", args->height, "Override the image height")->check(CLI::Range(1, 16384));
+    cmd->add_option("--max-depth", args->maxDepth,
+                    "Maximum reflection/refraction bounces (raytrace default 8, preview 1)")
+        ->check(CLI::Range(1, 255));
+    cmd->add_option("--light-samples", args->lightSamples,
+                    "Stratified samples per area light and for the sky, per shading point "
+                    "(raytrace, default 4)")
+        ->check(CLI::Range(1, 4096));
+    cmd->add_option("--packet-width", args->packetWidth,
+                    "Embree traversal: 1 = single rays (rtcIntersect1), 4/8/16 = packets "
+                    "(default 16). Every width gives the same image")
+        ->check(CLI::IsMember({1, 4, 8, 16}));
+    cmd->add_option("--exposure", args->exposure, "Exposure in stops for PNG output (default 0)");
+    cmd->add_option("--tonemap", args->tonemap, "PNG tone map: clamp (default), reinhard, aces")
+        ->check(CLI::IsMember({"clamp", "reinhard", "aces"}));
+    cmd->add_flag("--quiet,-q", args->quiet, "No progress and no render log on stderr");
+    cmd->add_flag("--stats", args->stats, "Print per-stage statistics on stderr at the end");
+    cmd->add_option("--stats-json", args->statsJson, "Write the statistics as JSON to this file");
+    cmd->add_flag("--progressive-output", args->progressive,
+                  "Rewrite the output image while rendering (atomically, between passes)");
+    cmd->add_option("--progressive-interval", args->progressiveSeconds,
+                    "Seconds between progressive writes (default 5)")
+        ->check(CLI::PositiveNumber);
+    cmd->footer("Exit status: 0 done, 1 bad input or I/O error, 130 interrupted (Ctrl-C writes "
+                "the partial image; a second Ctrl-C exits at once).");
+    return [args] { return runRender(*args); };
+}
+
+} // namespace rayproc::cli

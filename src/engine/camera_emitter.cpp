@@ -1,0 +1,94 @@
+#include "engine/camera_emitter.h"
+
+#include "kernels/random.h"
+
+#include <cmath>
+
+namespace rayproc {
+
+static_assert(CameraEmitter::kTile * CameraEmitter::kTile == kBatchSize);
+
+CameraEmitter::CameraEmitter(const RenderContext& rc, int totalSpp) : m_rc(rc), m_totalSpp(totalSpp) {
+    const Camera& cam = rc.scene.camera;
+    Affine toWorld = Affine::lookAt(cam.position, cam.lookAt, cam.up);
+    m_frame.origin = cam.position;
+    m_frame.right = normalize(toWorld.vector({1, 0, 0}));
+    m_frame.up = normalize(toWorld.vector({0, 1, 0}));
+    m_frame.forward = normalize(toWorld.vector({0, 0, -1}));
+    m_frame.tanHalfFovY = std::tan(0.5f * cam.fovY * kPi / 180.0f);
+    m_frame.width = float(cam.width);
+    m_frame.height = float(cam.height);
+    m_frame.aspect = float(cam.width) / float(cam.height);
+    m_frame.lensRadius = cam.apertureRadius;
+    m_frame.focusDistance =
+        cam.focusDistance > 0 ? cam.focusDistance : length(cam.lookAt - cam.position);
+    m_tilesX = (cam.width + kTile - 1) / kTile;
+    m_tilesY = (cam.height + kTile - 1) / kTile;
+}
+
+void CameraEmitter::beginPass(int firstSample, int count) {
+    m_firstSample = firstSample;
+    m_passCount = count;
+    m_next.store(0);
+}
+
+// Unit u covers tile (u / passCount) for sample (firstSample + u % passCount): all the
+// samples of a tile are emitted together, which keeps rays of a region coherent in time.
+bool CameraEmitter::emit(StageContext& ctx) {
+    std::uint64_t unit = m_next.fetch_add(1);
+    if (unit >= unitsPerPass()) return false;
+    ThreadStats& stats = *ctx.stats;
+    StageTimer timer(stats, StageId::CameraEmit);
+    int tile = int(unit / m_passCount);
+    int sample = m_firstSample + int(unit % m_passCount);
+    int x0 = (tile % m_tilesX) * kTile, y0 = (tile / m_tilesX) * kTile;
+    int width = m_rc.scene.camera.width, height = m_rc.scene.camera.height;
+
+    alignas(64) float fx[kBatchSize], fy[kBatchSize], lu[kBatchSize], lv[kBatchSize];
+    std::uint32_t pix[kBatchSize];
+    std::uint64_t keys[kBatchSize];
+    int n = 0;
+    for (int y = y0; y < std::min(y0 + kTile, height); ++y) {
+        for (int x = x0; x < std::min(x0 + kTile, width); ++x) {
+            std::uint32_t p = std::uint32_t(y) * std::uint32_t(width) + std::uint32_t(x);
+            std::uint64_t pixelKey = kernels::pathKey(m_rc.seed, p, 0xffffffffu);
+            Vec2 s = kernels::stratified2D(std::uint32_t(sample), std::uint32_t(m_totalSpp), pixelKey);
+            std::uint64_t key = kernels::pathKey(m_rc.seed, p, std::uint32_t(sample));
+            fx[n] = float(x) + s.x;
+            fy[n] = float(y) + s.y;
+            lu[n] = kernels::uniform(key, 0);
+            lv[n] = kernels::uniform(key, 1);
+            pix[n] = p;
+            keys[n] = key;
+            ++n;
+        }
+    }
+    RayBatch& b = ctx.out(RayKind::Camera);
+    // A tile is exactly one batch; start a fresh one if the open batch has other rays.
+    RayBatch* batch = &b;
+    if (batch->count != 0) {
+        ctx.flush(RayKind::Camera);
+        batch = &ctx.out(RayKind::Camera);
+    }
+    kernels::generateCameraRays(m_frame, n, fx, fy, lu, lv, batch->ox.data(), batch->oy.data(),
+                                batch->oz.data(), batch->dx.data(), batch->dy.data(),
+                                batch->dz.data());
+    for (int i = 0; i < n; ++i) {
+        batch->tnear[i] = 0.0f;
+        batch->tfar[i] = kInfinity;
+        batch->pixel[i] = pix[i];
+        batch->wr[i] = batch->wg[i] = batch->wb[i] = 1.0f;
+        batch->rngKey[i] = kernels::hashCombine(keys[i], 1);
+        batch->depth[i] = 0;
+        batch->specularDepth[i] = 0;
+        batch->flags[i] = kFlagCountEmission;
+        m_rc.film.addSample(pix[i]);
+    }
+    batch->count = n;
+    stats.samples += std::uint64_t(n);
+    stats.stages[int(StageId::CameraEmit)].raysOut += std::uint64_t(n);
+    ctx.flush(RayKind::Camera); // hand the tile to the queue now: it is a full unit of coherent work
+    return true;
+}
+
+} // namespace rayproc

@@ -1,0 +1,33 @@
+// Camera emitter: generates primary rays tile by tile (16x16 pixels = one batch, coherent),
+// one stratified sub-pixel sample per pixel per unit, for the samples of one pass.
+#pragma once
+
+#include "engine/render_context.h"
+#include "engine/stage.h"
+#include "kernels/camera_rays.h"
+
+#include <atomic>
+
+namespace rayproc {
+
+class CameraEmitter : public Emitter {
+public:
+    static constexpr int kTile = 16; // kTile * kTile == kBatchSize
+
+    CameraEmitter(const RenderContext& rc, int totalSpp);
+    // Prepares the emission of samples [first, first + count) of every pixel.
+    void beginPass(int firstSample, int count);
+    bool emit(StageContext& ctx) override;
+    std::uint64_t unitsEmitted() const { return m_next.load(); }
+    std::uint64_t unitsPerPass() const { return std::uint64_t(m_tilesX) * m_tilesY * m_passCount; }
+
+private:
+    const RenderContext& m_rc;
+    kernels::CameraFrame m_frame;
+    int m_totalSpp;
+    int m_tilesX, m_tilesY;
+    int m_firstSample = 0, m_passCount = 0;
+    std::atomic<std::uint64_t> m_next{0};
+};
+
+} // namespace rayproc

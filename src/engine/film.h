@@ -1,0 +1,49 @@
+// Film: per-pixel accumulation that is deterministic whatever the thread count. Contributions
+// of a pass are summed in 64-bit fixed point (integer addition is associative, so the order in
+// which threads add does not change a bit); at the end of each pass the sums are folded into
+// double precision in pixel order.
+#pragma once
+
+#include "core/math.h"
+#include "engine/stats.h"
+#include "image/image.h"
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+namespace rayproc {
+
+class Film {
+public:
+    // 2^32 units per radiance unit: resolution 2.3e-10, range +-2^31 per pixel and pass.
+    static constexpr double kFixedScale = 4294967296.0;
+    static constexpr double kFixedLimit = 2147483648.0;
+
+    Film(int width, int height);
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+
+    // Adds radiance to a pixel of the current pass; NaN/Inf are counted and discarded.
+    void add(std::uint32_t pixel, const Vec3& radiance, ThreadStats& stats);
+    // Records that a camera sample of the current pass was emitted for this pixel.
+    void addSample(std::uint32_t pixel) {
+        m_passSamples[pixel].fetch_add(1, std::memory_order_relaxed);
+    }
+    // Folds the pass into the totals; call when no ray of the pass is in flight.
+    void commitPass();
+
+    // The image so far: each pixel divided by the samples it received; pixels with none black.
+    Image resolve() const;
+    std::size_t pixelsWithoutSamples() const;
+    std::uint64_t samplesOf(std::uint32_t pixel) const { return m_samples[pixel]; }
+
+private:
+    int m_width, m_height;
+    std::vector<std::atomic<std::int64_t>> m_pass;        // 3 per pixel, fixed point
+    std::vector<std::atomic<std::uint32_t>> m_passSamples; // per pixel
+    std::vector<double> m_sum;                             // 3 per pixel
+    std::vector<std::uint64_t> m_samples;                  // per pixel
+};
+
+} // namespace rayproc

@@ -1,0 +1,27 @@
+// The one intersection handler shared by every pass (the paper's "ray-intersection handler").
+// It turns a batch into Embree packets of width K (1, 4, 8 or 16) with valid masks, traces
+// them, and writes the hits back into the batch. Shadow batches use occlusion queries.
+#pragma once
+
+#include "engine/ray_batch.h"
+#include "engine/stats.h"
+
+#include <embree3/rtcore.h>
+
+namespace rayproc {
+
+class Intersector {
+public:
+    // width: 1 selects single-ray rtcIntersect1 / rtcOccluded1; 4, 8, 16 select packets.
+    Intersector(RTCScene scene, int width);
+    int width() const { return m_width; }
+    void trace(RayBatch& batch, ThreadStats& stats) const;
+
+private:
+    RTCScene m_scene;
+    int m_width;
+};
+
+bool isValidPacketWidth(int width);
+
+} // namespace rayproc

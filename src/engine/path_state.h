@@ -1,0 +1,52 @@
+// Helpers the spawning stages share: reading a lane's ray, deciding whether a path goes on
+// (maximum depth, then Russian roulette below the throughput threshold), and writing a
+// successor ray with its payload.
+#pragma once
+
+#include "engine/ray_batch.h"
+#include "engine/render_context.h"
+#include "kernels/random.h"
+
+namespace rayproc {
+
+// Random dimensions a shading point may use, by purpose; each lane's stream is its rngKey.
+enum RandomDim : std::uint32_t {
+    kDimRoulette = 0,
+    kDimReflect = 2,   // 2 numbers
+    kDimRefract = 4,
+    kDimLightBase = 16, // light samples: hashed per light, see ShadowStage
+};
+
+inline Vec3 laneThroughput(const RayBatch& b, int i) { return {b.wr[i], b.wg[i], b.wb[i]}; }
+inline Vec3 laneDirection(const RayBatch& b, int i) { return {b.dx[i], b.dy[i], b.dz[i]}; }
+
+// The paper's termination: "until the maximum ray depth is achieved or the contributed
+// radiance falls below a specified threshold" — with Russian roulette below the threshold so
+// that the estimate stays unbiased: survivors are reweighted by 1 / survival probability.
+inline bool continuePath(const ShadingPolicy& policy, int newDepth, std::uint64_t key,
+                         std::uint32_t branch, Vec3& weight) {
+    if (newDepth > policy.maxDepth) return false;
+    float m = maxComponent(weight);
+    if (!(m > 0)) return false;
+    if (policy.rouletteEnabled && m < policy.rrThreshold) {
+        float q = m / policy.rrThreshold;
+        if (kernels::uniform(key, kDimRoulette + branch) >= q) return false;
+        weight = weight / q;
+    }
+    return true;
+}
+
+// Writes a successor ray of `parent` lane i into `out`.
+inline void spawnRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& origin,
+                     const Vec3& dir, const Vec3& weight, std::uint8_t depth,
+                     std::uint8_t specularDepth, std::uint8_t flags, std::uint32_t branch) {
+    int j = out.push(origin.x, origin.y, origin.z, dir.x, dir.y, dir.z, 0.0f, kInfinity);
+    out.pixel[j] = parent.pixel[i];
+    out.wr[j] = weight.x; out.wg[j] = weight.y; out.wb[j] = weight.z;
+    out.rngKey[j] = kernels::hashCombine(parent.rngKey[i], 0x100u + branch);
+    out.depth[j] = depth;
+    out.specularDepth[j] = specularDepth;
+    out.flags[j] = flags;
+}
+
+} // namespace rayproc

@@ -1,0 +1,80 @@
+#include "engine/processor.h"
+
+#include "core/error.h"
+
+#include <tbb/parallel_for.h>
+
+#include <thread>
+
+namespace rayproc {
+
+StageContext::~StageContext() { RAYPROC_CHECK(!flush()); }
+
+bool StageContext::flush() {
+    bool any = false;
+    for (RayBatch*& b : m_open) {
+        if (b && b->count > 0) {
+            m_queue.push(b);
+            b = nullptr;
+            any = true;
+        }
+    }
+    return any;
+}
+
+RayProcessor::RayProcessor(const Intersector& intersector, Stats& stats, int threads)
+    : m_intersector(intersector), m_stats(stats),
+      m_threads(threads > 0 ? threads : tbb::this_task_arena::max_concurrency()),
+      m_arena(m_threads) {}
+
+void RayProcessor::process(RayBatch* batch, StageContext& ctx) {
+    ThreadStats& stats = *ctx.stats;
+    ++stats.batches;
+    m_intersector.trace(*batch, stats);
+    RetraceStage* stage = m_stages[int(batch->kind)];
+    RAYPROC_CHECK(stage != nullptr);
+    stage->retrace(*batch, ctx);
+    m_pool.release(batch);
+}
+
+// One worker: pop and process queued batches first (finish work in flight), emit new work
+// only when the queue is empty, and flush its own partial batches before it leaves. It leaves
+// when nothing is queued, nothing can be emitted and no other worker is busy.
+void RayProcessor::worker(Emitter& emitter, const std::function<bool()>& stopEmitting) {
+    auto& slot = m_contexts.local();
+    if (!slot) slot = std::make_unique<StageContext>(m_queue, m_pool);
+    StageContext& ctx = *slot;
+    ctx.stats = &m_stats.local();
+    for (;;) {
+        m_busy.fetch_add(1, std::memory_order_acq_rel);
+        RayBatch* b = nullptr;
+        bool worked = false;
+        if (m_queue.tryPop(b)) {
+            process(b, ctx);
+            worked = true;
+        } else if (!m_emitterDone.load(std::memory_order_acquire)) {
+            if (stopEmitting() || !emitter.emit(ctx)) m_emitterDone.store(true);
+            else worked = true;
+        }
+        if (!worked) worked = ctx.flush();
+        m_busy.fetch_sub(1, std::memory_order_acq_rel);
+        if (worked) continue;
+        if (m_busy.load(std::memory_order_acquire) == 0 && m_queue.empty() &&
+            m_emitterDone.load(std::memory_order_acquire))
+            return;
+        std::this_thread::yield();
+    }
+}
+
+void RayProcessor::run(Emitter& emitter, const std::function<bool()>& stopEmitting) {
+    m_emitterDone.store(false);
+    m_arena.execute([&] {
+        tbb::parallel_for(0, m_threads, [&](int) { worker(emitter, stopEmitting); },
+                          tbb::simple_partitioner());
+    });
+    // Workers flush their own staging before leaving; nothing may remain.
+    RAYPROC_CHECK(m_queue.empty());
+    for (auto& c : m_contexts) RAYPROC_CHECK(!c->flush());
+}
+
+} // namespace rayproc

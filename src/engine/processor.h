@@ -1,0 +1,51 @@
+// The ray processor (Farnsworth & Erbacher's "centralized ray processor"): emitters push ray
+// batches into the central queue; TBB tasks drain it, hand each batch to the one intersection
+// handler, then to the retrace stage of the batch's ray kind, which pushes the rays it spawns
+// back into the queue. Ray depth never recurses on the C++ stack.
+#pragma once
+
+#include "engine/intersect.h"
+#include "engine/ray_queue.h"
+#include "engine/stage.h"
+#include "engine/stats.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/task_arena.h>
+
+#include <array>
+#include <atomic>
+#include <functional>
+#include <memory>
+
+namespace rayproc {
+
+class RayProcessor {
+public:
+    RayProcessor(const Intersector& intersector, Stats& stats, int threads);
+
+    void setStage(RayKind kind, RetraceStage* stage) { m_stages[int(kind)] = stage; }
+    int threads() const { return m_threads; }
+    std::size_t batchesAllocated() const { return m_pool.allocated(); }
+
+    // Drains the emitter and all the work it causes. `stopEmitting` is polled before each
+    // emission (cancel); work already in flight is always finished, so every emitted sample
+    // is complete when run() returns.
+    void run(Emitter& emitter, const std::function<bool()>& stopEmitting);
+
+private:
+    void worker(Emitter& emitter, const std::function<bool()>& stopEmitting);
+    void process(RayBatch* batch, StageContext& ctx);
+
+    const Intersector& m_intersector;
+    Stats& m_stats;
+    int m_threads;
+    tbb::task_arena m_arena;
+    RayQueue m_queue;
+    BatchPool m_pool;
+    std::array<RetraceStage*, kRayKindCount> m_stages{};
+    tbb::enumerable_thread_specific<std::unique_ptr<StageContext>> m_contexts;
+    std::atomic<int> m_busy{0};
+    std::atomic<bool> m_emitterDone{false};
+};
+
+} // namespace rayproc

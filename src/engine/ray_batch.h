@@ -1,0 +1,66 @@
+// RayBatch: the unit of work that flows through the ray processor. Structure of arrays, so the
+// intersect stage can load packets straight from it and kernels can loop over lanes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+namespace rayproc {
+
+// Rays per batch. A multiple of 16 (the widest Embree packet). 256 measured best on the
+// Cornell box in raytrace mode among 64/128/256/512 (bench/engine_bench.cpp, docs/performance.md):
+// large enough to amortise queue traffic, small enough for a batch (~40 KB) to stay in L2.
+constexpr int kBatchSize = 256;
+
+// What a ray is for. The kind selects the retrace stage that receives the ray's result.
+enum class RayKind : std::uint8_t {
+    Camera,     // primary rays from the camera emitter
+    Reflection, // spawned by the reflection stage
+    Refraction, // spawned by the refraction stage
+    Shadow,     // occlusion rays from the shadow stage
+    Count
+};
+constexpr int kRayKindCount = int(RayKind::Count);
+const char* rayKindName(RayKind k);
+
+// Per-ray flags.
+enum RayFlags : std::uint8_t {
+    kFlagCountEmission = 1, // add emission where this ray lands (camera and specular chains)
+    kFlagInsideGlass = 2,   // travelling inside a dielectric (refraction stage bookkeeping)
+};
+
+struct RayBatch {
+    RayKind kind = RayKind::Camera;
+    int count = 0;
+
+    // Ray
+    alignas(64) std::array<float, kBatchSize> ox, oy, oz;
+    alignas(64) std::array<float, kBatchSize> dx, dy, dz;
+    alignas(64) std::array<float, kBatchSize> tnear, tfar;
+    // Payload
+    alignas(64) std::array<std::uint32_t, kBatchSize> pixel;  // film slot
+    alignas(64) std::array<float, kBatchSize> wr, wg, wb;     // path throughput, or for shadow
+                                                              // rays the unoccluded contribution
+    alignas(64) std::array<std::uint64_t, kBatchSize> rngKey; // the ray's random stream
+    alignas(64) std::array<std::uint8_t, kBatchSize> depth;   // bounces so far
+    alignas(64) std::array<std::uint8_t, kBatchSize> specularDepth; // reflection + refraction bounces
+    alignas(64) std::array<std::uint8_t, kBatchSize> flags;
+    // Hit, filled by the intersect stage (for shadow rays: tfar < 0 means occluded)
+    alignas(64) std::array<float, kBatchSize> t, u, v;
+    alignas(64) std::array<std::uint32_t, kBatchSize> geomId, primId, instId;
+
+    bool full() const { return count == kBatchSize; }
+    bool hit(int i) const { return geomId[i] != 0xffffffffu; }
+    bool occluded(int i) const { return tfar[i] < 0.0f; }
+
+    // Appends a ray and returns its lane; the caller fills the payload.
+    int push(float oxv, float oyv, float ozv, float dxv, float dyv, float dzv, float tn, float tf) {
+        int i = count++;
+        ox[i] = oxv; oy[i] = oyv; oz[i] = ozv;
+        dx[i] = dxv; dy[i] = dyv; dz[i] = dzv;
+        tnear[i] = tn; tfar[i] = tf;
+        return i;
+    }
+};
+
+} // namespace rayproc

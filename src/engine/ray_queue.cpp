@@ -1,0 +1,49 @@
+#include "engine/ray_queue.h"
+
+namespace rayproc {
+
+const char* rayKindName(RayKind k) {
+    switch (k) {
+    case RayKind::Camera: return "camera";
+    case RayKind::Reflection: return "reflection";
+    case RayKind::Refraction: return "refraction";
+    case RayKind::Shadow: return "shadow";
+    case RayKind::Count: break;
+    }
+    return "?";
+}
+
+RayBatch* BatchPool::acquire(RayKind kind) {
+    RayBatch* b = nullptr;
+    if (!m_free.try_pop(b)) {
+        auto owned = std::make_unique<RayBatch>();
+        b = owned.get();
+        std::lock_guard<std::mutex> lock(m_ownedLock);
+        m_owned.push_back(std::move(owned));
+        ++m_allocated;
+    }
+    b->kind = kind;
+    b->count = 0;
+    return b;
+}
+
+void BatchPool::release(RayBatch* b) { m_free.push(b); }
+
+BatchPool::~BatchPool() = default;
+
+void RayQueue::push(RayBatch* b) {
+    // Count first: a consumer that sees the batch must also see a non-zero size.
+    m_size.fetch_add(1, std::memory_order_release);
+    if (b->kind == RayKind::Camera) m_primary.push(b);
+    else m_secondary.push(b);
+}
+
+bool RayQueue::tryPop(RayBatch*& b) {
+    if (m_secondary.try_pop(b) || m_primary.try_pop(b)) {
+        m_size.fetch_sub(1, std::memory_order_acq_rel);
+        return true;
+    }
+    return false;
+}
+
+} // namespace rayproc

@@ -1,0 +1,46 @@
+// The central queue of the ray processor, and the pool its batches come from. Emitters and
+// stages push full batches; TBB tasks pop them. Batches are recycled, never freed mid-render.
+#pragma once
+
+#include "engine/ray_batch.h"
+
+#include <tbb/concurrent_queue.h>
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+namespace rayproc {
+
+class BatchPool {
+public:
+    RayBatch* acquire(RayKind kind);
+    void release(RayBatch* b);
+    std::size_t allocated() const { return m_allocated.load(); }
+    ~BatchPool();
+
+private:
+    tbb::concurrent_queue<RayBatch*> m_free;
+    std::atomic<std::size_t> m_allocated{0};
+    std::mutex m_ownedLock;
+    std::vector<std::unique_ptr<RayBatch>> m_owned;
+};
+
+// Multi-producer multi-consumer queue of batches. Secondary rays (shadow, reflection,
+// refraction) are popped before camera rays, so work in flight drains before new work starts
+// and memory stays bounded by the depth of the paths, not the size of the image.
+class RayQueue {
+public:
+    void push(RayBatch* b);
+    bool tryPop(RayBatch*& b);
+    bool empty() const { return m_size.load(std::memory_order_acquire) == 0; }
+    std::size_t size() const { return m_size.load(std::memory_order_acquire); }
+
+private:
+    tbb::concurrent_queue<RayBatch*> m_secondary;
+    tbb::concurrent_queue<RayBatch*> m_primary;
+    std::atomic<std::size_t> m_size{0};
+};
+
+} // namespace rayproc

@@ -1,0 +1,50 @@
+#include "engine/reflection_stage.h"
+
+#include "engine/path_state.h"
+#include "kernels/bsdf.h"
+#include "kernels/sampling.h"
+
+namespace rayproc {
+
+void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ctx) {
+    ThreadStats& stats = *ctx.stats;
+    StageTimer timer(stats, StageId::Reflection);
+    stats.stages[int(StageId::Reflection)].raysIn += std::uint64_t(hits.count);
+    std::uint64_t spawned = 0;
+    for (int k = 0; k < hits.count; ++k) {
+        int i = hits.lane[k];
+        const SurfaceHit& h = hits.hit[k];
+        const Material& mat = m_rc.scene.materials[h.material];
+        Vec3 wo = -laneDirection(b, i);
+        Vec3 ng = h.ng, ns = h.ns;
+        if (dot(wo, ng) < 0) ng = -ng, ns = -ns;
+        Vec3 w = laneThroughput(b, i);
+        Vec3 wi;
+        std::uint8_t flags = b.flags[i];
+        if (mat.type == MaterialType::Mirror) {
+            wi = kernels::reflect(wo, ns);
+            if (dot(wi, ng) <= 0) wi = kernels::reflect(wo, ng);
+            w = w * mat.color;
+        } else { // glossy
+            float alpha = kernels::ggxAlpha(mat.roughness);
+            Vec2 u{kernels::uniform(b.rngKey[i], kDimReflect),
+                   kernels::uniform(b.rngKey[i], kDimReflect + 1)};
+            Vec3 hv = kernels::toWorld(kernels::ggxSampleHalf(u, alpha), ns);
+            wi = kernels::reflect(wo, hv);
+            float pdf = kernels::glossyPdf(wo, wi, ns, alpha);
+            if (pdf <= 0 || dot(wi, ng) <= 0) continue;
+            w = w * kernels::glossyEvalCos(wo, wi, ns, mat.color, alpha) / pdf;
+            flags &= std::uint8_t(~kFlagCountEmission);
+        }
+        int depth = b.depth[i] + 1;
+        if (b.specularDepth[i] + 1 > m_rc.policy.maxDepth) continue;
+        if (!continuePath(m_rc.policy, depth, b.rngKey[i], 0, w)) continue;
+        Vec3 o = offsetRayOrigin(h.p, ng, wi, m_rc.rayEpsilon);
+        spawnRay(ctx.out(RayKind::Reflection), b, i, o, wi, w, std::uint8_t(depth),
+                 std::uint8_t(b.specularDepth[i] + 1), flags, 0);
+        ++spawned;
+    }
+    stats.stages[int(StageId::Reflection)].raysOut += spawned;
+}
+
+} // namespace rayproc

@@ -1,0 +1,46 @@
+// What every stage of one render reads: the scene, its Embree mapping, the lights, the shading
+// policy of the mode, and the film it writes. Read-only but for the film's atomic sums.
+#pragma once
+
+#include "accel/embree_scene.h"
+#include "engine/film.h"
+#include "lighting/light_set.h"
+#include "scene/scene.h"
+
+#include <cstdint>
+
+namespace rayproc {
+
+// How surfaces are shaded: the knobs that make preview and raytrace modes differ.
+struct ShadingPolicy {
+    int maxDepth = 8;          // reflection + refraction bounces along a path
+    int lightSamples = 4;      // stratified samples per area light and for the environment
+    float rrThreshold = 0.05f; // below this throughput (max channel), Russian roulette
+    bool rouletteEnabled = true;
+    // Preview: glass lets light straight through (no bending) and keeps at least this much
+    // transmission, so it never turns black or vanishes; the environment lights surfaces
+    // unshadowed (ambient) instead of by shadow rays.
+    bool previewGlass = false;
+    float minTranslucency = 0.0f;
+    int maxGlassLayers = 0;
+    bool ambientEnvironment = false;
+};
+
+struct RenderContext {
+    const Scene& scene;
+    const EmbreeScene& accel;
+    const LightSet& lights;
+    const ShadingPolicy& policy;
+    Film& film;
+    std::uint64_t seed = 0;
+    float rayEpsilon = 1e-4f; // origin offset scale, relative to the hit point's magnitude
+};
+
+// Offsets a spawned ray's origin off the surface along the geometric normal, on the side of
+// `dir`. The offset grows with the coordinates' magnitude (float spacing grows with it).
+inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& ng, const Vec3& dir, float eps) {
+    float scale = eps * (1.0f + maxComponent(Vec3(std::abs(p.x), std::abs(p.y), std::abs(p.z))));
+    return dot(dir, ng) >= 0 ? p + ng * scale : p - ng * scale;
+}
+
+} // namespace rayproc

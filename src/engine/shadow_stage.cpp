@@ -1,0 +1,95 @@
+#include "engine/shadow_stage.h"
+
+#include "engine/path_state.h"
+#include "kernels/bsdf.h"
+#include "kernels/sampling.h"
+
+namespace rayproc {
+
+namespace {
+
+// BSDF value times the cosine at the receiver, for the materials lit by light sampling.
+Vec3 evalCos(const Material& m, const Vec3& wo, const Vec3& wi, const Vec3& n) {
+    float c = dot(wi, n);
+    if (c <= 0) return Vec3(0.0f);
+    if (m.type == MaterialType::Diffuse) return m.color * (c * kInvPi);
+    return kernels::glossyEvalCos(wo, wi, n, m.color, kernels::ggxAlpha(m.roughness));
+}
+
+} // namespace
+
+void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ctx) {
+    ThreadStats& stats = *ctx.stats;
+    StageTimer timer(stats, StageId::Shadow);
+    std::uint64_t spawned = 0;
+    const LightSet& lights = m_rc.lights;
+    const ShadingPolicy& policy = m_rc.policy;
+    auto emitShadow = [&](int i, const Vec3& p, const Vec3& ng, const Vec3& wi, float distance,
+                          const Vec3& contribution) {
+        Vec3 o = offsetRayOrigin(p, ng, wi, m_rc.rayEpsilon);
+        RayBatch& out = ctx.out(RayKind::Shadow);
+        // Stop short of the light by the same relative margin as the origin offset.
+        float tfar = distance == kInfinity ? kInfinity : distance * (1.0f - 1e-4f);
+        int j = out.push(o.x, o.y, o.z, wi.x, wi.y, wi.z, 0.0f, tfar);
+        out.pixel[j] = b.pixel[i];
+        out.wr[j] = contribution.x; out.wg[j] = contribution.y; out.wb[j] = contribution.z;
+        out.rngKey[j] = 0; out.depth[j] = b.depth[i]; out.specularDepth[j] = 0; out.flags[j] = 0;
+        ++spawned;
+    };
+
+    for (int k = 0; k < hits.count; ++k) {
+        int i = hits.lane[k];
+        const SurfaceHit& h = hits.hit[k];
+        const Material& mat = m_rc.scene.materials[h.material];
+        Vec3 wo = -laneDirection(b, i);
+        // Shade the side the ray arrived on.
+        Vec3 ng = h.ng, ns = h.ns;
+        if (dot(wo, ng) < 0) ng = -ng, ns = -ns;
+        Vec3 w = laneThroughput(b, i);
+        std::uint64_t key = b.rngKey[i];
+
+        for (std::size_t li = 0; li < lights.lights.size(); ++li) {
+            const LightSource& light = lights.lights[li];
+            int n = light.delta() ? 1 : policy.lightSamples;
+            std::uint64_t lightKey = kernels::hashCombine(key, kDimLightBase + li);
+            for (int s = 0; s < n; ++s) {
+                Vec2 u = kernels::stratified2D(std::uint32_t(s), std::uint32_t(n), lightKey);
+                LightSample ls = light.sample(h.p, u);
+                if (!ls.valid || dot(ls.wi, ng) <= 0) continue;
+                Vec3 c = w * evalCos(mat, wo, ls.wi, ns) * ls.weight / float(n);
+                if (isBlack(c)) continue;
+                emitShadow(i, h.p, ng, ls.wi, ls.distance, c);
+            }
+        }
+
+        if (lights.hasEnvironment()) {
+            if (policy.ambientEnvironment) {
+                // Preview: unshadowed sky light, the cosine-weighted integral of the BSDF.
+                m_rc.film.add(b.pixel[i], w * mat.color * lights.environment, stats);
+                continue;
+            }
+            int n = policy.lightSamples;
+            std::uint64_t envKey = kernels::hashCombine(key, kDimLightBase - 1);
+            for (int s = 0; s < n; ++s) {
+                Vec2 u = kernels::stratified2D(std::uint32_t(s), std::uint32_t(n), envKey);
+                Vec3 wi = kernels::toWorld(kernels::cosineHemisphere(u), ns);
+                float pdf = dot(wi, ns) * kInvPi;
+                if (pdf <= 0 || dot(wi, ng) <= 0) continue;
+                Vec3 c = w * evalCos(mat, wo, wi, ns) * lights.environment / (pdf * float(n));
+                if (isBlack(c)) continue;
+                emitShadow(i, h.p, ng, wi, kInfinity, c);
+            }
+        }
+    }
+    stats.stages[int(StageId::Shadow)].raysOut += spawned;
+}
+
+void ShadowStage::retrace(RayBatch& b, StageContext& ctx) {
+    ThreadStats& stats = *ctx.stats;
+    StageTimer timer(stats, StageId::Shadow);
+    stats.stages[int(StageId::Shadow)].raysIn += std::uint64_t(b.count);
+    for (int i = 0; i < b.count; ++i)
+        if (!b.occluded(i)) m_rc.film.add(b.pixel[i], laneThroughput(b, i), stats);
+}
+
+} // namespace rayproc

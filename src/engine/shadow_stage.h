@@ -1,0 +1,23 @@
+// Shadow stage. Spawning side: at diffuse and glossy hits, samples every light (stratified
+// over each area light's surface, --light-samples per light; one sample per delta light) and
+// the environment, and emits one occlusion ray per sample carrying its unoccluded contribution.
+// Retrace side: adds the contribution of every ray that reached its light to the film.
+#pragma once
+
+#include "engine/hit_list.h"
+#include "engine/render_context.h"
+#include "engine/stage.h"
+
+namespace rayproc {
+
+class ShadowStage : public RetraceStage {
+public:
+    explicit ShadowStage(const RenderContext& rc) : m_rc(rc) {}
+    void spawn(const RayBatch& parent, const HitList& hits, StageContext& ctx);
+    void retrace(RayBatch& batch, StageContext& ctx) override;
+
+private:
+    const RenderContext& m_rc;
+};
+
+} // namespace rayproc

@@ -1,0 +1,79 @@
+// Statistics as "Category/Counter": counted per thread without synchronisation, merged at the
+// end of a render into one table (--stats) or JSON document (--stats-json).
+#pragma once
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+namespace rayproc {
+
+// Every named stage of the pipeline. Rays in / rays out / seconds are kept for each.
+enum class StageId {
+    CameraEmit, // camera emitter: primary rays generated
+    Intersect,  // rtcIntersect over radiance rays
+    Occlude,    // rtcOccluded over shadow rays
+    Surface,    // hit resolution, emission, routing by material
+    Shadow,     // light sampling (rays out) and occlusion results (rays in)
+    Reflection,
+    Refraction,
+    Count
+};
+constexpr int kStageCount = int(StageId::Count);
+const char* stageName(StageId s);
+
+struct StageCounters {
+    std::uint64_t raysIn = 0;
+    std::uint64_t raysOut = 0;
+    double seconds = 0;
+};
+
+struct ThreadStats {
+    std::array<StageCounters, kStageCount> stages{};
+    std::uint64_t raysTraced = 0;     // every ray handed to Embree
+    std::uint64_t samples = 0;        // camera samples emitted
+    std::uint64_t invalidSamples = 0; // NaN/Inf contributions discarded before the film
+    std::uint64_t clampedSamples = 0; // contributions beyond the film's fixed-point range
+    std::uint64_t batches = 0;
+};
+
+struct RenderStats {
+    ThreadStats totals;
+    double wallSeconds = 0;
+    std::size_t peakMemoryBytes = 0;
+    std::size_t batchesAllocated = 0;
+    std::size_t pixelsWithoutSamples = 0;
+    std::string toTable() const;
+    std::string toJson() const;
+};
+
+class Stats {
+public:
+    ThreadStats& local() { return m_perThread.local(); }
+    ThreadStats merged() const;
+
+private:
+    tbb::enumerable_thread_specific<ThreadStats> m_perThread;
+};
+
+// Adds the seconds of a scope to a stage's counter.
+class StageTimer {
+public:
+    StageTimer(ThreadStats& s, StageId id)
+        : m_counters(s.stages[int(id)]), m_start(std::chrono::steady_clock::now()) {}
+    ~StageTimer() {
+        m_counters.seconds +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+    }
+
+private:
+    StageCounters& m_counters;
+    std::chrono::steady_clock::time_point m_start;
+};
+
+std::size_t peakResidentBytes();
+
+} // namespace rayproc

@@ -1,0 +1,45 @@
+#include "engine/surface_stage.h"
+
+#include "engine/path_state.h"
+
+namespace rayproc {
+
+void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
+    ThreadStats& stats = *ctx.stats;
+    HitList direct, reflect, refract;
+    {
+        StageTimer timer(stats, StageId::Surface);
+        stats.stages[int(StageId::Surface)].raysIn += std::uint64_t(b.count);
+        const auto& materials = m_rc.scene.materials;
+        for (int i = 0; i < b.count; ++i) {
+            Vec3 w = laneThroughput(b, i);
+            bool countEmission = (b.flags[i] & kFlagCountEmission) != 0;
+            if (!b.hit(i)) {
+                if (countEmission && m_rc.lights.hasEnvironment())
+                    m_rc.film.add(b.pixel[i], w * m_rc.lights.environment, stats);
+                continue;
+            }
+            Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
+            SurfaceHit h =
+                m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
+            if (countEmission) {
+                Vec3 le = emittedRadiance(*h.shape, h.ng, -d);
+                if (!isBlack(le)) m_rc.film.add(b.pixel[i], w * le, stats);
+            }
+            switch (materials[h.material].type) {
+            case MaterialType::Diffuse: direct.add(i, h); break;
+            case MaterialType::Glossy:
+                direct.add(i, h);
+                reflect.add(i, h);
+                break;
+            case MaterialType::Mirror: reflect.add(i, h); break;
+            case MaterialType::Dielectric: refract.add(i, h); break;
+            }
+        }
+    }
+    if (direct.count) m_shadow.spawn(b, direct, ctx);
+    if (reflect.count) m_reflection.spawn(b, reflect, ctx);
+    if (refract.count) m_refraction.spawn(b, refract, ctx);
+}
+
+} // namespace rayproc

@@ -1,0 +1,29 @@
+// Surface stage: the retrace stage of camera, reflection and refraction rays. It resolves each
+// hit, adds what the ray sees directly (emitters, or the sky on a miss) and routes every hit
+// by material to the stages that continue it: shadow (direct light) for diffuse and glossy,
+// reflection for mirror and glossy, refraction for dielectrics.
+#pragma once
+
+#include "engine/reflection_stage.h"
+#include "engine/refraction_stage.h"
+#include "engine/render_context.h"
+#include "engine/shadow_stage.h"
+#include "engine/stage.h"
+
+namespace rayproc {
+
+class SurfaceStage : public RetraceStage {
+public:
+    SurfaceStage(const RenderContext& rc, ShadowStage& shadow, ReflectionStage& reflection,
+                 RefractionStage& refraction)
+        : m_rc(rc), m_shadow(shadow), m_reflection(reflection), m_refraction(refraction) {}
+    void retrace(RayBatch& batch, StageContext& ctx) override;
+
+private:
+    const RenderContext& m_rc;
+    ShadowStage& m_shadow;
+    ReflectionStage& m_reflection;
+    RefractionStage& m_refraction;
+};
+
+} // namespace rayproc

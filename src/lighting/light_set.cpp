@@ -1,0 +1,238 @@
+#include "lighting/light_set.h"
+
+#include "kernels/sampling.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rayproc {
+
+namespace {
+
+float smoothStep(float a, float b, float x) {
+    if (a == b) return x >= b ? 1.0f : 0.0f;
+    float t = std::clamp((x - a) / (b - a), 0.0f, 1.0f);
+    return t * t * (3 - 2 * t);
+}
+
+// Uniform scale factor of a transform (the cube root of its volume change).
+float uniformScale(const Affine& a) { return std::cbrt(std::abs(a.determinant())); }
+
+LightSource fromSceneLight(const Light& l) {
+    LightSource s;
+    s.position = l.position;
+    s.direction = normalize(l.direction);
+    s.intensity = l.intensity;
+    switch (l.type) {
+    case LightType::Point: s.kind = LightSource::Kind::Point; break;
+    case LightType::Spot:
+        s.kind = LightSource::Kind::Spot;
+        s.cosCone = std::cos(l.coneAngle * kPi / 180.0f);
+        s.cosFalloff = std::cos((l.coneAngle + l.falloffAngle) * kPi / 180.0f);
+        break;
+    case LightType::Directional: s.kind = LightSource::Kind::Directional; break;
+    case LightType::Environment: break; // handled by LightSet::environment
+    }
+    return s;
+}
+
+LightSource fromEmitter(const EmitterRecord& e) {
+    const Shape& sh = *e.shape;
+    LightSource s;
+    s.radiance = sh.emission;
+    s.twoSided = sh.twoSided;
+    switch (sh.type) {
+    case ShapeType::Mesh: {
+        s.kind = LightSource::Kind::AreaMesh;
+        const TriangleMesh& m = *sh.mesh;
+        float total = 0;
+        for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+            Vec3 a = e.toWorld.point(m.positions[m.indices[3 * t]]);
+            Vec3 b = e.toWorld.point(m.positions[m.indices[3 * t + 1]]);
+            Vec3 c = e.toWorld.point(m.positions[m.indices[3 * t + 2]]);
+            s.triangles.insert(s.triangles.end(), {a, b, c});
+            total += 0.5f * length(cross(b - a, c - a));
+            s.areaCdf.push_back(total);
+        }
+        s.area = total;
+        break;
+    }
+    case ShapeType::Sphere:
+        s.kind = LightSource::Kind::AreaSphere;
+        s.center = e.toWorld.point(sh.center);
+        s.radius = sh.radius * uniformScale(e.toWorld);
+        s.area = 4 * kPi * s.radius * s.radius;
+        break;
+    case ShapeType::Disk:
+        s.kind = LightSource::Kind::AreaDisk;
+        s.center = e.toWorld.point(sh.center);
+        s.normal = normalize(e.toLocal.normalByInverse(sh.normal));
+        s.radius = sh.radius * uniformScale(e.toWorld);
+        s.area = kPi * s.radius * s.radius;
+        break;
+    }
+    return s;
+}
+
+// Radiance leaving a surface point towards `towardsReceiver`.
+Vec3 areaRadiance(const LightSource& l, const Vec3& n, const Vec3& towardsReceiver, float& cosL) {
+    cosL = dot(n, towardsReceiver);
+    if (l.twoSided) cosL = std::abs(cosL);
+    return cosL > 0 ? l.radiance : Vec3(0.0f);
+}
+
+LightSample fromAreaPoint(const LightSource& l, const Vec3& p, const Vec3& q, const Vec3& n,
+                          float pdfArea) {
+    LightSample s;
+    Vec3 d = q - p;
+    float dist2 = lengthSquared(d);
+    if (dist2 <= 0) return s;
+    s.distance = std::sqrt(dist2);
+    s.wi = d / s.distance;
+    float cosL;
+    Vec3 L = areaRadiance(l, n, -s.wi, cosL);
+    if (cosL <= 0) return s;
+    s.weight = L * (cosL / (dist2 * pdfArea));
+    s.valid = true;
+    return s;
+}
+
+} // namespace
+
+LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
+    LightSample s;
+    switch (kind) {
+    case Kind::Point:
+    case Kind::Spot: {
+        Vec3 d = position - p;
+        float dist2 = lengthSquared(d);
+        if (dist2 <= 0) return s;
+        s.distance = std::sqrt(dist2);
+        s.wi = d / s.distance;
+        float f = 1.0f;
+        if (kind == Kind::Spot) f = smoothStep(cosFalloff, cosCone, dot(-s.wi, direction));
+        if (lobe) {
+            float c = dot(lobeNormal, -s.wi);
+            f *= lobeTwoSided ? std::abs(c) : std::max(0.0f, c);
+        }
+        if (f <= 0) return s;
+        s.weight = intensity * (f / dist2);
+        s.valid = true;
+        return s;
+    }
+    case Kind::Directional:
+        s.wi = -direction;
+        s.distance = kInfinity;
+        s.weight = intensity;
+        s.valid = true;
+        return s;
+    case Kind::AreaMesh: {
+        // Pick a triangle by area with u.x, then reuse the remainder of u.x inside it.
+        float target = u.x * area;
+        std::size_t t = std::lower_bound(areaCdf.begin(), areaCdf.end(), target) - areaCdf.begin();
+        t = std::min(t, areaCdf.size() - 1);
+        float lo = t == 0 ? 0.0f : areaCdf[t - 1];
+        float width = areaCdf[t] - lo;
+        float ux = width > 0 ? std::clamp((target - lo) / width, 0.0f, 0.99999994f) : 0.5f;
+        Vec2 b = kernels::uniformTriangle({ux, u.y});
+        const Vec3 &a = triangles[3 * t], &bb = triangles[3 * t + 1], &c = triangles[3 * t + 2];
+        Vec3 q = a * (1 - b.x - b.y) + bb * b.x + c * b.y;
+        Vec3 n = normalize(cross(bb - a, c - a));
+        return fromAreaPoint(*this, p, q, n, 1.0f / area);
+    }
+    case Kind::AreaSphere: {
+        Vec3 toC = center - p;
+        float d2 = lengthSquared(toC);
+        if (d2 <= radius * radius * 1.0001f) {
+            // Inside (or on) the sphere: uniform area sampling.
+            Vec3 dir = kernels::toWorld(kernels::uniformCone(u, -1.0f), {0, 0, 1});
+            return fromAreaPoint(*this, p, center + dir * radius, dir, 1.0f / area);
+        }
+        // Uniform over the cone of directions the sphere subtends (pdf 1 / solid angle).
+        float dist = std::sqrt(d2);
+        float sinMax2 = radius * radius / d2;
+        float cosMax = std::sqrt(std::max(0.0f, 1.0f - sinMax2));
+        Vec3 axis = toC / dist;
+        Vec3 wi = kernels::toWorld(kernels::uniformCone(u, cosMax), axis);
+        // Distance to the near intersection with the sphere.
+        float b = dot(wi, toC);
+        float disc = b * b - (d2 - radius * radius);
+        float t = b - std::sqrt(std::max(0.0f, disc));
+        s.wi = wi;
+        s.distance = t;
+        s.weight = radiance * (2 * kPi * (1 - cosMax));
+        s.valid = true;
+        return s;
+    }
+    case Kind::AreaDisk: {
+        Vec2 d = kernels::concentricDisk(u);
+        Vec3 q = kernels::toWorld({d.x * radius, d.y * radius, 0}, normal) + center;
+        return fromAreaPoint(*this, p, q, normal, 1.0f / area);
+    }
+    }
+    return s;
+}
+
+Vec3 LightSource::power() const {
+    switch (kind) {
+    case Kind::Point: return intensity * (4 * kPi);
+    case Kind::Spot: return intensity * (2 * kPi * (1 - 0.5f * (cosCone + cosFalloff)));
+    case Kind::Directional: return Vec3(0.0f); // needs the scene's extent; see photon emitter
+    default: return radiance * (kPi * area * (twoSided ? 2.0f : 1.0f));
+    }
+}
+
+LightSet LightSet::build(const Scene& scene, const EmbreeScene& accel) {
+    LightSet set;
+    for (const Light& l : scene.lights) {
+        if (l.type == LightType::Environment) set.environment += l.intensity;
+        else set.lights.push_back(fromSceneLight(l));
+    }
+    for (const EmitterRecord& e : accel.emitters()) set.lights.push_back(fromEmitter(e));
+    return set;
+}
+
+LightSet LightSet::buildPreview(const Scene& scene, const EmbreeScene& accel) {
+    LightSet set;
+    for (const Light& l : scene.lights) {
+        if (l.type == LightType::Environment) set.environment += l.intensity;
+        else set.lights.push_back(fromSceneLight(l));
+    }
+    auto addPoint = [&](const Vec3& pos, const Vec3& n, const Vec3& intensity, bool twoSided,
+                        bool lobe) {
+        LightSource p;
+        p.kind = LightSource::Kind::Point;
+        p.position = pos;
+        p.intensity = intensity;
+        p.lobe = lobe;
+        p.lobeNormal = n;
+        p.lobeTwoSided = twoSided;
+        set.lights.push_back(p);
+    };
+    for (const EmitterRecord& e : accel.emitters()) {
+        LightSource a = fromEmitter(e);
+        const Shape& sh = *e.shape;
+        // A Lambertian emitter of area A radiates I(theta) = L A cos(theta): split among points.
+        if (a.kind == LightSource::Kind::AreaMesh && sh.isQuad) {
+            const TriangleMesh& m = *sh.mesh;
+            Vec3 n = normalize(cross(a.triangles[1] - a.triangles[0], a.triangles[2] - a.triangles[0]));
+            for (std::size_t i = 0; i < 4 && i < m.positions.size(); ++i)
+                addPoint(e.toWorld.point(m.positions[i]), n, a.radiance * (a.area / 4), a.twoSided, true);
+        } else if (a.kind == LightSource::Kind::AreaMesh) {
+            for (std::size_t t = 0; t < a.areaCdf.size(); ++t) {
+                const Vec3 *v = &a.triangles[3 * t];
+                Vec3 c = cross(v[1] - v[0], v[2] - v[0]);
+                float area = 0.5f * length(c);
+                addPoint((v[0] + v[1] + v[2]) / 3.0f, normalize(c), a.radiance * area, a.twoSided, true);
+            }
+        } else if (a.kind == LightSource::Kind::AreaSphere) {
+            // A sphere radiates L * pi r^2 in every direction.
+            addPoint(a.center, {0, 1, 0}, a.radiance * (kPi * a.radius * a.radius), false, false);
+        } else {
+            addPoint(a.center, a.normal, a.radiance * a.area, a.twoSided, true);
+        }
+    }
+    return set;
+}
+
+} // namespace rayproc

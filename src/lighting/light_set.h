@@ -1,0 +1,66 @@
+// The lights a render samples, in world space: the scene's point, spot and directional
+// lights, every placed emissive shape as an area light, and the environment. Preview mode
+// builds a different set from the same scene (a point light per area-light corner).
+#pragma once
+
+#include "accel/embree_scene.h"
+#include "core/math.h"
+#include "scene/scene.h"
+
+#include <vector>
+
+namespace rayproc {
+
+// A light sample as seen from a shading point.
+struct LightSample {
+    Vec3 wi;          // unit direction towards the light
+    float distance;   // to the sampled point; infinity for directional lights
+    Vec3 weight;      // incident radiance / pdf (solid angle), or irradiance for delta lights
+    bool valid = false;
+};
+
+class LightSource {
+public:
+    enum class Kind { Point, Spot, Directional, AreaMesh, AreaSphere, AreaDisk };
+    Kind kind = Kind::Point;
+    bool delta() const { return kind == Kind::Point || kind == Kind::Spot || kind == Kind::Directional; }
+
+    // Point / spot / directional
+    Vec3 position, direction, intensity;
+    float cosCone = 1, cosFalloff = 1;
+    // A point light that stands for a piece of an area light radiates with a cosine lobe.
+    bool lobe = false, lobeTwoSided = false;
+    Vec3 lobeNormal;
+    // Area lights
+    Vec3 radiance;
+    bool twoSided = false;
+    std::vector<Vec3> triangles;   // world-space vertices, 3 per triangle
+    std::vector<float> areaCdf;    // cumulative triangle areas, last = total area
+    Vec3 center, normal;           // sphere and disk
+    float radius = 0;
+    float area = 0;
+
+    LightSample sample(const Vec3& p, Vec2 u) const;
+    Vec3 power() const; // total emitted power (W), for statistics and photon emission
+};
+
+struct LightSet {
+    std::vector<LightSource> lights;
+    Vec3 environment{0, 0, 0}; // constant radiance of the sky; zero when absent
+    bool hasEnvironment() const { return !isBlack(environment); }
+
+    // Every scene light as it is: area lights stay area lights.
+    static LightSet build(const Scene& scene, const EmbreeScene& accel);
+    // The paper's preview approximation: each quad light becomes a point light per corner,
+    // each other area light a point light per triangle, sphere or disk at its centre; the
+    // emitted power is preserved and shared equally among the points.
+    static LightSet buildPreview(const Scene& scene, const EmbreeScene& accel);
+};
+
+// Radiance a ray sees when it lands on an emissive surface.
+inline Vec3 emittedRadiance(const Shape& s, const Vec3& ng, const Vec3& wo) {
+    if (!s.isEmissive()) return Vec3(0.0f);
+    return (s.twoSided || dot(ng, wo) > 0) ? s.emission : Vec3(0.0f);
+}
+
+} // namespace rayproc

@@ -1,0 +1,52 @@
+// The paper's multi-mode system: each mode is one Settings struct (defaults, the scene file's
+// "render" block, CLI overrides, toString() for the render log) and one driver.
+#pragma once
+
+#include "modes/render_job.h"
+#include "scene/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace rayproc {
+
+// Preview (the paper's real-time mode): ray casting, one sample per pixel, area lights as
+// point lights at their corners with hard shadows, one bounce of mirror reflection, glass as
+// straight-through transmission with a minimum translucency, unshadowed sky light.
+struct PreviewSettings {
+    int spp = 1;
+    int maxDepth = 1;
+    float minTranslucency = 0.35f;
+    int maxGlassLayers = 4;
+    std::string toString() const;
+};
+
+// Raytrace (the paper's gather-only mode): direct light with soft shadows (stratified samples
+// over each area light), recursive mirror reflection and Fresnel refraction, no indirect
+// diffuse; antialiasing by stratified sub-pixel samples.
+struct RaytraceSettings {
+    int spp = 16;
+    int maxDepth = 8;
+    int lightSamples = 4;
+    float rrThreshold = 0.05f;
+    bool roulette = true;
+    std::string toString() const;
+};
+
+// Values the command line set; unset ones keep the scene's or the mode's default.
+struct ModeOverrides {
+    int spp = 0, maxDepth = 0, lightSamples = 0;
+};
+
+const std::vector<std::string>& knownModes();
+std::string defaultMode(); // the best mode implemented
+
+PreviewSettings previewSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
+RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
+
+RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
+                           const EngineSettings& engine);
+RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
+                            const RaytraceSettings& s, const EngineSettings& engine);
+
+} // namespace rayproc

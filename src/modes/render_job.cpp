@@ -1,0 +1,94 @@
+#include "modes/render_job.h"
+
+#include "engine/camera_emitter.h"
+#include "engine/cancel.h"
+#include "engine/intersect.h"
+#include "engine/processor.h"
+#include "engine/progress.h"
+#include "engine/reflection_stage.h"
+#include "engine/refraction_stage.h"
+#include "engine/shadow_stage.h"
+#include "engine/surface_stage.h"
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+
+namespace rayproc {
+
+std::string EngineSettings::toString() const {
+    std::ostringstream o;
+    o << "threads=" << (threads > 0 ? std::to_string(threads) : std::string("all"))
+      << " packet_width=" << packetWidth << " seed=" << seed;
+    return o.str();
+}
+
+RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
+                          const LightSet& lights, const ShadingPolicy& policy, int spp,
+                          const EngineSettings& engine) {
+    auto start = std::chrono::steady_clock::now();
+    Film film(scene.camera.width, scene.camera.height);
+    RenderContext rc{scene, accel, lights, policy, film, engine.seed};
+
+    // The pipeline: one emitter, one intersection handler, the retrace stages by ray kind.
+    Stats stats;
+    Intersector intersector(accel.root(), engine.packetWidth);
+    RayProcessor processor(intersector, stats, engine.threads);
+    CameraEmitter camera(rc, spp);
+    ShadowStage shadow(rc);
+    ReflectionStage reflection(rc);
+    RefractionStage refraction(rc);
+    SurfaceStage surface(rc, shadow, reflection, refraction);
+    processor.setStage(RayKind::Camera, &surface);
+    processor.setStage(RayKind::Reflection, &surface);
+    processor.setStage(RayKind::Refraction, &surface);
+    processor.setStage(RayKind::Shadow, &shadow);
+
+    // Passes of a few samples per pixel: the film commits between passes, which is where
+    // progressive output is written and where a cancel leaves a consistent image.
+    int passSpp = std::clamp(spp / 32, 1, 16);
+    int passes = (spp + passSpp - 1) / passSpp;
+    std::atomic<int> passIndex{0};
+    std::atomic<std::uint64_t> unitsBefore{0};
+    std::uint64_t totalUnits = 0;
+    {
+        int tiles = int(((scene.camera.width + 15) / 16) * ((scene.camera.height + 15) / 16));
+        totalUnits = std::uint64_t(tiles) * std::uint64_t(spp);
+    }
+    Progress progress(
+        label, engine.quiet,
+        [&] { return double(unitsBefore.load() + camera.unitsEmitted()) / double(totalUnits); },
+        [&] { return std::uint64_t(stats.merged().raysTraced); });
+
+    RenderResult result;
+    auto lastProgressive = std::chrono::steady_clock::now();
+    for (int pass = 0; pass < passes; ++pass) {
+        if (interruptRequested()) break;
+        int first = pass * passSpp;
+        int count = std::min(passSpp, spp - first);
+        camera.beginPass(first, count);
+        processor.run(camera, [] { return interruptRequested(); });
+        unitsBefore += std::min<std::uint64_t>(camera.unitsEmitted(), camera.unitsPerPass());
+        film.commitPass();
+        passIndex = pass + 1;
+        ++result.passesDone;
+        auto now = std::chrono::steady_clock::now();
+        if (engine.onProgress && pass + 1 < passes &&
+            std::chrono::duration<double>(now - lastProgressive).count() >= engine.progressiveSeconds) {
+            engine.onProgress(film.resolve());
+            lastProgressive = now;
+        }
+    }
+    progress.finish();
+    result.cancelled = interruptRequested();
+    result.image = film.resolve();
+    result.stats.totals = stats.merged();
+    result.stats.wallSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.stats.peakMemoryBytes = peakResidentBytes();
+    result.stats.batchesAllocated = processor.batchesAllocated();
+    result.stats.pixelsWithoutSamples = film.pixelsWithoutSamples();
+    return result;
+}
+
+} // namespace rayproc

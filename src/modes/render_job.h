@@ -1,0 +1,43 @@
+// The driver every mode shares: builds the pipeline (camera emitter -> queue -> intersect ->
+// surface / shadow / reflection / refraction stages -> film) for a shading policy and a light
+// set, runs it pass by pass with progress, cancel and progressive output, and returns the image.
+#pragma once
+
+#include "accel/embree_scene.h"
+#include "engine/render_context.h"
+#include "engine/stats.h"
+#include "image/image.h"
+#include "lighting/light_set.h"
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace rayproc {
+
+// Settings of the engine itself, common to every mode.
+struct EngineSettings {
+    int threads = 0;      // 0: all cores
+    int packetWidth = 16; // 1 = single rays (rtcIntersect1); 4, 8, 16 = Embree packets
+    std::uint64_t seed = 1;
+    bool quiet = false;
+    // Called with the image so far after each pass when set (progressive output); the job
+    // calls it at most once per `progressiveSeconds`.
+    std::function<void(const Image&)> onProgress;
+    double progressiveSeconds = 5.0;
+    std::string toString() const;
+};
+
+struct RenderResult {
+    Image image;
+    RenderStats stats;
+    bool cancelled = false;
+    int passesDone = 0;
+};
+
+RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
+                          const LightSet& lights, const ShadingPolicy& policy, int spp,
+                          const EngineSettings& engine);
+
+} // namespace rayproc
