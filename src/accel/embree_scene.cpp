@@ -33,7 +33,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) : m_scene(scene) {
     rtcSetDeviceErrorFunction(m_device, embreeError, nullptr);
     rtcSetDeviceMemoryMonitorFunction(m_device, memoryMonitor, nullptr);
     m_top = rtcNewScene(m_device);
-    rtcSetSceneBuildQuality(m_top, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(m_top, RTC_BUILD_QUALITY_MEDIUM);
 
     RAYPROC_CHECK(scene.root && scene.root->kind == Node::Kind::Group);
     place(*scene.root, scene.root->transform, true);
@@ -42,9 +42,17 @@ EmbreeScene::EmbreeScene(const Scene& scene) : m_scene(scene) {
 
     m_stats.prototypes = m_prototypes.size();
     m_stats.instances = m_instances.size();
+    // Unique triangles: each mesh once, however many times it is placed.
+    std::unordered_map<const TriangleMesh*, bool> seen;
+    auto countMesh = [&](const Shape* s) {
+        if (s && s->type == ShapeType::Mesh && !seen[s->mesh.get()]) {
+            seen[s->mesh.get()] = true;
+            m_stats.uniqueTriangles += s->mesh->triangleCount();
+        }
+    };
     for (auto& p : m_prototypes)
-        for (const Shape* s : p.leaves)
-            if (s->type == ShapeType::Mesh) m_stats.uniqueTriangles += s->mesh->triangleCount();
+        for (const Shape* s : p.leaves) countMesh(s);
+    for (const TopEntry& e : m_topEntries) countMesh(e.leaf);
     m_stats.memoryBytes = std::size_t(std::max(0LL, g_embreeBytes.load() - bytesBefore));
     m_stats.buildSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -113,7 +121,7 @@ int EmbreeScene::prototypeFor(const Node& group) {
     if (it != m_prototypeOf.end()) return it->second;
     Prototype p;
     p.scene = rtcNewScene(m_device);
-    rtcSetSceneBuildQuality(p.scene, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(p.scene, RTC_BUILD_QUALITY_MEDIUM);
     collectLeaves(group, p.leaves);
     for (std::size_t i = 0; i < p.leaves.size(); ++i) {
         unsigned id = attachShape(p.scene, *p.leaves[i]);

@@ -95,10 +95,10 @@ void printText(const nlohmann::ordered_json& j) {
     std::printf("bounds       (%g, %g, %g) - (%g, %g, %g)\n", b["min"][0].get<double>(),
                 b["min"][1].get<double>(), b["min"][2].get<double>(), b["max"][0].get<double>(),
                 b["max"][1].get<double>(), b["max"][2].get<double>());
-    std::printf("embree       %zu prototype scenes, %zu instances, %.2f MiB, built in %.3f s\n",
+    std::printf("embree       %zu prototype scenes, %zu instances, %.1f KiB, built in %.3f s\n",
                 a["embree_prototype_scenes"].get<std::size_t>(),
                 a["embree_instances"].get<std::size_t>(),
-                double(a["memory_bytes"].get<std::size_t>()) / 1048576.0,
+                double(a["memory_bytes"].get<std::size_t>()) / 1024.0,
                 a["build_seconds"].get<double>());
 }
 

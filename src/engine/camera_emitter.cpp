@@ -81,7 +81,7 @@ bool CameraEmitter::emit(StageContext& ctx) {
         batch->rngKey[i] = kernels::hashCombine(keys[i], 1);
         batch->depth[i] = 0;
         batch->specularDepth[i] = 0;
-        batch->flags[i] = kFlagCountEmission;
+        batch->flags[i] = kFlagCountEmission | kFlagCountEnvironment;
         m_rc.film.addSample(pix[i]);
     }
     batch->count = n;

@@ -19,7 +19,7 @@ void Film::add(std::uint32_t pixel, const Vec3& radiance, ThreadStats& stats) {
         if (v == 0.0) continue;
         if (std::abs(v) >= kFixedLimit) {
             ++stats.clampedSamples;
-            v = std::copysign(kFixedLimit, v);
+            v = std::copysign(std::nextafter(kFixedLimit, 0.0), v); // 2^63 overflows int64
         }
         auto fixed = std::int64_t(std::llround(v * kFixedScale));
         m_pass[std::size_t(pixel) * 3 + c].fetch_add(fixed, std::memory_order_relaxed);

@@ -25,8 +25,8 @@ const char* rayKindName(RayKind k);
 
 // Per-ray flags.
 enum RayFlags : std::uint8_t {
-    kFlagCountEmission = 1, // add emission where this ray lands (camera and specular chains)
-    kFlagInsideGlass = 2,   // travelling inside a dielectric (refraction stage bookkeeping)
+    kFlagCountEmission = 1,    // add emission where this ray lands (camera and specular chains)
+    kFlagCountEnvironment = 2, // add the sky's radiance if this ray escapes
 };
 
 struct RayBatch {

@@ -34,7 +34,9 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             float pdf = kernels::glossyPdf(wo, wi, ns, alpha);
             if (pdf <= 0 || dot(wi, ng) <= 0) continue;
             w = w * kernels::glossyEvalCos(wo, wi, ns, mat.color, alpha) / pdf;
-            flags &= std::uint8_t(~kFlagCountEmission);
+            // Emitters are sampled by the shadow stage; the sky is not (see there), so the
+            // glossy ray is what sees it.
+            flags = std::uint8_t((flags & ~kFlagCountEmission) | kFlagCountEnvironment);
         }
         int depth = b.depth[i] + 1;
         if (b.specularDepth[i] + 1 > m_rc.policy.maxDepth) continue;

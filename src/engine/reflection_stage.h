@@ -1,6 +1,6 @@
 // Reflection stage: continues paths off mirrors (perfect specular, weight = reflectance) and
-// glossy surfaces (one GGX-importance-sampled ray; direct light there comes from the shadow
-// stage, so these rays do not count the emitters they hit).
+// glossy surfaces (one GGX-importance-sampled ray: emitters there are sampled by the shadow
+// stage, so the ray does not count the emitters it hits, but it is what sees the sky).
 #pragma once
 
 #include "engine/hit_list.h"

@@ -62,7 +62,10 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             }
         }
 
-        if (lights.hasEnvironment()) {
+        // The sky lights diffuse surfaces through cosine-weighted shadow rays. A glossy lobe is
+        // narrower than the cosine: its GGX-sampled reflection ray sees the sky instead.
+        if (lights.hasEnvironment() &&
+            (mat.type == MaterialType::Diffuse || policy.ambientEnvironment)) {
             if (policy.ambientEnvironment) {
                 // Preview: unshadowed sky light, the cosine-weighted integral of the BSDF.
                 m_rc.film.add(b.pixel[i], w * mat.color * lights.environment, stats);

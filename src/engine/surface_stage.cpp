@@ -15,7 +15,7 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             Vec3 w = laneThroughput(b, i);
             bool countEmission = (b.flags[i] & kFlagCountEmission) != 0;
             if (!b.hit(i)) {
-                if (countEmission && m_rc.lights.hasEnvironment())
+                if ((b.flags[i] & kFlagCountEnvironment) && m_rc.lights.hasEnvironment())
                     m_rc.film.add(b.pixel[i], w * m_rc.lights.environment, stats);
                 continue;
             }
