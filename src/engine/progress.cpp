@@ -27,7 +27,7 @@ Progress::Progress(std::string label, bool quiet, std::function<double()> fracti
     if (!m_quiet) m_thread = std::thread([this] { loop(); });
 }
 
-Progress::~Progress() { finish(); }
+Progress::~Progress() { finish(false); }
 
 double Progress::elapsedSeconds() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
@@ -37,12 +37,12 @@ void Progress::loop() {
     std::unique_lock<std::mutex> lock(m_lock);
     while (!m_stop) {
         m_wake.wait_for(lock, std::chrono::duration<double>(m_interval));
-        if (!m_stop) report(false);
+        if (!m_stop) report(false, false);
     }
 }
 
-void Progress::report(bool final) {
-    double f = std::clamp(final ? 1.0 : m_fraction(), 0.0, 1.0);
+void Progress::report(bool final, bool complete) {
+    double f = std::clamp(complete ? 1.0 : m_fraction(), 0.0, 1.0);
     double el = elapsedSeconds();
     double eta = f > 0 ? el * (1 - f) / f : -1;
     double mrays = el > 0 ? double(m_rays()) / el * 1e-6 : 0;
@@ -53,16 +53,16 @@ void Progress::report(bool final) {
         bar.resize(kWidth, '.');
         std::fprintf(stderr, "\r%s [%s] %5.1f%%  %s elapsed  ETA %s  %.2f Mrays/s%s", m_label.c_str(),
                      bar.c_str(), 100 * f, formatDuration(el).c_str(),
-                     final ? "00:00" : formatDuration(eta).c_str(), mrays, final ? "\n" : "");
+                     complete ? "00:00" : formatDuration(eta).c_str(), mrays, final ? "\n" : "");
     } else {
         std::fprintf(stderr, "%s: %5.1f%% elapsed %s ETA %s %.2f Mrays/s\n", m_label.c_str(),
                      100 * f, formatDuration(el).c_str(),
-                     final ? "00:00" : formatDuration(eta).c_str(), mrays);
+                     complete ? "00:00" : formatDuration(eta).c_str(), mrays);
     }
     std::fflush(stderr);
 }
 
-void Progress::finish() {
+void Progress::finish(bool complete) {
     if (m_quiet || !m_thread.joinable()) return;
     {
         std::lock_guard<std::mutex> lock(m_lock);
@@ -70,7 +70,7 @@ void Progress::finish() {
     }
     m_wake.notify_all();
     m_thread.join();
-    report(true);
+    report(true, complete);
 }
 
 } // namespace rayproc

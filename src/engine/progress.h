@@ -20,13 +20,14 @@ public:
     Progress(std::string label, bool quiet, std::function<double()> fraction,
              std::function<std::uint64_t()> rays);
     ~Progress();
-    void finish(); // prints the final line and stops the monitor
+    // Stops the monitor and prints the final line: 100% when complete, else where it stopped.
+    void finish(bool complete = true);
 
     static bool stderrIsTerminal();
     double elapsedSeconds() const;
 
 private:
-    void report(bool final);
+    void report(bool final, bool complete);
     void loop();
 
     std::string m_label;

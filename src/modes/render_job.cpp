@@ -79,8 +79,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             lastProgressive = now;
         }
     }
-    progress.finish();
     result.cancelled = interruptRequested();
+    progress.finish(!result.cancelled);
     result.image = film.resolve();
     result.stats.totals = stats.merged();
     result.stats.wallSeconds =
