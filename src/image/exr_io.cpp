@@ -1,0 +1,117 @@
+// OpenEXR: 32-bit float R, G, B scanlines, ZIP compressed, via Imf::OutputFile / Imf::InputFile.
+//
+// Writing goes through an Imf::OStream over the AtomicFileWriter rather than a file name.
+// OpenEXR writes the line-offset table from ~OutputFile() and swallows any exception there, so
+// a by-name write could silently lose a "disk full" at that point; our stream records it in the
+// writer instead, and commit() refuses to publish the file. Iex exceptions are rethrown as
+// ImageIoError naming the file.
+#include "image/image_io_detail.h"
+
+#include <Iex.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfIO.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+
+#include <climits>
+#include <cstdint>
+#include <new>
+
+namespace rayproc::image_detail {
+
+namespace {
+
+constexpr const char* kChannels[3] = {"R", "G", "B"};
+constexpr std::size_t kPixelStride = 3 * sizeof(float);
+
+// Imf::OStream over an AtomicFileWriter. OpenEXR expects write and seek failures as exceptions;
+// the writer keeps the first failure so commit() reports it even if OpenEXR swallowed it.
+class AtomicExrStream : public Imf::OStream {
+public:
+    explicit AtomicExrStream(AtomicFileWriter& out)
+        : Imf::OStream(out.tempPath().c_str()), m_out(out) {}
+
+    void write(const char c[], int n) override {
+        if (!m_out.write(c, static_cast<std::size_t>(n))) throw Iex::IoExc(m_out.error());
+    }
+    uint64_t tellp() override { return m_out.tell(); }
+    void seekp(uint64_t pos) override {
+        if (!m_out.seek(pos)) throw Iex::IoExc(m_out.error());
+    }
+
+private:
+    AtomicFileWriter& m_out;
+};
+
+std::string channelNames(const Imf::ChannelList& channels) {
+    std::string names;
+    for (auto it = channels.begin(); it != channels.end(); ++it)
+        names += (names.empty() ? "" : ", ") + std::string(it.name());
+    return names.empty() ? "none" : names;
+}
+
+} // namespace
+
+void writeExr(const std::string& path, const Image& img) {
+    AtomicFileWriter out(path);
+    try {
+        Imf::Header header(img.width, img.height);
+        header.compression() = Imf::ZIP_COMPRESSION;
+        Imf::FrameBuffer frameBuffer;
+        for (int c = 0; c < 3; ++c) {
+            header.channels().insert(kChannels[c], Imf::Channel(Imf::FLOAT));
+            frameBuffer.insert(kChannels[c], Imf::Slice::Make(Imf::FLOAT, img.pixels.data() + c,
+                                                              header.dataWindow(), kPixelStride,
+                                                              kPixelStride * img.width));
+        }
+        AtomicExrStream stream(out);
+        Imf::OutputFile file(stream, header);
+        file.setFrameBuffer(frameBuffer);
+        file.writePixels(img.height);
+    } catch (const std::exception& e) {
+        out.fail(std::string("OpenEXR: ") + e.what());
+    }
+    out.commit();
+}
+
+Image readExr(const std::string& path) {
+    // Open once ourselves so that a missing or unreadable file is reported with its errno text.
+    { FileReader probe(path); }
+    try {
+        Imf::InputFile file(path.c_str());
+        const Imf::Header& header = file.header();
+        for (const char* name : kChannels)
+            if (!header.channels().findChannel(name))
+                throwReadError(path, std::string("the EXR file has no \"") + name +
+                                         "\" channel (it has: " + channelNames(header.channels()) +
+                                         ")");
+
+        // The pixels are the data window (usually equal to the display window).
+        const Imath::Box2i& window = header.dataWindow();
+        std::int64_t w = std::int64_t(window.max.x) - window.min.x + 1;
+        std::int64_t h = std::int64_t(window.max.y) - window.min.y + 1;
+        if (w <= 0 || h <= 0 || w > INT_MAX || h > INT_MAX)
+            throwReadError(path, "invalid EXR data window");
+        Image img(static_cast<int>(w), static_cast<int>(h));
+
+        // Any stored pixel type (HALF, FLOAT, UINT) is converted to float by the library.
+        Imf::FrameBuffer frameBuffer;
+        for (int c = 0; c < 3; ++c)
+            frameBuffer.insert(kChannels[c],
+                               Imf::Slice::Make(Imf::FLOAT, img.pixels.data() + c, window,
+                                                kPixelStride, kPixelStride * img.width));
+        file.setFrameBuffer(frameBuffer);
+        file.readPixels(window.min.y, window.max.y);
+        return img;
+    } catch (const ImageIoError&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throwReadError(path, "the EXR image is too large to fit in memory");
+    } catch (const std::exception& e) {
+        throwReadError(path, std::string("not a valid OpenEXR file (OpenEXR: ") + e.what() + ")");
+    }
+}
+
+} // namespace rayproc::image_detail

@@ -1,0 +1,71 @@
+// Image: the renderer's output buffer, and its reading and writing in PNG, EXR, HDR and PFM.
+//
+// Pixels are linear RGB radiance. Float formats (EXR, PFM, HDR) store them as they are; PNG
+// stores 8-bit sRGB after exposure and a tone map (see ToneMap). Every writer is atomic: the
+// destination either keeps its old contents or receives the complete new file, never a part.
+// Every I/O failure is reported as an ImageIoError whose message names the file and the cause.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rayproc {
+
+// Linear RGB radiance, row-major, top row first, 3 floats per pixel.
+struct Image {
+    int width = 0, height = 0;
+    std::vector<float> pixels; // size width*height*3
+
+    Image() = default;
+    // Zero-filled; negative sizes throw std::invalid_argument.
+    Image(int w, int h);
+
+    // The 3 floats (R, G, B) of pixel (x, y); (0, 0) is the top-left pixel.
+    float* at(int x, int y);
+    const float* at(int x, int y) const;
+};
+
+// How radiance above 1 is brought into the displayable range [0, 1] for 8-bit output.
+// All operators see the exposure-scaled value and clamp negatives and NaN to 0.
+enum class ToneMap {
+    Clamp,    // min(x, 1): exact below 1, hard clip above
+    Reinhard, // x / (1 + x) per channel: never clips, compresses highlights, darkens midtones
+    Aces,     // Narkowicz's ACES filmic fit x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14), clamped
+};
+
+struct ToneMapSettings {
+    float exposure = 0.0f; // in stops: radiance is scaled by 2^exposure before the tone map
+    ToneMap op = ToneMap::Clamp;
+};
+
+// Thrown for every I/O failure; what() is a complete user-facing message naming the file and
+// the cause (errno text where applicable).
+class ImageIoError : public std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+enum class ImageFormat { Png, Exr, Hdr, Pfm };
+
+// The format of `path` by its extension, case-insensitive; an unknown extension throws an
+// ImageIoError listing the supported ones (.png .exr .hdr .pfm).
+ImageFormat imageFormatFromPath(const std::string& path);
+
+// Writes `img` in the format given by the extension of `path`, atomically (temporary file in
+// the same directory, fsync, rename). `tm` only affects PNG; the float formats store radiance.
+void writeImage(const std::string& path, const Image& img, const ToneMapSettings& tm = {});
+
+// Reads an image as linear RGB floats, in the format given by the extension of `path`.
+// PNG is decoded from sRGB to linear; greyscale inputs are replicated to RGB.
+Image readImage(const std::string& path);
+
+// 8-bit sRGB conversion used by PNG, exposed for tests: exposure, tone map, sRGB OETF, round to
+// nearest.
+std::uint8_t toSrgb8(float linear, const ToneMapSettings& tm);
+
+// The sRGB transfer functions on [0, 1] (IEC 61966-2-1): linear -> encoded and its exact inverse.
+float srgbOetf(float linear);
+float srgbToLinear(float encoded);
+
+} // namespace rayproc

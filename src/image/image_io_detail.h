@@ -1,0 +1,85 @@
+// Internal to src/image: the atomic file writer, the checked file reader and the per-format
+// codecs that image.cpp dispatches to. Not part of the public API.
+#pragma once
+
+#include "image/image.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+namespace rayproc::image_detail {
+
+// "cannot write image "<path>": <reason>" / "cannot read image ...", as an ImageIoError.
+[[noreturn]] void throwWriteError(const std::string& path, const std::string& reason);
+[[noreturn]] void throwReadError(const std::string& path, const std::string& reason);
+// The text of an errno value, e.g. "No such file or directory".
+std::string errnoText(int err);
+
+// Writes a file under a temporary name in the destination's directory and renames it onto the
+// destination only once every byte is flushed and fsynced. Until commit() succeeds the
+// destination is untouched; the destructor removes the temporary file if commit() was not
+// reached, so a failure anywhere (including an exception in the encoder) leaves nothing behind.
+//
+// write() and seek() never throw: they record the first failure, so that they can be called
+// from C callbacks (stb) that cannot unwind. commit() reports the recorded failure.
+class AtomicFileWriter {
+public:
+    explicit AtomicFileWriter(std::string path); // throws ImageIoError if the temp can't be made
+    ~AtomicFileWriter();
+    AtomicFileWriter(const AtomicFileWriter&) = delete;
+    AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
+
+    bool write(const void* data, std::size_t size);
+    bool seek(std::uint64_t offset);
+    std::uint64_t tell();
+    bool failed() const { return !m_error.empty(); }
+    const std::string& error() const { return m_error; }
+    const std::string& path() const { return m_path; }
+    const std::string& tempPath() const { return m_tempPath; }
+
+    // Records an encoder failure; commit() will then throw with this reason.
+    void fail(const std::string& reason);
+    // Flush, fsync, close, rename onto the destination; throws ImageIoError on any failure.
+    void commit();
+
+private:
+    void recordErrno(const char* what);
+    void discard();
+
+    std::string m_path;
+    std::string m_tempPath;
+    std::FILE* m_file = nullptr;
+    std::string m_error; // first failure, empty while all is well
+};
+
+// A file opened for binary reading; opening failures throw ImageIoError with the errno text.
+class FileReader {
+public:
+    explicit FileReader(std::string path);
+    ~FileReader();
+    FileReader(const FileReader&) = delete;
+    FileReader& operator=(const FileReader&) = delete;
+
+    std::FILE* get() const { return m_file; }
+    const std::string& path() const { return m_path; }
+    // Bytes from the current position to the end of the file.
+    std::uint64_t remainingBytes();
+
+private:
+    std::string m_path;
+    std::FILE* m_file = nullptr;
+};
+
+// The per-format codecs. Writers receive a validated image and throw ImageIoError.
+void writePng(const std::string& path, const Image& img, const ToneMapSettings& tm);
+Image readPng(const std::string& path);
+void writeHdr(const std::string& path, const Image& img);
+Image readHdr(const std::string& path);
+void writeExr(const std::string& path, const Image& img);
+Image readExr(const std::string& path);
+void writePfm(const std::string& path, const Image& img);
+Image readPfm(const std::string& path);
+
+} // namespace rayproc::image_detail

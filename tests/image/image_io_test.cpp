@@ -1,0 +1,390 @@
+// Image I/O: round trips per format, the display transform, PFM row order, format detection,
+// atomic writes that leave nothing behind on failure, and corrupt inputs that must not crash.
+#include "image/image.h"
+
+#include <catch2/catch.hpp>
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <csignal>
+#include <sys/resource.h>
+#include <unistd.h>
+
+using namespace rayproc;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fresh directory under the system temp directory, removed (with everything in it) at scope
+// exit, even if a test made it read-only.
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        static std::atomic<int> counter{0};
+        path = fs::temp_directory_path() / ("rayproc_image_test_" + std::to_string(::getpid()) +
+                                            "_" + std::to_string(counter++));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::permissions(path, fs::perms::owner_all, fs::perm_options::add, ec);
+        fs::remove_all(path, ec);
+    }
+    std::string file(const std::string& name) const { return (path / name).string(); }
+    std::vector<std::string> entries() const {
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename());
+        std::sort(names.begin(), names.end());
+        return names;
+    }
+};
+
+// A non-symmetric image mixing ordinary, bright (> 1) and tiny values.
+Image makeTestImage(int w, int h) {
+    Image img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float* p = img.at(x, y);
+            p[0] = 0.1f * float(x + 1) + 0.01f * float(y);
+            p[1] = float(y * w + x) * 3.75f + 0.5f; // up to well above 1
+            p[2] = 1e-7f * float(x + 2 * y + 1);    // tiny
+        }
+    img.at(0, 0)[0] = 65504.5f;
+    img.at(w - 1, h - 1)[2] = 1.17549435e-38f; // smallest normal float
+    return img;
+}
+
+// The ImageIoError message thrown by `f`; fails the test if `f` throws nothing or another type.
+std::string ioErrorMessage(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const ImageIoError& e) {
+        return e.what();
+    } catch (const std::exception& e) {
+        FAIL("expected ImageIoError, got another exception: " << e.what());
+    }
+    FAIL("expected ImageIoError, nothing was thrown");
+    return {};
+}
+
+void writeBytes(const std::string& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+std::string floatBytes(const std::vector<float>& values, bool bigEndian) {
+    std::string bytes(values.size() * 4, '\0');
+    std::memcpy(bytes.data(), values.data(), bytes.size());
+    if (bigEndian)
+        for (std::size_t i = 0; i < bytes.size(); i += 4) std::reverse(&bytes[i], &bytes[i + 4]);
+    return bytes;
+}
+
+} // namespace
+
+TEST_CASE("EXR and PFM round trips are bit-exact", "[image]") {
+    TempDir dir;
+    Image img = makeTestImage(7, 5);
+    img.at(3, 2)[1] = -0.25f; // float formats keep negatives too
+    for (const char* name : {"round.exr", "round.pfm"}) {
+        INFO(name);
+        writeImage(dir.file(name), img);
+        Image back = readImage(dir.file(name));
+        REQUIRE(back.width == img.width);
+        REQUIRE(back.height == img.height);
+        REQUIRE(back.pixels.size() == img.pixels.size());
+        CHECK(std::memcmp(back.pixels.data(), img.pixels.data(), img.pixels.size() * 4) == 0);
+    }
+    CHECK(dir.entries() == std::vector<std::string>{"round.exr", "round.pfm"});
+}
+
+TEST_CASE("HDR round trip is within RGBE precision", "[image]") {
+    TempDir dir;
+    // Width 9 is written with run-length encoded scanlines, width 5 with flat ones.
+    for (int width : {9, 5}) {
+        Image img = makeTestImage(width, 4);
+        writeImage(dir.file("round.hdr"), img);
+        Image back = readImage(dir.file("round.hdr"));
+        REQUIRE(back.width == img.width);
+        REQUIRE(back.height == img.height);
+        // RGBE shares one exponent per pixel with an 8-bit mantissa: every channel is exact to
+        // about 1% of the pixel's largest channel.
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width; ++x) {
+                const float* a = img.at(x, y);
+                const float* b = back.at(x, y);
+                float largest = std::max({a[0], a[1], a[2]});
+                for (int c = 0; c < 3; ++c) CHECK(std::abs(b[c] - a[c]) <= 0.01f * largest);
+            }
+    }
+}
+
+TEST_CASE("PNG round trip matches the 8-bit sRGB quantisation", "[image]") {
+    TempDir dir;
+    Image img = makeTestImage(6, 6);
+    for (ToneMapSettings tm : {ToneMapSettings{}, ToneMapSettings{-2.0f, ToneMap::Reinhard},
+                               ToneMapSettings{1.0f, ToneMap::Aces}}) {
+        writeImage(dir.file("round.png"), img, tm);
+        Image back = readImage(dir.file("round.png"));
+        REQUIRE(back.width == img.width);
+        REQUIRE(back.height == img.height);
+        for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+            float expected = srgbToLinear(float(toSrgb8(img.pixels[i], tm)) / 255.0f);
+            CHECK(back.pixels[i] == Approx(expected).margin(1e-6));
+            // And the stored byte is within one quantisation step of the exact encoding.
+            CHECK(std::abs(srgbOetf(back.pixels[i]) * 255.0f - float(toSrgb8(img.pixels[i], tm))) <
+                  0.01f);
+        }
+    }
+    CHECK(dir.entries() == std::vector<std::string>{"round.png"});
+}
+
+TEST_CASE("PFM keeps the top-left pixel top-left and stores the bottom row first", "[image]") {
+    TempDir dir;
+    Image img(2, 3); // pixel (x, y) holds (x, y, 10 * y + x): no symmetry to hide a flip
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 2; ++x) {
+            float* p = img.at(x, y);
+            p[0] = float(x), p[1] = float(y), p[2] = float(10 * y + x);
+        }
+    writeImage(dir.file("orient.pfm"), img);
+    Image back = readImage(dir.file("orient.pfm"));
+    CHECK(back.pixels == img.pixels);
+    CHECK(back.at(0, 0)[2] == 0.0f);
+    CHECK(back.at(1, 2)[2] == 21.0f);
+
+    // On disk: header, then the bottom row (y = 2) first, little-endian.
+    std::ifstream in(dir.file("orient.pfm"), std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string header = "PF\n2 3\n-1.0\n";
+    REQUIRE(bytes.size() == header.size() + 2 * 3 * 3 * 4);
+    CHECK(bytes.substr(0, header.size()) == header);
+    CHECK(bytes.substr(header.size(), 12) == floatBytes({0.0f, 2.0f, 20.0f}, false));
+}
+
+TEST_CASE("PFM reader accepts big-endian and greyscale files", "[image]") {
+    TempDir dir;
+    // 2x1 big-endian colour file (positive scale).
+    writeBytes(dir.file("be.pfm"), "PF\n2 1\n1.0\n" + floatBytes({1, 2, 3, 4, 5, 6}, true));
+    Image be = readImage(dir.file("be.pfm"));
+    CHECK(be.pixels == std::vector<float>{1, 2, 3, 4, 5, 6});
+    // 1x2 little-endian greyscale, bottom row first: replicated to RGB.
+    writeBytes(dir.file("grey.PFM"), "Pf\n1 2\n-1\n" + floatBytes({0.25f, 0.75f}, false));
+    Image grey = readImage(dir.file("grey.PFM"));
+    CHECK(grey.pixels == std::vector<float>{0.75f, 0.75f, 0.75f, 0.25f, 0.25f, 0.25f});
+}
+
+TEST_CASE("toSrgb8 applies exposure, the tone map and the sRGB curve", "[image]") {
+    ToneMapSettings clamp;
+    CHECK(toSrgb8(0.0f, clamp) == 0);
+    CHECK(toSrgb8(1.0f, clamp) == 255);
+    CHECK(toSrgb8(0.5f, clamp) == 188);
+    CHECK(toSrgb8(7.0f, clamp) == 255);
+    CHECK(toSrgb8(-1.0f, clamp) == 0);
+    CHECK(toSrgb8(std::nanf(""), clamp) == 0);
+
+    ToneMapSettings plusOne{1.0f, ToneMap::Clamp};
+    for (float v : {0.01f, 0.1f, 0.25f, 0.4f})
+        CHECK(toSrgb8(v, plusOne) == toSrgb8(2.0f * v, clamp));
+
+    ToneMapSettings reinhard{0.0f, ToneMap::Reinhard};
+    CHECK(toSrgb8(1.0f, reinhard) == toSrgb8(0.5f, clamp));
+    CHECK(toSrgb8(1e30f, reinhard) == 255);
+    CHECK(toSrgb8(INFINITY, reinhard) == 255);
+
+    ToneMapSettings aces{0.0f, ToneMap::Aces};
+    CHECK(toSrgb8(0.0f, aces) == 0);
+    CHECK(toSrgb8(100.0f, aces) == 255);
+    CHECK(toSrgb8(INFINITY, aces) == 255);
+    // Narkowicz's fit is pre-exposed: 1 maps to 2.54 / 3.16 (about 0.8).
+    CHECK(toSrgb8(1.0f, aces) == toSrgb8(2.54f / 3.16f, clamp));
+    for (float v = 0.0f; v < 16.0f; v += 0.125f)
+        CHECK(toSrgb8(v, aces) <= toSrgb8(v + 0.125f, aces));
+}
+
+TEST_CASE("Image format is detected from the extension", "[image]") {
+    CHECK(imageFormatFromPath("out.png") == ImageFormat::Png);
+    CHECK(imageFormatFromPath("dir.v2/OUT.PNG") == ImageFormat::Png);
+    CHECK(imageFormatFromPath("a.Exr") == ImageFormat::Exr);
+    CHECK(imageFormatFromPath("a.HDR") == ImageFormat::Hdr);
+    CHECK(imageFormatFromPath("a.pfm") == ImageFormat::Pfm);
+    std::string jpg = ioErrorMessage([] { imageFormatFromPath("photo.jpg"); });
+    CHECK_THAT(jpg,
+               Catch::Contains(".png") && Catch::Contains(".jpg") && Catch::Contains("photo.jpg"));
+    CHECK_THAT(ioErrorMessage([] { imageFormatFromPath("dir.v2/noext"); }),
+               Catch::Contains("no file extension"));
+}
+
+TEST_CASE("Writing into a missing directory fails cleanly", "[image]") {
+    TempDir dir;
+    Image img = makeTestImage(3, 2);
+    for (const char* name : {"out.png", "out.exr", "out.hdr", "out.pfm"}) {
+        std::string path = dir.file(std::string("missing/") + name);
+        std::string message = ioErrorMessage([&] { writeImage(path, img); });
+        CHECK_THAT(message, Catch::Contains(path) && Catch::Contains("No such file"));
+        CHECK_FALSE(fs::exists(path));
+    }
+    CHECK(dir.entries().empty());
+}
+
+TEST_CASE("Writing into a read-only directory leaves no temporary files", "[image]") {
+    TempDir dir;
+    Image img = makeTestImage(3, 2);
+    fs::permissions(dir.path, fs::perms::owner_read | fs::perms::owner_exec |
+                                  fs::perms::group_read | fs::perms::group_exec |
+                                  fs::perms::others_read | fs::perms::others_exec);
+    if (::access(dir.path.c_str(), W_OK) == 0) {
+        WARN("running with privileges that ignore directory permissions; check skipped");
+        return;
+    }
+    for (const char* name : {"out.png", "out.exr", "out.hdr", "out.pfm"}) {
+        std::string message = ioErrorMessage([&] { writeImage(dir.file(name), img); });
+        CHECK_THAT(message,
+                   Catch::Contains(dir.file(name)) && Catch::Contains("Permission denied"));
+    }
+    CHECK(dir.entries().empty());
+}
+
+TEST_CASE("A failed rename removes the temporary file and keeps the destination", "[image]") {
+    TempDir dir;
+    Image img = makeTestImage(4, 4);
+    // The encoder succeeds, then rename() onto a directory fails: the complete temporary file
+    // must be removed.
+    for (const char* name : {"blocked.png", "blocked.exr", "blocked.hdr", "blocked.pfm"}) {
+        fs::create_directory(dir.path / name);
+        fs::path inside = dir.path / name / "keep";
+        writeBytes(inside.string(), "x");
+        std::string message = ioErrorMessage([&] { writeImage(dir.file(name), img); });
+        CHECK_THAT(message, Catch::Contains(dir.file(name)) && Catch::Contains("renaming"));
+        CHECK(fs::is_directory(dir.path / name));
+        CHECK(fs::exists(inside));
+    }
+    CHECK(dir.entries() ==
+          std::vector<std::string>{"blocked.exr", "blocked.hdr", "blocked.pfm", "blocked.png"});
+}
+
+TEST_CASE("Running out of space mid-write leaves no partial file", "[image]") {
+    TempDir dir;
+    // Incompressible noise, so every format needs far more than the 4 KiB allowed below.
+    Image img(64, 64);
+    std::uint32_t state = 12345;
+    for (float& v : img.pixels) {
+        state = state * 1664525u + 1013904223u;
+        v = float(state >> 8) / float(1 << 24) * 4.0f;
+    }
+    // RLIMIT_FSIZE makes writes past 4 KiB fail with EFBIG (SIGXFSZ ignored), like a full disk.
+    rlimit saved{};
+    REQUIRE(::getrlimit(RLIMIT_FSIZE, &saved) == 0);
+    auto savedHandler = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit limited = saved;
+    limited.rlim_cur = 4096;
+    REQUIRE(::setrlimit(RLIMIT_FSIZE, &limited) == 0);
+    std::vector<std::string> messages;
+    for (const char* name : {"full.png", "full.exr", "full.hdr", "full.pfm"}) {
+        try {
+            writeImage(dir.file(name), img);
+            messages.push_back("");
+        } catch (const ImageIoError& e) {
+            messages.push_back(e.what());
+        }
+    }
+    ::setrlimit(RLIMIT_FSIZE, &saved);
+    std::signal(SIGXFSZ, savedHandler);
+    for (const std::string& message : messages) {
+        CHECK_THAT(message, Catch::Contains(dir.path.string()) && Catch::Contains("too large"));
+    }
+    CHECK(dir.entries().empty());
+}
+
+TEST_CASE("Overwriting an image replaces it completely", "[image]") {
+    TempDir dir;
+    writeImage(dir.file("a.pfm"), makeTestImage(8, 8));
+    Image small = makeTestImage(2, 1);
+    writeImage(dir.file("a.pfm"), small);
+    Image back = readImage(dir.file("a.pfm"));
+    CHECK(back.pixels == small.pixels);
+    CHECK(dir.entries() == std::vector<std::string>{"a.pfm"});
+}
+
+TEST_CASE("Invalid images are rejected before any file is created", "[image]") {
+    TempDir dir;
+    Image empty;
+    CHECK_THAT(ioErrorMessage([&] { writeImage(dir.file("e.png"), empty); }),
+               Catch::Contains("e.png") && Catch::Contains("0x0"));
+    Image wrong(4, 4);
+    wrong.pixels.pop_back();
+    CHECK_THAT(ioErrorMessage([&] { writeImage(dir.file("w.exr"), wrong); }),
+               Catch::Contains("w.exr") && Catch::Contains("47"));
+    CHECK(dir.entries().empty());
+}
+
+TEST_CASE("Corrupt or missing inputs throw ImageIoError", "[image]") {
+    TempDir dir;
+    Image img = makeTestImage(16, 16);
+    for (const char* name : {"t.pfm", "t.exr", "t.png", "t.hdr"}) {
+        writeImage(dir.file(name), img);
+        fs::resize_file(dir.path / name, fs::file_size(dir.path / name) / 2);
+        CHECK_THAT(ioErrorMessage([&] { readImage(dir.file(name)); }), Catch::Contains(name));
+    }
+    CHECK_THAT(ioErrorMessage([&] { readImage(dir.file("t.pfm")); }), Catch::Contains("truncated"));
+
+    writeBytes(dir.file("text.exr"), "this is not an image\n");
+    CHECK_THAT(ioErrorMessage([&] { readImage(dir.file("text.exr")); }),
+               Catch::Contains("text.exr"));
+    writeBytes(dir.file("text.png"), "this is not an image\n");
+    CHECK_THAT(ioErrorMessage([&] { readImage(dir.file("text.png")); }),
+               Catch::Contains("not a PNG"));
+    writeBytes(dir.file("text.hdr"), "this is not an image\n");
+    CHECK_THAT(ioErrorMessage([&] { readImage(dir.file("text.hdr")); }),
+               Catch::Contains("not a Radiance HDR"));
+    // A scanline whose run-length count is 0 (what zero bytes past a truncation look like).
+    writeBytes(dir.file("zero.hdr"), "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 8\n" +
+                                         std::string("\x02\x02\x00\x08\x00", 5));
+    CHECK_THAT(ioErrorMessage([&] { readImage(dir.file("zero.hdr")); }),
+               Catch::Contains("bad run-length encoding"));
+    writeBytes(dir.file("xyze.hdr"), "#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 1 +X 1\n1234");
+    CHECK_THAT(ioErrorMessage([&] { readImage(dir.file("xyze.hdr")); }),
+               Catch::Contains("32-bit_rle_xyze"));
+    writeBytes(dir.file("header.pfm"), "PF\n-3 2\n-1.0\n");
+    CHECK_THAT(ioErrorMessage([&] { readImage(dir.file("header.pfm")); }),
+               Catch::Contains("expected a positive integer width"));
+    writeBytes(dir.file("magic.pfm"), "P6\n3 2\n255\n");
+    CHECK_THAT(ioErrorMessage([&] { readImage(dir.file("magic.pfm")); }),
+               Catch::Contains("expected \"PF\""));
+
+    CHECK_THAT(ioErrorMessage([&] { readImage(dir.file("absent.exr")); }),
+               Catch::Contains("absent.exr") && Catch::Contains("No such file"));
+    CHECK_THAT(ioErrorMessage([&] { readImage(dir.file("absent.png")); }),
+               Catch::Contains("absent.png") && Catch::Contains("No such file"));
+}
+
+TEST_CASE("Reading an EXR without an RGB channel names the missing channel", "[image]") {
+    TempDir dir;
+    std::string path = dir.file("luma.exr");
+    {
+        std::vector<float> luma(4 * 2, 0.5f);
+        Imf::Header header(4, 2);
+        header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+        Imf::FrameBuffer frameBuffer;
+        frameBuffer.insert("Y", Imf::Slice::Make(Imf::FLOAT, luma.data(), header.dataWindow()));
+        Imf::OutputFile file(path.c_str(), header);
+        file.setFrameBuffer(frameBuffer);
+        file.writePixels(2);
+    }
+    CHECK_THAT(ioErrorMessage([&] { readImage(path); }), Catch::Contains("luma.exr") &&
+                                                             Catch::Contains("no \"R\" channel") &&
+                                                             Catch::Contains("Y"));
+}
