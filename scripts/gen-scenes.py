@@ -1,0 +1,194 @@
+#!/usr/bin/env python3
+"""Writes the generated scene files that are committed to the repository.
+
+    scenes/instances.json    hierarchy stress: prototype "field" places "row" 50 times, each
+                             row places "tree" 50 times (2,500 trees, plus rocks), with
+                             rotations and non-uniform scales at both levels
+    scenes/meshes/torus.obj  a low-poly torus with normals and uvs, written as quads, for
+                             scenes/materials.json
+
+The output is deterministic (fixed random seed), so re-running the script reproduces the
+committed files exactly. Usage: scripts/gen-scenes.py [--out-dir scenes]
+"""
+
+import argparse
+import json
+import math
+import pathlib
+import random
+
+ROW_LENGTH = 50   # trees per row
+ROW_COUNT = 50    # rows per field
+SPACING = 2.0     # metres between trees and between rows
+
+
+def r4(x):
+    """Rounds to 4 decimals so that the JSON stays small and diffs stay readable."""
+    v = round(x, 4)
+    return 0.0 if v == 0 else v
+
+
+def cone_mesh(segments, radius, y0, y1):
+    """A closed cone: apex at (0, y1, 0), base circle of `radius` at height y0."""
+    positions = [[0.0, y1, 0.0], [0.0, y0, 0.0]]  # apex, base centre
+    for i in range(segments):
+        a = 2 * math.pi * i / segments
+        positions.append([r4(radius * math.cos(a)), y0, r4(-radius * math.sin(a))])
+    indices = []
+    for i in range(segments):
+        a, b = 2 + i, 2 + (i + 1) % segments
+        indices.append([0, a, b])  # side, facing outwards
+        indices.append([1, b, a])  # base, facing down
+    return {"positions": positions, "indices": indices}
+
+
+def box_mesh(hx, y0, y1, hz):
+    """An axis-aligned box [-hx, hx] x [y0, y1] x [-hz, hz], outward-facing triangles."""
+    p = [[x, y, z] for y in (y0, y1) for z in (-hz, hz) for x in (-hx, hx)]
+    # Corner index = 4*top + 2*front + right.
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    indices = []
+    for a, b, c, d in quads:
+        indices += [[a, b, c], [a, c, d]]
+    return {"positions": p, "indices": indices}
+
+
+def instance(prototype, translate, yaw, scale):
+    return {
+        "type": "instance",
+        "prototype": prototype,
+        "transform": {
+            "translate": [r4(t) for t in translate],
+            "rotate": {"angle": r4(yaw), "axis": [0, 1, 0]},
+            "scale": [r4(s) for s in scale],
+        },
+    }
+
+
+def instances_scene(rng):
+    tree = {
+        "children": [
+            dict({"type": "mesh", "name": "trunk", "material": "bark"},
+                 **box_mesh(0.08, 0.0, 0.7, 0.08)),
+            dict({"type": "mesh", "name": "crown", "material": "leaves"},
+                 **cone_mesh(7, 0.55, 0.5, 2.0)),
+        ]
+    }
+    rock = {
+        "children": [
+            {"type": "sphere", "material": "stone", "center": [0, 0, 0], "radius": 0.3,
+             "transform": {"scale": [1.0, 0.5, 0.8]}},
+        ]
+    }
+    # A row along x: trees with a random yaw and a slightly stretched or squashed shape.
+    row = []
+    for i in range(ROW_LENGTH):
+        x = (i - (ROW_LENGTH - 1) / 2) * SPACING + rng.uniform(-0.4, 0.4)
+        z = rng.uniform(-0.4, 0.4)
+        s = rng.uniform(0.7, 1.2)
+        row.append(instance("tree", [x, 0, z], rng.uniform(0, 360), [s, s * rng.uniform(0.8, 1.5), s]))
+        if i % 5 == 2:
+            row.append(instance("rock", [x + 0.9, 0.1, z + 0.7], rng.uniform(0, 360),
+                                [rng.uniform(0.6, 1.4)] * 3))
+    # A field of rows along z, each turned a little and stretched non-uniformly.
+    field = []
+    for j in range(ROW_COUNT):
+        z = (j - (ROW_COUNT - 1) / 2) * SPACING
+        field.append(instance("row", [0, 0, z], rng.uniform(-3, 3),
+                              [rng.uniform(0.95, 1.05), rng.uniform(0.8, 1.2), 1.0]))
+    return {
+        "camera": {"position": [0, 30, 78], "look_at": [0, 0, 5], "up": [0, 1, 0],
+                   "fov": 38, "resolution": [960, 540]},
+        "materials": {
+            "ground": {"type": "diffuse", "color": [0.35, 0.3, 0.22]},
+            "bark": {"type": "diffuse", "color": [0.3, 0.18, 0.1]},
+            "leaves": {"type": "diffuse", "color": [0.12, 0.4, 0.12]},
+            "stone": {"type": "glossy", "color": [0.5, 0.5, 0.52], "roughness": 0.6},
+            "gold": {"type": "glossy", "color": [1.0, 0.78, 0.34], "roughness": 0.25},
+        },
+        "lights": [
+            {"type": "directional", "name": "sun", "direction": [-0.4, -1, -0.5],
+             "irradiance": [3, 2.8, 2.5]},
+            {"type": "environment", "name": "sky", "radiance": [0.25, 0.35, 0.55]},
+        ],
+        "prototypes": {"tree": tree, "rock": rock, "row": {"children": row},
+                       "field": {"children": field}},
+        "nodes": [
+            {"type": "rectangle", "name": "ground", "material": "ground",
+             "center": [0, 0, 0], "size": [140, 140]},
+            {"type": "instance", "name": "field", "prototype": "field"},
+            {"type": "group", "name": "monument",
+             "transform": {"translate": [0, 0, 58]},
+             "children": [
+                 {"type": "sphere", "material": "gold", "center": [0, 2, 0], "radius": 2},
+                 {"type": "instance", "prototype": "tree",
+                  "transform": {"translate": [4, 0, 0], "scale": 2.5}},
+             ]},
+        ],
+    }
+
+
+def dump_compact(obj, indent=0):
+    """JSON with one node, material or light per line: readable, and far smaller than
+    json.dumps(indent=2). Containers that fit in 100 columns also stay on one line."""
+    flat = json.dumps(obj, separators=(", ", ": "))
+    if not isinstance(obj, (dict, list)) or len(flat) + 2 * indent <= 100 or \
+            (isinstance(obj, dict) and "type" in obj and "children" not in obj):
+        return flat
+    pad = "  " * (indent + 1)
+    if isinstance(obj, list):
+        items = [pad + dump_compact(e, indent + 1) for e in obj]
+        return "[\n" + ",\n".join(items) + "\n" + "  " * indent + "]"
+    items = [f"{pad}{json.dumps(k)}: {dump_compact(v, indent + 1)}" for k, v in obj.items()]
+    return "{\n" + ",\n".join(items) + "\n" + "  " * indent + "}"
+
+
+def torus_obj(major=0.5, minor=0.2, nu=24, nv=12):
+    """A torus around the y axis as quads, with per-vertex normals and seam-split uvs."""
+    lines = ["# Low-poly torus written by scripts/gen-scenes.py",
+             f"# major radius {major}, minor radius {minor}, {nu} x {nv} quads", "o torus"]
+    for i in range(nu):
+        u = 2 * math.pi * i / nu
+        for j in range(nv):
+            v = 2 * math.pi * j / nv
+            x = (major + minor * math.cos(v)) * math.cos(u)
+            z = -(major + minor * math.cos(v)) * math.sin(u)
+            y = minor * math.sin(v)
+            lines.append(f"v {x:.5f} {y:.5f} {z:.5f}")
+    for i in range(nu):
+        u = 2 * math.pi * i / nu
+        for j in range(nv):
+            v = 2 * math.pi * j / nv
+            lines.append(f"vn {math.cos(v) * math.cos(u):.5f} {math.sin(v):.5f} "
+                         f"{-math.cos(v) * math.sin(u):.5f}")
+    for i in range(nu + 1):
+        for j in range(nv + 1):
+            lines.append(f"vt {i / nu:.5f} {j / nv:.5f}")
+
+    def p(i, j):  # 1-based position / normal index
+        return (i % nu) * nv + (j % nv) + 1
+
+    def t(i, j):  # 1-based uv index; the seam gets its own uvs
+        return i * (nv + 1) + j + 1
+
+    for i in range(nu):
+        for j in range(nv):
+            corners = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]  # outward-facing
+            lines.append("f " + " ".join(f"{p(a, b)}/{t(a, b)}/{p(a, b)}" for a, b in corners))
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out-dir", default=str(pathlib.Path(__file__).resolve().parent.parent / "scenes"))
+    args = parser.parse_args()
+    out = pathlib.Path(args.out_dir)
+    (out / "meshes").mkdir(parents=True, exist_ok=True)
+    (out / "instances.json").write_text(dump_compact(instances_scene(random.Random(1))) + "\n")
+    (out / "meshes" / "torus.obj").write_text(torus_obj())
+    for name in ("instances.json", "meshes/torus.obj"):
+        print(f"wrote {out / name} ({(out / name).stat().st_size} bytes)")
+
+
+if __name__ == "__main__":
+    main()

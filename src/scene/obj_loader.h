@@ -1,0 +1,21 @@
+// Wavefront OBJ files as one TriangleMesh, read with tinyobjloader (which copes with negative
+// indices, n-gons and the other quirks of real-world OBJ files).
+#pragma once
+
+#include "scene/scene.h"
+
+#include <string>
+
+namespace rayproc {
+
+// Loads every face of every object and group in the file into one triangle mesh; n-gons are
+// triangulated. Positions are shared between faces wherever the file shares them, so indices
+// stay compact. Normals and texture coordinates are kept only if every face corner has them
+// (a position then splits into one vertex per distinct normal / uv combination). Materials
+// (mtllib, usemtl) are ignored: the scene file assigns the material.
+//
+// Throws InputError "<path>: <problem>" if the file is missing, unreadable, malformed, refers
+// to vertices it does not have, or has no faces.
+TriangleMesh loadObjMesh(const std::string& path);
+
+} // namespace rayproc
