@@ -232,10 +232,22 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
         break;
     }
     case ShapeType::Sphere: {
-        Vec3 pw = rayOrigin + rayDir * t;
-        Vec3 p = toLocal ? toLocal->point(pw) : pw;
-        ngl = p - s.center;
-        // Re-project onto the surface: removes the error of o + t d along the normal.
+        // Embree's single-ray and packet kernels round a sphere's t differently (by an ulp or
+        // so). Solving the quadratic again in double precision, and taking the root Embree
+        // found, makes the hit point independent of the packet width and more accurate.
+        Vec3 ol = toLocal ? toLocal->point(rayOrigin) : rayOrigin;
+        Vec3 dl = toLocal ? toLocal->vector(rayDir) : rayDir;
+        double ocx = double(ol.x) - s.center.x, ocy = double(ol.y) - s.center.y,
+               ocz = double(ol.z) - s.center.z;
+        double a = double(dl.x) * dl.x + double(dl.y) * dl.y + double(dl.z) * dl.z;
+        double bh = ocx * dl.x + ocy * dl.y + ocz * dl.z;
+        double c = ocx * ocx + ocy * ocy + ocz * ocz - double(s.radius) * s.radius;
+        double sq = std::sqrt(std::max(0.0, bh * bh - a * c));
+        double t0 = (-bh - sq) / a, t1 = (-bh + sq) / a;
+        double tl = std::abs(t0 - t) <= std::abs(t1 - t) ? t0 : t1;
+        Vec3 p{float(ocx + tl * dl.x), float(ocy + tl * dl.y), float(ocz + tl * dl.z)};
+        ngl = p;
+        // Re-project onto the surface: removes what error remains along the normal.
         pl = s.center + normalize(ngl) * s.radius;
         nsl = ngl;
         h.uv = {u, v};

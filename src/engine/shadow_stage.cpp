@@ -28,8 +28,10 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                           const Vec3& contribution) {
         Vec3 o = offsetRayOrigin(p, ng, wi, m_rc.rayEpsilon);
         RayBatch& out = ctx.out(RayKind::Shadow);
-        // Stop short of the light by the same relative margin as the origin offset.
-        float tfar = distance == kInfinity ? kInfinity : distance * (1.0f - 1e-4f);
+        // Stop short of the light point by a relative margin, measured from the offset origin
+        // (from p, the offset can eat the margin and let the light occlude its own ray).
+        float tfar = distance == kInfinity ? kInfinity
+                                           : length(p + wi * distance - o) * (1.0f - 1e-4f);
         int j = out.push(o.x, o.y, o.z, wi.x, wi.y, wi.z, 0.0f, tfar);
         out.pixel[j] = b.pixel[i];
         out.wr[j] = contribution.x; out.wg[j] = contribution.y; out.wb[j] = contribution.z;

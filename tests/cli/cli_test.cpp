@@ -1,0 +1,297 @@
+// The rayproc command line, run as a real process: help texts, errors and exit statuses,
+// statistics as JSON, progress when stderr is a file, Ctrl-C that writes the partial image,
+// and the figures of `rayproc info`.
+#include "test_util.h"
+
+#include <nlohmann/json.hpp>
+
+#include <regex>
+
+using namespace rayproc;
+using namespace rayproc::test;
+
+namespace {
+
+std::vector<std::string> lines(const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) out.push_back(l);
+    return out;
+}
+
+// Lines like "raytrace:  42.0% elapsed 00:01 ETA 00:02 2.80 Mrays/s".
+std::size_t progressLines(const std::string& err, const std::string& label) {
+    std::regex re("^" + label + ": +[0-9]+\\.[0-9]% elapsed .* ETA .*Mrays/s$");
+    std::size_t n = 0;
+    for (const std::string& l : lines(err)) n += std::regex_match(l, re);
+    return n;
+}
+
+bool contains(const std::string& text, const std::string& what) {
+    return text.find(what) != std::string::npos;
+}
+
+} // namespace
+
+TEST_CASE("Help texts exit 0 and name every command and option", "[cli]") {
+    TempDir dir;
+    RunResult top = runRayproc({"--help"}, dir);
+    CHECK(top.status == 0);
+    INFO(top.out);
+    // The top level lists the subcommands; their options are in their own help.
+    CHECK(contains(top.out, "render"));
+    CHECK(contains(top.out, "info"));
+    CHECK(contains(top.out, "--help"));
+    CHECK(contains(top.out, "--version"));
+
+    RunResult render = runRayproc({"render", "--help"}, dir);
+    CHECK(render.status == 0);
+    INFO(render.out);
+    for (const char* option :
+         {"--mode", "--spp", "--threads", "--seed", "--width", "--height", "--quiet", "--stats",
+          "--stats-json", "--packet-width", "--progressive-output", "--output", "--max-depth",
+          "--light-samples"}) {
+        INFO("option " << option);
+        // Followed by a space: "--stats" must not count as found inside "--stats-json".
+        CHECK(contains(render.out, std::string(option) + " "));
+    }
+    CHECK(contains(render.out, "preview"));
+    CHECK(contains(render.out, "raytrace"));
+
+    RunResult info = runRayproc({"info", "--help"}, dir);
+    CHECK(info.status == 0);
+    CHECK(contains(info.out, "--json"));
+}
+
+TEST_CASE("An unknown mode fails and lists the known ones", "[cli]") {
+    TempDir dir;
+    std::string out = dir.file("x.pfm");
+    RunResult r = runRayproc({"render", scenePath("cornell-box"), "--mode", "pathtrace", "-o", out,
+                              "--width", "16", "--height", "16"},
+                             dir);
+    INFO(r.err);
+    CHECK(r.status != 0);
+    CHECK(contains(r.err, "pathtrace"));
+    CHECK(contains(r.err, "preview"));
+    CHECK(contains(r.err, "raytrace"));
+    CHECK_FALSE(std::filesystem::exists(out));
+}
+
+TEST_CASE("A malformed scene fails with status 1 and names the file", "[cli]") {
+    TempDir dir;
+    std::string out = dir.file("x.pfm");
+    SECTION("JSON syntax error") {
+        std::string scene = dir.file("broken-syntax.json");
+        writeText(scene, "{\n  \"nodes\": [\n    {\"type\": \"sphere\", \"radius\": 1,}\n");
+        RunResult r = runRayproc({"render", scene, "-o", out}, dir);
+        INFO(r.err);
+        CHECK(r.status == 1);
+        CHECK(contains(r.err, scene));
+        CHECK(contains(r.err, "line 3"));
+        CHECK_FALSE(std::filesystem::exists(out));
+    }
+    SECTION("unknown material") {
+        std::string scene = dir.file("unknown-material.json");
+        writeText(scene, R"({"nodes": [{"type": "sphere", "radius": 1, "material": "gold"}]})");
+        RunResult r = runRayproc({"render", scene, "-o", out}, dir);
+        INFO(r.err);
+        CHECK(r.status == 1);
+        CHECK(contains(r.err, scene));
+        CHECK(contains(r.err, "gold"));
+        CHECK_FALSE(std::filesystem::exists(out));
+    }
+    SECTION("info on the same file") {
+        std::string scene = dir.file("broken.json");
+        writeText(scene, "[1, 2");
+        RunResult r = runRayproc({"info", scene}, dir);
+        INFO(r.err);
+        CHECK(r.status == 1);
+        CHECK(contains(r.err, scene));
+    }
+}
+
+TEST_CASE("A missing output directory fails before rendering", "[cli]") {
+    TempDir dir;
+    // A render that would take minutes: failing fast proves the check comes first.
+    std::vector<std::string> slow = {
+        "render", scenePath("cornell-box"), "--spp", "100000", "--width", "256", "--height", "256"};
+    SECTION("image") {
+        std::string out = dir.file("no-such-dir/out.png");
+        auto args = slow;
+        args.insert(args.end(), {"-o", out});
+        RunResult r = runRayproc(args, dir, 30);
+        INFO(r.err);
+        CHECK(r.status == 1);
+        CHECK(contains(r.err, dir.file("no-such-dir")));
+        CHECK(progressLines(r.err, "raytrace") == 0);
+        CHECK(r.seconds < 10);
+    }
+    SECTION("statistics") {
+        std::string out = dir.file("out.png");
+        auto args = slow;
+        args.insert(args.end(), {"-o", out, "--stats-json", dir.file("missing/stats.json")});
+        RunResult r = runRayproc(args, dir, 30);
+        INFO(r.err);
+        CHECK(r.status == 1);
+        CHECK(contains(r.err, dir.file("missing")));
+        CHECK(r.seconds < 10);
+        CHECK_FALSE(std::filesystem::exists(out));
+    }
+}
+
+TEST_CASE("Statistics as JSON with --stats-json", "[cli]") {
+    TempDir dir;
+    std::string out = dir.file("img.pfm"), stats = dir.file("stats.json");
+    RunResult r = runRayproc({"render", scenePath("cornell-box"), "--width", "32", "--height", "32",
+                              "--spp", "2", "--quiet", "-o", out, "--stats-json", stats},
+                             dir);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.empty());
+    CHECK(contains(r.out, out));
+    REQUIRE(std::filesystem::exists(stats));
+    nlohmann::json j = nlohmann::json::parse(readText(stats));
+    for (const char* key : {"wall_seconds", "rays", "invalid_samples", "stages"}) {
+        INFO("key " << key);
+        CHECK(j.contains(key));
+    }
+    CHECK(j["wall_seconds"].get<double>() > 0);
+    CHECK(j["invalid_samples"].get<long long>() == 0);
+    REQUIRE(j["stages"].is_object());
+    CHECK(j["stages"].size() >= 4);
+    std::uint64_t traced = 0;
+    for (auto& [name, stage] : j["stages"].items()) {
+        INFO("stage " << name);
+        REQUIRE(stage.contains("rays"));
+        REQUIRE(stage.contains("seconds"));
+        CHECK(stage["rays"].is_number_unsigned());
+        CHECK(stage["seconds"].get<double>() >= 0);
+    }
+    for (const char* name : {"camera", "intersect", "occlude", "surface", "shadow"}) {
+        INFO("stage " << name);
+        CHECK(j["stages"].contains(name));
+    }
+    traced = j["stages"]["intersect"]["rays"].get<std::uint64_t>() +
+             j["stages"]["occlude"]["rays"].get<std::uint64_t>();
+    CHECK(j["rays"].get<std::uint64_t>() == traced);
+    CHECK(j["stages"]["intersect"]["rays"].get<std::uint64_t>() >= 32u * 32u * 2u);
+    Image img = readImage(out);
+    CHECK(img.width == 32);
+    CHECK(img.height == 32);
+}
+
+TEST_CASE("Progress is printed as plain lines when stderr is not a terminal", "[cli]") {
+    TempDir dir;
+    std::string out = dir.file("img.pfm");
+    SECTION("without --quiet") {
+        // Long enough (several seconds) for a periodic line before the final one on most
+        // machines; the plain-line interval is 5 s.
+        RunResult r =
+            runRayproc({"render", scenePath("cornell-box"), "--mode", "raytrace", "--width", "256",
+                        "--height", "256", "--spp", "64", "--threads", "2", "-o", out},
+                       dir);
+        INFO(r.err);
+        REQUIRE(r.status == 0);
+        CHECK_FALSE(contains(r.err, "\r")); // no bar redrawing into a file
+        std::size_t n = progressLines(r.err, "raytrace");
+        CHECK(n >= 1);
+        if (r.seconds > 7.0) CHECK(n >= 2); // a periodic line, then the final one
+        std::vector<std::string> ls = lines(r.err);
+        REQUIRE_FALSE(ls.empty());
+        CHECK(std::regex_match(ls.back(), std::regex("^raytrace: 100\\.0% .*")));
+        // The render log line names the settings, so the image is reproducible from it.
+        CHECK(contains(r.err, "mode=raytrace spp=64"));
+        CHECK(contains(r.err, "seed=1"));
+    }
+    SECTION("preview labels its lines") {
+        RunResult r = runRayproc({"render", scenePath("cornell-box"), "--mode", "preview",
+                                  "--width", "32", "--height", "32", "-o", out},
+                                 dir);
+        INFO(r.err);
+        REQUIRE(r.status == 0);
+        CHECK(progressLines(r.err, "preview") >= 1);
+    }
+    SECTION("with --quiet nothing but errors") {
+        RunResult r = runRayproc({"render", scenePath("cornell-box"), "--width", "64", "--height",
+                                  "64", "--spp", "4", "--quiet", "-o", out},
+                                 dir);
+        CHECK(r.status == 0);
+        CHECK(r.err.empty());
+        CHECK(r.out == out + "\n");
+        RunResult bad = runRayproc(
+            {"render", scenePath("cornell-box"), "--quiet", "--mode", "nope", "-o", out}, dir);
+        CHECK(bad.status != 0);
+        CHECK_FALSE(bad.err.empty());
+    }
+}
+
+TEST_CASE("SIGINT stops a render, writes the partial image and exits with 130", "[cli]") {
+    TempDir dir;
+    std::string out = dir.file("partial.pfm");
+    Child child({"render", scenePath("cornell-box"), "--mode", "raytrace", "--spp", "100000",
+                 "--width", "128", "--height", "128", "--threads", "2", "-o", out},
+                dir.file("stdout.txt"), dir.file("stderr.txt"));
+    REQUIRE(child.started());
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    child.signal(SIGINT);
+    bool finished = child.wait(20.0); // kills the child on timeout
+    INFO(child.err());
+    REQUIRE(finished);
+    CHECK(child.status() == 130);
+    CHECK(contains(child.err(), "interrupted"));
+    // The last progress line says where the render stopped, not 100%.
+    std::vector<std::string> ls = lines(child.err());
+    std::size_t n = progressLines(child.err(), "raytrace");
+    CHECK(n >= 1);
+    for (const std::string& l : ls)
+        if (std::regex_match(l, std::regex("^raytrace: .*"))) CHECK_FALSE(contains(l, "100.0%"));
+
+    REQUIRE(std::filesystem::exists(out));
+    Image img = readImage(out);
+    CHECK(img.width == 128);
+    CHECK(img.height == 128);
+    CHECK(allFinite(img));
+    CHECK(meanValue(img) > 0.01);
+    // No temporary file left behind by the atomic write.
+    std::size_t files = 0;
+    for (auto& e : std::filesystem::directory_iterator(dir.path))
+        files += e.path().filename().string().rfind("partial", 0) == 0;
+    CHECK(files == 1);
+}
+
+TEST_CASE("rayproc info --json gives the exact figures of the Cornell box", "[cli]") {
+    TempDir dir;
+    RunResult r = runRayproc({"info", scenePath("cornell-box"), "--json"}, dir);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    CHECK(j["geometry"]["triangles_unique"].get<int>() == 36);
+    CHECK(j["geometry"]["triangles_placed"].get<int>() == 36);
+    CHECK(j["geometry"]["spheres"].get<int>() == 0);
+    CHECK(j["geometry"]["disks"].get<int>() == 0);
+    CHECK(j["lights"]["area"].get<int>() == 1);
+    for (const char* kind : {"point", "spot", "directional", "environment"}) {
+        INFO("light kind " << kind);
+        CHECK(j["lights"][kind].get<int>() == 0);
+    }
+
+    // Materials by type, as the scene file declares them.
+    nlohmann::json file = nlohmann::json::parse(readText(scenePath("cornell-box")));
+    std::map<std::string, int> byType{
+        {"diffuse", 0}, {"mirror", 0}, {"dielectric", 0}, {"glossy", 0}};
+    for (auto& [name, m] : file["materials"].items()) ++byType[m["type"].get<std::string>()];
+    CHECK(byType["diffuse"] == 8);
+    for (auto& [type, count] : byType) {
+        INFO("material type " << type);
+        CHECK(j["materials"][type].get<int>() == count);
+    }
+
+    const auto& lo = j["bounds"]["min"];
+    const auto& hi = j["bounds"]["max"];
+    CHECK(lo[0].get<double>() == Approx(-1).margin(1e-6));
+    CHECK(lo[1].get<double>() == Approx(0).margin(1e-6));
+    CHECK(lo[2].get<double>() == Approx(-1).margin(1e-6));
+    CHECK(hi[0].get<double>() == Approx(1).margin(1e-6));
+    CHECK(hi[1].get<double>() == Approx(2).margin(1e-6));
+    CHECK(hi[2].get<double>() == Approx(1).margin(1e-6));
+}

@@ -1,0 +1,229 @@
+// The film: fixed-point accumulation that does not depend on the order of contributions (so
+// images do not depend on the thread count), and the bookkeeping of invalid, clamped and
+// missing samples.
+#include "engine/film.h"
+
+#include <catch2/catch.hpp>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+using namespace rayproc;
+
+namespace {
+
+struct Contribution {
+    std::uint32_t pixel;
+    Vec3 radiance;
+};
+
+// Radiance over many orders of magnitude (1e-4 .. 1e3), the case where float sums depend on
+// the order of addition.
+std::vector<Contribution> randomContributions(int count, std::uint32_t pixels, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<std::uint32_t> pixel(0, pixels - 1);
+    std::uniform_real_distribution<float> exponent(-4.0f, 3.0f);
+    std::vector<Contribution> v;
+    for (int i = 0; i < count; ++i) {
+        Vec3 r(std::pow(10.0f, exponent(rng)), std::pow(10.0f, exponent(rng)),
+               std::pow(10.0f, exponent(rng)));
+        v.push_back({pixel(rng), r});
+    }
+    return v;
+}
+
+void addAll(Film& film, const std::vector<Contribution>& cs, ThreadStats& stats) {
+    for (const Contribution& c : cs) {
+        film.addSample(c.pixel);
+        film.add(c.pixel, c.radiance, stats);
+    }
+}
+
+bool sameBits(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height && a.pixels.size() == b.pixels.size() &&
+           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
+}
+
+} // namespace
+
+TEST_CASE("Film accumulation does not depend on the order of contributions", "[engine]") {
+    constexpr int kW = 8, kH = 4;
+    auto cs = randomContributions(20000, kW * kH, 12345);
+    auto shuffled = cs;
+    std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(99));
+    auto reversed = cs;
+    std::reverse(reversed.begin(), reversed.end());
+
+    ThreadStats s1, s2, s3;
+    Film a(kW, kH), b(kW, kH), c(kW, kH);
+    addAll(a, cs, s1);
+    addAll(b, shuffled, s2);
+    addAll(c, reversed, s3);
+    a.commitPass();
+    b.commitPass();
+    c.commitPass();
+    Image ia = a.resolve(), ib = b.resolve(), ic = c.resolve();
+    CHECK(sameBits(ia, ib));
+    CHECK(sameBits(ia, ic));
+    CHECK(s1.invalidSamples == 0);
+    CHECK(s1.clampedSamples == 0);
+
+    // The test has teeth: plain float sums of the same data do depend on the order.
+    std::vector<float> sumA(kW * kH * 3, 0.0f), sumB(kW * kH * 3, 0.0f);
+    for (auto& x : cs)
+        for (int ch = 0; ch < 3; ++ch) sumA[x.pixel * 3 + ch] += x.radiance[ch];
+    for (auto& x : shuffled)
+        for (int ch = 0; ch < 3; ++ch) sumB[x.pixel * 3 + ch] += x.radiance[ch];
+    CHECK(std::memcmp(sumA.data(), sumB.data(), sumA.size() * sizeof(float)) != 0);
+
+    // And the film's value is the sum to within the fixed-point resolution.
+    std::vector<double> exact(kW * kH * 3, 0.0);
+    std::vector<int> samples(kW * kH, 0);
+    for (auto& x : cs) {
+        ++samples[x.pixel];
+        for (int ch = 0; ch < 3; ++ch) exact[x.pixel * 3 + ch] += double(x.radiance[ch]);
+    }
+    for (int p = 0; p < kW * kH; ++p) {
+        REQUIRE(samples[p] > 0);
+        for (int ch = 0; ch < 3; ++ch) {
+            double expected = exact[p * 3 + ch] / samples[p];
+            CHECK(ia.pixels[p * 3 + ch] == Approx(expected).epsilon(1e-6));
+        }
+    }
+}
+
+TEST_CASE("Film accumulation from two threads equals the sequential one, over passes", "[engine]") {
+    constexpr int kW = 4, kH = 4;
+    auto pass1 = randomContributions(5000, kW * kH, 1);
+    auto pass2 = randomContributions(5000, kW * kH, 2);
+
+    Film seq(kW, kH);
+    ThreadStats st;
+    addAll(seq, pass1, st);
+    seq.commitPass();
+    addAll(seq, pass2, st);
+    seq.commitPass();
+
+    Film par(kW, kH);
+    tbb::enumerable_thread_specific<ThreadStats> local;
+    tbb::task_arena arena(2);
+    for (const auto* pass : {&pass2, &pass1}) { // the passes in the other order, too
+        arena.execute([&] {
+            tbb::parallel_for(std::size_t(0), pass->size(), [&](std::size_t i) {
+                par.addSample((*pass)[i].pixel);
+                par.add((*pass)[i].pixel, (*pass)[i].radiance, local.local());
+            });
+        });
+        par.commitPass();
+    }
+    // Passes fold into doubles in pass order, so only the same pass order promises the same
+    // bits; the two-thread film in that order matches the sequential one exactly.
+    Film par2(kW, kH);
+    for (const auto* pass : {&pass1, &pass2}) {
+        arena.execute([&] {
+            tbb::parallel_for(std::size_t(0), pass->size(), [&](std::size_t i) {
+                par2.addSample((*pass)[i].pixel);
+                par2.add((*pass)[i].pixel, (*pass)[i].radiance, local.local());
+            });
+        });
+        par2.commitPass();
+    }
+    Image a = seq.resolve(), b = par.resolve(), c = par2.resolve();
+    CHECK(sameBits(a, c));
+    for (std::size_t i = 0; i < a.pixels.size(); ++i)
+        CHECK(b.pixels[i] == Approx(a.pixels[i]).epsilon(1e-6));
+    for (std::uint32_t p = 0; p < kW * kH; ++p) CHECK(seq.samplesOf(p) == par2.samplesOf(p));
+}
+
+TEST_CASE("Film discards and counts NaN and Inf contributions", "[engine]") {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    Film film(2, 1);
+    ThreadStats stats;
+    film.addSample(0);
+    film.addSample(0);
+    film.add(0, Vec3(0.5f, 0.25f, 1.0f), stats);
+    film.add(0, Vec3(nan, 1.0f, 1.0f), stats);
+    film.add(0, Vec3(1.0f, inf, 1.0f), stats);
+    film.add(0, Vec3(1.0f, 1.0f, -inf), stats);
+    film.add(0, Vec3(0.5f, 0.25f, 1.0f), stats);
+    film.addSample(1);
+    film.add(1, Vec3(nan), stats);
+    film.commitPass();
+    CHECK(stats.invalidSamples == 4);
+    CHECK(stats.clampedSamples == 0);
+
+    Image img = film.resolve();
+    // Pixel 0: two valid contributions over two samples; the invalid ones left no trace.
+    CHECK(img.at(0, 0)[0] == 0.5f);
+    CHECK(img.at(0, 0)[1] == 0.25f);
+    CHECK(img.at(0, 0)[2] == 1.0f);
+    // Pixel 1: its only contribution was discarded; the sample still counts, so it is black.
+    CHECK(img.at(1, 0)[0] == 0.0f);
+    CHECK(img.at(1, 0)[1] == 0.0f);
+    CHECK(img.at(1, 0)[2] == 0.0f);
+    for (float v : img.pixels) CHECK(std::isfinite(v));
+}
+
+TEST_CASE("Film pixels without samples stay black and are counted", "[engine]") {
+    Film film(4, 3);
+    ThreadStats stats;
+    CHECK(film.pixelsWithoutSamples() == 12);
+    film.addSample(0);
+    film.add(0, Vec3(1.0f), stats);
+    film.addSample(5);
+    film.addSample(5);
+    film.add(5, Vec3(2.0f), stats);
+    // Radiance for a pixel whose sample was never recorded is not shown.
+    film.add(7, Vec3(3.0f), stats);
+    film.commitPass();
+    CHECK(film.pixelsWithoutSamples() == 10);
+    CHECK(film.samplesOf(0) == 1);
+    CHECK(film.samplesOf(5) == 2);
+    CHECK(film.samplesOf(7) == 0);
+
+    Image img = film.resolve();
+    REQUIRE(img.width == 4);
+    REQUIRE(img.height == 3);
+    for (int p = 0; p < 12; ++p) {
+        float expected = p == 0 ? 1.0f : p == 5 ? 1.0f : 0.0f;
+        for (int c = 0; c < 3; ++c) {
+            INFO("pixel " << p << " channel " << c);
+            CHECK(img.pixels[p * 3 + c] == expected);
+        }
+    }
+
+    // A later pass that samples pixel 7 shows the radiance of both passes over its samples.
+    film.addSample(7);
+    film.commitPass();
+    CHECK(film.pixelsWithoutSamples() == 9);
+    CHECK(film.resolve().at(3, 1)[0] == 3.0f);
+}
+
+TEST_CASE("Film clamps contributions beyond its fixed-point range and counts them", "[engine]") {
+    const float limit = float(Film::kFixedLimit);
+    Film film(3, 1);
+    ThreadStats stats;
+    for (std::uint32_t p = 0; p < 3; ++p) film.addSample(p);
+    film.add(0, Vec3(4.0f * limit, 1.0f, 0.0f), stats);  // positive, beyond the range
+    film.add(1, Vec3(0.0f, -4.0f * limit, 1.0f), stats); // negative, beyond the range
+    film.add(2, Vec3(0.5f * limit, 0.0f, 0.0f), stats);  // large but within
+    film.commitPass();
+    CHECK(stats.clampedSamples == 2);
+    CHECK(stats.invalidSamples == 0);
+
+    Image img = film.resolve();
+    // Clamped to the limit with its sign, and nothing else touched.
+    CHECK(img.at(0, 0)[0] == Approx(Film::kFixedLimit).epsilon(1e-6));
+    CHECK(img.at(0, 0)[1] == 1.0f);
+    CHECK(img.at(1, 0)[1] == Approx(-Film::kFixedLimit).epsilon(1e-6));
+    CHECK(img.at(1, 0)[2] == 1.0f);
+    CHECK(img.at(2, 0)[0] == 0.5f * limit);
+}

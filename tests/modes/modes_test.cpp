@@ -1,0 +1,110 @@
+// Analytic checks of the modes: a diffuse plane under a point light (inverse-square law and
+// Lambert), and under a constant sky (the furnace-like a * L). Camera straight down.
+#include "test_util.h"
+
+#include <cmath>
+
+using namespace rayproc;
+using namespace rayproc::test;
+
+namespace {
+
+constexpr int kSize = 33; // odd: the centre pixel's centre is the image centre
+
+// A 200 x 200 diffuse plane at y = 0 of albedo `albedo`, seen from straight above.
+std::string planeScene(float albedo, const std::string& lights) {
+    return R"({
+      "camera": {"position": [0, 5, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 10,
+                 "resolution": [33, 33]},
+      "materials": {"plane": {"type": "diffuse", "color": [)" +
+           std::to_string(albedo) + ", " + std::to_string(albedo) + ", " + std::to_string(albedo) +
+           R"(]}},
+      "lights": )" +
+           lights + R"(,
+      "nodes": [{"type": "rectangle", "material": "plane", "center": [0, 0, 0],
+                 "size": [200, 200], "normal": [0, 1, 0]}]
+    })";
+}
+
+const float* centre(const Image& img) {
+    return img.at(kSize / 2, kSize / 2);
+}
+
+} // namespace
+
+TEST_CASE("Point light over a diffuse plane: radiance a / pi * I / h^2", "[modes]") {
+    const float a = 0.6f, h = 2.0f;
+    const Vec3 I(10.0f, 5.0f, 2.5f);
+    auto scene = sceneFromJson(planeScene(a, R"([{"type": "point", "position": [0, 2, 0],
+                                                  "intensity": [10, 5, 2.5]}])"));
+    REQUIRE(scene->camera.width == kSize);
+    EmbreeScene accel(*scene);
+    const Vec3 expected = I * (a / kPi / (h * h));
+
+    for (const std::string mode : {"raytrace", "preview"}) {
+        INFO("mode " << mode);
+        RenderOptions o;
+        o.mode = mode;
+        o.spp = mode == "raytrace" ? 4 : 1;
+        RenderResult r = render(*scene, accel, o);
+        const float* c = centre(r.image);
+        CHECK(c[0] == Approx(expected.x).epsilon(0.01));
+        CHECK(c[1] == Approx(expected.y).epsilon(0.01));
+        CHECK(c[2] == Approx(expected.z).epsilon(0.01));
+
+        // Off-centre the law is a / pi * I * cos / d^2 = a / pi * I * h / d^3 at the point a
+        // pixel sees: pixel (0, 0) looks at (-r, 0, -r) with r = 5 tan(5 deg) (1 - 1/33).
+        const double r0 = 5.0 * std::tan(5.0 * 3.14159265358979 / 180.0) * (1.0 - 1.0 / kSize);
+        const double d = std::sqrt(h * h + 2 * r0 * r0);
+        const float* corner = r.image.at(0, 0);
+        CHECK(corner[0] == Approx(I.x * a / kPi * h / (d * d * d)).epsilon(0.01));
+        CHECK(corner[0] < 0.9f * c[0]);
+    }
+}
+
+TEST_CASE("Constant sky over a diffuse plane: radiance a * L", "[modes]") {
+    const float a = 0.5f;
+    const Vec3 L(0.8f, 0.6f, 0.4f);
+    auto scene =
+        sceneFromJson(planeScene(a, R"([{"type": "environment", "radiance": [0.8, 0.6, 0.4]}])"));
+    EmbreeScene accel(*scene);
+    const Vec3 expected = L * a;
+
+    SECTION("raytrace converges to a * L") {
+        RenderOptions o;
+        o.spp = 4;
+        o.lightSamples = 16;
+        RenderResult r = render(*scene, accel, o);
+        // Every pixel sees the plane, and all of the plane sees only the sky.
+        Vec3 mean(0.0f);
+        for (int y = 0; y < kSize; ++y) {
+            for (int x = 0; x < kSize; ++x) {
+                const float* p = r.image.at(x, y);
+                mean += Vec3(p[0], p[1], p[2]);
+                for (int ch = 0; ch < 3; ++ch) {
+                    INFO("pixel " << x << ", " << y << " channel " << ch);
+                    CHECK(p[ch] == Approx(expected[ch]).epsilon(0.05));
+                }
+            }
+        }
+        mean = mean / float(kSize * kSize);
+        CHECK(mean.x == Approx(expected.x).epsilon(0.02));
+        CHECK(mean.y == Approx(expected.y).epsilon(0.02));
+        CHECK(mean.z == Approx(expected.z).epsilon(0.02));
+    }
+    SECTION("preview gives exactly a * L (ambient sky)") {
+        RenderOptions o;
+        o.mode = "preview";
+        o.spp = 1;
+        RenderResult r = render(*scene, accel, o);
+        for (int y = 0; y < kSize; ++y) {
+            for (int x = 0; x < kSize; ++x) {
+                const float* p = r.image.at(x, y);
+                for (int ch = 0; ch < 3; ++ch) {
+                    INFO("pixel " << x << ", " << y << " channel " << ch);
+                    CHECK(p[ch] == Approx(expected[ch]).epsilon(1e-6));
+                }
+            }
+        }
+    }
+}
