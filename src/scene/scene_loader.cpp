@@ -1,6 +1,6 @@
 // Scene loading, top level: read the file, parse the JSON (syntax errors by line and column,
 // duplicate keys by JSON pointer), then hand each top-level section to its parser.
-#include "scene/scene_loader.h"
+#include "scene/scene_loader_detail.h"
 
 #include "core/error.h"
 

@@ -1,7 +1,7 @@
 // JsonRef: checked reads of scene-file values, each error naming the file and JSON pointer.
 // Also the transform syntax, which every kind of node shares.
 #include "core/error.h"
-#include "scene/scene_loader.h"
+#include "scene/scene_loader_detail.h"
 
 #include <nlohmann/json.hpp>
 

@@ -3,7 +3,7 @@
 // lists every prototype after the ones it instances (computeBounds relies on that) and an
 // instance cycle shows up as a prototype met again while it is still being parsed.
 #include "core/error.h"
-#include "scene/scene_loader.h"
+#include "scene/scene_loader_detail.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,7 +1,7 @@
 // Scene loading: the flat sections of a scene file (camera, render settings, materials,
 // lights). Each key is optional unless noted; the defaults are those of scene.h.
 #include "core/error.h"
-#include "scene/scene_loader.h"
+#include "scene/scene_loader_detail.h"
 
 #include <nlohmann/json.hpp>
 

@@ -3,7 +3,7 @@
 // makes million-triangle scenes without million-triangle files.
 #include "core/error.h"
 #include "scene/obj_loader.h"
-#include "scene/scene_loader.h"
+#include "scene/scene_loader_detail.h"
 
 #include <nlohmann/json.hpp>
 
