@@ -8,20 +8,25 @@ namespace rayproc {
 
 static_assert(CameraEmitter::kTile * CameraEmitter::kTile == kBatchSize);
 
-CameraEmitter::CameraEmitter(const RenderContext& rc, int totalSpp) : m_rc(rc), m_totalSpp(totalSpp) {
-    const Camera& cam = rc.scene.camera;
+kernels::CameraFrame cameraFrame(const Camera& cam) {
     Affine toWorld = Affine::lookAt(cam.position, cam.lookAt, cam.up);
-    m_frame.origin = cam.position;
-    m_frame.right = normalize(toWorld.vector({1, 0, 0}));
-    m_frame.up = normalize(toWorld.vector({0, 1, 0}));
-    m_frame.forward = normalize(toWorld.vector({0, 0, -1}));
-    m_frame.tanHalfFovY = std::tan(0.5f * cam.fovY * kPi / 180.0f);
-    m_frame.width = float(cam.width);
-    m_frame.height = float(cam.height);
-    m_frame.aspect = float(cam.width) / float(cam.height);
-    m_frame.lensRadius = cam.apertureRadius;
-    m_frame.focusDistance =
-        cam.focusDistance > 0 ? cam.focusDistance : length(cam.lookAt - cam.position);
+    kernels::CameraFrame f;
+    f.origin = cam.position;
+    f.right = normalize(toWorld.vector({1, 0, 0}));
+    f.up = normalize(toWorld.vector({0, 1, 0}));
+    f.forward = normalize(toWorld.vector({0, 0, -1}));
+    f.tanHalfFovY = std::tan(0.5f * cam.fovY * kPi / 180.0f);
+    f.width = float(cam.width);
+    f.height = float(cam.height);
+    f.aspect = float(cam.width) / float(cam.height);
+    f.lensRadius = cam.apertureRadius;
+    f.focusDistance = cam.focusDistance > 0 ? cam.focusDistance : length(cam.lookAt - cam.position);
+    return f;
+}
+
+CameraEmitter::CameraEmitter(const RenderContext& rc, int totalSpp)
+    : m_rc(rc), m_frame(cameraFrame(rc.scene.camera)), m_totalSpp(totalSpp) {
+    const Camera& cam = rc.scene.camera;
     m_tilesX = (cam.width + kTile - 1) / kTile;
     m_tilesY = (cam.height + kTile - 1) / kTile;
 }

@@ -10,6 +10,9 @@
 
 namespace rayproc {
 
+// The kernel's view of a scene camera: world-space axes, field of view, lens.
+kernels::CameraFrame cameraFrame(const Camera& camera);
+
 class CameraEmitter : public Emitter {
 public:
     static constexpr int kTile = 16; // kTile * kTile == kBatchSize

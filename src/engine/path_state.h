@@ -3,6 +3,7 @@
 // successor ray with its payload.
 #pragma once
 
+#include "accel/embree_scene.h"
 #include "engine/ray_batch.h"
 #include "engine/render_context.h"
 #include "kernels/random.h"
@@ -16,6 +17,13 @@ enum RandomDim : std::uint32_t {
     kDimRefract = 4,
     kDimLightBase = 16, // light samples: hashed per light, see ShadowStage
 };
+
+// The hit's normals turned to the side the ray arrived from: opaque surfaces shade both sides.
+inline void facingNormals(const SurfaceHit& h, const Vec3& wo, Vec3& ng, Vec3& ns) {
+    bool front = dot(wo, h.ng) >= 0;
+    ng = front ? h.ng : -h.ng;
+    ns = front ? h.ns : -h.ns;
+}
 
 inline Vec3 laneThroughput(const RayBatch& b, int i) { return {b.wr[i], b.wg[i], b.wb[i]}; }
 inline Vec3 laneDirection(const RayBatch& b, int i) { return {b.dx[i], b.dy[i], b.dz[i]}; }

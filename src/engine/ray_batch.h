@@ -7,9 +7,10 @@
 
 namespace rayproc {
 
-// Rays per batch. A multiple of 16 (the widest Embree packet). 256 measured best on the
-// Cornell box in raytrace mode among 64/128/256/512 (bench/engine_bench.cpp, docs/performance.md):
-// large enough to amortise queue traffic, small enough for a batch (~40 KB) to stay in L2.
+// Rays per batch. A multiple of 16 (the widest Embree packet). 64, 128, 256 and 512 measured
+// within noise of each other on the Cornell box in raytrace mode (docs/performance.md, "Batch
+// size"); 256 keeps queue traffic at 0.5 ns per ray, a batch (~40 KB) fits in L2, and a 16x16
+// camera tile is exactly one batch.
 constexpr int kBatchSize = 256;
 
 // What a ray is for. The kind selects the retrace stage that receives the ray's result.

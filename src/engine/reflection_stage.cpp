@@ -16,8 +16,8 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         const SurfaceHit& h = hits.hit[k];
         const Material& mat = m_rc.scene.materials[h.material];
         Vec3 wo = -laneDirection(b, i);
-        Vec3 ng = h.ng, ns = h.ns;
-        if (dot(wo, ng) < 0) ng = -ng, ns = -ns;
+        Vec3 ng, ns;
+        facingNormals(h, wo, ng, ns);
         Vec3 w = laneThroughput(b, i);
         Vec3 wi;
         std::uint8_t flags = b.flags[i];

@@ -44,9 +44,8 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         const SurfaceHit& h = hits.hit[k];
         const Material& mat = m_rc.scene.materials[h.material];
         Vec3 wo = -laneDirection(b, i);
-        // Shade the side the ray arrived on.
-        Vec3 ng = h.ng, ns = h.ns;
-        if (dot(wo, ng) < 0) ng = -ng, ns = -ns;
+        Vec3 ng, ns;
+        facingNormals(h, wo, ng, ns);
         Vec3 w = laneThroughput(b, i);
         std::uint64_t key = b.rngKey[i];
 

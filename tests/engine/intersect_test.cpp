@@ -2,6 +2,7 @@
 // partially valid packets at the end of a batch) must find the same hits, at the same bits of
 // t, for camera rays and for incoherent rays from anywhere in the scene, and the same
 // occlusion for shadow rays with finite tfar.
+#include "engine/camera_emitter.h"
 #include "engine/intersect.h"
 #include "kernels/camera_rays.h"
 #include "test_util.h"
@@ -26,20 +27,6 @@ void append(Batches& bs, RayKind kind, const Vec3& o, const Vec3& d, float tfar)
         bs.back()->kind = kind;
     }
     bs.back()->push(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, tfar);
-}
-
-kernels::CameraFrame cameraFrame(const Camera& cam) {
-    Affine toWorld = Affine::lookAt(cam.position, cam.lookAt, cam.up);
-    kernels::CameraFrame f;
-    f.origin = cam.position;
-    f.right = normalize(toWorld.vector({1, 0, 0}));
-    f.up = normalize(toWorld.vector({0, 1, 0}));
-    f.forward = normalize(toWorld.vector({0, 0, -1}));
-    f.tanHalfFovY = std::tan(0.5f * cam.fovY * kPi / 180.0f);
-    f.width = float(cam.width);
-    f.height = float(cam.height);
-    f.aspect = f.width / f.height;
-    return f;
 }
 
 // Half the rays from the camera through random film positions, half from random points of the
