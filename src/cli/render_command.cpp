@@ -129,10 +129,11 @@ int runRender(const RenderArgs& a) {
         std::fprintf(stderr,
                      "rayproc: interrupted: wrote the partial image (%zu pixels had no sample)\n",
                      result.stats.pixelsWithoutSamples);
-        std::printf("%s\n", output.c_str());
+        std::printf("%s\n", std::filesystem::absolute(output).c_str());
         return 130;
     }
-    std::printf("%s\n", output.c_str());
+    // stdout carries only the image's location, so scripts can capture it.
+    std::printf("%s\n", std::filesystem::absolute(output).c_str());
     return 0;
 }
 
