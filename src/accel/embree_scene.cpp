@@ -151,12 +151,12 @@ void forEachPlacedChild(const Node& group, F&& f) {
 void EmbreeScene::place(const Node& group, const Affine& toWorld, bool isRoot) {
     std::vector<const Shape*> leaves;
     collectLeaves(group, leaves);
-    auto countPlaced = [&](const Shape* s, const Affine& w) {
+    auto countPlaced = [&](const Shape* s, const Affine& w, int instance) {
         ++m_stats.leaves;
         if (s->type == ShapeType::Mesh) m_stats.placedTriangles += s->mesh->triangleCount();
         if (s->type == ShapeType::Sphere) ++m_stats.spheres;
         if (s->type == ShapeType::Disk) ++m_stats.disks;
-        if (s->isEmissive()) m_emitters.push_back({s, w, w.inverse()});
+        if (s->isEmissive()) m_emitters.push_back({s, w, w.inverse(), instance});
     };
     if (!leaves.empty()) {
         if (isRoot && toWorld.isIdentity()) {
@@ -164,7 +164,7 @@ void EmbreeScene::place(const Node& group, const Affine& toWorld, bool isRoot) {
                 unsigned id = attachShape(m_top, *s);
                 RAYPROC_CHECK(id == m_topEntries.size());
                 m_topEntries.push_back({s, -1});
-                countPlaced(s, toWorld);
+                countPlaced(s, toWorld, -1);
             }
         } else {
             int proto = prototypeFor(group);
@@ -179,7 +179,7 @@ void EmbreeScene::place(const Node& group, const Affine& toWorld, bool isRoot) {
             RAYPROC_CHECK(id == m_topEntries.size());
             m_topEntries.push_back({nullptr, int(m_instances.size())});
             m_instances.push_back({proto, toWorld, toWorld.inverse()});
-            for (const Shape* s : leaves) countPlaced(s, toWorld);
+            for (const Shape* s : leaves) countPlaced(s, toWorld, int(m_instances.size()) - 1);
         }
     }
     forEachPlacedChild(group, [&](const Node& child) {

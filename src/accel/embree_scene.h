@@ -35,6 +35,7 @@ struct EmitterRecord {
     const Shape* shape = nullptr;
     Affine toWorld;
     Affine toLocal;
+    int instance = -1; // the InstanceRecord it is placed by; -1 for root-level leaves
 };
 
 // What an intersection is, in world space.

@@ -15,15 +15,19 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "rayproc " RAYPROC_VERSION);
     auto render = rayproc::cli::addRenderCommand(app);
     auto info = rayproc::cli::addInfoCommand(app);
+    auto diff = rayproc::cli::addDiffCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        int status = app.exit(e);
+        // diff's status 1 means "a limit was exceeded", so its usage errors are 2, not CLI11's.
+        return status != 0 && app.got_subcommand("diff") ? 2 : status;
     }
     // Every error that escapes a command ends here as one clear line and a non-zero status.
     try {
         if (app.got_subcommand("render")) return render();
         if (app.got_subcommand("info")) return info();
+        if (app.got_subcommand("diff")) return diff();
     } catch (const rayproc::InputError& e) {
         rayproc::cli::printError(e.what());
     } catch (const rayproc::ImageIoError& e) {

@@ -32,6 +32,7 @@ struct RenderArgs {
     std::string statsJson;
     float exposure = 0;
     std::string tonemap = "clamp";
+    std::string reference, errorLog;
 };
 
 std::string joinModes() {
@@ -97,6 +98,22 @@ int runRender(const RenderArgs& a) {
         engine.onProgress = [output, tm](const Image& img) { writeImage(output, img, tm); };
     }
 
+    Image reference;
+    if (!a.reference.empty()) {
+        reference = readImage(a.reference);
+        if (reference.width != scene->camera.width || reference.height != scene->camera.height)
+            throw InputError(a.reference + ": the reference is " + std::to_string(reference.width) +
+                             "x" + std::to_string(reference.height) + " but the render is " +
+                             std::to_string(scene->camera.width) + "x" +
+                             std::to_string(scene->camera.height));
+        if (a.errorLog.empty()) throw InputError("--reference needs --error-log FILE");
+        checkOutputDirectory(a.errorLog);
+        engine.reference = &reference;
+        engine.errorLogPath = a.errorLog;
+    } else if (!a.errorLog.empty()) {
+        throw InputError("--error-log needs --reference IMAGE");
+    }
+
     EmbreeScene accel(*scene);
     if (scene->lights.empty() && accel.emitters().empty())
         std::fprintf(stderr, "rayproc: warning: %s has no lights; the image will be black\n",
@@ -113,6 +130,13 @@ int runRender(const RenderArgs& a) {
                                    settings.c_str(), engine.toString().c_str(),
                                    scene->camera.width, scene->camera.height);
         result = renderPreview(*scene, accel, s, engine);
+    } else if (mode == "path") {
+        PathSettings s = pathSettings(scene->render, overrides);
+        settings = s.toString();
+        if (!a.quiet) std::fprintf(stderr, "rayproc render %s: %s %s %dx%d\n", a.scene.c_str(),
+                                   settings.c_str(), engine.toString().c_str(),
+                                   scene->camera.width, scene->camera.height);
+        result = renderPath(*scene, accel, s, engine);
     } else {
         RaytraceSettings s = raytraceSettings(scene->render, overrides);
         settings = s.toString();
@@ -150,9 +174,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "radiance). Default: <scene name>.png in the current directory");
     cmd->add_option("--mode", args->mode,
                     "Rendering mode: preview (real-time approximation: point lights at area-light "
-                    "corners, hard shadows) or raytrace (direct light with soft shadows, mirror "
-                    "reflection, Fresnel refraction). Default: the scene's render.mode, else "
-                    "raytrace");
+                    "corners, hard shadows), raytrace (direct light with soft shadows, mirror "
+                    "reflection, Fresnel refraction) or path (unbiased path tracing with next-event "
+                    "estimation and MIS: the reference). Default: the scene's render.mode, else "
+                    "path");
     cmd->add_option("--spp", args->spp, "Samples per pixel (default: the mode's, or the scene's)")
         ->check(CLI::Range(1, 1000000));
     cmd->add_option("--threads", args->threads, "Worker threads (default: all cores)")
@@ -164,7 +189,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--width", args->width, "Override the image width")->check(CLI::Range(1, 16384));
     cmd->add_option("--height", args->height, "Override the image height")->check(CLI::Range(1, 16384));
     cmd->add_option("--max-depth", args->maxDepth,
-                    "Maximum reflection/refraction bounces (raytrace default 8, preview 1)")
+                    "Maximum bounces (raytrace default 8, preview 1, path 64)")
         ->check(CLI::Range(1, 255));
     cmd->add_option("--light-samples", args->lightSamples,
                     "Stratified samples per area light and for the sky, per shading point "
@@ -177,6 +202,12 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--exposure", args->exposure, "Exposure in stops for PNG output (default 0)");
     cmd->add_option("--tonemap", args->tonemap, "PNG tone map: clamp (default), reinhard, aces")
         ->check(CLI::IsMember({"clamp", "reinhard", "aces"}));
+    cmd->add_option("--reference", args->reference,
+                    "Reference image (PNG/EXR/HDR/PFM, same size) for the convergence log")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--error-log", args->errorLog,
+                    "With --reference: after each pass append 'spp,seconds,relmse,rmse' to this "
+                    "CSV file (seconds exclude the time spent measuring the error)");
     cmd->add_flag("--quiet,-q", args->quiet, "No progress and no render log on stderr");
     cmd->add_flag("--stats", args->stats, "Print per-stage statistics on stderr at the end");
     cmd->add_option("--stats-json", args->statsJson, "Write the statistics as JSON to this file");

@@ -82,6 +82,9 @@ bool CameraEmitter::emit(StageContext& ctx) {
         batch->tnear[i] = 0.0f;
         batch->tfar[i] = kInfinity;
         batch->pixel[i] = pix[i];
+        batch->sample[i] = std::uint32_t(sample);
+        batch->prevPdf[i] = 0.0f;
+        batch->prevCos[i] = 0.0f;
         batch->wr[i] = batch->wg[i] = batch->wb[i] = 1.0f;
         batch->rngKey[i] = kernels::hashCombine(keys[i], 1);
         batch->depth[i] = 0;

@@ -50,6 +50,9 @@ inline void spawnRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& o
                      std::uint8_t specularDepth, std::uint8_t flags, std::uint32_t branch) {
     int j = out.push(origin.x, origin.y, origin.z, dir.x, dir.y, dir.z, 0.0f, kInfinity);
     out.pixel[j] = parent.pixel[i];
+    out.sample[j] = parent.sample[i];
+    out.prevPdf[j] = 0.0f;
+    out.prevCos[j] = 0.0f;
     out.wr[j] = weight.x; out.wg[j] = weight.y; out.wb[j] = weight.z;
     out.rngKey[j] = kernels::hashCombine(parent.rngKey[i], 0x100u + branch);
     out.depth[j] = depth;

@@ -40,12 +40,16 @@ struct RayBatch {
     alignas(64) std::array<float, kBatchSize> tnear, tfar;
     // Payload
     alignas(64) std::array<std::uint32_t, kBatchSize> pixel;  // film slot
+    alignas(64) std::array<std::uint32_t, kBatchSize> sample; // the pixel's sample index
     alignas(64) std::array<float, kBatchSize> wr, wg, wb;     // path throughput, or for shadow
                                                               // rays the unoccluded contribution
     alignas(64) std::array<std::uint64_t, kBatchSize> rngKey; // the ray's random stream
     alignas(64) std::array<std::uint8_t, kBatchSize> depth;   // bounces so far
     alignas(64) std::array<std::uint8_t, kBatchSize> specularDepth; // reflection + refraction bounces
     alignas(64) std::array<std::uint8_t, kBatchSize> flags;
+    // Path mode: how the ray was sampled, for multiple importance sampling where it lands.
+    alignas(64) std::array<float, kBatchSize> prevPdf; // BSDF pdf (solid angle); 0 = delta/camera
+    alignas(64) std::array<float, kBatchSize> prevCos; // cos(wi, previous facing normal)
     // Hit, filled by the intersect stage (for shadow rays: tfar < 0 means occluded)
     alignas(64) std::array<float, kBatchSize> t, u, v;
     alignas(64) std::array<std::uint32_t, kBatchSize> geomId, primId, instId;

@@ -24,6 +24,10 @@ struct ShadingPolicy {
     float minTranslucency = 0.0f;
     int maxGlassLayers = 0;
     bool ambientEnvironment = false;
+    // Path mode: Russian roulette starts after this many bounces; the stratified first-hit
+    // dimensions need the render's samples per pixel.
+    int rrStartDepth = 3;
+    int sppTotal = 1;
 };
 
 struct RenderContext {

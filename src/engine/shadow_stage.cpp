@@ -34,6 +34,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                                            : length(p + wi * distance - o) * (1.0f - 1e-4f);
         int j = out.push(o.x, o.y, o.z, wi.x, wi.y, wi.z, 0.0f, tfar);
         out.pixel[j] = b.pixel[i];
+        out.sample[j] = b.sample[i];
         out.wr[j] = contribution.x; out.wg[j] = contribution.y; out.wb[j] = contribution.z;
         out.rngKey[j] = 0; out.depth[j] = b.depth[i]; out.specularDepth[j] = 0; out.flags[j] = 0;
         ++spawned;

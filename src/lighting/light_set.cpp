@@ -92,7 +92,8 @@ LightSample fromAreaPoint(const LightSource& l, const Vec3& p, const Vec3& q, co
     float cosL;
     Vec3 L = areaRadiance(l, n, -s.wi, cosL);
     if (cosL <= 0) return s;
-    s.weight = L * (cosL / (dist2 * pdfArea));
+    s.pdf = pdfArea * dist2 / cosL;
+    s.weight = L / s.pdf;
     s.valid = true;
     return s;
 }
@@ -160,7 +161,8 @@ LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
         float t = b - std::sqrt(std::max(0.0f, disc));
         s.wi = wi;
         s.distance = t;
-        s.weight = radiance * (2 * kPi * (1 - cosMax));
+        s.pdf = 1.0f / (2 * kPi * (1 - cosMax));
+        s.weight = radiance / s.pdf;
         s.valid = true;
         return s;
     }
@@ -171,6 +173,23 @@ LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
     }
     }
     return s;
+}
+
+float LightSource::pdf(const Vec3& p, const Vec3& q, const Vec3& nq) const {
+    if (delta()) return 0.0f;
+    Vec3 d = q - p;
+    float dist2 = lengthSquared(d);
+    if (dist2 <= 0) return 0.0f;
+    if (kind == Kind::AreaSphere) {
+        float c2 = lengthSquared(center - p);
+        if (c2 > radius * radius * 1.0001f) {
+            float cosMax = std::sqrt(std::max(0.0f, 1.0f - radius * radius / c2));
+            return 1.0f / (2 * kPi * (1 - cosMax));
+        }
+    }
+    float cosL = std::abs(dot(nq, d)) / std::sqrt(dist2);
+    if (cosL <= 0) return 0.0f;
+    return dist2 / (cosL * area);
 }
 
 Vec3 LightSource::power() const {
@@ -188,8 +207,19 @@ LightSet LightSet::build(const Scene& scene, const EmbreeScene& accel) {
         if (l.type == LightType::Environment) set.environment += l.intensity;
         else set.lights.push_back(fromSceneLight(l));
     }
-    for (const EmitterRecord& e : accel.emitters()) set.lights.push_back(fromEmitter(e));
+    for (const EmitterRecord& e : accel.emitters()) {
+        set.m_areaIndex.push_back({{e.shape, e.instance}, int(set.lights.size())});
+        set.lights.push_back(fromEmitter(e));
+    }
+    std::sort(set.m_areaIndex.begin(), set.m_areaIndex.end());
     return set;
+}
+
+int LightSet::indexOf(const Shape* shape, int instance) const {
+    auto key = std::make_pair(shape, instance);
+    auto it = std::lower_bound(m_areaIndex.begin(), m_areaIndex.end(), key,
+                               [](const auto& e, const auto& k) { return e.first < k; });
+    return it != m_areaIndex.end() && it->first == key ? it->second : -1;
 }
 
 LightSet LightSet::buildPreview(const Scene& scene, const EmbreeScene& accel) {

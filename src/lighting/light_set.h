@@ -7,6 +7,7 @@
 #include "core/math.h"
 #include "scene/scene.h"
 
+#include <utility>
 #include <vector>
 
 namespace rayproc {
@@ -16,6 +17,7 @@ struct LightSample {
     Vec3 wi;          // unit direction towards the light
     float distance;   // to the sampled point; infinity for directional lights
     Vec3 weight;      // incident radiance / pdf (solid angle), or irradiance for delta lights
+    float pdf = 0;    // solid-angle pdf of the sample; 0 for delta lights
     bool valid = false;
 };
 
@@ -41,6 +43,9 @@ public:
     float area = 0;
 
     LightSample sample(const Vec3& p, Vec2 u) const;
+    // Solid-angle pdf with which sample(p, .) picks the direction towards the point q of
+    // this light with normal nq (path mode's multiple importance sampling). 0 for delta lights.
+    float pdf(const Vec3& p, const Vec3& q, const Vec3& nq) const;
     Vec3 power() const; // total emitted power (W), for statistics and photon emission
 };
 
@@ -49,12 +54,21 @@ struct LightSet {
     Vec3 environment{0, 0, 0}; // constant radiance of the sky; zero when absent
     bool hasEnvironment() const { return !isBlack(environment); }
 
+    // Path mode picks one light per shading point, uniformly among the lights and the sky
+    // (the sky is choice number lights.size()).
+    std::size_t choiceCount() const { return lights.size() + (hasEnvironment() ? 1 : 0); }
+    // The area light an emissive leaf placement is, or -1.
+    int indexOf(const Shape* shape, int instance) const;
+
     // Every scene light as it is: area lights stay area lights.
     static LightSet build(const Scene& scene, const EmbreeScene& accel);
     // The paper's preview approximation: each quad light becomes a point light per corner,
     // each other area light a point light per triangle, sphere or disk at its centre; the
     // emitted power is preserved and shared equally among the points.
     static LightSet buildPreview(const Scene& scene, const EmbreeScene& accel);
+
+private:
+    std::vector<std::pair<std::pair<const Shape*, int>, int>> m_areaIndex; // sorted
 };
 
 // Radiance a ray sees when it lands on an emissive surface.

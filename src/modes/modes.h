@@ -33,6 +33,16 @@ struct RaytraceSettings {
     std::string toString() const;
 };
 
+// Path (the in-house reference): unbiased path tracing with next-event estimation and
+// multiple importance sampling (power heuristic), Russian roulette after a few bounces.
+struct PathSettings {
+    int spp = 64;
+    int maxDepth = 64;
+    int rrStartDepth = 3;
+    bool roulette = true;
+    std::string toString() const;
+};
+
 // Values the command line set; unset ones keep the scene's or the mode's default.
 struct ModeOverrides {
     int spp = 0, maxDepth = 0, lightSamples = 0;
@@ -44,9 +54,13 @@ std::string defaultMode(); // the best mode implemented
 PreviewSettings previewSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 
+PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
+
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
                            const EngineSettings& engine);
 RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
                             const RaytraceSettings& s, const EngineSettings& engine);
+RenderResult renderPath(const Scene& scene, const EmbreeScene& accel, const PathSettings& s,
+                        const EngineSettings& engine);
 
 } // namespace rayproc

@@ -35,10 +35,11 @@ RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
 }
 
 const std::vector<std::string>& knownModes() {
-    static const std::vector<std::string> modes{"preview", "raytrace"};
+    static const std::vector<std::string> modes{"preview", "raytrace", "path"};
     return modes;
 }
 
-std::string defaultMode() { return "raytrace"; }
+// The most complete mode implemented: full global illumination.
+std::string defaultMode() { return "path"; }
 
 } // namespace rayproc

@@ -3,6 +3,7 @@
 #include "engine/camera_emitter.h"
 #include "engine/cancel.h"
 #include "engine/intersect.h"
+#include "engine/path_stage.h"
 #include "engine/processor.h"
 #include "engine/progress.h"
 #include "engine/reflection_stage.h"
@@ -10,7 +11,12 @@
 #include "engine/shadow_stage.h"
 #include "engine/surface_stage.h"
 
+#include "image/metrics.h"
+
 #include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
 #include <chrono>
 #include <sstream>
 
@@ -25,7 +31,7 @@ std::string EngineSettings::toString() const {
 
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
-                          const EngineSettings& engine) {
+                          const EngineSettings& engine, RadianceStage radiance) {
     auto start = std::chrono::steady_clock::now();
     Film film(scene.camera.width, scene.camera.height);
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
@@ -39,10 +45,21 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     ReflectionStage reflection(rc);
     RefractionStage refraction(rc);
     SurfaceStage surface(rc, shadow, reflection, refraction);
-    processor.setStage(RayKind::Camera, &surface);
-    processor.setStage(RayKind::Reflection, &surface);
-    processor.setStage(RayKind::Refraction, &surface);
+    PathStage path(rc);
+    RetraceStage* radianceStage = radiance == RadianceStage::Path
+                                      ? static_cast<RetraceStage*>(&path)
+                                      : static_cast<RetraceStage*>(&surface);
+    processor.setStage(RayKind::Camera, radianceStage);
+    processor.setStage(RayKind::Reflection, radianceStage);
+    processor.setStage(RayKind::Refraction, radianceStage);
     processor.setStage(RayKind::Shadow, &shadow);
+
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> errorLog(nullptr, &std::fclose);
+    if (engine.reference && !engine.errorLogPath.empty()) {
+        errorLog.reset(std::fopen(engine.errorLogPath.c_str(), "w"));
+        if (!errorLog) throw std::runtime_error("cannot write the error log " + engine.errorLogPath);
+        std::fprintf(errorLog.get(), "spp,seconds,relmse,rmse\n");
+    }
 
     // Passes of a few samples per pixel: the film commits between passes, which is where
     // progressive output is written and where a cancel leaves a consistent image.
@@ -73,6 +90,15 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         passIndex = pass + 1;
         ++result.passesDone;
         auto now = std::chrono::steady_clock::now();
+        if (errorLog) {
+            // The log's clock stops while the error is measured.
+            double seconds = std::chrono::duration<double>(now - start).count();
+            ImageMetrics m = compareImages(film.resolve(), *engine.reference);
+            std::fprintf(errorLog.get(), "%d,%.6f,%.9g,%.9g\n", first + count, seconds, m.relmse,
+                         m.rmse);
+            std::fflush(errorLog.get());
+            start += std::chrono::steady_clock::now() - now;
+        }
         if (engine.onProgress && pass + 1 < passes &&
             std::chrono::duration<double>(now - lastProgressive).count() >= engine.progressiveSeconds) {
             engine.onProgress(film.resolve());

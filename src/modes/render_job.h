@@ -26,8 +26,16 @@ struct EngineSettings {
     // calls it at most once per `progressiveSeconds`.
     std::function<void(const Image&)> onProgress;
     double progressiveSeconds = 5.0;
+    // Convergence log: after each pass, the samples, seconds and error against `reference`
+    // are appended to `errorLogPath` as CSV (spp,seconds,relmse,rmse).
+    const Image* reference = nullptr;
+    std::string errorLogPath;
     std::string toString() const;
 };
+
+// Which retrace stage continues camera rays: the Whitted-style surface stage (preview,
+// raytrace) or the path stage (path).
+enum class RadianceStage { Surface, Path };
 
 struct RenderResult {
     Image image;
@@ -38,6 +46,7 @@ struct RenderResult {
 
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
-                          const EngineSettings& engine);
+                          const EngineSettings& engine,
+                          RadianceStage radiance = RadianceStage::Surface);
 
 } // namespace rayproc

@@ -1,0 +1,236 @@
+// `rayproc diff A B`: compares a test image A with a reference B (error metrics of
+// image/metrics.h, a difference image, an error heatmap) and gates on limits, so scripts and CI
+// can check a render against a reference. Exit status: 0 within limits, 1 a limit exceeded,
+// 2 an error (every error, its usage errors included; see main.cpp).
+#include "cli/commands.h"
+#include "image/heatmap.h"
+#include "image/image.h"
+#include "image/metrics.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <new>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rayproc::cli {
+
+namespace {
+
+constexpr int kExitWithinLimits = 0;
+constexpr int kExitLimitExceeded = 1;
+constexpr int kExitError = 2;
+
+struct DiffArgs {
+    std::string test, reference;
+    std::string output, heatmap;
+    float scale = 1.0f;
+    std::string heatmapMetric = "relmse";
+    std::string heatmapScale = "log";
+    std::vector<double> heatmapRange;
+    bool noLegend = false;
+    std::vector<int> crop;
+    double maxRelmse = 0, maxRmse = 0;
+    bool hasMaxRelmse = false, hasMaxRmse = false;
+    bool json = false;
+};
+
+// A limit that is not met; NaN metrics (NaN in an input) never pass.
+struct Exceeded {
+    std::string metric, option;
+    double value, limit;
+};
+
+// Fails before reading or comparing anything: an output that cannot be written is known early.
+void checkOutputPath(const std::string& path) {
+    if (path.empty()) return;
+    imageFormatFromPath(path); // throws for an unknown extension
+    std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    if (dir.empty()) dir = ".";
+    if (!std::filesystem::is_directory(dir))
+        throw ImageIoError(path + ": the directory " + dir.string() + " does not exist");
+}
+
+std::optional<CropRect> cropOf(const DiffArgs& a) {
+    if (a.crop.empty()) return std::nullopt;
+    return CropRect{a.crop[0], a.crop[1], a.crop[2], a.crop[3]};
+}
+
+HeatmapSettings heatmapSettings(const DiffArgs& a) {
+    HeatmapSettings s;
+    s.metric = a.heatmapMetric == "abs" ? HeatmapMetric::Abs : HeatmapMetric::RelMse;
+    s.scale = a.heatmapScale == "linear" ? HeatmapScale::Linear : HeatmapScale::Log;
+    if (a.heatmapRange.size() == 2) {
+        s.lo = a.heatmapRange[0];
+        s.hi = a.heatmapRange[1];
+        if (!(s.hi > s.lo) || s.lo < 0 || (s.scale == HeatmapScale::Log && s.lo <= 0))
+            throw ImageIoError("--heatmap-range " + std::to_string(s.lo) + " " +
+                               std::to_string(s.hi) +
+                               ": needs 0 <= LO < HI (LO > 0 on the log scale)");
+    }
+    s.legend = !a.noLegend;
+    s.crop = cropOf(a);
+    return s;
+}
+
+std::string formatNumber(double v) {
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+// JSON has no infinity: psnr of identical images (and any NaN) becomes null.
+nlohmann::ordered_json jsonNumber(double v) {
+    if (!std::isfinite(v)) return nullptr;
+    return v;
+}
+
+void printText(const DiffArgs& a, const Image& img, const ImageMetrics& m) {
+    std::printf("size     %dx%d\n", img.width, img.height);
+    if (auto c = cropOf(a))
+        std::printf("crop     %d %d %d %d\n", c->x0, c->y0, c->x1, c->y1);
+    std::printf("pixels   %zu\n", m.pixels);
+    std::printf("rmse     %s\n", formatNumber(m.rmse).c_str());
+    std::printf("relmse   %s\n", formatNumber(m.relmse).c_str());
+    std::printf("psnr     %s dB\n", formatNumber(m.psnr).c_str());
+    std::printf("mae      %s\n", formatNumber(m.mae).c_str());
+    std::printf("max_abs  %s\n", formatNumber(m.maxAbs).c_str());
+}
+
+void printJson(const DiffArgs& a, const Image& img, const ImageMetrics& m,
+               const std::vector<Exceeded>& exceeded) {
+    nlohmann::ordered_json j;
+    j["test"] = a.test;
+    j["reference"] = a.reference;
+    j["width"] = img.width;
+    j["height"] = img.height;
+    if (auto c = cropOf(a)) j["crop"] = {c->x0, c->y0, c->x1, c->y1};
+    j["pixels"] = m.pixels;
+    j["rmse"] = jsonNumber(m.rmse);
+    j["relmse"] = jsonNumber(m.relmse);
+    j["psnr"] = jsonNumber(m.psnr);
+    j["mae"] = jsonNumber(m.mae);
+    j["max_abs"] = jsonNumber(m.maxAbs);
+    j["exceeded"] = nlohmann::ordered_json::array();
+    for (const Exceeded& e : exceeded) j["exceeded"].push_back(e.metric);
+    std::printf("%s\n", j.dump(2).c_str());
+}
+
+int runDiff(const DiffArgs& a) {
+    checkOutputPath(a.output);
+    checkOutputPath(a.heatmap);
+    HeatmapSettings hs = heatmapSettings(a);
+
+    Image test = readImage(a.test);
+    Image reference = readImage(a.reference);
+    if (test.width != reference.width || test.height != reference.height)
+        throw ImageIoError("cannot compare images of different sizes: " + a.test + " is " +
+                           std::to_string(test.width) + "x" + std::to_string(test.height) +
+                           ", the reference " + a.reference + " is " +
+                           std::to_string(reference.width) + "x" +
+                           std::to_string(reference.height));
+    ImageMetrics m = compareImages(test, reference, cropOf(a)); // throws for a bad crop
+
+    if (!a.output.empty()) writeImage(a.output, differenceImage(test, reference, a.scale));
+    if (!a.heatmap.empty()) writeImage(a.heatmap, renderHeatmap(test, reference, hs));
+
+    std::vector<Exceeded> exceeded;
+    if (a.hasMaxRelmse && !(m.relmse <= a.maxRelmse))
+        exceeded.push_back({"relmse", "--max-relmse", m.relmse, a.maxRelmse});
+    if (a.hasMaxRmse && !(m.rmse <= a.maxRmse))
+        exceeded.push_back({"rmse", "--max-rmse", m.rmse, a.maxRmse});
+
+    if (a.json) printJson(a, test, m, exceeded);
+    else printText(a, test, m);
+    for (const Exceeded& e : exceeded)
+        std::fprintf(stderr, "rayproc diff: %s %s exceeds %s %s\n", e.metric.c_str(),
+                     formatNumber(e.value).c_str(), e.option.c_str(),
+                     formatNumber(e.limit).c_str());
+    return exceeded.empty() ? kExitWithinLimits : kExitLimitExceeded;
+}
+
+} // namespace
+
+std::function<int()> addDiffCommand(CLI::App& app) {
+    auto args = std::make_shared<DiffArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "diff", "Compare an image with a reference: RMSE, relMSE, PSNR, mean and maximum "
+                "absolute difference; optionally a difference image and an error heatmap");
+    cmd->add_option("test", args->test, "Image to check (.png, .exr, .hdr or .pfm)")->required();
+    cmd->add_option("reference", args->reference,
+                    "Reference image, same size (the metrics' b; e.g. a high-spp path-traced "
+                    "render)")
+        ->required();
+    cmd->add_flag("--json", args->json,
+                  "Print the metrics as JSON: width, height, pixels, rmse, relmse, psnr (null "
+                  "when the images are equal), mae, max_abs, exceeded (names of failed limits)");
+    cmd->add_option("-o,--output", args->output,
+                    "Write the difference image |test - reference| per channel, times --scale "
+                    "(.pfm/.exr/.hdr: linear values; .png: clamped to 1, sRGB-encoded)");
+    cmd->add_option("--scale", args->scale,
+                    "Multiply the difference image by this factor (default 1)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--heatmap", args->heatmap,
+                    "Write a false-colour map of the per-pixel error (inferno: black = none; "
+                    "cyan = NaN/Inf) with a colour bar and tick labels on its right")
+        ->type_name("FILE");
+    cmd->add_option("--heatmap-metric", args->heatmapMetric,
+                    "Per-pixel error the heatmap shows: relmse (default; (a-b)^2/(b^2+0.01) "
+                    "averaged over R, G, B) or abs (|a-b| averaged over R, G, B)")
+        ->check(CLI::IsMember({"relmse", "abs"}));
+    cmd->add_option("--heatmap-scale", args->heatmapScale,
+                    "Colour scale: log (default; whole decades up to 1e4 below the largest "
+                    "error) or linear (0 to the largest error, rounded up)")
+        ->check(CLI::IsMember({"log", "linear"}));
+    cmd->add_option("--heatmap-range", args->heatmapRange,
+                    "Fixed colour range LO HI instead of the automatic one, so heatmaps of "
+                    "several renders compare; errors outside take the end colours")
+        ->expected(2)
+        ->type_name("LO HI");
+    cmd->add_flag("--no-legend", args->noLegend,
+                  "Heatmap without the colour bar: exactly the images' size");
+    cmd->add_option("--crop", args->crop,
+                    "Compare only the pixels x0 <= x < x1, y0 <= y < y1 (top-left origin); the "
+                    "difference image still covers the whole image, the heatmap outlines the "
+                    "region in green and takes its automatic range from it")
+        ->expected(4)
+        ->type_name("X0 Y0 X1 Y1");
+    CLI::Option* maxRelmse =
+        cmd->add_option("--max-relmse", args->maxRelmse,
+                        "Exit with status 1 if relMSE exceeds this (or is NaN)")
+            ->check(CLI::NonNegativeNumber);
+    CLI::Option* maxRmse =
+        cmd->add_option("--max-rmse", args->maxRmse,
+                        "Exit with status 1 if RMSE exceeds this (or is NaN)")
+            ->check(CLI::NonNegativeNumber);
+    cmd->footer("Metrics (over pixels and R, G, B of the compared region; b = reference): "
+                "rmse = sqrt(mean (a-b)^2); relmse = mean (a-b)^2 / (b^2 + 0.01); "
+                "psnr = 10 log10(1 / mean (a-b)^2) dB, peak 1, inf when equal; "
+                "mae = mean |a-b|; max_abs = max |a-b|. PNG inputs are decoded to linear.\n"
+                "Exit status: 0 within the limits, 1 a limit exceeded (named on stderr), "
+                "2 error (missing or unreadable file, different sizes, bad crop or option).\n"
+                "See docs/image-comparison.md.");
+    return [args, maxRelmse, maxRmse] {
+        args->hasMaxRelmse = maxRelmse->count() > 0;
+        args->hasMaxRmse = maxRmse->count() > 0;
+        // Errors end here, not in main(): diff reserves status 1 for "limit exceeded".
+        try {
+            return runDiff(*args);
+        } catch (const ImageIoError& e) {
+            printError(e.what());
+        } catch (const std::bad_alloc&) {
+            printError("out of memory");
+        } catch (const std::exception& e) {
+            printError(std::string("error: ") + e.what());
+        }
+        return kExitError;
+    };
+}
+
+} // namespace rayproc::cli

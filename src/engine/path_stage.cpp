@@ -1,0 +1,156 @@
+#include "engine/path_stage.h"
+
+#include "engine/path_state.h"
+#include "kernels/bsdf_sampling.h"
+#include "kernels/sampling.h"
+
+namespace rayproc {
+
+namespace {
+
+kernels::BsdfParams bsdfOf(const Material& m) {
+    kernels::BsdfParams b;
+    b.color = m.color;
+    b.ior = m.ior;
+    b.alpha = kernels::ggxAlpha(m.roughness);
+    switch (m.type) {
+    case MaterialType::Diffuse: b.kind = kernels::BsdfKind::Diffuse; break;
+    case MaterialType::Mirror: b.kind = kernels::BsdfKind::Mirror; break;
+    case MaterialType::Dielectric: b.kind = kernels::BsdfKind::Dielectric; break;
+    case MaterialType::Glossy: b.kind = kernels::BsdfKind::Glossy; break;
+    }
+    return b;
+}
+
+// Random dimensions of one path vertex.
+enum PathDim : std::uint32_t { kDimLightPick = 20, kDimLight = 21, kDimBsdf = 23, kDimLobe = 25,
+                               kDimRr = 26 };
+
+// Two numbers for dimension pair `dim` of a lane: at the first hit they are stratified over
+// the pixel's samples (padded: each pair has its own permutation), deeper they are independent.
+Vec2 sample2D(const RayBatch& b, int i, std::uint32_t dim, int spp, std::uint64_t seed) {
+    if (b.depth[i] == 0) {
+        std::uint64_t key = kernels::hashCombine(kernels::pathKey(seed, b.pixel[i], 0xfffffffeu), dim);
+        return kernels::stratified2D(b.sample[i], std::uint32_t(spp), key);
+    }
+    return {kernels::uniform(b.rngKey[i], dim), kernels::uniform(b.rngKey[i], dim + 1)};
+}
+
+} // namespace
+
+void PathStage::retrace(RayBatch& b, StageContext& ctx) {
+    ThreadStats& stats = *ctx.stats;
+    StageTimer timer(stats, StageId::Surface);
+    stats.stages[int(StageId::Surface)].raysIn += std::uint64_t(b.count);
+    const LightSet& lights = m_rc.lights;
+    const ShadingPolicy& policy = m_rc.policy;
+    const std::size_t choices = lights.choiceCount();
+    const float pickPdf = choices > 0 ? 1.0f / float(choices) : 0.0f;
+    std::uint64_t shadowOut = 0, reflectOut = 0, refractOut = 0;
+
+    for (int i = 0; i < b.count; ++i) {
+        Vec3 w = laneThroughput(b, i);
+        Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
+        bool fromDelta = b.prevPdf[i] == 0.0f;
+
+        if (!b.hit(i)) {
+            if (!lights.hasEnvironment()) continue;
+            // The sky is sampled cosine-weighted about the previous facing normal.
+            float mis = fromDelta ? 1.0f
+                                  : kernels::powerHeuristic(
+                                        b.prevPdf[i], pickPdf * std::max(0.0f, b.prevCos[i]) * kInvPi);
+            m_rc.film.add(b.pixel[i], w * lights.environment * mis, stats);
+            continue;
+        }
+        SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
+        Vec3 wo = -d;
+        Vec3 le = emittedRadiance(*h.shape, h.ng, wo);
+        if (!isBlack(le)) {
+            float mis = 1.0f;
+            if (!fromDelta) {
+                int li = lights.indexOf(h.shape, h.instance);
+                float pl = li >= 0 ? pickPdf * lights.lights[std::size_t(li)].pdf(o, h.p, h.ng) : 0.0f;
+                mis = kernels::powerHeuristic(b.prevPdf[i], pl);
+            }
+            m_rc.film.add(b.pixel[i], w * le * mis, stats);
+        }
+
+        const Material& mat = m_rc.scene.materials[h.material];
+        kernels::BsdfParams bsdf = bsdfOf(mat);
+        bool deltaMaterial = mat.type == MaterialType::Mirror || mat.type == MaterialType::Dielectric;
+        Vec3 fg, fs;
+        kernels::facingSide(wo, h.ng, h.ns, fg, fs);
+
+        // Next-event estimation: one light (or the sky), MIS-weighted against the BSDF.
+        if (!deltaMaterial && choices > 0) {
+            float up = kernels::uniform(b.rngKey[i], kDimLightPick);
+            std::size_t pick = std::min(std::size_t(up * float(choices)), choices - 1);
+            Vec2 u = sample2D(b, i, kDimLight, policy.sppTotal, m_rc.seed);
+            Vec3 wi;
+            float lightPdf = 0, distance = kInfinity;
+            Vec3 li;
+            bool deltaLight = false;
+            if (pick < lights.lights.size()) {
+                LightSample ls = lights.lights[pick].sample(h.p, u);
+                if (ls.valid) {
+                    wi = ls.wi;
+                    distance = ls.distance;
+                    lightPdf = ls.pdf;
+                    deltaLight = lights.lights[pick].delta();
+                    li = ls.weight; // radiance / pdf, or irradiance for delta lights
+                }
+            } else {
+                wi = kernels::toWorld(kernels::cosineHemisphere(u), fs);
+                lightPdf = dot(wi, fs) * kInvPi;
+                if (lightPdf > 0) li = lights.environment / lightPdf;
+            }
+            if ((lightPdf > 0 || deltaLight) && dot(wi, fg) > 0) {
+                float bsdfPdf;
+                Vec3 f = kernels::evalBsdf(bsdf, wo, wi, h.ng, h.ns, bsdfPdf);
+                float mis = deltaLight ? 1.0f : kernels::powerHeuristic(pickPdf * lightPdf, bsdfPdf);
+                Vec3 c = w * f * li * (mis / pickPdf);
+                if (!isBlack(c)) {
+                    Vec3 so = offsetRayOrigin(h.p, fg, wi, m_rc.rayEpsilon);
+                    RayBatch& out = ctx.out(RayKind::Shadow);
+                    float tfar = distance == kInfinity ? kInfinity
+                                                       : length(h.p + wi * distance - so) * (1.0f - 1e-4f);
+                    int j = out.push(so.x, so.y, so.z, wi.x, wi.y, wi.z, 0.0f, tfar);
+                    out.pixel[j] = b.pixel[i];
+                    out.sample[j] = b.sample[i];
+                    out.wr[j] = c.x; out.wg[j] = c.y; out.wb[j] = c.z;
+                    out.rngKey[j] = 0; out.depth[j] = b.depth[i]; out.specularDepth[j] = 0;
+                    out.flags[j] = 0; out.prevPdf[j] = 0; out.prevCos[j] = 0;
+                    ++shadowOut;
+                }
+            }
+        }
+
+        // Continue the path by sampling the BSDF.
+        Vec2 u = sample2D(b, i, kDimBsdf, policy.sppTotal, m_rc.seed);
+        float uc = kernels::uniform(b.rngKey[i], kDimLobe);
+        kernels::BsdfSample bs = kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u, uc);
+        if (!bs.valid) continue;
+        Vec3 wn = w * bs.weight;
+        int depth = b.depth[i] + 1;
+        if (depth > policy.maxDepth || !(maxComponent(wn) > 0)) continue;
+        if (policy.rouletteEnabled && depth > policy.rrStartDepth) {
+            float q = std::min(0.95f, maxComponent(wn));
+            if (kernels::uniform(b.rngKey[i], kDimRr) >= q) continue;
+            wn = wn / q;
+        }
+        Vec3 no = offsetRayOrigin(h.p, h.ng, bs.wi, m_rc.rayEpsilon);
+        RayKind kind = bs.transmitted ? RayKind::Refraction : RayKind::Reflection;
+        RayBatch& out = ctx.out(kind);
+        spawnRay(out, b, i, no, bs.wi, wn, std::uint8_t(std::min(depth, 255)),
+                 std::uint8_t(std::min(b.specularDepth[i] + (bs.delta ? 1 : 0), 255)), 0, 3);
+        int j = out.count - 1;
+        out.prevPdf[j] = bs.delta ? 0.0f : bs.pdf;
+        out.prevCos[j] = bs.transmitted ? 0.0f : dot(bs.wi, fs);
+        ++(bs.transmitted ? refractOut : reflectOut);
+    }
+    stats.stages[int(StageId::Shadow)].raysOut += shadowOut;
+    stats.stages[int(StageId::Reflection)].raysOut += reflectOut;
+    stats.stages[int(StageId::Refraction)].raysOut += refractOut;
+}
+
+} // namespace rayproc
