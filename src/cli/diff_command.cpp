@@ -93,8 +93,7 @@ nlohmann::ordered_json jsonNumber(double v) {
 
 void printText(const DiffArgs& a, const Image& img, const ImageMetrics& m) {
     std::printf("size     %dx%d\n", img.width, img.height);
-    if (auto c = cropOf(a))
-        std::printf("crop     %d %d %d %d\n", c->x0, c->y0, c->x1, c->y1);
+    if (auto c = cropOf(a)) std::printf("crop     %d %d %d %d\n", c->x0, c->y0, c->x1, c->y1);
     std::printf("pixels   %zu\n", m.pixels);
     std::printf("rmse     %s\n", formatNumber(m.rmse).c_str());
     std::printf("relmse   %s\n", formatNumber(m.relmse).c_str());
@@ -146,8 +145,10 @@ int runDiff(const DiffArgs& a) {
     if (a.hasMaxRmse && !(m.rmse <= a.maxRmse))
         exceeded.push_back({"rmse", "--max-rmse", m.rmse, a.maxRmse});
 
-    if (a.json) printJson(a, test, m, exceeded);
-    else printText(a, test, m);
+    if (a.json)
+        printJson(a, test, m, exceeded);
+    else
+        printText(a, test, m);
     for (const Exceeded& e : exceeded)
         std::fprintf(stderr, "rayproc diff: %s %s exceeds %s %s\n", e.metric.c_str(),
                      formatNumber(e.value).c_str(), e.option.c_str(),
@@ -185,30 +186,31 @@ std::function<int()> addDiffCommand(CLI::App& app) {
                     "averaged over R, G, B) or abs (|a-b| averaged over R, G, B)")
         ->check(CLI::IsMember({"relmse", "abs"}));
     cmd->add_option("--heatmap-scale", args->heatmapScale,
-                    "Colour scale: log (default; whole decades up to 1e4 below the largest "
-                    "error) or linear (0 to the largest error, rounded up)")
+                    "Colour scale: log (default; from the largest error down at most 4 decades, "
+                    "widened to whole decades) or linear (0 to the largest error, rounded up "
+                    "to 1, 2 or 5 x 10^k)")
         ->check(CLI::IsMember({"log", "linear"}));
     cmd->add_option("--heatmap-range", args->heatmapRange,
-                    "Fixed colour range LO HI instead of the automatic one, so heatmaps of "
-                    "several renders compare; errors outside take the end colours")
+                    "Fixed colour range LO HI (0 <= LO < HI; LO > 0 on the log scale) instead "
+                    "of the automatic one, so heatmaps of several renders compare; errors "
+                    "outside take the end colours")
         ->expected(2)
-        ->type_name("LO HI");
+        ->type_name("FLOAT");
     cmd->add_flag("--no-legend", args->noLegend,
                   "Heatmap without the colour bar: exactly the images' size");
     cmd->add_option("--crop", args->crop,
-                    "Compare only the pixels x0 <= x < x1, y0 <= y < y1 (top-left origin); the "
+                    "Compare only the pixels X0 <= x < X1, Y0 <= y < Y1 (top-left origin); the "
                     "difference image still covers the whole image, the heatmap outlines the "
                     "region in green and takes its automatic range from it")
         ->expected(4)
-        ->type_name("X0 Y0 X1 Y1");
+        ->type_name("INT");
     CLI::Option* maxRelmse =
         cmd->add_option("--max-relmse", args->maxRelmse,
                         "Exit with status 1 if relMSE exceeds this (or is NaN)")
             ->check(CLI::NonNegativeNumber);
-    CLI::Option* maxRmse =
-        cmd->add_option("--max-rmse", args->maxRmse,
-                        "Exit with status 1 if RMSE exceeds this (or is NaN)")
-            ->check(CLI::NonNegativeNumber);
+    CLI::Option* maxRmse = cmd->add_option("--max-rmse", args->maxRmse,
+                                           "Exit with status 1 if RMSE exceeds this (or is NaN)")
+                               ->check(CLI::NonNegativeNumber);
     cmd->footer("Metrics (over pixels and R, G, B of the compared region; b = reference): "
                 "rmse = sqrt(mean (a-b)^2); relmse = mean (a-b)^2 / (b^2 + 0.01); "
                 "psnr = 10 log10(1 / mean (a-b)^2) dB, peak 1, inf when equal; "

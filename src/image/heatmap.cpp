@@ -40,9 +40,8 @@ constexpr std::array<Glyph, 14> kFont{{
 }};
 
 // Inferno (matplotlib, by Smith and van der Walt), 10 evenly spaced sRGB stops.
-constexpr std::array<std::uint32_t, 10> kInferno{0x000004, 0x1B0C42, 0x4B0C6B, 0x781C6D,
-                                                 0xA52C60, 0xCF4446, 0xED6925, 0xFB9A06,
-                                                 0xF7D13D, 0xFCFFA4};
+constexpr std::array<std::uint32_t, 10> kInferno{0x000004, 0x1B0C42, 0x4B0C6B, 0x781C6D, 0xA52C60,
+                                                 0xCF4446, 0xED6925, 0xFB9A06, 0xF7D13D, 0xFCFFA4};
 
 struct Rgb {
     float r = 0, g = 0, b = 0;
@@ -103,9 +102,8 @@ double normalised(double v, const HeatmapRange& r, HeatmapScale scale) {
     if (!std::isfinite(v)) return std::nan("");
     if (scale == HeatmapScale::Log) {
         if (v <= 0) return 0.0;
-        return std::clamp((std::log10(v) - std::log10(r.lo)) /
-                              (std::log10(r.hi) - std::log10(r.lo)),
-                          0.0, 1.0);
+        return std::clamp(
+            (std::log10(v) - std::log10(r.lo)) / (std::log10(r.hi) - std::log10(r.lo)), 0.0, 1.0);
     }
     return std::clamp((v - r.lo) / (r.hi - r.lo), 0.0, 1.0);
 }
@@ -161,9 +159,9 @@ Legend layoutLegend(int width, int height, const HeatmapRange* range, HeatmapSca
             if (std::isnan(t)) continue;
             bool fits = true;
             for (auto& [u, label] : g.ticks)
-                fits &= std::abs(normalised(u, *range, scale) - t) *
-                            double(g.barBottom - g.barTop) >=
-                        minGap;
+                fits &=
+                    std::abs(normalised(u, *range, scale) - t) * double(g.barBottom - g.barTop) >=
+                    minGap;
             if (fits) g.ticks.emplace_back(v, heatmapTickLabel(v));
         }
     }
