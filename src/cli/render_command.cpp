@@ -33,6 +33,11 @@ struct RenderArgs {
     float exposure = 0;
     std::string tonemap = "clamp";
     std::string reference, errorLog;
+    // gi
+    int photons = -1, causticPhotons = -1, gatherRays = 0;
+    float icAccuracy = 0;
+    bool noCache = false, noCaustics = false, noPrecomputed = false;
+    std::string debugView = "none";
 };
 
 std::string joinModes() {
@@ -130,6 +135,25 @@ int runRender(const RenderArgs& a) {
                                    settings.c_str(), engine.toString().c_str(),
                                    scene->camera.width, scene->camera.height);
         result = renderPreview(*scene, accel, s, engine);
+    } else if (mode == "gi") {
+        GiSettings s = giSettings(scene->render, overrides);
+        if (a.photons >= 0) s.photons = a.photons;
+        if (a.causticPhotons >= 0) s.causticPhotons = a.causticPhotons;
+        if (a.gatherRays > 0) s.gatherRays = a.gatherRays;
+        if (a.icAccuracy > 0) s.icAccuracy = a.icAccuracy;
+        s.irradianceCache = !a.noCache;
+        s.caustics = !a.noCaustics;
+        s.precomputedIrradiance = !a.noPrecomputed;
+        s.debugView = a.debugView == "photons"      ? GiDebugView::Photons
+                      : a.debugView == "ic-records" ? GiDebugView::IcRecords
+                      : a.debugView == "caustics"   ? GiDebugView::Caustics
+                      : a.debugView == "indirect"   ? GiDebugView::Indirect
+                                                    : GiDebugView::None;
+        settings = s.toString();
+        if (!a.quiet) std::fprintf(stderr, "rayproc render %s: %s %s %dx%d\n", a.scene.c_str(),
+                                   settings.c_str(), engine.toString().c_str(),
+                                   scene->camera.width, scene->camera.height);
+        result = renderGi(*scene, accel, s, engine);
     } else if (mode == "path") {
         PathSettings s = pathSettings(scene->render, overrides);
         settings = s.toString();
@@ -175,7 +199,8 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--mode", args->mode,
                     "Rendering mode: preview (real-time approximation: point lights at area-light "
                     "corners, hard shadows), raytrace (direct light with soft shadows, mirror "
-                    "reflection, Fresnel refraction) or path (unbiased path tracing with next-event "
+                    "reflection, Fresnel refraction), gi (photon mapping with final gathering and "
+                    "an irradiance cache) or path (unbiased path tracing with next-event "
                     "estimation and MIS: the reference). Default: the scene's render.mode, else "
                     "path");
     cmd->add_option("--spp", args->spp, "Samples per pixel (default: the mode's, or the scene's)")
@@ -202,6 +227,30 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--exposure", args->exposure, "Exposure in stops for PNG output (default 0)");
     cmd->add_option("--tonemap", args->tonemap, "PNG tone map: clamp (default), reinhard, aces")
         ->check(CLI::IsMember({"clamp", "reinhard", "aces"}));
+    cmd->add_option("--photons", args->photons,
+                    "gi: photons emitted for the global map (default 200000)")
+        ->check(CLI::Range(0, 100000000));
+    cmd->add_option("--caustic-photons", args->causticPhotons,
+                    "gi: photons emitted for the caustic map (default 200000; only light -> "
+                    "specular+ -> diffuse paths are stored)")
+        ->check(CLI::Range(0, 100000000));
+    cmd->add_option("--gather-rays", args->gatherRays,
+                    "gi: stratified cosine-weighted rays per final gather (default 64)")
+        ->check(CLI::Range(1, 65536));
+    cmd->add_option("--ic-accuracy", args->icAccuracy,
+                    "gi: Ward's accuracy a of the irradiance cache; smaller = more records "
+                    "(default 0.25)")
+        ->check(CLI::Range(0.001, 10.0));
+    cmd->add_flag("--no-irradiance-cache", args->noCache,
+                  "gi: final gather at every diffuse hit instead of interpolating cached records");
+    cmd->add_flag("--no-caustics", args->noCaustics, "gi: no caustic photon map");
+    cmd->add_flag("--no-precomputed-irradiance", args->noPrecomputed,
+                  "gi: gather rays estimate the global map's irradiance from scratch instead of "
+                  "Christensen's precomputed values");
+    cmd->add_option("--debug-view", args->debugView,
+                    "gi: write one component instead of the image: photons (global map at "
+                    "first hits), ic-records, caustics, indirect")
+        ->check(CLI::IsMember({"none", "photons", "ic-records", "caustics", "indirect"}));
     cmd->add_option("--reference", args->reference,
                     "Reference image (PNG/EXR/HDR/PFM, same size) for the convergence log")
         ->check(CLI::ExistingFile);

@@ -24,9 +24,10 @@ kernels::CameraFrame cameraFrame(const Camera& cam) {
     return f;
 }
 
-CameraEmitter::CameraEmitter(const RenderContext& rc, int totalSpp)
-    : m_rc(rc), m_frame(cameraFrame(rc.scene.camera)), m_totalSpp(totalSpp) {
-    const Camera& cam = rc.scene.camera;
+CameraEmitter::CameraEmitter(const RenderContext& rc, int totalSpp, const Camera* camera)
+    : m_rc(rc), m_camera(camera ? *camera : rc.scene.camera), m_frame(cameraFrame(m_camera)),
+      m_totalSpp(totalSpp) {
+    const Camera& cam = m_camera;
     m_tilesX = (cam.width + kTile - 1) / kTile;
     m_tilesY = (cam.height + kTile - 1) / kTile;
 }
@@ -47,7 +48,7 @@ bool CameraEmitter::emit(StageContext& ctx) {
     int tile = int(unit / m_passCount);
     int sample = m_firstSample + int(unit % m_passCount);
     int x0 = (tile % m_tilesX) * kTile, y0 = (tile / m_tilesX) * kTile;
-    int width = m_rc.scene.camera.width, height = m_rc.scene.camera.height;
+    int width = m_camera.width, height = m_camera.height;
 
     alignas(64) float fx[kBatchSize], fy[kBatchSize], lu[kBatchSize], lv[kBatchSize];
     std::uint32_t pix[kBatchSize];

@@ -17,7 +17,8 @@ class CameraEmitter : public Emitter {
 public:
     static constexpr int kTile = 16; // kTile * kTile == kBatchSize
 
-    CameraEmitter(const RenderContext& rc, int totalSpp);
+    // `camera` overrides the scene's (gi's cache prepass renders at lower resolutions).
+    CameraEmitter(const RenderContext& rc, int totalSpp, const Camera* camera = nullptr);
     // Prepares the emission of samples [first, first + count) of every pixel.
     void beginPass(int firstSample, int count);
     bool emit(StageContext& ctx) override;
@@ -26,6 +27,7 @@ public:
 
 private:
     const RenderContext& m_rc;
+    Camera m_camera;
     kernels::CameraFrame m_frame;
     int m_totalSpp;
     int m_tilesX, m_tilesY;

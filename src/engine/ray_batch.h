@@ -19,6 +19,8 @@ enum class RayKind : std::uint8_t {
     Reflection, // spawned by the reflection stage
     Refraction, // spawned by the refraction stage
     Shadow,     // occlusion rays from the shadow stage
+    Photon,     // gi mode, first pass: photons from the photon emitter and their bounces
+    Gather,     // gi mode, second pass: final-gather rays from a diffuse hit
     Count
 };
 constexpr int kRayKindCount = int(RayKind::Count);
@@ -28,11 +30,13 @@ const char* rayKindName(RayKind k);
 enum RayFlags : std::uint8_t {
     kFlagCountEmission = 1,    // add emission where this ray lands (camera and specular chains)
     kFlagCountEnvironment = 2, // add the sky's radiance if this ray escapes
+    kFlagGatherRecord = 4,     // gi prepass: a gather ray of an irradiance-cache record
 };
 
 struct RayBatch {
     RayKind kind = RayKind::Camera;
     int count = 0;
+    bool fresh = false; // new work from an emitter: queued behind work already in flight
 
     // Ray
     alignas(64) std::array<float, kBatchSize> ox, oy, oz;

@@ -8,6 +8,8 @@ const char* rayKindName(RayKind k) {
     case RayKind::Reflection: return "reflection";
     case RayKind::Refraction: return "refraction";
     case RayKind::Shadow: return "shadow";
+    case RayKind::Photon: return "photon";
+    case RayKind::Gather: return "gather";
     case RayKind::Count: break;
     }
     return "?";
@@ -24,6 +26,7 @@ RayBatch* BatchPool::acquire(RayKind kind) {
     }
     b->kind = kind;
     b->count = 0;
+    b->fresh = kind == RayKind::Camera;
     return b;
 }
 
@@ -34,7 +37,7 @@ BatchPool::~BatchPool() = default;
 void RayQueue::push(RayBatch* b) {
     // Count first: a consumer that sees the batch must also see a non-zero size.
     m_size.fetch_add(1, std::memory_order_release);
-    if (b->kind == RayKind::Camera) m_primary.push(b);
+    if (b->fresh) m_primary.push(b);
     else m_secondary.push(b);
 }
 

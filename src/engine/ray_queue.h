@@ -28,8 +28,9 @@ private:
 };
 
 // Multi-producer multi-consumer queue of batches. Secondary rays (shadow, reflection,
-// refraction) are popped before camera rays, so work in flight drains before new work starts
-// and memory stays bounded by the depth of the paths, not the size of the image.
+// refraction, photon bounces, gather) are popped before fresh emitter batches (camera rays,
+// emitted photons), so work in flight drains before new work starts and memory stays bounded
+// by the depth of the paths, not the size of the image.
 class RayQueue {
 public:
     void push(RayBatch* b);

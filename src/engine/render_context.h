@@ -11,6 +11,8 @@
 
 namespace rayproc {
 
+struct GiData;
+
 // How surfaces are shaded: the knobs that make preview and raytrace modes differ.
 struct ShadingPolicy {
     int maxDepth = 8;          // reflection + refraction bounces along a path
@@ -28,6 +30,10 @@ struct ShadingPolicy {
     // dimensions need the render's samples per pixel.
     int rrStartDepth = 3;
     int sppTotal = 1;
+    // gi: the irradiance cache's prepass only creates records at first diffuse hits, and a
+    // debug view may keep only one component (direct light and emission are dropped).
+    bool icPrepass = false;
+    bool directLight = true;
 };
 
 struct RenderContext {
@@ -38,6 +44,7 @@ struct RenderContext {
     Film& film;
     std::uint64_t seed = 0;
     float rayEpsilon = 1e-4f; // origin offset scale, relative to the hit point's magnitude
+    const GiData* gi = nullptr; // gi mode: photon maps, irradiance cache
 };
 
 // Offsets a spawned ray's origin off the surface along the geometric normal, on the side of

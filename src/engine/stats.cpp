@@ -17,6 +17,8 @@ const char* stageName(StageId s) {
     case StageId::Shadow: return "shadow";
     case StageId::Reflection: return "reflection";
     case StageId::Refraction: return "refraction";
+    case StageId::Photon: return "photon";
+    case StageId::Gather: return "gather";
     case StageId::Count: break;
     }
     return "?";
@@ -35,6 +37,11 @@ ThreadStats Stats::merged() const {
         t.invalidSamples += s.invalidSamples;
         t.clampedSamples += s.clampedSamples;
         t.batches += s.batches;
+        t.photonsStored += s.photonsStored;
+        t.cacheLookups += s.cacheLookups;
+        t.cacheHits += s.cacheHits;
+        t.causticLookups += s.causticLookups;
+        t.globalLookups += s.globalLookups;
     }
     return t;
 }
@@ -69,6 +76,10 @@ std::string RenderStats::toTable() const {
                   (unsigned long long)totals.samples, (unsigned long long)totals.invalidSamples,
                   (unsigned long long)totals.clampedSamples, peakMemoryBytes / 1048576.0);
     o << line;
+    for (auto& [name, value] : extras) {
+        std::snprintf(line, sizeof line, "%-40s %.6g\n", name.c_str(), value);
+        o << line;
+    }
     return o.str();
 }
 
@@ -90,6 +101,12 @@ std::string RenderStats::toJson() const {
                                          {"seconds", s.seconds}};
     }
     j["stages"] = stages;
+    // "gi/photons_stored" -> j["gi"]["photons_stored"]
+    for (auto& [name, value] : extras) {
+        auto slash = name.find('/');
+        if (slash == std::string::npos) j[name] = value;
+        else j[name.substr(0, slash)][name.substr(slash + 1)] = value;
+    }
     return j.dump(2);
 }
 

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace rayproc {
 
@@ -20,6 +22,8 @@ enum class StageId {
     Shadow,     // light sampling (rays out) and occlusion results (rays in)
     Reflection,
     Refraction,
+    Photon,     // gi: photon emission and scattering (rays out), photon hits (rays in)
+    Gather,     // gi: final-gather rays spawned (rays out) and resolved (rays in)
     Count
 };
 constexpr int kStageCount = int(StageId::Count);
@@ -38,6 +42,10 @@ struct ThreadStats {
     std::uint64_t invalidSamples = 0; // NaN/Inf contributions discarded before the film
     std::uint64_t clampedSamples = 0; // contributions beyond the film's fixed-point range
     std::uint64_t batches = 0;
+    // gi mode
+    std::uint64_t photonsStored = 0;
+    std::uint64_t cacheLookups = 0, cacheHits = 0;
+    std::uint64_t causticLookups = 0, globalLookups = 0;
 };
 
 struct RenderStats {
@@ -46,6 +54,9 @@ struct RenderStats {
     std::size_t peakMemoryBytes = 0;
     std::size_t batchesAllocated = 0;
     std::size_t pixelsWithoutSamples = 0;
+    // Mode-specific figures ("gi/photons stored", ...), printed after the table and written
+    // to the JSON as an object under their category.
+    std::vector<std::pair<std::string, double>> extras;
     std::string toTable() const;
     std::string toJson() const;
 };

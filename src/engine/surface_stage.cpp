@@ -1,12 +1,16 @@
 #include "engine/surface_stage.h"
 
 #include "engine/path_state.h"
+#include "gi/gather_stage.h"
 
 namespace rayproc {
 
 void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
-    HitList direct, reflect, refract;
+    HitList direct, reflect, refract, indirect;
+    const bool gi = m_gather != nullptr;
+    const bool prepass = m_rc.policy.icPrepass;
+    const bool addDirect = m_rc.policy.directLight && !prepass;
     {
         StageTimer timer(stats, StageId::Surface);
         stats.stages[int(StageId::Surface)].raysIn += std::uint64_t(b.count);
@@ -15,21 +19,26 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             Vec3 w = laneThroughput(b, i);
             bool countEmission = (b.flags[i] & kFlagCountEmission) != 0;
             if (!b.hit(i)) {
-                if ((b.flags[i] & kFlagCountEnvironment) && m_rc.lights.hasEnvironment())
+                if (addDirect && (b.flags[i] & kFlagCountEnvironment) && m_rc.lights.hasEnvironment())
                     m_rc.film.add(b.pixel[i], w * m_rc.lights.environment, stats);
                 continue;
             }
             Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
             SurfaceHit h =
                 m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
-            if (countEmission) {
+            if (countEmission && addDirect) {
                 Vec3 le = emittedRadiance(*h.shape, h.ng, -d);
                 if (!isBlack(le)) m_rc.film.add(b.pixel[i], w * le, stats);
             }
             switch (materials[h.material].type) {
-            case MaterialType::Diffuse: direct.add(i, h); break;
+            case MaterialType::Diffuse:
+                // gi: past a glossy bounce the global map gives all reflected light, direct too.
+                if (addDirect && (!gi || countEmission)) direct.add(i, h);
+                if (gi) indirect.add(i, h);
+                break;
             case MaterialType::Glossy:
-                direct.add(i, h);
+                if (prepass) break;
+                if (addDirect) direct.add(i, h);
                 reflect.add(i, h);
                 break;
             case MaterialType::Mirror: reflect.add(i, h); break;
@@ -38,6 +47,7 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
         }
     }
     if (direct.count) m_shadow.spawn(b, direct, ctx);
+    if (indirect.count) m_gather->spawn(b, indirect, ctx);
     if (reflect.count) m_reflection.spawn(b, reflect, ctx);
     if (refract.count) m_refraction.spawn(b, refract, ctx);
 }

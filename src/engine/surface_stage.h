@@ -1,7 +1,8 @@
 // Surface stage: the retrace stage of camera, reflection and refraction rays. It resolves each
 // hit, adds what the ray sees directly (emitters, or the sky on a miss) and routes every hit
 // by material to the stages that continue it: shadow (direct light) for diffuse and glossy,
-// reflection for mirror and glossy, refraction for dielectrics.
+// reflection for mirror and glossy, refraction for dielectrics, and in gi mode gather
+// (caustics and indirect light) for diffuse.
 #pragma once
 
 #include "engine/reflection_stage.h"
@@ -12,11 +13,16 @@
 
 namespace rayproc {
 
+class GatherStage;
+
 class SurfaceStage : public RetraceStage {
 public:
+    // `gather` is gi mode's indirect-diffuse stage (caustics, irradiance cache, final gather);
+    // null in the other modes.
     SurfaceStage(const RenderContext& rc, ShadowStage& shadow, ReflectionStage& reflection,
-                 RefractionStage& refraction)
-        : m_rc(rc), m_shadow(shadow), m_reflection(reflection), m_refraction(refraction) {}
+                 RefractionStage& refraction, GatherStage* gather = nullptr)
+        : m_rc(rc), m_shadow(shadow), m_reflection(reflection), m_refraction(refraction),
+          m_gather(gather) {}
     void retrace(RayBatch& batch, StageContext& ctx) override;
 
 private:
@@ -24,6 +30,7 @@ private:
     ShadowStage& m_shadow;
     ReflectionStage& m_reflection;
     RefractionStage& m_refraction;
+    GatherStage* m_gather;
 };
 
 } // namespace rayproc

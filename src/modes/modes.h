@@ -2,6 +2,7 @@
 // "render" block, CLI overrides, toString() for the render log) and one driver.
 #pragma once
 
+#include "gi/gi_context.h"
 #include "modes/render_job.h"
 #include "scene/scene.h"
 
@@ -54,12 +55,17 @@ std::string defaultMode(); // the best mode implemented
 PreviewSettings previewSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 
+GiSettings giSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
                            const EngineSettings& engine);
 RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
                             const RaytraceSettings& s, const EngineSettings& engine);
+// gi (Jensen's photon mapping with final gathering and Ward's irradiance cache): GiSettings in
+// gi/gi_context.h.
+RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSettings& s,
+                      const EngineSettings& engine);
 RenderResult renderPath(const Scene& scene, const EmbreeScene& accel, const PathSettings& s,
                         const EngineSettings& engine);
 

@@ -35,7 +35,7 @@ RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
 }
 
 const std::vector<std::string>& knownModes() {
-    static const std::vector<std::string> modes{"preview", "raytrace", "path"};
+    static const std::vector<std::string> modes{"preview", "raytrace", "gi", "path"};
     return modes;
 }
 

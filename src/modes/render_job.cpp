@@ -10,6 +10,7 @@
 #include "engine/refraction_stage.h"
 #include "engine/shadow_stage.h"
 #include "engine/surface_stage.h"
+#include "gi/gather_stage.h"
 
 #include "image/metrics.h"
 
@@ -31,10 +32,12 @@ std::string EngineSettings::toString() const {
 
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
-                          const EngineSettings& engine, RadianceStage radiance) {
+                          const EngineSettings& engine, RadianceStage radiance,
+                          const GiData* gi) {
     auto start = std::chrono::steady_clock::now();
     Film film(scene.camera.width, scene.camera.height);
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
+    rc.gi = gi;
 
     // The pipeline: one emitter, one intersection handler, the retrace stages by ray kind.
     Stats stats;
@@ -44,7 +47,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     ShadowStage shadow(rc);
     ReflectionStage reflection(rc);
     RefractionStage refraction(rc);
-    SurfaceStage surface(rc, shadow, reflection, refraction);
+    GatherStage gather(rc);
+    SurfaceStage surface(rc, shadow, reflection, refraction, gi ? &gather : nullptr);
     PathStage path(rc);
     RetraceStage* radianceStage = radiance == RadianceStage::Path
                                       ? static_cast<RetraceStage*>(&path)
@@ -53,6 +57,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     processor.setStage(RayKind::Reflection, radianceStage);
     processor.setStage(RayKind::Refraction, radianceStage);
     processor.setStage(RayKind::Shadow, &shadow);
+    processor.setStage(RayKind::Gather, &gather);
 
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> errorLog(nullptr, &std::fclose);
     if (engine.reference && !engine.errorLogPath.empty()) {

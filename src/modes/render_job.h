@@ -17,6 +17,8 @@
 namespace rayproc {
 
 // Settings of the engine itself, common to every mode.
+struct GiData;
+
 struct EngineSettings {
     int threads = 0;      // 0: all cores
     int packetWidth = 16; // 1 = single rays (rtcIntersect1); 4, 8, 16 = Embree packets
@@ -47,6 +49,7 @@ struct RenderResult {
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
                           const EngineSettings& engine,
-                          RadianceStage radiance = RadianceStage::Surface);
+                          RadianceStage radiance = RadianceStage::Surface,
+                          const GiData* gi = nullptr);
 
 } // namespace rayproc

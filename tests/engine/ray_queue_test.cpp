@@ -24,6 +24,7 @@ std::vector<std::unique_ptr<RayBatch>> makeBatches(int n, RayKind kind) {
     for (int i = 0; i < n; ++i) {
         auto b = std::make_unique<RayBatch>();
         b->kind = kind;
+        b->fresh = kind == RayKind::Camera; // as BatchPool::acquire marks emitter work
         b->pixel[0] = std::uint32_t(i);
         v.push_back(std::move(b));
     }

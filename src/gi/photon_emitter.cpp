@@ -1,0 +1,163 @@
+#include "gi/photon_emitter.h"
+
+#include "engine/path_state.h"
+#include "kernels/random.h"
+#include "kernels/sampling.h"
+
+#include <algorithm>
+
+namespace rayproc {
+
+namespace {
+
+// Power leaving a light, RGB (W). Directional lights and the sky are measured through a disk
+// of radius r that covers the scene.
+Vec3 emittedPower(const LightSource& l, float r) {
+    if (l.kind == LightSource::Kind::Directional) return l.intensity * (kPi * r * r);
+    return l.power();
+}
+
+} // namespace
+
+PhotonEmitter::PhotonEmitter(const LightSet& lights, const Bounds3& bounds, std::uint32_t count,
+                             std::uint64_t seed, std::uint64_t tag)
+    : m_lights(lights), m_count(count), m_key(kernels::hashCombine(kernels::mix64(seed), tag)) {
+    m_center = bounds.empty() ? Vec3(0.0f) : bounds.center();
+    m_radius = bounds.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(bounds.diagonal()));
+    float total = 0;
+    auto add = [&](const Vec3& p) {
+        m_power.push_back(p);
+        m_totalPower += p;
+        total += std::max(0.0f, luminance(p));
+        m_cdf.push_back(total);
+    };
+    for (const LightSource& l : lights.lights) add(emittedPower(l, m_radius));
+    if (lights.hasEnvironment()) // radiance L from every direction through a disk of radius r
+        add(lights.environment * (4 * kPi * kPi * m_radius * m_radius));
+    if (total <= 0) m_cdf.clear();
+}
+
+PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
+    Emission e;
+    // Stratified choices: each dimension pair permutes the photons independently (padded).
+    Vec2 uPick = kernels::stratified2D(index, m_count, kernels::hashCombine(m_key, 1));
+    Vec2 uPos = kernels::stratified2D(index, m_count, kernels::hashCombine(m_key, 2));
+    Vec2 uDir = kernels::stratified2D(index, m_count, kernels::hashCombine(m_key, 3));
+    float target = uPick.x * m_cdf.back();
+    std::size_t c = std::size_t(std::lower_bound(m_cdf.begin(), m_cdf.end(), target) - m_cdf.begin());
+    c = std::min(c, m_cdf.size() - 1);
+    float prev = c == 0 ? 0.0f : m_cdf[c - 1];
+    float pChoice = (m_cdf[c] - prev) / m_cdf.back();
+    if (pChoice <= 0) return e;
+    Vec3 share = m_power[c] / (pChoice * float(m_count)); // flux per photon of this light
+
+    auto disk = [&](const Vec3& dir, Vec2 u) {
+        Vec2 d = kernels::concentricDisk(u);
+        Vec3 offset = kernels::toWorld({d.x * m_radius, d.y * m_radius, 0}, dir);
+        return m_center - dir * (2 * m_radius) + offset;
+    };
+    // Lambertian emitters: cosine-weighted directions carry the flux exactly.
+    auto lambertian = [&](const Vec3& p, Vec3 n, bool twoSided) {
+        if (twoSided && uPick.y < 0.5f) n = -n;
+        e.origin = p;
+        e.direction = kernels::toWorld(kernels::cosineHemisphere(uDir), n);
+        e.power = share;
+        e.valid = true;
+    };
+
+    if (c == m_lights.lights.size()) { // the sky
+        e.direction = kernels::toWorld(kernels::uniformCone(uDir, -1.0f), {0, 0, 1});
+        e.origin = disk(e.direction, uPos);
+        e.power = share;
+        e.valid = true;
+        return e;
+    }
+    const LightSource& l = m_lights.lights[c];
+    switch (l.kind) {
+    case LightSource::Kind::Point:
+        e.origin = l.position;
+        e.direction = kernels::toWorld(kernels::uniformCone(uDir, -1.0f), {0, 0, 1});
+        e.power = share;
+        e.valid = true;
+        break;
+    case LightSource::Kind::Spot: {
+        // Uniform in the outer cone; the falloff scales the photon's power.
+        e.origin = l.position;
+        e.direction = kernels::toWorld(kernels::uniformCone(uDir, l.cosFalloff), l.direction);
+        float cosT = dot(e.direction, l.direction);
+        float t = l.cosCone == l.cosFalloff ? 1.0f
+                  : std::clamp((cosT - l.cosFalloff) / (l.cosCone - l.cosFalloff), 0.0f, 1.0f);
+        float f = t * t * (3 - 2 * t);
+        float solid = 2 * kPi * (1 - l.cosFalloff);
+        e.power = l.intensity * (f * solid / (pChoice * float(m_count)));
+        e.valid = f > 0;
+        break;
+    }
+    case LightSource::Kind::Directional:
+        e.direction = l.direction;
+        e.origin = disk(l.direction, uPos);
+        e.power = share;
+        e.valid = true;
+        break;
+    case LightSource::Kind::AreaMesh: {
+        float target2 = uPos.x * l.area;
+        std::size_t t = std::size_t(std::lower_bound(l.areaCdf.begin(), l.areaCdf.end(), target2) -
+                                    l.areaCdf.begin());
+        t = std::min(t, l.areaCdf.size() - 1);
+        float lo = t == 0 ? 0.0f : l.areaCdf[t - 1];
+        float w = l.areaCdf[t] - lo;
+        float ux = w > 0 ? std::clamp((target2 - lo) / w, 0.0f, 0.99999994f) : 0.5f;
+        Vec2 b = kernels::uniformTriangle({ux, uPos.y});
+        const Vec3 &a = l.triangles[3 * t], &bb = l.triangles[3 * t + 1], &cc = l.triangles[3 * t + 2];
+        lambertian(a * (1 - b.x - b.y) + bb * b.x + cc * b.y, normalize(cross(bb - a, cc - a)),
+                   l.twoSided);
+        break;
+    }
+    case LightSource::Kind::AreaSphere: {
+        Vec3 n = kernels::toWorld(kernels::uniformCone(uPos, -1.0f), {0, 0, 1});
+        lambertian(l.center + n * l.radius, n, false);
+        break;
+    }
+    case LightSource::Kind::AreaDisk: {
+        Vec2 d = kernels::concentricDisk(uPos);
+        lambertian(l.center + kernels::toWorld({d.x * l.radius, d.y * l.radius, 0}, l.normal),
+                   l.normal, l.twoSided);
+        break;
+    }
+    }
+    return e;
+}
+
+bool PhotonEmitter::emit(StageContext& ctx) {
+    if (m_cdf.empty()) return false;
+    std::uint64_t unit = m_next.fetch_add(1);
+    std::uint64_t first = unit * kBatchSize;
+    if (first >= m_count) return false;
+    ThreadStats& stats = *ctx.stats;
+    StageTimer timer(stats, StageId::Photon);
+    ctx.flush(RayKind::Photon); // a fresh batch: emitted photons queue behind bounces
+    RayBatch& b = ctx.out(RayKind::Photon);
+    b.fresh = true;
+    std::uint64_t last = std::min<std::uint64_t>(first + kBatchSize, m_count);
+    for (std::uint64_t k = first; k < last; ++k) {
+        Emission e = emitOne(std::uint32_t(k));
+        if (!e.valid || isBlack(e.power)) continue;
+        int j = b.push(e.origin.x, e.origin.y, e.origin.z, e.direction.x, e.direction.y,
+                       e.direction.z, 0.0f, kInfinity);
+        b.pixel[j] = 0;
+        b.sample[j] = std::uint32_t(k);
+        b.wr[j] = e.power.x; b.wg[j] = e.power.y; b.wb[j] = e.power.z;
+        b.rngKey[j] = kernels::hashCombine(m_key, k + 0x1000);
+        b.depth[j] = 0;
+        b.specularDepth[j] = 0;
+        b.flags[j] = 0;
+        b.prevPdf[j] = 0;
+        b.prevCos[j] = 0;
+    }
+    stats.stages[int(StageId::Photon)].raysOut += std::uint64_t(b.count);
+    if (b.count == 0) b.fresh = false; // stays open for bounces
+    ctx.flush(RayKind::Photon);
+    return true;
+}
+
+} // namespace rayproc

@@ -1,0 +1,46 @@
+// Photon emitter: the first pass of Jensen's photon mapping. Lights emit in proportion to
+// their power; each photon is a deterministic function of its index (stratified over the
+// photons of the pass: the light choice, the point on the light and the direction each use
+// their own permutation), so the photon maps do not depend on the thread count.
+#pragma once
+
+#include "core/math.h"
+#include "engine/stage.h"
+#include "lighting/light_set.h"
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+namespace rayproc {
+
+class PhotonEmitter : public Emitter {
+public:
+    // sceneBounds: where directional and environment photons start (a disk covering the
+    // scene's bounding sphere). tag separates the random streams of the two photon passes.
+    PhotonEmitter(const LightSet& lights, const Bounds3& sceneBounds, std::uint32_t count,
+                  std::uint64_t seed, std::uint64_t tag);
+    bool emit(StageContext& ctx) override;
+    std::uint64_t unitsEmitted() const { return m_next.load(); }
+    Vec3 totalPower() const { return m_totalPower; }
+    bool empty() const { return m_cdf.empty(); }
+
+private:
+    struct Emission {
+        Vec3 origin, direction, power;
+        bool valid = false;
+    };
+    Emission emitOne(std::uint32_t index) const;
+
+    const LightSet& m_lights;
+    Vec3 m_center;
+    float m_radius;
+    std::uint32_t m_count;
+    std::uint64_t m_key;
+    std::vector<float> m_cdf;       // over lights (and the sky, last) by luminance of power
+    std::vector<Vec3> m_power;      // per choice
+    Vec3 m_totalPower{0, 0, 0};
+    std::atomic<std::uint64_t> m_next{0};
+};
+
+} // namespace rayproc

@@ -1,0 +1,63 @@
+// Balanced kd-tree construction (Jensen 2001, ch. 6.3.2, in the in-order layout of
+// photon_kdtree.h): median splits by selection, not sorting, O(n log n) overall; the two halves
+// of every large range are built in parallel. Everything happens in place in the keys' array.
+#include "gi/photon_kdtree.h"
+
+#include "core/error.h"
+
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace rayproc::kdtree {
+namespace {
+
+// Below this many points a subtree is built on the calling thread.
+constexpr std::size_t kParallelGrain = 8192;
+
+void buildRange(BuildKey* keys, std::uint8_t* axis, std::size_t n) {
+    if (n <= kLeafSize) return;
+    // Split the axis along which the range's points spread most (the lowest on ties). The bounds
+    // are measured, not inherited from the parent's cut: photons lie on surfaces, and a cut box
+    // would keep splitting a wall across its thickness of zero.
+    float lo[3] = {keys[0].p[0], keys[0].p[1], keys[0].p[2]};
+    float hi[3] = {lo[0], lo[1], lo[2]};
+    for (std::size_t i = 1; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) {
+            lo[c] = std::min(lo[c], keys[i].p[c]);
+            hi[c] = std::max(hi[c], keys[i].p[c]);
+        }
+    }
+    int a = 0;
+    for (int c = 1; c < 3; ++c) {
+        if (hi[c] - lo[c] > hi[a] - lo[a]) a = c;
+    }
+    std::size_t half = n / 2;
+    std::nth_element(keys, keys + half, keys + n, [a](const BuildKey& x, const BuildKey& y) {
+        return x.p[a] < y.p[a] || (x.p[a] == y.p[a] && x.index < y.index);
+    });
+    axis[half] = std::uint8_t(a);
+
+    auto left = [&] { buildRange(keys, axis, half); };
+    auto right = [&] { buildRange(keys + half + 1, axis + half + 1, n - half - 1); };
+    if (n >= kParallelGrain) {
+        tbb::parallel_invoke(left, right);
+    } else {
+        left();
+        right();
+    }
+}
+
+} // namespace
+
+void build(std::vector<BuildKey>& keys, std::vector<std::uint8_t>& axis) {
+    RAYPROC_CHECK(keys.size() < (std::size_t(1) << 32));
+    for (const BuildKey& k : keys) {
+        RAYPROC_CHECK(std::isfinite(k.p[0]) && std::isfinite(k.p[1]) && std::isfinite(k.p[2]));
+    }
+    axis.assign(keys.size(), 0);
+    buildRange(keys.data(), axis.data(), keys.size());
+}
+
+} // namespace rayproc::kdtree

@@ -1,0 +1,96 @@
+// PhotonMap: building the compact kd-tree and the k-nearest-neighbour query (Jensen 2001,
+// ch. 6.3-6.4). The query keeps the k best candidates in a max-heap ordered by (dist2, index)
+// and shrinks the search radius to the heap's top once it holds k, so that far subtrees are
+// skipped as soon as k close photons are known.
+#include "gi/photon_map.h"
+
+#include "core/error.h"
+#include "gi/photon_heap.h"
+#include "gi/photon_kdtree.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+
+namespace rayproc {
+
+void PhotonMap::build(std::vector<PhotonRecord> photons) {
+    m_precomputed.clear();
+    m_precomputed.shrink_to_fit();
+    m_hasPrecomputed = false;
+    RAYPROC_CHECK(photons.size() < (std::size_t(1) << 32));
+
+    std::vector<kdtree::BuildKey> keys(photons.size());
+    for (std::size_t i = 0; i < photons.size(); ++i) {
+        const PhotonRecord& ph = photons[i];
+        RAYPROC_CHECK(isFinite(ph.position) && isFinite(ph.power));
+        keys[i] = {{ph.position.x, ph.position.y, ph.position.z}, std::uint32_t(i)};
+    }
+    std::vector<std::uint8_t> axis;
+    kdtree::build(keys, axis);
+
+    // Encode each photon into its node.
+    std::vector<StoredPhoton> stored(photons.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, photons.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                              const PhotonRecord& ph = photons[keys[i].index];
+                              StoredPhoton& s = stored[i];
+                              s.pos[0] = ph.position.x;
+                              s.pos[1] = ph.position.y;
+                              s.pos[2] = ph.position.z;
+                              s.power = encodeRgbe(ph.power);
+                              s.direction = encodeDirection(ph.direction);
+                              s.normalAxis =
+                                  std::uint16_t(encodeNormal(ph.normal) | (unsigned(axis[i]) << 14));
+                          }
+                      });
+    m_photons = std::move(stored);
+}
+
+std::size_t PhotonMap::memoryBytes() const {
+    return m_photons.capacity() * sizeof(StoredPhoton) +
+           m_precomputed.capacity() * sizeof(PrecomputedPhoton);
+}
+
+int PhotonMap::gather(const Vec3& p, int k, float maxDistance, std::uint64_t* keys,
+                      float& radius2) const {
+    radius2 = 0;
+    if (k <= 0 || !(maxDistance > 0)) return 0;
+    float limit2 = maxDistance * maxDistance;
+    int capacity = int(std::min<std::size_t>(std::size_t(k), m_photons.size()));
+    float searchRadius2 = limit2;
+    photon_heap::KnnCollector collect{keys, capacity, 0, searchRadius2};
+    if (capacity > 0) kdtree::search(m_photons.data(), m_photons.size(), p, searchRadius2, collect);
+    radius2 = collect.count == k ? photon_heap::keyDist2(keys[0]) : limit2;
+    return collect.count;
+}
+
+void PhotonMap::nearest(const Vec3& p, int k, float maxDistance, Neighbours& out) const {
+    std::size_t capacity = k > 0 ? std::min<std::size_t>(std::size_t(k), m_photons.size()) : 0;
+    std::array<std::uint64_t, kStackCandidates> stackKeys;
+    std::vector<std::uint64_t> heapKeys;
+    std::uint64_t* keys = stackKeys.data();
+    if (capacity > kStackCandidates) {
+        heapKeys.resize(capacity);
+        keys = heapKeys.data();
+    }
+    int count = gather(p, k, maxDistance, keys, out.maxDist2);
+    std::sort(keys, keys + count); // ascending (dist2, index)
+    out.index.resize(std::size_t(count));
+    out.dist2.resize(std::size_t(count));
+    for (int j = 0; j < count; ++j) {
+        out.index[j] = photon_heap::keyIndex(keys[j]);
+        out.dist2[j] = photon_heap::keyDist2(keys[j]);
+    }
+}
+
+PhotonRecord PhotonMap::photon(std::uint32_t i) const {
+    const StoredPhoton& s = m_photons[i];
+    return {Vec3(s.pos[0], s.pos[1], s.pos[2]), decodeRgbe(s.power), decodeDirection(s.direction),
+            decodeNormal(s.normalAxis)};
+}
+
+} // namespace rayproc

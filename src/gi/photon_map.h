@@ -1,0 +1,123 @@
+// The photon map of Jensen's two-pass method (Jensen 2001, "Realistic Image Synthesis Using
+// Photon Mapping", ch. 6-7): the photons the photon tracer stored, in a balanced kd-tree kept
+// implicitly in the photon array (photon_kdtree.h), and radiance estimates from the k nearest photons. With Christensen's 1999 "Faster photon map
+// global illumination", irradiance is precomputed at a subset of the photons and a lookup returns
+// that of the nearest one.
+//
+// Consumes: PhotonRecords from the photon pass (position, flux, incoming direction, normal).
+// Produces: k-nearest-neighbour queries and irradiance estimates for the gather pass.
+//
+// A stored photon is 20 bytes (kPhotonBytes): position 3 floats, power RGBE, direction octahedral
+// 8+8 bits, normal octahedral 7+7 bits and the kd-tree split axis in the last 2 bits
+// (photon_encoding.h states the precision). Photon indices are storage (tree) order, not the
+// order build() received them in; photon(i) for i < size() enumerates the map.
+//
+// Every const method is safe to call concurrently: no scratch state is shared.
+#pragma once
+
+#include "core/math.h"
+#include "gi/photon_encoding.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace rayproc {
+
+// What the photon tracer hands over: one stored photon.
+struct PhotonRecord {
+    Vec3 position;
+    Vec3 power;     // flux (W) carried, RGB
+    Vec3 direction; // unit, pointing from the surface back towards where the photon came from
+    Vec3 normal;    // unit surface normal at the hit, on the side the photon arrived from
+};
+
+class PhotonMap {
+public:
+    // The compact stored photon.
+    struct StoredPhoton {
+        float pos[3];
+        Rgbe power;
+        std::uint16_t direction;  // encodeDirection
+        std::uint16_t normalAxis; // encodeNormal in the low 14 bits, split axis in the top 2
+        int axis() const { return normalAxis >> 14; }
+    };
+    static constexpr std::size_t kPhotonBytes = 20;
+
+    // A photon with precomputed irradiance (Christensen 1999), in a kd-tree of its own.
+    struct PrecomputedPhoton {
+        float pos[3];
+        Rgbe irradiance;
+        std::uint16_t normalAxis; // the photon's normal code, this tree's split axis
+        std::uint16_t unused = 0;
+        int axis() const { return normalAxis >> 14; }
+    };
+    static constexpr std::size_t kPrecomputedBytes = 20;
+
+    // Cone filter constant k of w = 1 - d / (k r) (Jensen 2001, eq. 7.7).
+    static constexpr float kConeK = 1.1f;
+    // irradiance() counts photons whose stored normal is within 60 degrees of the query normal.
+    static constexpr float kNormalCos = 0.5f;
+    // irradianceFast() takes precomputed photons whose normal is within 25.8 degrees of it.
+    static constexpr float kPrecomputedNormalCos = 0.9f;
+
+    // Builds the kd-tree (parallel; deterministic: the same input, in the same
+    // order, gives the same tree whatever the thread count). Discards precomputed irradiance.
+    // Positions and powers must be finite (checked); negative power channels are stored as 0;
+    // direction and normal are normalised (a zero vector becomes +z).
+    void build(std::vector<PhotonRecord> photons);
+    std::size_t size() const { return m_photons.size(); }
+    // Heap bytes held: the stored photons and the precomputed subset.
+    std::size_t memoryBytes() const;
+
+    // The k nearest photons to p with squared distance <= maxDistance^2, sorted by ascending
+    // (dist2, index): ties in distance go to the lower index, so the result is one well-defined
+    // set. maxDist2 is the squared radius of the gathered disc: the k-th distance when k photons
+    // were found, maxDistance^2 otherwise (0 when k <= 0 or maxDistance <= 0, with no photons).
+    // out's vectors keep their capacity between calls.
+    struct Neighbours {
+        std::vector<std::uint32_t> index;
+        std::vector<float> dist2;
+        float maxDist2 = 0;
+    };
+    void nearest(const Vec3& p, int k, float maxDistance, Neighbours& out) const;
+
+    // Decoded photon i (power, direction and normal from the compact form).
+    PhotonRecord photon(std::uint32_t i) const;
+
+    // Irradiance at p with surface normal n from the k nearest photons within maxDistance,
+    // counting those whose stored normal has dot(normal, n) > kNormalCos and that arrive from
+    // above (dot(direction, n) > 0), with the cone filter:
+    //   E = sum(power_i w_i) / ((1 - 2 / (3 kConeK)) pi r^2),  w_i = 1 - d_i / (kConeK r),
+    // r = the distance to the k-th photon, or maxDistance when fewer were found. Zero when no
+    // photon counts (or r = 0: k photons all exactly at p).
+    Vec3 irradiance(const Vec3& p, const Vec3& n, int k, float maxDistance) const;
+
+    // Precomputes irradiance(position, normal, k, maxDistance) at photons 0, stride, 2 stride...
+    // (storage order), in parallel; the result does not depend on the thread count.
+    void precomputeIrradiance(int k, float maxDistance, int stride);
+    bool hasPrecomputedIrradiance() const { return m_hasPrecomputed; }
+    std::size_t precomputedCount() const { return m_precomputed.size(); }
+    // The precomputed irradiance of the nearest precomputed photon within maxDistance whose
+    // normal has dot > kPrecomputedNormalCos with n (ties: lower index in the subset); when there
+    // is none, or nothing was precomputed, irradiance(p, n, k, maxDistance).
+    Vec3 irradianceFast(const Vec3& p, const Vec3& n, int k, float maxDistance) const;
+
+private:
+    // Queries with k up to this keep their candidates on the stack.
+    static constexpr int kStackCandidates = 128;
+
+    // Gathers the k nearest into keys (photon_heap.h; room for min(k, size()) entries,
+    // kept as a max-heap once full); returns the count and sets radius2 as
+    // Neighbours::maxDist2.
+    int gather(const Vec3& p, int k, float maxDistance, std::uint64_t* keys, float& radius2) const;
+
+    std::vector<StoredPhoton> m_photons;
+    std::vector<PrecomputedPhoton> m_precomputed;
+    bool m_hasPrecomputed = false;
+};
+
+static_assert(sizeof(PhotonMap::StoredPhoton) == PhotonMap::kPhotonBytes);
+static_assert(sizeof(PhotonMap::PrecomputedPhoton) == PhotonMap::kPrecomputedBytes);
+
+} // namespace rayproc

@@ -1,0 +1,85 @@
+#include "gi/photon_stage.h"
+
+#include "engine/path_state.h"
+#include "kernels/bsdf_sampling.h"
+
+#include <algorithm>
+
+namespace rayproc {
+
+namespace {
+enum PhotonFlags : std::uint8_t { kPhotonDiffuse = 1, kPhotonSpecular = 2 };
+enum PhotonDim : std::uint32_t { kDimScatter = 30, kDimLobe = 32, kDimSurvive = 33 };
+
+kernels::BsdfParams bsdfOf(const Material& m) {
+    kernels::BsdfParams b;
+    b.color = m.color;
+    b.ior = m.ior;
+    b.alpha = kernels::ggxAlpha(m.roughness);
+    switch (m.type) {
+    case MaterialType::Diffuse: b.kind = kernels::BsdfKind::Diffuse; break;
+    case MaterialType::Mirror: b.kind = kernels::BsdfKind::Mirror; break;
+    case MaterialType::Dielectric: b.kind = kernels::BsdfKind::Dielectric; break;
+    case MaterialType::Glossy: b.kind = kernels::BsdfKind::Glossy; break;
+    }
+    return b;
+}
+} // namespace
+
+void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
+    ThreadStats& stats = *ctx.stats;
+    StageTimer timer(stats, StageId::Photon);
+    stats.stages[int(StageId::Photon)].raysIn += std::uint64_t(b.count);
+    auto& stored = m_stored.local();
+    std::uint64_t spawned = 0;
+    for (int i = 0; i < b.count; ++i) {
+        if (!b.hit(i)) continue;
+        Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
+        SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
+        const Material& mat = m_rc.scene.materials[h.material];
+        Vec3 wo = -d;
+        Vec3 power = laneThroughput(b, i);
+        bool specularSurface = mat.type == MaterialType::Mirror || mat.type == MaterialType::Dielectric;
+        std::uint8_t flags = b.flags[i];
+        if (!specularSurface) {
+            bool store = m_causticPass ? (flags & kPhotonSpecular) && !(flags & kPhotonDiffuse) : true;
+            if (store) {
+                Vec3 fg = dot(wo, h.ng) >= 0 ? h.ng : -h.ng;
+                std::uint64_t key = (std::uint64_t(b.sample[i]) << 8) | b.depth[i];
+                stored.push_back({key, PhotonRecord{h.p, power, wo, fg}});
+                ++stats.photonsStored;
+            }
+            if (m_causticPass) continue; // a caustic path ends at its first diffuse surface
+        }
+        int depth = b.depth[i] + 1;
+        if (depth >= m_maxDepth) continue;
+        kernels::BsdfParams bsdf = bsdfOf(mat);
+        Vec2 u{kernels::uniform(b.rngKey[i], kDimScatter), kernels::uniform(b.rngKey[i], kDimScatter + 1)};
+        kernels::BsdfSample s = kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u,
+                                                    kernels::uniform(b.rngKey[i], kDimLobe));
+        if (!s.valid) continue;
+        float q = std::min(1.0f, maxComponent(s.weight));
+        if (!(q > 0) || kernels::uniform(b.rngKey[i], kDimSurvive) >= q) continue;
+        Vec3 next = power * s.weight / q;
+        std::uint8_t nextFlags = std::uint8_t(flags | (s.delta ? kPhotonSpecular : kPhotonDiffuse));
+        Vec3 no = offsetRayOrigin(h.p, h.ng, s.wi, m_rc.rayEpsilon);
+        spawnRay(ctx.out(RayKind::Photon), b, i, no, s.wi, next, std::uint8_t(depth), 0, nextFlags, 4);
+        ++spawned;
+    }
+    stats.stages[int(StageId::Photon)].raysOut += spawned;
+}
+
+std::vector<PhotonRecord> PhotonStage::takePhotons() {
+    std::vector<std::pair<std::uint64_t, PhotonRecord>> all;
+    for (auto& v : m_stored) {
+        all.insert(all.end(), v.begin(), v.end());
+        v.clear();
+    }
+    std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<PhotonRecord> out;
+    out.reserve(all.size());
+    for (auto& p : all) out.push_back(p.second);
+    return out;
+}
+
+} // namespace rayproc

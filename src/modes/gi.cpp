@@ -1,0 +1,236 @@
+// gi mode: Jensen's two-pass photon mapping (Jensen 2001) on the ray processor.
+//  1. Photon passes: the photon emitter and the photon stage build the global map (every
+//     photon at a diffuse surface) and the caustic map (L S+ D paths only), both sorted into a
+//     fixed order, then kd-trees; optionally Christensen's precomputed irradiance.
+//  2. Irradiance cache prepass (Ward, Rubinstein & Clear 1988): camera rays at 1/16, 1/8, 1/4,
+//     1/2 and full resolution; where the frozen cache has no usable record, a final gather
+//     makes one; each pass's records are inserted sorted by (pixel, path), so the cache does
+//     not depend on the thread count.
+//  3. The render: direct light with soft shadows exactly as raytrace mode, specular reflection
+//     and refraction, caustics from the caustic map, indirect diffuse from the cache (or a
+//     final gather where no record is usable).
+#include "modes/modes.h"
+
+#include "engine/camera_emitter.h"
+#include "engine/intersect.h"
+#include "engine/processor.h"
+#include "engine/reflection_stage.h"
+#include "engine/refraction_stage.h"
+#include "engine/shadow_stage.h"
+#include "engine/surface_stage.h"
+#include "gi/gather_stage.h"
+#include "gi/gi_context.h"
+#include "gi/irradiance_cache.h"
+#include "gi/photon_emitter.h"
+#include "gi/photon_map.h"
+#include "gi/photon_stage.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace rayproc {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+const char* debugViewName(GiDebugView v) {
+    switch (v) {
+    case GiDebugView::None: return "none";
+    case GiDebugView::Photons: return "photons";
+    case GiDebugView::IcRecords: return "ic-records";
+    case GiDebugView::Caustics: return "caustics";
+    case GiDebugView::Indirect: return "indirect";
+    }
+    return "?";
+}
+
+// Traces `count` photons through the processor and returns what the photon stage stored.
+std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& accel,
+                                       const LightSet& lights, const GiSettings& s,
+                                       const EngineSettings& engine, bool caustic,
+                                       std::uint32_t count, Stats& stats) {
+    Film film(1, 1);
+    ShadingPolicy policy;
+    RenderContext rc{scene, accel, lights, policy, film, engine.seed};
+    Intersector intersector(accel.root(), engine.packetWidth);
+    RayProcessor processor(intersector, stats, engine.threads);
+    PhotonStage stage(rc, caustic, s.maxPhotonDepth);
+    processor.setStage(RayKind::Photon, &stage);
+    PhotonEmitter emitter(lights, scene.worldBounds(), count, engine.seed, caustic ? 2 : 1);
+    processor.run(emitter, [] { return false; });
+    return stage.takePhotons();
+}
+
+// Ward's cache, filled coarse to fine; returns the records inserted.
+std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
+                                const LightSet& lights, GiData& gi, IrradianceCache& cache,
+                                const EngineSettings& engine, Stats& stats) {
+    const Camera& full = scene.camera;
+    IcRequests requests;
+    std::size_t inserted = 0;
+    for (int scale : {16, 8, 4, 2, 1}) {
+        Camera cam = full;
+        cam.width = std::max(1, (full.width + scale - 1) / scale);
+        cam.height = std::max(1, (full.height + scale - 1) / scale);
+        std::size_t capacity = std::size_t(cam.width) * cam.height * 2;
+        while (requests.slots.size() < capacity) requests.slots.push_back(std::make_unique<IcRequest>());
+        for (auto& r : requests.slots) {
+            for (auto& c : r->radiance) c.store(0);
+            r->inverseDistance.store(0);
+            r->rays.store(0);
+        }
+        requests.used.store(0);
+
+        Film film(cam.width, cam.height);
+        ShadingPolicy policy;
+        policy.maxDepth = gi.settings.maxDepth;
+        policy.icPrepass = true;
+        RenderContext rc{scene, accel, lights, policy, film, engine.seed};
+        gi.cache = &cache;
+        gi.requests = &requests;
+        rc.gi = &gi;
+        Intersector intersector(accel.root(), engine.packetWidth);
+        RayProcessor processor(intersector, stats, engine.threads);
+        ShadowStage shadow(rc);
+        ReflectionStage reflection(rc);
+        RefractionStage refraction(rc);
+        GatherStage gather(rc);
+        SurfaceStage surface(rc, shadow, reflection, refraction, &gather);
+        for (RayKind k : {RayKind::Camera, RayKind::Reflection, RayKind::Refraction})
+            processor.setStage(k, &surface);
+        processor.setStage(RayKind::Shadow, &shadow);
+        processor.setStage(RayKind::Gather, &gather);
+        CameraEmitter camera(rc, 1, &cam);
+        camera.beginPass(0, 1);
+        processor.run(camera, [] { return false; });
+
+        // New records in a fixed order, then into the cache.
+        std::size_t n = std::min<std::size_t>(requests.used.load(), requests.slots.size());
+        std::vector<IcRequest*> made;
+        for (std::size_t i = 0; i < n; ++i)
+            if (requests.slots[i]->rays.load() > 0) made.push_back(requests.slots[i].get());
+        std::sort(made.begin(), made.end(), [](const IcRequest* a, const IcRequest* b) {
+            if (a->key != b->key) return a->key < b->key;
+            return std::tie(a->position.x, a->position.y, a->position.z) <
+                   std::tie(b->position.x, b->position.y, b->position.z);
+        });
+        std::vector<IrradianceRecord> records;
+        for (IcRequest* r : made) {
+            double rays = r->rays.load();
+            IrradianceRecord rec;
+            rec.position = r->position;
+            rec.normal = r->normal;
+            // Cosine-weighted gather: E = pi / N * sum L.
+            for (int c = 0; c < 3; ++c)
+                rec.irradiance[c] = float(kPi * double(r->radiance[c].load()) / IcRequests::kScale / rays);
+            double inv = double(r->inverseDistance.load()) / IcRequests::kScale;
+            float harmonic = inv > 0 ? float(rays / inv) : gi.icMaxRadius;
+            rec.radius = std::clamp(harmonic, gi.icMinRadius, gi.icMaxRadius);
+            records.push_back(rec);
+        }
+        cache.insert(records);
+        inserted += records.size();
+    }
+    gi.requests = nullptr;
+    return inserted;
+}
+
+} // namespace
+
+std::string GiSettings::toString() const {
+    std::ostringstream o;
+    o << "mode=gi spp=" << spp << " max_depth=" << maxDepth << " light_samples=" << lightSamples
+      << " photons=" << photons << " caustic_photons=" << causticPhotons
+      << " global_k=" << globalK << " caustic_k=" << causticK << " gather_rays=" << gatherRays
+      << " ic_accuracy=" << icAccuracy << " irradiance_cache=" << (irradianceCache ? "on" : "off")
+      << " caustics=" << (caustics ? "on" : "off")
+      << " precomputed_irradiance=" << (precomputedIrradiance ? "on" : "off")
+      << " debug_view=" << debugViewName(debugView);
+    return o.str();
+}
+
+RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSettings& s,
+                      const EngineSettings& engine) {
+    LightSet lights = LightSet::build(scene, accel);
+    GiData gi;
+    gi.settings = s;
+    float diag = std::max(1e-6f, length(scene.worldBounds().diagonal()));
+    gi.globalRadius = s.globalRadius > 0 ? s.globalRadius : 0.05f * diag;
+    gi.causticRadius = s.causticRadius > 0 ? s.causticRadius : 0.02f * diag;
+    gi.icMinRadius = 0.005f * diag;
+    gi.icMaxRadius = 0.15f * diag;
+    std::vector<std::pair<std::string, double>> extras;
+
+    // First pass: photons.
+    Stats photonStats;
+    auto t0 = Clock::now();
+    PhotonMap global, caustic;
+    if (s.photons > 0) global.build(tracePhotons(scene, accel, lights, s, engine, false, std::uint32_t(s.photons), photonStats));
+    if (s.caustics && s.causticPhotons > 0)
+        caustic.build(tracePhotons(scene, accel, lights, s, engine, true, std::uint32_t(s.causticPhotons), photonStats));
+    double photonSeconds = secondsSince(t0);
+    auto t1 = Clock::now();
+    if (s.precomputedIrradiance && global.size() > 0)
+        global.precomputeIrradiance(s.globalK, gi.globalRadius, 4);
+    double precomputeSeconds = secondsSince(t1);
+    gi.global = &global;
+    gi.caustic = &caustic;
+    extras.push_back({"gi/photon_seconds", photonSeconds});
+    extras.push_back({"gi/photons_global", double(global.size())});
+    extras.push_back({"gi/photons_caustic", double(caustic.size())});
+    extras.push_back({"gi/photon_map_bytes", double(global.memoryBytes() + caustic.memoryBytes())});
+    extras.push_back({"gi/precompute_seconds", precomputeSeconds});
+
+    // Cache prepass.
+    IrradianceCacheSettings cs;
+    cs.accuracy = s.icAccuracy;
+    IrradianceCache cache(scene.worldBounds(), cs);
+    Stats cacheStats;
+    auto t2 = Clock::now();
+    if (s.irradianceCache) fillIrradianceCache(scene, accel, lights, gi, cache, engine, cacheStats);
+    double cacheSeconds = secondsSince(t2);
+    gi.cache = s.irradianceCache ? &cache : nullptr;
+    gi.requests = nullptr;
+    ThreadStats cacheTotals = cacheStats.merged();
+    extras.push_back({"gi/cache_seconds", cacheSeconds});
+    extras.push_back({"gi/cache_records", double(cache.size())});
+    extras.push_back({"gi/cache_prepass_gather_rays", double(cacheTotals.stages[int(StageId::Gather)].raysOut)});
+
+    // Second pass: the render.
+    ShadingPolicy policy;
+    policy.maxDepth = s.maxDepth;
+    policy.lightSamples = s.lightSamples;
+    policy.directLight = s.debugView == GiDebugView::None;
+    RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine,
+                                  RadianceStage::Surface, &gi);
+    const ThreadStats& t = r.stats.totals;
+    extras.push_back({"gi/gather_rays", double(t.stages[int(StageId::Gather)].raysOut)});
+    extras.push_back({"gi/cache_lookups", double(t.cacheLookups)});
+    extras.push_back({"gi/cache_hit_rate", t.cacheLookups ? double(t.cacheHits) / double(t.cacheLookups) : 0.0});
+    double gatherSeconds = t.stages[int(StageId::Gather)].seconds;
+    extras.push_back({"gi/lookups_per_second",
+                      gatherSeconds > 0 ? double(t.cacheLookups + t.causticLookups + t.globalLookups) / gatherSeconds : 0.0});
+    r.stats.wallSeconds += photonSeconds + precomputeSeconds + cacheSeconds;
+    r.stats.totals.raysTraced += photonStats.merged().raysTraced + cacheTotals.raysTraced;
+    r.stats.extras = extras;
+    return r;
+}
+
+GiSettings giSettings(const SceneRenderSettings& scene, const ModeOverrides& cli) {
+    GiSettings s;
+    if (scene.spp > 0) s.spp = scene.spp;
+    if (scene.maxDepth > 0) s.maxDepth = scene.maxDepth;
+    if (scene.lightSamples > 0) s.lightSamples = scene.lightSamples;
+    if (cli.spp > 0) s.spp = cli.spp;
+    if (cli.maxDepth > 0) s.maxDepth = cli.maxDepth;
+    if (cli.lightSamples > 0) s.lightSamples = cli.lightSamples;
+    return s;
+}
+
+} // namespace rayproc
