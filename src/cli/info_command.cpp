@@ -110,7 +110,7 @@ std::function<int()> addInfoCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "info", "Print what a scene holds: nodes, instances, triangles, spheres, lights and "
                 "materials by type, world bounds, acceleration memory and build time");
-    cmd->add_option("scene", *scenePath, "Scene file (JSON)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("scene", *scenePath, "Scene file: JSON or pbrt-v4")->required()->check(CLI::ExistingFile);
     cmd->add_flag("--json", *json, "Print the figures as JSON");
     return [scenePath, json] {
         std::unique_ptr<Scene> scene = loadScene(*scenePath);

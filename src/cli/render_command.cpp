@@ -190,7 +190,7 @@ int runRender(const RenderArgs& a) {
 std::function<int()> addRenderCommand(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand("render", "Render a scene to an image");
-    cmd->add_option("scene", args->scene, "Scene file (JSON, see docs/scene-format.md)")
+    cmd->add_option("scene", args->scene, "Scene file: JSON (docs/scene-format.md) or pbrt-v4 (docs/pbrt-import.md)")
         ->required()
         ->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", args->output,

@@ -3,6 +3,7 @@
 #include "scene/scene_loader_detail.h"
 
 #include "core/error.h"
+#include "scene/pbrt/pbrt_loader.h"
 
 #include <nlohmann/json.hpp>
 
@@ -181,6 +182,7 @@ std::unique_ptr<Scene> loadSceneFromString(const std::string& text, const std::s
 }
 
 std::unique_ptr<Scene> loadScene(const std::string& path) {
+    if (isPbrtPath(path)) return loadPbrtScene(path); // pbrt-v4 text (docs/pbrt-import.md)
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec))
         throw InputError(path + ": is a directory, not a scene file");

@@ -1,0 +1,121 @@
+// The semantic half of the pbrt reader: the graphics state (CTM, attribute stack, material,
+// area light, ReverseOrientation), named coordinate systems, materials, textures and objects,
+// and the rayproc Scene they build. The parser (pbrt_parser.cpp) calls one method per directive.
+//
+// Shapes at the top level are leaves of Scene::root; ObjectBegin / ObjectEnd collect shapes
+// into a prototype group and ObjectInstance places it as an instance node with the CTM, so the
+// geometry is stored once however often it is placed. Named materials and object instances may
+// be used before they are defined (pbrt-v4 resolves them after parsing); they are resolved in
+// finish().
+#pragma once
+
+#include "scene/pbrt/pbrt_camera.h"
+#include "scene/pbrt/pbrt_lights.h"
+#include "scene/pbrt/pbrt_values.h"
+
+#include <filesystem>
+#include <unordered_map>
+#include <vector>
+
+namespace rayproc::pbrt {
+
+class SceneBuilder {
+public:
+    SceneBuilder(Scene& scene, Warnings& warnings, const std::filesystem::path& mainFile);
+
+    // Transformations (CTM = CTM * M) and named coordinate systems.
+    void identity();
+    void concat(const Mat4& m);
+    void setTransform(const Mat4& m);
+    void lookAt(const double v[9], const SourceLoc& loc);
+    void rotate(double degrees, const Vec3d& axis, const SourceLoc& loc);
+    void coordinateSystem(const std::string& name);
+    void coordSysTransform(const std::string& name, const SourceLoc& loc);
+    void reverseOrientation() { m_state.reverseOrientation = !m_state.reverseOrientation; }
+
+    // Blocks. `kind` is "Attribute", "Transform" or "Object".
+    void begin(const std::string& kind, const SourceLoc& loc);
+    void end(const std::string& kind, const SourceLoc& loc);
+
+    // The options block (before WorldBegin).
+    void camera(const std::string& type, ParamList params, const SourceLoc& loc);
+    void film(ParamList params, const SourceLoc& loc);
+    void sampler(const std::string& type, const ParamList& params, const SourceLoc& loc);
+    void integrator(const ParamList& params, const SourceLoc& loc);
+    void worldBegin(const SourceLoc& loc);
+    void worldEnd(const SourceLoc& loc);
+
+    // The world block.
+    void material(const std::string& type, const ParamList& params, const SourceLoc& loc);
+    void makeNamedMaterial(const std::string& name, const ParamList& params, const SourceLoc& loc);
+    void namedMaterial(const std::string& name, const SourceLoc& loc);
+    void texture(const std::string& name, const std::string& type, const std::string& cls,
+                 const ParamList& params, const SourceLoc& loc);
+    void lightSource(const std::string& type, const ParamList& params, const SourceLoc& loc);
+    void areaLightSource(const std::string& type, const ParamList& params, const SourceLoc& loc);
+    void shape(const std::string& type, const ParamList& params, const SourceLoc& loc,
+               const std::filesystem::path& dir);
+    void objectBegin(const std::string& name, const SourceLoc& loc);
+    void objectEnd(const SourceLoc& loc);
+    void objectInstance(const std::string& name, const SourceLoc& loc);
+
+    // A directive that is valid pbrt but has no effect in rayproc.
+    void unsupported(const std::string& directive, const std::string& fallback,
+                     const SourceLoc& loc);
+    // Options-block directives may not follow WorldBegin, world-block ones may not precede it.
+    void requireOptions(const std::string& directive, const SourceLoc& loc) const;
+    void requireWorld(const std::string& directive, const SourceLoc& loc) const;
+
+    // Checks the blocks are closed, resolves names, and computes the scene's bounds.
+    void finish();
+
+private:
+    struct GraphicsState {
+        Mat4 ctm;
+        bool reverseOrientation = false;
+        int material = -1;        // index into Scene::materials; -1: the named one, or default
+        std::string materialName; // NamedMaterial, when material == -1
+        SourceLoc materialLoc;
+        std::optional<AreaEmission> area;
+    };
+    struct Frame {
+        std::string kind;
+        GraphicsState saved;
+        SourceLoc loc;
+    };
+    struct Pending {
+        Node* node;
+        std::string name;
+        SourceLoc loc;
+    };
+
+    Mat4 placement() const; // the CTM as rayproc's world (or object) space sees it
+    int addMaterial(const std::string& type, const ParamList& params, const std::string& name,
+                    const SourceLoc& loc);
+    int defaultMaterial();
+    void reportUnused(const ParamList& params, const std::string& what) const;
+    std::vector<Node*> place(std::vector<Shape>& shapes, bool grouped,
+                             const Affine& groupTransform);
+    bool hasGeometry() const;
+
+    Scene& m_scene;
+    Warnings& m_warnings;
+    std::filesystem::path m_mainDir;
+    ValueReader m_values;
+    GraphicsState m_state;
+    std::vector<Frame> m_stack;
+    std::unordered_map<std::string, Mat4> m_coordSystems;
+    CameraDirective m_camera;
+    FilmDirective m_film;
+    bool m_inWorld = false;
+    Mat4 m_worldFix; // identity, or the mirror that makes rayproc's camera show pbrt's image
+    std::unordered_map<std::string, int> m_namedMaterials;
+    std::vector<bool> m_isInterface; // per Scene::materials entry
+    int m_defaultMaterial = -1;
+    std::vector<Pending> m_pendingMaterials; // shape nodes whose named material comes later
+    std::unordered_map<std::string, Node*> m_objects;
+    Node* m_object = nullptr; // the prototype being defined
+    std::vector<Pending> m_instances;
+};
+
+} // namespace rayproc::pbrt

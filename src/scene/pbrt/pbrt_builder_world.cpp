@@ -1,0 +1,223 @@
+// SceneBuilder, the world block: materials, textures, lights, shapes and object instancing,
+// and the final resolution of names.
+#include "scene/pbrt/pbrt_builder.h"
+
+#include "core/error.h"
+#include "scene/pbrt/pbrt_materials.h"
+#include "scene/pbrt/pbrt_shapes.h"
+
+#include <cstring>
+
+namespace rayproc::pbrt {
+
+int SceneBuilder::addMaterial(const std::string& type, const ParamList& params,
+                              const std::string& name, const SourceLoc& loc) {
+    MaterialResult r = convertMaterial(type, params, m_values, m_warnings, loc);
+    reportUnused(params, "Material \"" + type + "\"");
+    r.material.name = name.empty() ? type + " (" + loc.fileAndLine() + ")" : name;
+    m_scene.materials.push_back(r.material);
+    m_isInterface.push_back(r.interface);
+    return int(m_scene.materials.size()) - 1;
+}
+
+// pbrt's default material: diffuse, reflectance 0.5.
+int SceneBuilder::defaultMaterial() {
+    if (m_defaultMaterial < 0) {
+        Material m;
+        m.name = "pbrt default (diffuse 0.5)";
+        m.type = MaterialType::Diffuse;
+        m.color = Vec3(0.5f);
+        m_scene.materials.push_back(m);
+        m_isInterface.push_back(false);
+        m_defaultMaterial = int(m_scene.materials.size()) - 1;
+    }
+    return m_defaultMaterial;
+}
+
+void SceneBuilder::material(const std::string& type, const ParamList& params,
+                            const SourceLoc& loc) {
+    requireWorld("Material", loc);
+    m_state.material = addMaterial(type, params, "", loc);
+    m_state.materialName.clear();
+}
+
+void SceneBuilder::makeNamedMaterial(const std::string& name, const ParamList& params,
+                                     const SourceLoc& loc) {
+    requireWorld("MakeNamedMaterial", loc);
+    if (m_namedMaterials.count(name)) failAt(loc, "material \"" + name + "\" is defined twice");
+    const Param* type = params.get("type", {"string"});
+    if (!type || type->strings.size() != 1)
+        failAt(loc, "MakeNamedMaterial \"" + name + "\" needs \"string type\"");
+    m_namedMaterials[name] = addMaterial(type->strings[0], params, name, loc);
+}
+
+void SceneBuilder::namedMaterial(const std::string& name, const SourceLoc& loc) {
+    requireWorld("NamedMaterial", loc);
+    m_state.material = -1;
+    m_state.materialName = name;
+    m_state.materialLoc = loc;
+}
+
+void SceneBuilder::texture(const std::string& name, const std::string& type, const std::string& cls,
+                           const ParamList& params, const SourceLoc& loc) {
+    requireWorld("Texture", loc);
+    if (type != "float" && type != "spectrum" && type != "color")
+        failAt(loc, "Texture \"" + name + "\": the type must be \"float\" or \"spectrum\", not \"" +
+                        type + "\"");
+    m_values.defineTexture(name, type, cls, params, loc);
+    reportUnused(params, "Texture \"" + cls + "\"");
+}
+
+void SceneBuilder::lightSource(const std::string& type, const ParamList& params,
+                               const SourceLoc& loc) {
+    requireWorld("LightSource", loc);
+    convertLight(type, params, m_worldFix * m_state.ctm, m_values, m_warnings, loc, m_scene);
+    reportUnused(params, "LightSource \"" + type + "\"");
+}
+
+void SceneBuilder::areaLightSource(const std::string& type, const ParamList& params,
+                                   const SourceLoc& loc) {
+    requireWorld("AreaLightSource", loc);
+    m_state.area = convertAreaLight(type, params, m_values, m_warnings, loc);
+    reportUnused(params, "AreaLightSource \"" + type + "\"");
+}
+
+// Consecutive shapes under the same transform share one group.
+std::vector<Node*> SceneBuilder::place(std::vector<Shape>& shapes, bool grouped,
+                                       const Affine& groupTransform) {
+    Node* container = m_object ? m_object : m_scene.root.get();
+    if (grouped) {
+        Node* last = container->children.empty() ? nullptr : container->children.back().get();
+        if (!last || last->kind != Node::Kind::Group ||
+            std::memcmp(last->transform.m, groupTransform.m, sizeof groupTransform.m) != 0) {
+            auto g = std::make_unique<Node>();
+            g->kind = Node::Kind::Group;
+            g->transform = groupTransform;
+            container->children.push_back(std::move(g));
+        }
+        container = container->children.back().get();
+    }
+    std::vector<Node*> leaves;
+    for (Shape& s : shapes) {
+        auto n = std::make_unique<Node>();
+        n->kind = Node::Kind::Shape;
+        n->shape = std::move(s);
+        leaves.push_back(n.get());
+        container->children.push_back(std::move(n));
+    }
+    return leaves;
+}
+
+void SceneBuilder::shape(const std::string& type, const ParamList& params, const SourceLoc& loc,
+                         const std::filesystem::path& dir) {
+    requireWorld("Shape", loc);
+    bool emissive = m_state.area && !isBlack(m_state.area->radiance);
+    ShapeContext ctx{placement(), m_state.reverseOrientation, emissive, dir, m_mainDir, loc};
+    ShapeResult r = convertShape(type, params, ctx, m_warnings);
+    reportUnused(params, "Shape \"" + type + "\"");
+    if (r.shapes.empty()) return;
+
+    int material = m_state.material;
+    bool pending = false;
+    if (material < 0 && !m_state.materialName.empty()) {
+        auto it = m_namedMaterials.find(m_state.materialName);
+        if (it != m_namedMaterials.end())
+            material = it->second;
+        else
+            pending = true;
+    } else if (material < 0) {
+        material = defaultMaterial();
+    }
+    if (!pending && m_isInterface[std::size_t(material)] && !emissive) {
+        m_warnings.add(loc, "shapes of material \"interface\" only bound participating media, "
+                            "which are not supported; skipped");
+        return;
+    }
+    for (Shape& s : r.shapes) {
+        s.material = pending ? 0 : material;
+        if (emissive) {
+            s.emission = m_state.area->radiance;
+            s.twoSided = m_state.area->twoSided;
+        }
+    }
+    for (Node* n : place(r.shapes, r.grouped, r.groupTransform))
+        if (pending) m_pendingMaterials.push_back({n, m_state.materialName, m_state.materialLoc});
+}
+
+// Object instancing ----------------------------------------------------------------------------
+
+void SceneBuilder::objectBegin(const std::string& name, const SourceLoc& loc) {
+    requireWorld("ObjectBegin", loc);
+    if (m_object)
+        failAt(loc, "ObjectBegin inside the definition of object \"" + m_object->name + "\"");
+    if (m_objects.count(name)) failAt(loc, "object \"" + name + "\" is defined twice");
+    begin("Object", loc);
+    auto proto = std::make_unique<Node>();
+    proto->kind = Node::Kind::Group;
+    proto->name = name;
+    m_object = proto.get();
+    m_objects[name] = m_object;
+    m_scene.prototypes.push_back(std::move(proto));
+}
+
+void SceneBuilder::objectEnd(const SourceLoc& loc) {
+    requireWorld("ObjectEnd", loc);
+    if (!m_object) failAt(loc, "ObjectEnd without ObjectBegin");
+    end("Object", loc);
+    m_object = nullptr;
+}
+
+void SceneBuilder::objectInstance(const std::string& name, const SourceLoc& loc) {
+    requireWorld("ObjectInstance", loc);
+    if (m_object)
+        failAt(loc, "ObjectInstance inside the definition of object \"" + m_object->name + "\"");
+    Mat4 toWorld = m_worldFix * m_state.ctm;
+    if (!toWorld.isAffine() || toWorld.det3() == 0) {
+        m_warnings.add(loc, "object instance under a singular or projective transform; skipped");
+        return;
+    }
+    auto node = std::make_unique<Node>();
+    node->kind = Node::Kind::Instance;
+    node->name = name;
+    node->transform = toWorld.toAffine();
+    m_instances.push_back({node.get(), name, loc});
+    m_scene.root->children.push_back(std::move(node));
+}
+
+// Resolution -----------------------------------------------------------------------------------
+
+bool SceneBuilder::hasGeometry() const {
+    auto hasLeaf = [](const Node& n, auto&& self) -> bool {
+        if (n.kind == Node::Kind::Shape) return true;
+        if (n.kind == Node::Kind::Instance) return n.prototype && self(*n.prototype, self);
+        for (const auto& c : n.children)
+            if (self(*c, self)) return true;
+        return false;
+    };
+    return hasLeaf(*m_scene.root, hasLeaf);
+}
+
+void SceneBuilder::finish() {
+    if (!m_stack.empty()) {
+        const Frame& f = m_stack.back();
+        failAt(f.loc, f.kind + "Begin has no matching " + f.kind + "End");
+    }
+    if (!m_inWorld) throw InputError(m_scene.path + ": no WorldBegin: the file has no world block");
+    for (const Pending& p : m_pendingMaterials) {
+        auto it = m_namedMaterials.find(p.name);
+        if (it == m_namedMaterials.end())
+            failAt(p.loc, "NamedMaterial \"" + p.name + "\" was never defined (MakeNamedMaterial)");
+        p.node->shape.material = it->second;
+    }
+    for (const Pending& p : m_instances) {
+        auto it = m_objects.find(p.name);
+        if (it == m_objects.end())
+            failAt(p.loc, "ObjectInstance of \"" + p.name + "\", which was never defined");
+        p.node->prototype = it->second;
+    }
+    if (!hasGeometry())
+        throw InputError(m_scene.path + ": the scene has no geometry (no supported Shape)");
+    m_scene.computeBounds();
+}
+
+} // namespace rayproc::pbrt

@@ -1,0 +1,114 @@
+#include "scene/pbrt/pbrt_camera.h"
+
+#include <cmath>
+
+namespace rayproc::pbrt {
+
+namespace {
+
+constexpr double kPiD = 3.14159265358979323846;
+constexpr long long kMaxResolution = 16384;
+constexpr long long kMaxPixels = 1LL << 26;
+
+void readFilm(const FilmDirective& film, Scene& scene) {
+    const SourceLoc& loc = film.loc;
+    long long w = film.params.getInt("xresolution", 1280);
+    long long h = film.params.getInt("yresolution", 720);
+    if (w < 1 || w > kMaxResolution || h < 1 || h > kMaxResolution)
+        failAt(loc, "film resolution " + std::to_string(w) + "x" + std::to_string(h) +
+                        " is outside 1..16384");
+    if (w * h > kMaxPixels)
+        failAt(loc, "film of " + std::to_string(w * h) + " pixels exceeds the limit of 2^26");
+    film.params.ignore({"filename", "savefp16", "diagonal"}); // output and realistic-camera only
+    scene.camera.width = int(w);
+    scene.camera.height = int(h);
+}
+
+// tan of half the vertical field of view, from pbrt's fov, frame aspect and screen window.
+double tanHalfVertical(const CameraDirective& cam, const Scene& scene, Warnings& warnings,
+                       const SourceLoc& loc) {
+    const ParamList& p = cam.params;
+    double fov = cam.type == "perspective" ? p.getFloat("fov", 90.0) : 90.0;
+    if (!(fov > 0 && fov < 180)) failAt(loc, "camera \"fov\" must be strictly between 0 and 180");
+    double aspect = double(scene.camera.width) / double(scene.camera.height);
+    double frame = p.getFloat("frameaspectratio", aspect);
+    if (!(frame > 0)) failAt(loc, "camera \"frameaspectratio\" must be positive");
+    double x0 = -1, x1 = 1, y0 = -1, y1 = 1;
+    if (frame > 1) {
+        x0 = -frame;
+        x1 = frame;
+    } else {
+        y0 = -1 / frame;
+        y1 = 1 / frame;
+    }
+    if (const Param* sw = p.get("screenwindow", {"float"})) {
+        if (sw->numbers.size() != 4)
+            failAt(sw->loc, "\"screenwindow\" expects 4 numbers: xmin xmax ymin ymax");
+        x0 = sw->numbers[0];
+        x1 = sw->numbers[1];
+        y0 = sw->numbers[2];
+        y1 = sw->numbers[3];
+        if (!(x1 > x0 && y1 > y0)) failAt(sw->loc, "\"screenwindow\" is empty");
+    }
+    if (std::fabs(x0 + x1) > 1e-6 * (x1 - x0) || std::fabs(y0 + y1) > 1e-6 * (y1 - y0))
+        warnings.add(loc, "an off-centre screen window is not supported; it is centred");
+    double windowAspect = (x1 - x0) / (y1 - y0);
+    if (std::fabs(windowAspect / aspect - 1) > 1e-3)
+        warnings.add(loc, "the screen window's aspect differs from the film's (non-square "
+                          "pixels); the vertical field of view is kept");
+    return std::tan(0.5 * fov * kPiD / 180.0) * 0.5 * (y1 - y0);
+}
+
+} // namespace
+
+Mat4 convertCamera(const CameraDirective& cam, const FilmDirective& film, Scene& scene,
+                   Warnings& warnings, const SourceLoc& worldBegin) {
+    const SourceLoc& loc = cam.given ? cam.loc : worldBegin;
+    scene.camera.width = 1280; // pbrt's default film
+    scene.camera.height = 720;
+    if (film.given) readFilm(film, scene);
+
+    if (cam.type != "perspective")
+        warnings.add(loc, "Camera " + quote(cam.type) +
+                              " is not supported; using a perspective camera with a 90 degree "
+                              "field of view");
+    double tanHalfY = tanHalfVertical(cam, scene, warnings, loc);
+
+    Mat4 worldFromCamera;
+    if (!cam.cameraFromWorld.isAffine() || !cam.cameraFromWorld.inverse(worldFromCamera))
+        failAt(loc, "the camera transform is singular or projective");
+    Vec3d eye = worldFromCamera.point({0, 0, 0});
+    Vec3d right = worldFromCamera.vector({1, 0, 0});
+    Vec3d up = worldFromCamera.vector({0, 1, 0});
+    Vec3d forward = worldFromCamera.vector({0, 0, 1});
+    double lr = length(right), lu = length(up), lf = length(forward);
+    double tol = 1e-4 * lf;
+    if (std::fabs(lr - lf) > tol || std::fabs(lu - lf) > tol ||
+        std::fabs(dot(right, up)) > tol * lf || std::fabs(dot(right, forward)) > tol * lf ||
+        std::fabs(dot(up, forward)) > tol * lf)
+        warnings.add(loc, "a camera transform with shear or non-uniform scale is not supported; "
+                          "only its directions are used");
+
+    Camera& c = scene.camera;
+    c.position = eye.toFloat();
+    c.lookAt = (eye + normalize(forward)).toFloat();
+    c.up = normalize(up).toFloat();
+    c.fovY = float(2.0 * std::atan(tanHalfY) * 180.0 / kPiD);
+    double lens = cam.params.getFloat("lensradius", 0.0);
+    double focus = cam.params.getFloat("focaldistance", 1e6);
+    if (lens < 0) failAt(loc, "camera \"lensradius\" must not be negative");
+    if (lens > 0 && !(focus > 0)) failAt(loc, "camera \"focaldistance\" must be positive");
+    c.apertureRadius = float(lens);
+    c.focusDistance = lens > 0 ? float(focus) : 0.0f;
+    cam.params.ignore({"shutteropen", "shutterclose"}); // no motion blur: nothing moves
+    if (cam.type != "perspective") // the camera itself was reported, not its parameters
+        for (const Param& p : cam.params.all()) p.used = true;
+
+    // pbrt shows x to the right; rayproc shows cross(forward, up). If they disagree, mirror the
+    // world about the plane through the eye that holds forward and up.
+    Vec3d rayprocRight = cross(forward, up);
+    if (dot(rayprocRight, right) >= 0) return Mat4();
+    return Mat4::mirror(eye, normalize(cross(up, forward)));
+}
+
+} // namespace rayproc::pbrt

@@ -1,0 +1,53 @@
+// Colour and scalar parameters as rayproc values: "rgb", "spectrum" (a constant, wavelength /
+// value pairs, or a named spectrum), "blackbody", and "texture" references to named textures of
+// class "constant". How a spectrum becomes a colour depends on its use, as in pbrt-v4:
+// reflectances must lie in [0, 1]; emission spectra other than RGB are normalised to
+// luminance 1 (pbrt's "1 nit" convention; the light's "scale" sets the brightness).
+#pragma once
+
+#include "core/math.h"
+#include "scene/pbrt/pbrt_params.h"
+#include "scene/pbrt/pbrt_warnings.h"
+
+#include <string>
+#include <unordered_map>
+
+namespace rayproc::pbrt {
+
+enum class SpectrumUse { Albedo, Unbounded, Illuminant };
+
+class ValueReader {
+public:
+    explicit ValueReader(Warnings& warnings) : m_warnings(warnings) {}
+
+    // The Texture directive. `type` is "float" or "spectrum" (pbrt-v3's "color" too).
+    void defineTexture(const std::string& name, const std::string& type,
+                       const std::string& className, const ParamList& params, const SourceLoc& loc);
+
+    // A colour parameter, or `def` if absent. A texture of a class other than "constant"
+    // gives `def` with a warning.
+    Vec3 color(const ParamList& params, std::string_view name, SpectrumUse use, Vec3 def) const;
+    // A float parameter or float texture, or `def`.
+    float scalar(const ParamList& params, std::string_view name, float def) const;
+
+    // A colour parameter's value as written (rgb, spectrum constant or blackbody); false if it
+    // is absent, a named or sampled spectrum, or a texture.
+    static bool plainColor(const Param& p, Vec3& out);
+
+private:
+    struct Texture {
+        bool isFloat = false;
+        bool constant = false;
+        std::string className;
+        Param value; // "value" of a constant texture (type float, rgb, spectrum or blackbody)
+        bool hasValue = false;
+    };
+    Vec3 convert(const Param& p, SpectrumUse use, Vec3 def) const;
+    const Texture* texture(const Param& ref, bool wantFloat) const;
+
+    Warnings& m_warnings;
+    std::unordered_map<std::string, Texture> m_floatTextures;
+    std::unordered_map<std::string, Texture> m_spectrumTextures;
+};
+
+} // namespace rayproc::pbrt

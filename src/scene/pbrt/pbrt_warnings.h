@@ -1,0 +1,31 @@
+// Everything a pbrt scene asks for that rayproc does not do is reported once, where it first
+// occurs, as "file:line: warning: what; the fallback" (with a count when it recurs), and the
+// load goes on with the documented fallback (docs/pbrt-import.md).
+#pragma once
+
+#include "scene/pbrt/pbrt_tokenizer.h"
+
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace rayproc::pbrt {
+
+class Warnings {
+public:
+    // Repeated messages are counted, not repeated.
+    void add(const SourceLoc& loc, const std::string& message);
+    // "file:line: warning: message", in order of first occurrence.
+    std::vector<std::string> lines() const;
+
+private:
+    struct Entry {
+        std::string where;
+        std::string message;
+        std::size_t count = 0;
+    };
+    std::vector<Entry> m_entries;
+    std::unordered_map<std::string, std::size_t> m_index;
+};
+
+} // namespace rayproc::pbrt

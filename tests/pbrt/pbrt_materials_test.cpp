@@ -1,0 +1,208 @@
+// pbrt materials, constant textures, spectra (blackbody, constant, sampled) and lights as
+// rayproc's materials and lights.
+#include "pbrt_test_util.h"
+
+#include "scene/pbrt/pbrt_spectrum.h"
+
+#include <cmath>
+
+using namespace rayproc;
+using namespace rayproc::pbrt;
+using namespace rayproc::test;
+
+namespace {
+
+bool near(const Vec3& a, const Vec3& b, float eps = 1e-4f) {
+    return length(a - b) < eps;
+}
+
+// The material of the first shape after `world` declares it.
+Material materialOf(const std::string& world, std::vector<std::string>* warnings = nullptr) {
+    auto r = loadWorld(world + "\nShape \"sphere\"\n");
+    if (warnings) *warnings = r.warnings;
+    auto shapes = rootShapes(*r.scene);
+    REQUIRE(!shapes.empty());
+    return r.scene->materials[std::size_t(shapes[0].shape->material)];
+}
+
+bool anyContains(const std::vector<std::string>& v, const std::string& s) {
+    for (const auto& x : v)
+        if (x.find(s) != std::string::npos) return true;
+    return false;
+}
+
+} // namespace
+
+TEST_CASE("diffuse, the default material, and named materials", "[pbrt]") {
+    Material d = materialOf("Material \"diffuse\" \"rgb reflectance\" [0.1 0.2 0.3]");
+    CHECK(d.type == MaterialType::Diffuse);
+    CHECK(d.color == Vec3(0.1f, 0.2f, 0.3f));
+    Material def = materialOf("");
+    CHECK(def.type == MaterialType::Diffuse);
+    CHECK(def.color == Vec3(0.5f));
+    Material grey = materialOf("Material \"diffuse\" \"spectrum reflectance\" 0.25");
+    CHECK(grey.color == Vec3(0.25f));
+
+    // Used before it is defined: resolved after parsing.
+    auto r = loadWorld("NamedMaterial \"late\"\nShape \"sphere\"\n"
+                       "MakeNamedMaterial \"late\" \"string type\" \"diffuse\" "
+                       "\"rgb reflectance\" [0 1 0]\n");
+    const Shape& s = *rootShapes(*r.scene)[0].shape;
+    CHECK(r.scene->materials[std::size_t(s.material)].name == "late");
+    CHECK(r.scene->materials[std::size_t(s.material)].color == Vec3(0, 1, 0));
+}
+
+TEST_CASE("conductor: mirror when smooth, glossy when rough, and its colour", "[pbrt]") {
+    Material m = materialOf("Material \"conductor\" \"rgb reflectance\" [0.9 0.8 0.7]");
+    CHECK(m.type == MaterialType::Mirror);
+    CHECK(m.color == Vec3(0.9f, 0.8f, 0.7f));
+    Material spectral = materialOf("Material \"conductor\" \"spectrum eta\" \"metal-Au-eta\" "
+                                   "\"spectrum k\" \"metal-Au-k\"");
+    CHECK(spectral.type == MaterialType::Mirror);
+    CHECK(spectral.color == Vec3(0.9f)); // a neutral stand-in for measured spectra
+    Material defaults = materialOf("Material \"conductor\"");
+    CHECK(defaults.color == Vec3(0.9f));
+    Material rgbEta = materialOf("Material \"conductor\" \"rgb eta\" [0.2 0.2 0.2] "
+                                 "\"rgb k\" [3 3 3]");
+    float f0 = (0.64f + 9) / (1.44f + 9); // ((n-1)^2 + k^2) / ((n+1)^2 + k^2)
+    CHECK(near(rgbEta.color, Vec3(f0)));
+
+    Material rough = materialOf("Material \"conductor\" \"float roughness\" 0.3");
+    CHECK(rough.type == MaterialType::Glossy);
+    // pbrt: alpha = sqrt(roughness) (remapped); rayproc: alpha = roughness^2.
+    CHECK(rough.roughness == Approx(std::pow(0.3, 0.25)));
+    Material raw = materialOf("Material \"conductor\" \"float roughness\" 0.3 "
+                              "\"bool remaproughness\" false");
+    CHECK(raw.roughness == Approx(std::sqrt(0.3)));
+    std::vector<std::string> w;
+    Material aniso = materialOf("Material \"conductor\" \"float uroughness\" 0.1 "
+                                "\"float vroughness\" 0.4",
+                                &w);
+    CHECK(aniso.type == MaterialType::Glossy);
+    CHECK(anyContains(w, "anisotropic roughness"));
+}
+
+TEST_CASE("dielectric, coateddiffuse, interface and unsupported materials", "[pbrt]") {
+    Material glass = materialOf("Material \"dielectric\" \"float eta\" 1.33");
+    CHECK(glass.type == MaterialType::Dielectric);
+    CHECK(glass.ior == Approx(1.33f));
+    CHECK(glass.color == Vec3(1.0f));
+    CHECK(materialOf("Material \"dielectric\"").ior == Approx(1.5f));
+    CHECK(materialOf("Material \"dielectric\" \"spectrum eta\" \"glass-BK7\"").ior ==
+          Approx(1.5168f));
+    std::vector<std::string> w;
+    materialOf("Material \"dielectric\" \"float roughness\" 0.2", &w);
+    CHECK(anyContains(w, "rough dielectrics are not supported"));
+
+    Material coated = materialOf("Material \"coateddiffuse\" \"rgb reflectance\" [0.2 0.4 0.6] "
+                                 "\"float roughness\" 0.1",
+                                 &w);
+    CHECK(coated.type == MaterialType::Diffuse);
+    CHECK(coated.color == Vec3(0.2f, 0.4f, 0.6f));
+    CHECK(anyContains(w, "coateddiffuse\" is approximated as diffuse"));
+
+    Material hair = materialOf("Material \"hair\" \"float eumelanin\" 1.3", &w);
+    CHECK(hair.type == MaterialType::Diffuse);
+    CHECK(hair.color == Vec3(0.5f));
+    CHECK(anyContains(w, "Material \"hair\" is not supported; using diffuse 0.5"));
+    CHECK_FALSE(anyContains(w, "eumelanin")); // the material is reported, not its parameters
+
+    auto boundary = loadWorld("Material \"interface\"\nShape \"sphere\"\n"
+                              "Material \"diffuse\"\nShape \"sphere\"\n");
+    CHECK(rootShapes(*boundary.scene).size() == 1);
+    CHECK(boundary.warned("material \"interface\""));
+}
+
+TEST_CASE("Constant textures stand for values, other classes fall back with a warning", "[pbrt]") {
+    Material m =
+        materialOf("Texture \"red\" \"spectrum\" \"constant\" \"rgb value\" [0.8 0.1 0.1]\n"
+                   "Texture \"r\" \"float\" \"constant\" \"float value\" 0.3\n"
+                   "Material \"diffuse\" \"texture reflectance\" \"red\"");
+    CHECK(m.color == Vec3(0.8f, 0.1f, 0.1f));
+    Material g = materialOf("Texture \"r\" \"float\" \"constant\" \"float value\" 0.3\n"
+                            "Material \"conductor\" \"texture roughness\" \"r\"");
+    CHECK(g.type == MaterialType::Glossy);
+    CHECK(g.roughness == Approx(std::pow(0.3, 0.25)));
+    std::vector<std::string> w;
+    Material img = materialOf("Texture \"wood\" \"spectrum\" \"imagemap\" \"string filename\" "
+                              "\"wood.png\"\nMaterial \"diffuse\" \"texture reflectance\" \"wood\"",
+                              &w);
+    CHECK(img.color == Vec3(0.5f));
+    CHECK(anyContains(w, "Texture class \"imagemap\" is not supported"));
+    std::string e = pbrtErrorOf(std::string(kPbrtHeader) +
+                                "Material \"diffuse\" \"texture reflectance\" \"nope\"\n");
+    CHECK_THAT(e, Catch::Contains(":5:20: no spectrum texture named \"nope\""));
+}
+
+TEST_CASE("Blackbody colours: Planck's law through the CIE 1931 observer, luminance 1", "[pbrt]") {
+    Vec3 white = blackbodyRgb(6500);
+    CHECK(luminance(white) == Approx(1.0f).epsilon(1e-4));
+    for (int c = 0; c < 3; ++c) CHECK(white[c] == Approx(1.0f).margin(0.1)); // roughly white
+    Vec3 warm = blackbodyRgb(2700);
+    CHECK(warm.x > warm.y);
+    CHECK(warm.y > warm.z);
+    Vec3 cool = blackbodyRgb(12000);
+    CHECK(cool.z > cool.x);
+    // The colour matching fit peaks where the CIE tables do.
+    double x, y, z;
+    cieColorMatch(555, x, y, z);
+    CHECK(y == Approx(1.0).margin(0.02));
+    cieColorMatch(600, x, y, z);
+    CHECK(x == Approx(1.06).margin(0.03));
+    // Flat reflectance spectra are grey; flat emission is white with luminance 1.
+    CHECK(near(sampledReflectanceRgb({400, 0.5, 700, 0.5}), Vec3(0.5f), 1e-3f));
+    CHECK(luminance(sampledEmissionRgb({360, 2, 830, 2})) == Approx(1.0f).epsilon(1e-4));
+}
+
+TEST_CASE("Lights: point, spot, distant, infinite, area, scale, power and blackbody", "[pbrt]") {
+    auto r = loadWorld(
+        "LightSource \"point\" \"rgb I\" [1 2 3] \"point3 from\" [1 2 3] \"float scale\" 2\n"
+        "LightSource \"point\" \"blackbody I\" 3000 \"float power\" 100\n"
+        "Translate 0 5 0\n"
+        "LightSource \"spot\" \"point3 from\" [0 0 0] \"point3 to\" [0 -1 0] "
+        "\"float coneangle\" 40 \"float conedeltaangle\" 10\n"
+        "LightSource \"distant\" \"point3 from\" [0 0 0] \"point3 to\" [1 -1 0] "
+        "\"rgb L\" [3 3 3] \"float scale\" 0.5\n"
+        "LightSource \"infinite\" \"rgb L\" [0.1 0.2 0.3]\n"
+        "LightSource \"infinite\" \"rgb L\" [0.1 0.1 0.1]\n"
+        "LightSource \"goniometric\"\n"
+        "Shape \"sphere\"\n");
+    const auto& L = r.scene->lights;
+    REQUIRE(L.size() == 5);
+    CHECK(L[0].type == LightType::Point);
+    CHECK(L[0].intensity == Vec3(2, 4, 6));
+    CHECK(L[0].position == Vec3(1, 2, 3));
+    CHECK(luminance(L[1].intensity) == Approx(100 / (4 * kPi)).epsilon(1e-4));
+    CHECK(L[2].type == LightType::Spot);
+    CHECK(L[2].position == Vec3(0, 5, 0));
+    CHECK(near(L[2].direction, {0, -1, 0}));
+    CHECK(L[2].coneAngle == Approx(30.0f)); // full intensity inside coneangle - delta
+    CHECK(L[2].falloffAngle == Approx(10.0f));
+    CHECK(L[3].type == LightType::Directional);
+    CHECK(near(L[3].direction, normalize(Vec3(1, -1, 0))));
+    CHECK(L[3].intensity == Vec3(1.5f));
+    CHECK(L[4].type == LightType::Environment); // two skies add up
+    CHECK(near(L[4].intensity, {0.2f, 0.3f, 0.4f}));
+    CHECK(r.warned("LightSource \"goniometric\" is not supported; skipped"));
+
+    auto sky = loadWorld("LightSource \"infinite\" \"string filename\" \"sky.exr\" "
+                         "\"float illuminance\" 3.14159265\nShape \"sphere\"\n");
+    REQUIRE(sky.scene->lights.size() == 1);
+    CHECK(near(sky.scene->lights[0].intensity, Vec3(1.0f)));
+    CHECK(sky.warned("image-based infinite lights are not supported"));
+
+    auto area = loadWorld("AttributeBegin\n"
+                          "AreaLightSource \"diffuse\" \"rgb L\" [17 12 4] \"bool twosided\" true\n"
+                          "Shape \"sphere\"\nAttributeEnd\n"
+                          "AreaLightSource \"diffuse\" \"blackbody L\" 6500 \"float scale\" 5\n"
+                          "Shape \"disk\"\n"
+                          "AreaLightSource \"projector\"\nShape \"disk\"\n");
+    auto shapes = rootShapes(*area.scene);
+    REQUIRE(shapes.size() == 3);
+    CHECK(shapes[0].shape->emission == Vec3(17, 12, 4));
+    CHECK(shapes[0].shape->twoSided);
+    CHECK(luminance(shapes[1].shape->emission) == Approx(5.0f).epsilon(1e-4));
+    CHECK_FALSE(shapes[1].shape->twoSided);
+    CHECK_FALSE(shapes[2].shape->isEmissive());
+    CHECK(area.warned("AreaLightSource \"projector\" is not supported"));
+}
