@@ -100,18 +100,22 @@ struct RenderOptions {
     int threads = 2;
     int packetWidth = 16;
     std::uint64_t seed = 1;
+    int maxDepth = 0; // 0: the mode's default
 };
 
 // Renders quietly through the library, as `rayproc render` does (without the file output).
+// `mode` is "preview", "path", or anything else for raytrace.
 inline RenderResult render(const Scene& scene, const EmbreeScene& accel, const RenderOptions& o) {
     EngineSettings engine;
     engine.threads = o.threads;
     engine.packetWidth = o.packetWidth;
     engine.seed = o.seed;
     engine.quiet = true;
-    ModeOverrides overrides{o.spp, 0, o.lightSamples};
+    ModeOverrides overrides{o.spp, o.maxDepth, o.lightSamples};
     if (o.mode == "preview")
         return renderPreview(scene, accel, previewSettings(scene.render, overrides), engine);
+    if (o.mode == "path")
+        return renderPath(scene, accel, pathSettings(scene.render, overrides), engine);
     return renderRaytrace(scene, accel, raytraceSettings(scene.render, overrides), engine);
 }
 
@@ -162,6 +166,48 @@ inline double meanValue(const Image& img) {
     double s = 0;
     for (float v : img.pixels) s += v;
     return img.pixels.empty() ? 0.0 : s / double(img.pixels.size());
+}
+
+// Every pixel value multiplied by `factor`.
+inline Image scaledImage(const Image& img, float factor) {
+    Image out = img;
+    for (float& v : out.pixels) v *= factor;
+    return out;
+}
+
+// The mean over pixels of one channel (0, 1, 2) and its standard error, estimated from the
+// spread of the per-pixel values: pixels are independent estimates (their random streams are
+// keyed by pixel), so stdError = sample standard deviation / sqrt(pixel count). Analytic tests
+// compare the mean with the expected radiance and state stdError. The rectangle [x0, x1) x
+// [y0, y1) restricts the pixels (x1, y1 <= 0: the whole image).
+struct PixelStats {
+    double mean = 0, stdError = 0, stdDev = 0, min = 0, max = 0;
+    std::size_t count = 0;
+};
+inline PixelStats pixelStats(const Image& img, int channel, int x0 = 0, int y0 = 0, int x1 = 0,
+                             int y1 = 0) {
+    if (x1 <= 0) x1 = img.width;
+    if (y1 <= 0) y1 = img.height;
+    PixelStats st;
+    double sum = 0, sum2 = 0;
+    st.min = INFINITY;
+    st.max = -INFINITY;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            double v = img.at(x, y)[channel];
+            sum += v;
+            sum2 += v * v;
+            st.min = std::min(st.min, v);
+            st.max = std::max(st.max, v);
+            ++st.count;
+        }
+    if (st.count == 0) return st;
+    double n = double(st.count);
+    st.mean = sum / n;
+    double var = st.count > 1 ? std::max(0.0, (sum2 - n * st.mean * st.mean) / (n - 1)) : 0.0;
+    st.stdDev = std::sqrt(var);
+    st.stdError = st.stdDev / std::sqrt(n);
+    return st;
 }
 
 // Child processes ------------------------------------------------------------------------------

@@ -1,0 +1,20 @@
+// The statistical suite's shared constants: how many chi-square tests it runs (for the Sidak
+// correction), the sample count per test and the histogram resolution.
+#pragma once
+
+#include "chi_square.h"
+
+namespace rayproc::test {
+
+// Chi-square tests in tests/statistical/: diffuse 3, glossy 9 (bsdf_sampling_test.cpp), lights
+// 4 (light_sampling_test.cpp). A correct suite fails by chance with probability 1%.
+constexpr int kChiSquareTests = 16;
+constexpr double kOverallSignificance = 0.01;
+inline double testSignificance() { return sidakSignificance(kOverallSignificance, kChiSquareTests); }
+
+// 10 x 20 bins as pbrt-v4 and Mitsuba; 10^6 samples (~0.1 s per test) expect ~5000 per bin, so a
+// bin whose pdf integral is off by 5% adds ~12 to a statistic of ~200 degrees of freedom. The
+// expected counts are integrated adaptively to 2% of each bin's Poisson noise.
+constexpr int kThetaBins = 10, kPhiBins = 20, kSamples = 1000000;
+
+} // namespace rayproc::test
