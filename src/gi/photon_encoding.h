@@ -17,6 +17,7 @@
 #include "core/math.h"
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -57,16 +58,17 @@ inline Rgbe encodeRgbe(const Vec3& c) {
         float s = kRgbeLargest / m;
         r *= s, g *= s, b *= s, m = kRgbeLargest;
     }
-    // m = f 2^e with f in [0.5, 1): mantissas are channel * 2^(8-e), the largest in [128, 256].
-    int e = 0;
-    std::frexp(m, &e);
-    float scale = std::ldexp(1.0f, 8 - e);
-    if (std::lrint(m * scale) > 255) { // the largest rounds up to 256: one more exponent step
+    // m = f 2^e with f in [0.5, 1) (m is a normal float: read e from its bits); mantissas are
+    // channel * 2^(8-e), the largest in [128, 256], rounded to nearest. The scale 2^(8-e) can
+    // exceed the float range for tiny colours, so it is a double.
+    int e = int((std::bit_cast<std::uint32_t>(m) >> 23) & 0xffu) - 126;
+    double scale = std::bit_cast<double>(std::uint64_t(1023 + 8 - e) << 52);
+    if (double(m) * scale + 0.5 >= 256.0) { // the largest rounds up to 256: one exponent more
         ++e;
-        scale *= 0.5f;
+        scale *= 0.5;
     }
-    return {std::uint8_t(std::lrint(r * scale)), std::uint8_t(std::lrint(g * scale)),
-            std::uint8_t(std::lrint(b * scale)), std::uint8_t(e + 128)};
+    auto mantissa = [scale](float c) { return std::uint8_t(double(c) * scale + 0.5); };
+    return {mantissa(r), mantissa(g), mantissa(b), std::uint8_t(e + 128)};
 }
 
 inline Vec3 decodeRgbe(const Rgbe& c) {
@@ -84,7 +86,9 @@ constexpr float kNormalErrorDegrees = 1.32f;    // 7 + 7 bits
 
 namespace detail {
 
-inline float signNotZero(float v) { return v < 0 ? -1.0f : 1.0f; }
+inline float signNotZero(float v) {
+    return v < 0 ? -1.0f : 1.0f;
+}
 
 // Unit vector -> point (u, v) of the square [-1,1]^2: project onto the octahedron |x|+|y|+|z| = 1
 // and fold the lower half over the diagonals.
@@ -141,25 +145,39 @@ inline std::uint32_t encodeOctahedral(const Vec3& direction) {
     detail::octahedralWrap(d, u, v);
     int iu = int(std::floor(u * float(kS))), iv = int(std::floor(v * float(kS)));
     std::uint32_t best = 0;
-    float bestCos = -2.0f;
+    float bestScore = -2.0f;
     for (int du = 0; du < 2; ++du) {
         for (int dv = 0; dv < 2; ++dv) {
             int qu = std::clamp(iu + du, -kS, kS) + kS, qv = std::clamp(iv + dv, -kS, kS) + kS;
             std::uint32_t code = std::uint32_t(qu) | (std::uint32_t(qv) << Bits);
-            float c = dot(decodeOctahedral<Bits>(code), d);
-            if (c > bestCos) bestCos = c, best = code;
+            // cos |cos| of the angle to d, which orders like the cosine, without a square root.
+            Vec3 c = decodeOctahedralRaw<Bits>(code);
+            float cd = dot(c, d), score = cd * std::abs(cd) / dot(c, c);
+            if (score > bestScore) bestScore = score, best = code;
         }
     }
     return best;
 }
 
 // The two encodings a stored photon uses.
-inline std::uint16_t encodeDirection(const Vec3& d) { return std::uint16_t(encodeOctahedral<8>(d)); }
-inline Vec3 decodeDirection(std::uint16_t code) { return decodeOctahedral<8>(code); }
-inline std::uint16_t encodeNormal(const Vec3& n) { return std::uint16_t(encodeOctahedral<7>(n)); }
-inline Vec3 decodeNormal(std::uint16_t code) { return decodeOctahedral<7>(code & 0x3fffu); }
-inline Vec3 decodeDirectionRaw(std::uint16_t code) { return decodeOctahedralRaw<8>(code); }
-inline Vec3 decodeNormalRaw(std::uint16_t code) { return decodeOctahedralRaw<7>(code & 0x3fffu); }
+inline std::uint16_t encodeDirection(const Vec3& d) {
+    return std::uint16_t(encodeOctahedral<8>(d));
+}
+inline Vec3 decodeDirection(std::uint16_t code) {
+    return decodeOctahedral<8>(code);
+}
+inline std::uint16_t encodeNormal(const Vec3& n) {
+    return std::uint16_t(encodeOctahedral<7>(n));
+}
+inline Vec3 decodeNormal(std::uint16_t code) {
+    return decodeOctahedral<7>(code & 0x3fffu);
+}
+inline Vec3 decodeDirectionRaw(std::uint16_t code) {
+    return decodeOctahedralRaw<8>(code);
+}
+inline Vec3 decodeNormalRaw(std::uint16_t code) {
+    return decodeOctahedralRaw<7>(code & 0x3fffu);
+}
 
 // dot(v / |v|, n) > cosine for a unit n and a non-zero v, without normalising v (cosine >= 0).
 inline bool withinCone(const Vec3& v, const Vec3& n, float cosine) {

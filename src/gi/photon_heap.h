@@ -14,8 +14,12 @@ namespace rayproc::photon_heap {
 inline std::uint64_t key(float dist2, std::uint32_t index) {
     return (std::uint64_t(std::bit_cast<std::uint32_t>(dist2)) << 32) | index;
 }
-inline float keyDist2(std::uint64_t k) { return std::bit_cast<float>(std::uint32_t(k >> 32)); }
-inline std::uint32_t keyIndex(std::uint64_t k) { return std::uint32_t(k); }
+inline float keyDist2(std::uint64_t k) {
+    return std::bit_cast<float>(std::uint32_t(k >> 32));
+}
+inline std::uint32_t keyIndex(std::uint64_t k) {
+    return std::uint32_t(k);
+}
 
 // The visitor of kdtree::search for a k-nearest query: fills keys (capacity entries) until
 // full, then makes them a heap and from there on replaces its top, shrinking the search radius

@@ -24,6 +24,7 @@
 #include <array>
 
 namespace rayproc {
+
 Vec3 PhotonMap::irradiance(const Vec3& p, const Vec3& n, int k, float maxDistance) const {
     std::array<std::uint64_t, kStackCandidates> stackKeys;
     std::vector<std::uint64_t> heapKeys;

@@ -25,7 +25,7 @@ void PhotonMap::build(std::vector<PhotonRecord> photons) {
     std::vector<kdtree::BuildKey> keys(photons.size());
     for (std::size_t i = 0; i < photons.size(); ++i) {
         const PhotonRecord& ph = photons[i];
-        RAYPROC_CHECK(isFinite(ph.position) && isFinite(ph.power));
+        RAYPROC_CHECK(isFinite(ph.power)); // positions: kdtree::build checks them
         keys[i] = {{ph.position.x, ph.position.y, ph.position.z}, std::uint32_t(i)};
     }
     std::vector<std::uint8_t> axis;
@@ -35,16 +35,23 @@ void PhotonMap::build(std::vector<PhotonRecord> photons) {
     std::vector<StoredPhoton> stored(photons.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, photons.size(), 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) {
+                          // Neighbours in the tree are usually on the same surface: on a flat
+                          // one the normal, and so its code, repeats.
+                          Vec3 lastNormal(0);
+                          std::uint16_t lastCode = encodeNormal(lastNormal);
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
                               const PhotonRecord& ph = photons[keys[i].index];
+                              if (!(ph.normal == lastNormal)) {
+                                  lastNormal = ph.normal;
+                                  lastCode = encodeNormal(ph.normal);
+                              }
                               StoredPhoton& s = stored[i];
                               s.pos[0] = ph.position.x;
                               s.pos[1] = ph.position.y;
                               s.pos[2] = ph.position.z;
                               s.power = encodeRgbe(ph.power);
                               s.direction = encodeDirection(ph.direction);
-                              s.normalAxis =
-                                  std::uint16_t(encodeNormal(ph.normal) | (unsigned(axis[i]) << 14));
+                              s.normalAxis = std::uint16_t(lastCode | (unsigned(axis[i]) << 14));
                           }
                       });
     m_photons = std::move(stored);

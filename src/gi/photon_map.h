@@ -1,14 +1,14 @@
 // The photon map of Jensen's two-pass method (Jensen 2001, "Realistic Image Synthesis Using
 // Photon Mapping", ch. 6-7): the photons the photon tracer stored, in a balanced kd-tree kept
-// implicitly in the photon array (photon_kdtree.h), and radiance estimates from the k nearest photons. With Christensen's 1999 "Faster photon map
-// global illumination", irradiance is precomputed at a subset of the photons and a lookup returns
-// that of the nearest one.
+// implicitly in the photon array (photon_kdtree.h), and radiance estimates from the k nearest
+// photons. With Christensen's 1999 "Faster photon map global illumination", irradiance is
+// precomputed at a subset of the photons and a lookup returns that of the nearest one.
 //
 // Consumes: PhotonRecords from the photon pass (position, flux, incoming direction, normal).
 // Produces: k-nearest-neighbour queries and irradiance estimates for the gather pass.
 //
 // A stored photon is 20 bytes (kPhotonBytes): position 3 floats, power RGBE, direction octahedral
-// 8+8 bits, normal octahedral 7+7 bits and the kd-tree split axis in the last 2 bits
+// 8+8 bits, normal octahedral 7+7 bits and the kd-tree split axis in the 2 bits left over
 // (photon_encoding.h states the precision). Photon indices are storage (tree) order, not the
 // order build() received them in; photon(i) for i < size() enumerates the map.
 //
@@ -54,15 +54,15 @@ public:
     };
     static constexpr std::size_t kPrecomputedBytes = 20;
 
-    // Cone filter constant k of w = 1 - d / (k r) (Jensen 2001, eq. 7.7).
+    // Cone filter constant k of w = 1 - d / (k r) (Jensen 2001, ch. 7).
     static constexpr float kConeK = 1.1f;
     // irradiance() counts photons whose stored normal is within 60 degrees of the query normal.
     static constexpr float kNormalCos = 0.5f;
     // irradianceFast() takes precomputed photons whose normal is within 25.8 degrees of it.
     static constexpr float kPrecomputedNormalCos = 0.9f;
 
-    // Builds the kd-tree (parallel; deterministic: the same input, in the same
-    // order, gives the same tree whatever the thread count). Discards precomputed irradiance.
+    // Builds the kd-tree (parallel; deterministic: the same input, in the same order, gives the
+    // same tree whatever the thread count). Discards precomputed irradiance.
     // Positions and powers must be finite (checked); negative power channels are stored as 0;
     // direction and normal are normalised (a zero vector becomes +z).
     void build(std::vector<PhotonRecord> photons);
@@ -74,7 +74,7 @@ public:
     // (dist2, index): ties in distance go to the lower index, so the result is one well-defined
     // set. maxDist2 is the squared radius of the gathered disc: the k-th distance when k photons
     // were found, maxDistance^2 otherwise (0 when k <= 0 or maxDistance <= 0, with no photons).
-    // out's vectors keep their capacity between calls.
+    // out's vectors keep their capacity between calls (k > 128 also allocates a temporary).
     struct Neighbours {
         std::vector<std::uint32_t> index;
         std::vector<float> dist2;
@@ -82,7 +82,7 @@ public:
     };
     void nearest(const Vec3& p, int k, float maxDistance, Neighbours& out) const;
 
-    // Decoded photon i (power, direction and normal from the compact form).
+    // Decoded photon i < size() (power, direction and normal from the compact form).
     PhotonRecord photon(std::uint32_t i) const;
 
     // Irradiance at p with surface normal n from the k nearest photons within maxDistance,
