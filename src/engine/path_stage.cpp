@@ -1,6 +1,7 @@
 #include "engine/path_stage.h"
 
 #include "engine/path_state.h"
+#include "engine/material_bsdf.h"
 #include "kernels/bsdf_sampling.h"
 #include "kernels/sampling.h"
 
@@ -8,19 +9,6 @@ namespace rayproc {
 
 namespace {
 
-kernels::BsdfParams bsdfOf(const Material& m) {
-    kernels::BsdfParams b;
-    b.color = m.color;
-    b.ior = m.ior;
-    b.alpha = kernels::ggxAlpha(m.roughness);
-    switch (m.type) {
-    case MaterialType::Diffuse: b.kind = kernels::BsdfKind::Diffuse; break;
-    case MaterialType::Mirror: b.kind = kernels::BsdfKind::Mirror; break;
-    case MaterialType::Dielectric: b.kind = kernels::BsdfKind::Dielectric; break;
-    case MaterialType::Glossy: b.kind = kernels::BsdfKind::Glossy; break;
-    }
-    return b;
-}
 
 // Random dimensions of one path vertex.
 enum PathDim : std::uint32_t { kDimLightPick = 20, kDimLight = 21, kDimBsdf = 23, kDimLobe = 25,

@@ -1,6 +1,7 @@
 #include "gi/photon_stage.h"
 
 #include "engine/path_state.h"
+#include "engine/material_bsdf.h"
 #include "kernels/bsdf_sampling.h"
 
 #include <algorithm>
@@ -11,19 +12,6 @@ namespace {
 enum PhotonFlags : std::uint8_t { kPhotonDiffuse = 1, kPhotonSpecular = 2 };
 enum PhotonDim : std::uint32_t { kDimScatter = 30, kDimLobe = 32, kDimSurvive = 33 };
 
-kernels::BsdfParams bsdfOf(const Material& m) {
-    kernels::BsdfParams b;
-    b.color = m.color;
-    b.ior = m.ior;
-    b.alpha = kernels::ggxAlpha(m.roughness);
-    switch (m.type) {
-    case MaterialType::Diffuse: b.kind = kernels::BsdfKind::Diffuse; break;
-    case MaterialType::Mirror: b.kind = kernels::BsdfKind::Mirror; break;
-    case MaterialType::Dielectric: b.kind = kernels::BsdfKind::Dielectric; break;
-    case MaterialType::Glossy: b.kind = kernels::BsdfKind::Glossy; break;
-    }
-    return b;
-}
 } // namespace
 
 void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
