@@ -115,7 +115,7 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
     }
     case LightSource::Kind::AreaSphere: {
         Vec3 n = kernels::toWorld(kernels::uniformCone(uPos, -1.0f), {0, 0, 1});
-        lambertian(l.center + n * l.radius, n, false);
+        lambertian(l.center + n * l.radius, n, l.twoSided);
         break;
     }
     case LightSource::Kind::AreaDisk: {

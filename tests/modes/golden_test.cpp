@@ -1,9 +1,17 @@
-// Golden images (tests/golden/README.md): the Cornell box at 128x128 against references
-// rendered by `rayproc render`, by relative MSE, the mean over pixels and channels of
-// (a - b)^2 / (b^2 + 0.01). Preview is deterministic and must match to rounding. Raytrace at
-// 16 spp is compared with the 64-spp reference under thresholds of twice the measured error,
-// and the test must be able to fail: a 10% brighter light must exceed the threshold.
+// Golden images (tests/golden/README.md, docs/testing.md): scenes rendered now against
+// references rendered by `rayproc render`, by relative MSE, the mean over pixels and channels of
+// (a - b)^2 / (b^2 + 0.01).
+//  - Preview (Cornell box) is deterministic and must match to rounding.
+//  - Raytrace (Cornell box) at 16 spp is compared with the 64-spp reference under thresholds of
+//    twice the measured error; a 10% brighter light must exceed them.
+//  - Path mode, every scene with a reference made by scripts/make-references (thousands of
+//    samples per pixel): a low-spp render is compared under thresholds derived from its own
+//    expected noise, and each test shows that it fails for a 10% energy error in the emitters
+//    and in each BSDF lobe of the scene (see "Path mode" below).
 #include "test_util.h"
+
+#include <fstream>
+#include <sstream>
 
 using namespace rayproc;
 using namespace rayproc::test;
@@ -28,11 +36,7 @@ constexpr std::size_t kOutlierPixels = kSize * kSize / 1000;
 constexpr double kRaytraceTrimmedMeasured = 1.23e-4;
 constexpr double kRaytraceTrimmedThreshold = 2 * kRaytraceTrimmedMeasured;
 
-Image scaled(const Image& img, float factor) {
-    Image out = img;
-    for (float& v : out.pixels) v *= factor;
-    return out;
-}
+Image scaled(const Image& img, float factor) { return scaledImage(img, factor); }
 
 Image loadReference(const std::string& name) {
     Image ref = readImage(goldenPath(name));
@@ -86,3 +90,289 @@ TEST_CASE("Golden image: Cornell box, raytrace", "[modes][golden]") {
     CHECK(brighterImg > kRaytraceTrimmedThreshold);
     CHECK(relMseTrimmed(scaled(img, 0.9f), ref, kOutlierPixels) > kRaytraceTrimmedThreshold);
 }
+
+namespace {
+
+// Path mode ------------------------------------------------------------------------------------
+//
+// A path-traced image `a` of S spp differs from the reference (N spp, same scene) by noise and,
+// if the renderer changed its expectation, by bias. Per pixel and channel,
+//   E[(a - ref)^2] = var_1 / S + var_1 / N + bias^2,
+// where var_1 is the variance of one sample. A second render `b` with another seed estimates
+// the noise without knowing the reference: E[(a - b)^2] = 2 var_1 / S. So the relMSE that a
+// correct renderer is expected to reach is
+//   expected = mean((a - b)^2 / 2 / (ref^2 + 0.01)) * (1 + S / N),
+// measured when the references were made as the mean over 5 seed pairs (1+k, 2+k), k = 0, 10,
+// .., 40, and stated per scene below; the thresholds are kSafety times it. Three statistics,
+// from fine to coarse: the finer the comparison, the more noise it carries and the less a bias
+// shows.
+//  1. Full resolution, without the worst 1% of the pixels (fireflies of caustics and of
+//     sub-pixel highlights would otherwise decide: with 0.1% trimmed, the materials scene's
+//     figures move by +-40% between seeds, with 1% by +-2%): catches structural errors (a
+//     missing shadow, a shifted highlight, a black patch) and a rise of the noise itself (the
+//     live estimate from a and b must stay under the threshold too).
+//  2. The images binned 4 x 4 (the box filter of the film, so a binned render is exactly a
+//     render at a quarter of the resolution with 16 times the samples), without the worst 5%
+//     of the blocks: the noise drops ~16-fold while a bias stays, so a 10% brighter or darker
+//     image (every emitter +-10%) fails.
+//  3. For each BSDF lobe, the means over the pixels where its material is seen (found by two
+//     deterministic preview renders with and without the material darkened): all of the
+//     lobe's samples average into one value per channel, whose noise sigma is estimated from
+//     a and b as above; relMSE of the means < kRegionZ^2 * expected is a kRegionZ-sigma test.
+//     Rendering the scene with that material's colour times 0.9 (10% less energy in the lobe;
+//     for Schlick glossy materials F0 * 0.9) must fail it.
+// kSafety = 2: the trimmed relMSE of a against the reference and the trimmed estimate from
+// a - b have the same expectation only for light-tailed noise; in the materials scene the first
+// exceeds the second by up to 1.5x (measured over the 5 seed pairs). Every test is
+// deterministic (fixed seeds); tests/golden/README.md lists the measured figures.
+
+constexpr double kSafety = 2.0;
+constexpr double kRegionZ = 4.0;
+constexpr int kBin = 4;
+constexpr double kTrimFraction = 0.01;       // full resolution: 164 of 128 x 128 pixels
+constexpr double kTrimFractionBinned = 0.05; // binned: 51 of 32 x 32 blocks
+
+struct ReferenceArgs {
+    int width = 0, height = 0, spp = 0;
+    std::uint64_t seed = 0;
+};
+
+// The arguments scripts/make-references wrote next to the reference.
+ReferenceArgs readReferenceArgs(const std::string& name) {
+    std::istringstream in(readText(goldenPath(name + "-path.args")));
+    ReferenceArgs a;
+    std::string token;
+    while (in >> token) {
+        if (token == "--width") in >> a.width;
+        else if (token == "--height") in >> a.height;
+        else if (token == "--spp") in >> a.spp;
+        else if (token == "--seed") in >> a.seed;
+    }
+    return a;
+}
+
+Image binned(const Image& img, int k) {
+    Image out(img.width / k, img.height / k);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                double s = 0;
+                for (int j = 0; j < k; ++j)
+                    for (int i = 0; i < k; ++i) s += img.at(x * k + i, y * k + j)[c];
+                out.at(x, y)[c] = float(s / (k * k));
+            }
+    return out;
+}
+
+// Per pixel, the mean over channels of scale * (a - b)^2 / (ref^2 + 0.01).
+std::vector<double> pixelErrors(const Image& a, const Image& b, const Image& ref, double scale) {
+    std::vector<double> e(std::size_t(ref.width) * std::size_t(ref.height));
+    for (std::size_t p = 0; p < e.size(); ++p) {
+        double s = 0;
+        for (std::size_t c = 3 * p; c < 3 * p + 3; ++c) {
+            double d = double(a.pixels[c]) - double(b.pixels[c]), r = ref.pixels[c];
+            s += scale * d * d / (r * r + 0.01);
+        }
+        e[p] = s / 3.0;
+    }
+    return e;
+}
+
+// The mean without the largest `fraction` of the values.
+double trimmedMean(std::vector<double> v, double fraction) {
+    std::sort(v.begin(), v.end());
+    std::size_t keep = v.size() - std::size_t(double(v.size()) * fraction);
+    double s = 0;
+    for (std::size_t i = 0; i < keep; ++i) s += v[i];
+    return s / double(keep);
+}
+
+struct Comparison {
+    double relMse = 0, expected = 0;
+};
+
+// relMSE of a against ref and the relMSE expected from noise alone (from a second render b),
+// both without the largest `trim` fraction of their pixels.
+Comparison compare(const Image& a, const Image& b, const Image& ref, double refRatio,
+                   double trim) {
+    Comparison c;
+    c.relMse = trimmedMean(pixelErrors(a, ref, ref, 1.0), trim);
+    c.expected = trimmedMean(pixelErrors(a, b, ref, 0.5 * (1.0 + refRatio)), trim);
+    return c;
+}
+
+// The pixels where any of `materials` is seen: a preview render (deterministic) changes there
+// when their colour is halved.
+std::vector<char> footprint(const std::string& sceneName, int width, int height,
+                            const std::vector<std::string>& materials, int& count) {
+    auto scene = loadSceneAt(sceneName, width, height);
+    EmbreeScene accel(*scene);
+    RenderOptions o;
+    o.mode = "preview";
+    o.spp = 1;
+    Image before = render(*scene, accel, o).image;
+    for (Material& m : scene->materials)
+        if (std::find(materials.begin(), materials.end(), m.name) != materials.end())
+            m.color = m.color * 0.5f;
+    EmbreeScene accel2(*scene);
+    Image after = render(*scene, accel2, o).image;
+    std::vector<char> mask(std::size_t(width) * std::size_t(height), 0);
+    count = 0;
+    for (std::size_t p = 0; p < mask.size(); ++p) {
+        double d = 0, s = 0;
+        for (std::size_t c = 3 * p; c < 3 * p + 3; ++c) {
+            d += std::abs(double(before.pixels[c]) - double(after.pixels[c]));
+            s += before.pixels[c];
+        }
+        if (d > 0.02 * s + 1e-4) {
+            mask[p] = 1;
+            ++count;
+        }
+    }
+    return mask;
+}
+
+// relMSE of the means over the masked pixels (per channel) and its expectation from noise:
+// the variance of a mean of independent pixels is the sum of their variances over n^2.
+Comparison compareRegion(const Image& a, const Image& b, const Image& ref,
+                         const std::vector<char>& mask, double refRatio) {
+    Comparison r;
+    for (int c = 0; c < 3; ++c) {
+        double sa = 0, sr = 0, var = 0;
+        std::size_t n = 0;
+        for (std::size_t p = 0; p < mask.size(); ++p) {
+            if (!mask[p]) continue;
+            double va = a.pixels[3 * p + std::size_t(c)], vb = b.pixels[3 * p + std::size_t(c)];
+            sa += va;
+            sr += ref.pixels[3 * p + std::size_t(c)];
+            var += 0.5 * (va - vb) * (va - vb);
+            ++n;
+        }
+        double ma = sa / double(n), mr = sr / double(n);
+        double w = 1.0 / (mr * mr + 0.01);
+        r.relMse += (ma - mr) * (ma - mr) * w / 3.0;
+        r.expected += var / (double(n) * double(n)) * (1.0 + refRatio) * w / 3.0;
+    }
+    return r;
+}
+
+struct Lobe {
+    std::string label;
+    std::vector<std::string> materials;
+};
+
+struct GoldenCase {
+    std::string scene;
+    int spp;                 // the test's samples per pixel
+    double expectedFull;     // expected trimmed relMSE at full resolution (mean of 5 seed pairs)
+    double expectedBinned;   // expected trimmed relMSE of the 4 x 4-binned images, likewise
+    std::vector<Lobe> lobes; // each checked by region means and by a 10% error that must fail
+};
+
+Image renderPathImage(const Scene& scene, const EmbreeScene& accel, int spp, std::uint64_t seed) {
+    RenderOptions o;
+    o.mode = "path";
+    o.spp = spp;
+    o.seed = seed;
+    return render(scene, accel, o).image;
+}
+
+void runGolden(const GoldenCase& g) {
+    ReferenceArgs args = readReferenceArgs(g.scene);
+    Image ref = readImage(goldenPath(g.scene + "-path.exr"));
+    REQUIRE(ref.width == args.width);
+    REQUIRE(ref.height == args.height);
+    REQUIRE(args.spp >= 1024);
+    // The test's seeds must not be the reference's: a sample's random numbers depend only on
+    // (seed, pixel, sample), so the same seed would correlate the two.
+    REQUIRE(args.seed != 1);
+    REQUIRE(args.seed != 2);
+    REQUIRE(allFinite(ref));
+    REQUIRE(meanValue(ref) > 0.01);
+    auto scene = loadSceneAt(g.scene, args.width, args.height);
+    EmbreeScene accel(*scene);
+    const double refRatio = double(g.spp) / double(args.spp);
+
+    Image a = renderPathImage(*scene, accel, g.spp, 1);
+    Image b = renderPathImage(*scene, accel, g.spp, 2);
+    REQUIRE(allFinite(a));
+
+    // 1. Full resolution.
+    Comparison full = compare(a, b, ref, refRatio, kTrimFraction);
+    const double fullThreshold = kSafety * g.expectedFull;
+    INFO(g.scene << ", path " << g.spp << " spp against " << args.spp << " spp: relMSE "
+                 << full.relMse << ", expected from noise " << full.expected
+                 << " (stated: " << g.expectedFull << "), threshold " << fullThreshold);
+    CHECK(full.relMse < fullThreshold);
+    CHECK(full.expected < fullThreshold); // the noise itself has not grown
+
+    // 2. Binned 4 x 4: a 10% brighter or darker image (every emitter +-10%) must fail.
+    Image ab = binned(a, kBin), bb = binned(b, kBin), rb = binned(ref, kBin);
+    Comparison bin = compare(ab, bb, rb, refRatio, kTrimFractionBinned);
+    const double binThreshold = kSafety * g.expectedBinned;
+    Comparison brighter =
+        compare(binned(scaledImage(a, 1.1f), kBin), bb, rb, refRatio, kTrimFractionBinned);
+    Comparison darker =
+        compare(binned(scaledImage(a, 0.9f), kBin), bb, rb, refRatio, kTrimFractionBinned);
+    INFO("binned " << kBin << "x" << kBin << ": relMSE " << bin.relMse << ", expected "
+                   << bin.expected << " (stated: " << g.expectedBinned << "), threshold "
+                   << binThreshold << "; emitters +10%: " << brighter.relMse << ", -10%: "
+                   << darker.relMse);
+    CHECK(bin.relMse < binThreshold);
+    CHECK(bin.expected < binThreshold);
+    CHECK(brighter.relMse > binThreshold);
+    CHECK(darker.relMse > binThreshold);
+
+    // 3. Each lobe: region means pass; with 10% less energy in the lobe they fail.
+    for (const Lobe& lobe : g.lobes) {
+        int pixels = 0;
+        std::vector<char> mask = footprint(g.scene, args.width, args.height, lobe.materials, pixels);
+        REQUIRE(pixels >= 50);
+        Comparison region = compareRegion(a, b, ref, mask, refRatio);
+        const double regionThreshold = kRegionZ * kRegionZ * region.expected;
+
+        auto modified = loadSceneAt(g.scene, args.width, args.height);
+        for (Material& m : modified->materials)
+            if (std::find(lobe.materials.begin(), lobe.materials.end(), m.name) !=
+                lobe.materials.end())
+                m.color = m.color * 0.9f;
+        EmbreeScene modifiedAccel(*modified);
+        Image c = renderPathImage(*modified, modifiedAccel, g.spp, 1);
+        Comparison lobeError = compareRegion(c, b, ref, mask, refRatio);
+        INFO("lobe " << lobe.label << " (" << pixels << " pixels): relMSE of the region means "
+                     << region.relMse << ", expected " << region.expected << " (sigma "
+                     << std::sqrt(region.expected) << "), threshold " << regionThreshold
+                     << "; with the lobe's energy -10%: " << lobeError.relMse << " ("
+                     << lobeError.relMse / regionThreshold << " x threshold)");
+        CHECK(region.relMse < regionThreshold);
+        CHECK(lobeError.relMse > regionThreshold);
+    }
+}
+
+// Per scene: the test's spp and the expected relMSEs measured when the references were made
+// (tests/golden/README.md lists them with the measured relMSEs).
+const GoldenCase kCornellBox{
+    "cornell-box", 64, 1.89e-3, 9.27e-5,
+    {{"white walls and boxes", {"Floor", "Ceiling", "BackWall", "ShortBox", "TallBox"}},
+     {"red wall", {"LeftWall"}},
+     {"green wall", {"RightWall"}}}};
+const GoldenCase kCornellSpheres{
+    "cornell-spheres", 64, 2.30e-2, 1.40e-3,
+    {{"white diffuse", {"White"}}, {"mirror", {"Mirror"}}, {"glass", {"Glass"}}}};
+// Not every lobe of materials.json can be checked by region means at a test's budget: at 128
+// spp the noise sigma of the mean over the gold (GGX alpha 0.01) pixels is 11%, over the glass
+// sphere 3.4% and over the chrome sphere 1-2% (it mirrors the glass's caustics), so a 10% error
+// there is within 4 sigma. Glass and mirror are checked in cornell-spheres instead; glossy
+// lobes by copper here and by tests/analytic/glossy_test.cpp and the chi-square tests.
+const GoldenCase kMaterials{"materials", 128, 6.35e-3, 4.39e-4,
+                            {{"red diffuse", {"red"}}, {"copper glossy 0.5", {"copper"}}}};
+// The glossy stone covers 59 pixels of instances.json: sigma 1.7% at 64 spp, too noisy.
+const GoldenCase kInstances{"instances", 64, 4.82e-3, 2.75e-4,
+                            {{"ground", {"ground"}}, {"leaves", {"leaves"}}}};
+
+} // namespace
+
+TEST_CASE("Golden image: Cornell box, path", "[modes][golden]") { runGolden(kCornellBox); }
+TEST_CASE("Golden image: Cornell spheres, path", "[modes][golden]") { runGolden(kCornellSpheres); }
+TEST_CASE("Golden image: materials, path", "[modes][golden]") { runGolden(kMaterials); }
+TEST_CASE("Golden image: instances, path", "[modes][golden]") { runGolden(kInstances); }
