@@ -127,13 +127,16 @@ int runRender(const RenderArgs& a) {
     ModeOverrides overrides{a.spp, a.maxDepth, a.lightSamples};
     installInterruptHandler();
     RenderResult result;
-    std::string settings;
+    // The render log: every setting, so the image can be reproduced from it.
+    auto logSettings = [&](const std::string& settings) {
+        if (!a.quiet)
+            std::fprintf(stderr, "rayproc render %s: %s %s %dx%d\n", a.scene.c_str(),
+                         settings.c_str(), engine.toString().c_str(), scene->camera.width,
+                         scene->camera.height);
+    };
     if (mode == "preview") {
         PreviewSettings s = previewSettings(scene->render, overrides);
-        settings = s.toString();
-        if (!a.quiet) std::fprintf(stderr, "rayproc render %s: %s %s %dx%d\n", a.scene.c_str(),
-                                   settings.c_str(), engine.toString().c_str(),
-                                   scene->camera.width, scene->camera.height);
+        logSettings(s.toString());
         result = renderPreview(*scene, accel, s, engine);
     } else if (mode == "gi") {
         GiSettings s = giSettings(scene->render, overrides);
@@ -149,24 +152,15 @@ int runRender(const RenderArgs& a) {
                       : a.debugView == "caustics"   ? GiDebugView::Caustics
                       : a.debugView == "indirect"   ? GiDebugView::Indirect
                                                     : GiDebugView::None;
-        settings = s.toString();
-        if (!a.quiet) std::fprintf(stderr, "rayproc render %s: %s %s %dx%d\n", a.scene.c_str(),
-                                   settings.c_str(), engine.toString().c_str(),
-                                   scene->camera.width, scene->camera.height);
+        logSettings(s.toString());
         result = renderGi(*scene, accel, s, engine);
     } else if (mode == "path") {
         PathSettings s = pathSettings(scene->render, overrides);
-        settings = s.toString();
-        if (!a.quiet) std::fprintf(stderr, "rayproc render %s: %s %s %dx%d\n", a.scene.c_str(),
-                                   settings.c_str(), engine.toString().c_str(),
-                                   scene->camera.width, scene->camera.height);
+        logSettings(s.toString());
         result = renderPath(*scene, accel, s, engine);
     } else {
         RaytraceSettings s = raytraceSettings(scene->render, overrides);
-        settings = s.toString();
-        if (!a.quiet) std::fprintf(stderr, "rayproc render %s: %s %s %dx%d\n", a.scene.c_str(),
-                                   settings.c_str(), engine.toString().c_str(),
-                                   scene->camera.width, scene->camera.height);
+        logSettings(s.toString());
         result = renderRaytrace(*scene, accel, s, engine);
     }
 

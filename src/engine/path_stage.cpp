@@ -98,16 +98,8 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                 float mis = deltaLight ? 1.0f : kernels::powerHeuristic(pickPdf * lightPdf, bsdfPdf);
                 Vec3 c = w * f * li * (mis / pickPdf);
                 if (!isBlack(c)) {
-                    Vec3 so = offsetRayOrigin(h.p, fg, wi, m_rc.rayEpsilon);
-                    RayBatch& out = ctx.out(RayKind::Shadow);
-                    float tfar = distance == kInfinity ? kInfinity
-                                                       : length(h.p + wi * distance - so) * (1.0f - 1e-4f);
-                    int j = out.push(so.x, so.y, so.z, wi.x, wi.y, wi.z, 0.0f, tfar);
-                    out.pixel[j] = b.pixel[i];
-                    out.sample[j] = b.sample[i];
-                    out.wr[j] = c.x; out.wg[j] = c.y; out.wb[j] = c.z;
-                    out.rngKey[j] = 0; out.depth[j] = b.depth[i]; out.specularDepth[j] = 0;
-                    out.flags[j] = 0; out.prevPdf[j] = 0; out.prevCos[j] = 0;
+                    spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h.p, fg, wi, distance, c,
+                                   m_rc.rayEpsilon);
                     ++shadowOut;
                 }
             }

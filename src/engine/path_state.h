@@ -60,4 +60,25 @@ inline void spawnRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& o
     out.flags[j] = flags;
 }
 
+// Writes an occlusion ray from surface point p towards a light sample at `distance` along wi
+// (infinity for directional lights and the sky), carrying its unoccluded contribution.
+inline void spawnShadowRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& p,
+                           const Vec3& ng, const Vec3& wi, float distance, const Vec3& contribution,
+                           float eps) {
+    Vec3 o = offsetRayOrigin(p, ng, wi, eps);
+    // Stop short of the light point by a relative margin, measured from the offset origin
+    // (from p, the offset can eat the margin and let the light occlude its own ray).
+    float tfar = distance == kInfinity ? kInfinity : length(p + wi * distance - o) * (1.0f - 1e-4f);
+    int j = out.push(o.x, o.y, o.z, wi.x, wi.y, wi.z, 0.0f, tfar);
+    out.pixel[j] = parent.pixel[i];
+    out.sample[j] = parent.sample[i];
+    out.wr[j] = contribution.x; out.wg[j] = contribution.y; out.wb[j] = contribution.z;
+    out.rngKey[j] = 0;
+    out.depth[j] = parent.depth[i];
+    out.specularDepth[j] = 0;
+    out.flags[j] = 0;
+    out.prevPdf[j] = 0;
+    out.prevCos[j] = 0;
+}
+
 } // namespace rayproc

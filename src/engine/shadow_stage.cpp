@@ -26,17 +26,8 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
     const ShadingPolicy& policy = m_rc.policy;
     auto emitShadow = [&](int i, const Vec3& p, const Vec3& ng, const Vec3& wi, float distance,
                           const Vec3& contribution) {
-        Vec3 o = offsetRayOrigin(p, ng, wi, m_rc.rayEpsilon);
-        RayBatch& out = ctx.out(RayKind::Shadow);
-        // Stop short of the light point by a relative margin, measured from the offset origin
-        // (from p, the offset can eat the margin and let the light occlude its own ray).
-        float tfar = distance == kInfinity ? kInfinity
-                                           : length(p + wi * distance - o) * (1.0f - 1e-4f);
-        int j = out.push(o.x, o.y, o.z, wi.x, wi.y, wi.z, 0.0f, tfar);
-        out.pixel[j] = b.pixel[i];
-        out.sample[j] = b.sample[i];
-        out.wr[j] = contribution.x; out.wg[j] = contribution.y; out.wb[j] = contribution.z;
-        out.rngKey[j] = 0; out.depth[j] = b.depth[i]; out.specularDepth[j] = 0; out.flags[j] = 0;
+        spawnShadowRay(ctx.out(RayKind::Shadow), b, i, p, ng, wi, distance, contribution,
+                       m_rc.rayEpsilon);
         ++spawned;
     };
 

@@ -224,12 +224,9 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
 
 GiSettings giSettings(const SceneRenderSettings& scene, const ModeOverrides& cli) {
     GiSettings s;
-    if (scene.spp > 0) s.spp = scene.spp;
-    if (scene.maxDepth > 0) s.maxDepth = scene.maxDepth;
-    if (scene.lightSamples > 0) s.lightSamples = scene.lightSamples;
-    if (cli.spp > 0) s.spp = cli.spp;
-    if (cli.maxDepth > 0) s.maxDepth = cli.maxDepth;
-    if (cli.lightSamples > 0) s.lightSamples = cli.lightSamples;
+    applySetting(s.spp, scene.spp, cli.spp);
+    applySetting(s.maxDepth, scene.maxDepth, cli.maxDepth);
+    applySetting(s.lightSamples, scene.lightSamples, cli.lightSamples);
     return s;
 }
 

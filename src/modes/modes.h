@@ -49,6 +49,13 @@ struct ModeOverrides {
     int spp = 0, maxDepth = 0, lightSamples = 0;
 };
 
+// A setting's value by precedence: the command line's, else the scene file's, else the mode's
+// default already in `field`. Zero means "not set" in both sources.
+inline void applySetting(int& field, int fromScene, int fromCli) {
+    if (fromScene > 0) field = fromScene;
+    if (fromCli > 0) field = fromCli;
+}
+
 const std::vector<std::string>& knownModes();
 std::string defaultMode(); // the best mode implemented
 

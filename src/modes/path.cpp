@@ -13,10 +13,8 @@ std::string PathSettings::toString() const {
 
 PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides& cli) {
     PathSettings s;
-    if (scene.spp > 0) s.spp = scene.spp;
-    if (scene.maxDepth > 0) s.maxDepth = scene.maxDepth;
-    if (cli.spp > 0) s.spp = cli.spp;
-    if (cli.maxDepth > 0) s.maxDepth = cli.maxDepth;
+    applySetting(s.spp, scene.spp, cli.spp);
+    applySetting(s.maxDepth, scene.maxDepth, cli.maxDepth);
     return s;
 }
 
