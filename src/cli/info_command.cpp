@@ -1,5 +1,7 @@
 #include "accel/embree_scene.h"
 #include "cli/commands.h"
+#include "lighting/light_set.h"
+#include "modes/render_plan.h"
 #include "scene/scene_loader.h"
 
 #include <nlohmann/json.hpp>
@@ -23,6 +25,37 @@ void countNodes(const Node& n, NodeCounts& c) {
     case Node::Kind::Shape: ++c.shapes; break;
     }
     for (auto& ch : n.children) countNodes(*ch, c);
+}
+
+// The scene analysis for the modes that sample the scene's lights as they are (raytrace, gi,
+// path); preview analyses its point-light approximation the same way when it renders.
+nlohmann::ordered_json describePlan(const Scene& scene, const EmbreeScene& accel) {
+    LightSet lights = LightSet::build(scene, accel);
+    RenderPlan p = analyseScene(scene, accel, lights);
+    nlohmann::ordered_json j;
+    j["render"] = p.render;
+    j["radiating_lights"] = p.radiatingLights;
+    j["delta_lights_only"] = p.deltaLightsOnly;
+    j["caustic_map"] = p.causticMap;
+    j["global_map_gather_cache"] = p.globalMap;
+    j["reflection_stage"] = p.reflectionStage;
+    j["refraction_stage"] = p.refractionStage;
+    j["shadow_stage"] = p.shadowStage;
+    j["light_stratification"] = p.lightStratification;
+    nlohmann::ordered_json ls = nlohmann::ordered_json::array();
+    for (std::size_t i = 0; i < p.lights.size(); ++i)
+        ls.push_back({{"index", i}, {"sampled", p.lights[i].sampled}, {"reason", p.lights[i].reason}});
+    j["lights"] = ls;
+    nlohmann::ordered_json sk = nlohmann::ordered_json::array();
+    for (const PlanSkip& s : p.skipped) {
+        nlohmann::ordered_json modes = nlohmann::ordered_json::array();
+        const char* names[] = {"preview", "raytrace", "gi", "path"};
+        for (int m = 0; m < 4; ++m)
+            if (s.modes & (1u << m)) modes.push_back(names[m]);
+        sk.push_back({{"what", s.what}, {"why", s.why}, {"modes", modes}});
+    }
+    j["skipped"] = sk;
+    return j;
 }
 
 nlohmann::ordered_json describe(const Scene& scene, const EmbreeScene& accel) {
@@ -65,6 +98,7 @@ nlohmann::ordered_json describe(const Scene& scene, const EmbreeScene& accel) {
                          {"embree_instances", a.instances},
                          {"memory_bytes", a.memoryBytes},
                          {"build_seconds", a.buildSeconds}};
+    j["plan"] = describePlan(scene, accel);
     return j;
 }
 
@@ -100,6 +134,19 @@ void printText(const nlohmann::ordered_json& j) {
                 a["embree_instances"].get<std::size_t>(),
                 double(a["memory_bytes"].get<std::size_t>()) / 1024.0,
                 a["build_seconds"].get<double>());
+    const auto& p = j["plan"];
+    std::printf("plan         %zu lights and sky that radiate into the scene; %s\n",
+                p["radiating_lights"].get<std::size_t>(),
+                p["skipped"].empty() ? "nothing skipped" : "skipped:");
+    for (const auto& s : p["skipped"]) {
+        std::string modes;
+        for (const auto& m : s["modes"]) {
+            if (!modes.empty()) modes += ",";
+            modes += m.get<std::string>();
+        }
+        std::printf("  - %s: %s [%s]\n", s["what"].get<std::string>().c_str(),
+                    s["why"].get<std::string>().c_str(), modes.c_str());
+    }
 }
 
 } // namespace

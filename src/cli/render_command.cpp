@@ -38,6 +38,8 @@ struct RenderArgs {
     float icAccuracy = 0;
     bool noCache = false, noCaustics = false, noPrecomputed = false;
     std::string debugView = "none";
+    // profiling switches
+    bool noSceneAnalysis = false, noStratification = false, noRoulette = false;
 };
 
 std::string joinModes() {
@@ -93,6 +95,8 @@ int runRender(const RenderArgs& a) {
                   : scene->render.seed >= 0 ? std::uint64_t(scene->render.seed)
                                             : 1;
     engine.quiet = a.quiet;
+    engine.sceneAnalysis = !a.noSceneAnalysis;
+    engine.stratification = !a.noStratification;
     ToneMapSettings tm;
     tm.exposure = a.exposure;
     tm.op = a.tonemap == "reinhard" ? ToneMap::Reinhard
@@ -147,6 +151,7 @@ int runRender(const RenderArgs& a) {
         s.irradianceCache = !a.noCache;
         s.caustics = !a.noCaustics;
         s.precomputedIrradiance = !a.noPrecomputed;
+        s.roulette = !a.noRoulette;
         s.debugView = a.debugView == "photons"      ? GiDebugView::Photons
                       : a.debugView == "ic-records" ? GiDebugView::IcRecords
                       : a.debugView == "caustics"   ? GiDebugView::Caustics
@@ -156,10 +161,12 @@ int runRender(const RenderArgs& a) {
         result = renderGi(*scene, accel, s, engine);
     } else if (mode == "path") {
         PathSettings s = pathSettings(scene->render, overrides);
+        s.roulette = !a.noRoulette;
         logSettings(s.toString());
         result = renderPath(*scene, accel, s, engine);
     } else {
         RaytraceSettings s = raytraceSettings(scene->render, overrides);
+        s.roulette = !a.noRoulette;
         logSettings(s.toString());
         result = renderRaytrace(*scene, accel, s, engine);
     }
@@ -241,6 +248,15 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_flag("--no-precomputed-irradiance", args->noPrecomputed,
                   "gi: gather rays estimate the global map's irradiance from scratch instead of "
                   "Christensen's precomputed values");
+    cmd->add_flag("--no-scene-analysis", args->noSceneAnalysis,
+                  "Run every pass and stage and sample every light, even those the scene "
+                  "analysis finds cannot contribute (for comparisons and profiling)");
+    cmd->add_flag("--no-stratification", args->noStratification,
+                  "Independent random samples instead of stratified ones: camera sub-pixel "
+                  "positions, light samples, path mode's first-hit samples, final-gather rays");
+    cmd->add_flag("--no-russian-roulette", args->noRoulette,
+                  "raytrace, path, gi: paths (and gi's photons) end only at the maximum depth "
+                  "or at zero throughput");
     cmd->add_option("--debug-view", args->debugView,
                     "gi: write one component instead of the image: photons (global map at "
                     "first hits), ic-records, caustics, indirect")

@@ -58,7 +58,9 @@ bool CameraEmitter::emit(StageContext& ctx) {
         for (int x = x0; x < std::min(x0 + kTile, width); ++x) {
             std::uint32_t p = std::uint32_t(y) * std::uint32_t(width) + std::uint32_t(x);
             std::uint64_t pixelKey = kernels::pathKey(m_rc.seed, p, 0xffffffffu);
-            Vec2 s = kernels::stratified2D(std::uint32_t(sample), std::uint32_t(m_totalSpp), pixelKey);
+            // Unstratified (--no-stratification): the same stream, one stratum per sample.
+            std::uint32_t strata = m_rc.policy.stratify ? std::uint32_t(m_totalSpp) : 1u;
+            Vec2 s = kernels::stratified2D(std::uint32_t(sample), strata, pixelKey);
             std::uint64_t key = kernels::pathKey(m_rc.seed, p, std::uint32_t(sample));
             fx[n] = float(x) + s.x;
             fy[n] = float(y) + s.y;

@@ -17,7 +17,7 @@ enum PathDim : std::uint32_t { kDimLightPick = 20, kDimLight = 21, kDimBsdf = 23
 // Two numbers for dimension pair `dim` of a lane: at the first hit they are stratified over
 // the pixel's samples (padded: each pair has its own permutation), deeper they are independent.
 Vec2 sample2D(const RayBatch& b, int i, std::uint32_t dim, int spp, std::uint64_t seed) {
-    if (b.depth[i] == 0) {
+    if (b.depth[i] == 0 && spp > 0) { // spp 0: --no-stratification
         std::uint64_t key = kernels::hashCombine(kernels::pathKey(seed, b.pixel[i], 0xfffffffeu), dim);
         return kernels::stratified2D(b.sample[i], std::uint32_t(spp), key);
     }
@@ -34,6 +34,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
     const ShadingPolicy& policy = m_rc.policy;
     const std::size_t choices = lights.choiceCount();
     const float pickPdf = choices > 0 ? 1.0f / float(choices) : 0.0f;
+    const int strata = policy.stratify ? policy.sppTotal : 0;
     std::uint64_t shadowOut = 0, reflectOut = 0, refractOut = 0;
 
     for (int i = 0; i < b.count; ++i) {
@@ -73,7 +74,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
         if (!deltaMaterial && choices > 0) {
             float up = kernels::uniform(b.rngKey[i], kDimLightPick);
             std::size_t pick = std::min(std::size_t(up * float(choices)), choices - 1);
-            Vec2 u = sample2D(b, i, kDimLight, policy.sppTotal, m_rc.seed);
+            Vec2 u = sample2D(b, i, kDimLight, strata, m_rc.seed);
             Vec3 wi;
             float lightPdf = 0, distance = kInfinity;
             Vec3 li;
@@ -106,7 +107,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
         }
 
         // Continue the path by sampling the BSDF.
-        Vec2 u = sample2D(b, i, kDimBsdf, policy.sppTotal, m_rc.seed);
+        Vec2 u = sample2D(b, i, kDimBsdf, strata, m_rc.seed);
         float uc = kernels::uniform(b.rngKey[i], kDimLobe);
         kernels::BsdfSample bs = kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u, uc);
         if (!bs.valid) continue;

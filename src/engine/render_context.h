@@ -34,6 +34,11 @@ struct ShadingPolicy {
     // debug view may keep only one component (direct light and emission are dropped).
     bool icPrepass = false;
     bool directLight = true;
+    // Stratified camera, light and gather samples; off (--no-stratification): independent
+    // uniform numbers from the same streams.
+    bool stratify = true;
+    // Stages the scene analysis found unneeded (modes/render_plan.h): never given work.
+    bool reflectionStage = true, refractionStage = true, shadowStage = true;
 };
 
 struct RenderContext {

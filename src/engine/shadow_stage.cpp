@@ -41,12 +41,14 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         Vec3 w = laneThroughput(b, i);
         std::uint64_t key = b.rngKey[i];
 
-        for (std::size_t li = 0; li < lights.lights.size(); ++li) {
-            const LightSource& light = lights.lights[li];
+        for (const LightSource& light : lights.lights) {
+            // A delta light takes one sample and no random numbers.
             int n = light.delta() ? 1 : policy.lightSamples;
-            std::uint64_t lightKey = kernels::hashCombine(key, kDimLightBase + li);
+            std::uint64_t lightKey = kernels::hashCombine(key, kDimLightBase + light.stream);
+            std::uint32_t strata = policy.stratify ? std::uint32_t(n) : 1u;
             for (int s = 0; s < n; ++s) {
-                Vec2 u = kernels::stratified2D(std::uint32_t(s), std::uint32_t(n), lightKey);
+                Vec2 u = light.delta() ? Vec2{0.5f, 0.5f}
+                                       : kernels::stratified2D(std::uint32_t(s), strata, lightKey);
                 LightSample ls = light.sample(h.p, u);
                 if (!ls.valid || dot(ls.wi, ng) <= 0) continue;
                 Vec3 c = w * evalCos(mat, wo, ls.wi, ns) * ls.weight / float(n);
@@ -66,8 +68,9 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             }
             int n = policy.lightSamples;
             std::uint64_t envKey = kernels::hashCombine(key, kDimLightBase - 1);
+            std::uint32_t strata = policy.stratify ? std::uint32_t(n) : 1u;
             for (int s = 0; s < n; ++s) {
-                Vec2 u = kernels::stratified2D(std::uint32_t(s), std::uint32_t(n), envKey);
+                Vec2 u = kernels::stratified2D(std::uint32_t(s), strata, envKey);
                 Vec3 wi = kernels::toWorld(kernels::cosineHemisphere(u), ns);
                 float pdf = dot(wi, ns) * kInvPi;
                 if (pdf <= 0 || dot(wi, ng) <= 0) continue;

@@ -1,5 +1,6 @@
 #include "engine/surface_stage.h"
 
+#include "core/error.h"
 #include "engine/path_state.h"
 #include "gi/gather_stage.h"
 
@@ -46,6 +47,11 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             }
         }
     }
+    // A stage the scene analysis skipped getting work means the analysis is wrong.
+    const ShadingPolicy& policy = m_rc.policy;
+    RAYPROC_CHECK(policy.shadowStage || direct.count == 0);
+    RAYPROC_CHECK(policy.reflectionStage || reflect.count == 0);
+    RAYPROC_CHECK(policy.refractionStage || refract.count == 0);
     if (direct.count) m_shadow.spawn(b, direct, ctx);
     if (indirect.count) m_gather->spawn(b, indirect, ctx);
     if (reflect.count) m_reflection.spawn(b, reflect, ctx);

@@ -75,7 +75,8 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         std::uint64_t key = kernels::hashCombine(b.rngKey[i], 0x6a7e);
         Vec3 origin = offsetRayOrigin(h.p, ng, ns, m_rc.rayEpsilon);
         for (int r = 0; r < s.gatherRays; ++r) {
-            Vec2 u = kernels::stratified2D(std::uint32_t(r), std::uint32_t(s.gatherRays), key);
+            Vec2 u = kernels::stratified2D(std::uint32_t(r),
+                                           m_rc.policy.stratify ? std::uint32_t(s.gatherRays) : 1u, key);
             Vec3 wi = kernels::toWorld(kernels::cosineHemisphere(u), ns);
             if (dot(wi, ng) <= 0) continue;
             RayBatch& out = ctx.out(RayKind::Gather);

@@ -35,6 +35,7 @@ struct GiSettings {
     bool irradianceCache = true;
     bool caustics = true;
     bool precomputedIrradiance = true;
+    bool roulette = true;        // Russian roulette of photons and of specular paths
     GiDebugView debugView = GiDebugView::None;
     std::string toString() const;
 };

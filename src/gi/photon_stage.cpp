@@ -46,8 +46,12 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         kernels::BsdfSample s = kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u,
                                                     kernels::uniform(b.rngKey[i], kDimLobe));
         if (!s.valid) continue;
-        float q = std::min(1.0f, maxComponent(s.weight));
-        if (!(q > 0) || kernels::uniform(b.rngKey[i], kDimSurvive) >= q) continue;
+        // Russian roulette keeps the photon's power; without it (--no-russian-roulette) the
+        // power scales by the weight and the photon runs to the maximum depth.
+        float q = m_rc.policy.rouletteEnabled ? std::min(1.0f, maxComponent(s.weight)) : 1.0f;
+        if (!(maxComponent(s.weight) > 0) || !(q > 0) ||
+            (q < 1.0f && kernels::uniform(b.rngKey[i], kDimSurvive) >= q))
+            continue;
         Vec3 next = power * s.weight / q;
         std::uint8_t nextFlags = std::uint8_t(flags | (s.delta ? kPhotonSpecular : kPhotonDiffuse));
         Vec3 no = offsetRayOrigin(h.p, h.ng, s.wi, m_rc.rayEpsilon);

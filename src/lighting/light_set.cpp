@@ -212,6 +212,7 @@ LightSet LightSet::build(const Scene& scene, const EmbreeScene& accel) {
         set.lights.push_back(fromEmitter(e));
     }
     std::sort(set.m_areaIndex.begin(), set.m_areaIndex.end());
+    for (std::size_t i = 0; i < set.lights.size(); ++i) set.lights[i].stream = std::uint32_t(i);
     return set;
 }
 
@@ -262,7 +263,22 @@ LightSet LightSet::buildPreview(const Scene& scene, const EmbreeScene& accel) {
             addPoint(a.center, a.normal, a.radiance * a.area, a.twoSided, true);
         }
     }
+    for (std::size_t i = 0; i < set.lights.size(); ++i) set.lights[i].stream = std::uint32_t(i);
     return set;
+}
+
+LightSet LightSet::subset(const std::vector<bool>& keep) const {
+    LightSet out;
+    out.environment = environment;
+    std::vector<int> index(lights.size(), -1);
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        if (i < keep.size() && !keep[i]) continue;
+        index[i] = int(out.lights.size());
+        out.lights.push_back(lights[i]);
+    }
+    for (const auto& e : m_areaIndex)
+        if (index[std::size_t(e.second)] >= 0) out.m_areaIndex.push_back({e.first, index[std::size_t(e.second)]});
+    return out;
 }
 
 } // namespace rayproc

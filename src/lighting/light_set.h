@@ -41,6 +41,9 @@ public:
     Vec3 center, normal;           // sphere and disk
     float radius = 0;
     float area = 0;
+    // The light's index in the set it was built in: keys its random numbers, so a subset
+    // samples each remaining light exactly as the full set does.
+    std::uint32_t stream = 0;
 
     LightSample sample(const Vec3& p, Vec2 u) const;
     // Solid-angle pdf with which sample(p, .) picks the direction towards the point q of
@@ -66,6 +69,8 @@ struct LightSet {
     // each other area light a point light per triangle, sphere or disk at its centre; the
     // emitted power is preserved and shared equally among the points.
     static LightSet buildPreview(const Scene& scene, const EmbreeScene& accel);
+    // The lights with keep[i] set (missing entries keep theirs), same sky, same streams.
+    LightSet subset(const std::vector<bool>& keep) const;
 
 private:
     std::vector<std::pair<std::pair<const Shape*, int>, int>> m_areaIndex; // sorted

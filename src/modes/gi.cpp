@@ -10,6 +10,7 @@
 //     and refraction, caustics from the caustic map, indirect diffuse from the cache (or a
 //     final gather where no record is usable).
 #include "modes/modes.h"
+#include "modes/render_plan.h"
 
 #include "engine/camera_emitter.h"
 #include "engine/intersect.h"
@@ -57,6 +58,7 @@ std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& ac
                                        std::uint32_t count, Stats& stats) {
     Film film(1, 1);
     ShadingPolicy policy;
+    policy.rouletteEnabled = s.roulette;
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
     Intersector intersector(accel.root(), engine.packetWidth);
     RayProcessor processor(intersector, stats, engine.threads);
@@ -91,6 +93,8 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         ShadingPolicy policy;
         policy.maxDepth = gi.settings.maxDepth;
         policy.icPrepass = true;
+        policy.stratify = engine.stratification;
+        policy.rouletteEnabled = gi.settings.roulette;
         RenderContext rc{scene, accel, lights, policy, film, engine.seed};
         gi.cache = &cache;
         gi.requests = &requests;
@@ -151,13 +155,18 @@ std::string GiSettings::toString() const {
       << " ic_accuracy=" << icAccuracy << " irradiance_cache=" << (irradianceCache ? "on" : "off")
       << " caustics=" << (caustics ? "on" : "off")
       << " precomputed_irradiance=" << (precomputedIrradiance ? "on" : "off")
+      << " roulette=" << (roulette ? "on" : "off")
       << " debug_view=" << debugViewName(debugView);
     return o.str();
 }
 
 RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSettings& s,
                       const EngineSettings& engine) {
-    LightSet lights = LightSet::build(scene, accel);
+    // Scene analysis: maps, cache and stages the scene cannot use are skipped.
+    LightSet all = LightSet::build(scene, accel);
+    RenderPlan plan = planRender(scene, accel, all, engine, kPlanGi);
+    if (!plan.render) return blackRender(scene);
+    LightSet lights = plan.sampledLights(all);
     GiData gi;
     gi.settings = s;
     float diag = std::max(1e-6f, length(scene.worldBounds().diagonal()));
@@ -171,8 +180,8 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     Stats photonStats;
     auto t0 = Clock::now();
     PhotonMap global, caustic;
-    if (s.photons > 0) global.build(tracePhotons(scene, accel, lights, s, engine, false, std::uint32_t(s.photons), photonStats));
-    if (s.caustics && s.causticPhotons > 0)
+    if (s.photons > 0 && plan.globalMap) global.build(tracePhotons(scene, accel, lights, s, engine, false, std::uint32_t(s.photons), photonStats));
+    if (s.caustics && s.causticPhotons > 0 && plan.causticMap)
         caustic.build(tracePhotons(scene, accel, lights, s, engine, true, std::uint32_t(s.causticPhotons), photonStats));
     double photonSeconds = secondsSince(t0);
     auto t1 = Clock::now();
@@ -193,7 +202,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     IrradianceCache cache(scene.worldBounds(), cs);
     Stats cacheStats;
     auto t2 = Clock::now();
-    if (s.irradianceCache) fillIrradianceCache(scene, accel, lights, gi, cache, engine, cacheStats);
+    if (s.irradianceCache && plan.globalMap) fillIrradianceCache(scene, accel, lights, gi, cache, engine, cacheStats);
     double cacheSeconds = secondsSince(t2);
     gi.cache = s.irradianceCache ? &cache : nullptr;
     gi.requests = nullptr;
@@ -207,8 +216,12 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     policy.maxDepth = s.maxDepth;
     policy.lightSamples = s.lightSamples;
     policy.directLight = s.debugView == GiDebugView::None;
+    policy.rouletteEnabled = s.roulette;
+    policy.stratify = engine.stratification;
+    plan.apply(policy);
+    // Without diffuse surfaces the gather stage would never get work: not registered.
     RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine,
-                                  RadianceStage::Surface, &gi);
+                                  RadianceStage::Surface, plan.globalMap ? &gi : nullptr);
     const ThreadStats& t = r.stats.totals;
     extras.push_back({"gi/gather_rays", double(t.stages[int(StageId::Gather)].raysOut)});
     extras.push_back({"gi/cache_lookups", double(t.cacheLookups)});

@@ -1,4 +1,5 @@
 #include "modes/modes.h"
+#include "modes/render_plan.h"
 
 #include <sstream>
 
@@ -22,8 +23,13 @@ PreviewSettings previewSettings(const SceneRenderSettings& scene, const ModeOver
 
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
                            const EngineSettings& engine) {
-    LightSet lights = LightSet::buildPreview(scene, accel);
+    LightSet all = LightSet::buildPreview(scene, accel);
+    RenderPlan plan = planRender(scene, accel, all, engine, kPlanPreview);
+    if (!plan.render) return blackRender(scene);
+    LightSet lights = plan.sampledLights(all);
     ShadingPolicy policy;
+    plan.apply(policy);
+    policy.stratify = engine.stratification;
     policy.maxDepth = s.maxDepth;
     policy.lightSamples = 1;
     policy.rouletteEnabled = false;

@@ -1,4 +1,5 @@
 #include "modes/modes.h"
+#include "modes/render_plan.h"
 
 #include <sstream>
 
@@ -22,12 +23,17 @@ RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOv
 
 RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
                             const RaytraceSettings& s, const EngineSettings& engine) {
-    LightSet lights = LightSet::build(scene, accel);
+    LightSet all = LightSet::build(scene, accel);
+    RenderPlan plan = planRender(scene, accel, all, engine, kPlanRaytrace);
+    if (!plan.render) return blackRender(scene);
+    LightSet lights = plan.sampledLights(all);
     ShadingPolicy policy;
     policy.maxDepth = s.maxDepth;
     policy.lightSamples = s.lightSamples;
     policy.rrThreshold = s.rrThreshold;
     policy.rouletteEnabled = s.roulette;
+    policy.stratify = engine.stratification;
+    plan.apply(policy);
     return runRenderJob("raytrace", scene, accel, lights, policy, s.spp, engine);
 }
 

@@ -26,7 +26,9 @@ namespace rayproc {
 std::string EngineSettings::toString() const {
     std::ostringstream o;
     o << "threads=" << (threads > 0 ? std::to_string(threads) : std::string("all"))
-      << " packet_width=" << packetWidth << " seed=" << seed;
+      << " packet_width=" << packetWidth << " seed=" << seed
+      << " scene_analysis=" << (sceneAnalysis ? "on" : "off")
+      << " stratification=" << (stratification ? "on" : "off");
     return o.str();
 }
 
@@ -55,9 +57,10 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
                                       : static_cast<RetraceStage*>(&surface);
     processor.setStage(RayKind::Camera, radianceStage);
     processor.setStage(RayKind::Reflection, radianceStage);
-    processor.setStage(RayKind::Refraction, radianceStage);
-    processor.setStage(RayKind::Shadow, &shadow);
-    processor.setStage(RayKind::Gather, &gather);
+    // Kinds of rays the scene analysis rules out get no stage: one would fail a check.
+    processor.setStage(RayKind::Refraction, policy.refractionStage ? radianceStage : nullptr);
+    processor.setStage(RayKind::Shadow, policy.shadowStage ? &shadow : nullptr);
+    processor.setStage(RayKind::Gather, gi ? &gather : nullptr);
 
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> errorLog(nullptr, &std::fclose);
     if (engine.reference && !engine.errorLogPath.empty()) {

@@ -24,6 +24,10 @@ struct EngineSettings {
     int packetWidth = 16; // 1 = single rays (rtcIntersect1); 4, 8, 16 = Embree packets
     std::uint64_t seed = 1;
     bool quiet = false;
+    // Profiling switches: the scene analysis (modes/render_plan.h) skips what a scene does not
+    // need; stratification of camera, light and gather samples.
+    bool sceneAnalysis = true;
+    bool stratification = true;
     // Called with the image so far after each pass when set (progressive output); the job
     // calls it at most once per `progressiveSeconds`.
     std::function<void(const Image&)> onProgress;
