@@ -9,6 +9,8 @@
 #include "modes/render_plan.h"
 #include "test_util.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 
 using namespace rayproc;
@@ -372,4 +374,48 @@ TEST_CASE("Profiling switches: without stratification or Russian roulette path m
     RenderResult rtA = renderRun(*scene, accel, rt);
     CHECK(rtA.image.pixels != rtRef.image.pixels);
     CHECK(std::abs(meanDifferenceZ(rtA.image, rtRef.image)) < 4.0);
+
+    // gi: photons without roulette carry their reduced power on to the maximum depth: more
+    // photons stored, each weaker, the same expected irradiance. The gather is unstratified.
+    Run g;
+    g.mode = "gi";
+    RenderResult giRef = renderRun(*scene, accel, g);
+    g.roulette = false;
+    g.stratify = false;
+    RenderResult giA = renderRun(*scene, accel, g);
+    CHECK(extra(giA, "gi/photons_global") > 1.5 * extra(giRef, "gi/photons_global"));
+    CHECK(std::abs(meanValue(giA.image) / meanValue(giRef.image) - 1.0) < 0.05);
+}
+
+TEST_CASE("Scene analysis: the render log and rayproc info say what is skipped and why", "[skip]") {
+    TempDir dir;
+    std::string scene = dir.file("box.json");
+    writeText(scene, boxScene(kDiffuse, ceilingLight("black"), R"([
+        {"type": "point", "position": [0.2, 1.7, 0.3], "intensity": [0, 0, 0]}])"));
+
+    RunResult info = runRayproc({"info", "--json", scene}, dir);
+    REQUIRE(info.status == 0);
+    auto j = nlohmann::json::parse(info.out);
+    CHECK(j["plan"]["render"] == true);
+    CHECK(j["plan"]["caustic_map"] == false);
+    CHECK(j["plan"]["lights"][0]["sampled"] == false);
+    CHECK(j["plan"]["lights"][0]["reason"] == "zero power");
+    RunResult text = runRayproc({"info", scene}, dir);
+    CHECK(text.out.find("caustic photon map: no mirror or glass surface") != std::string::npos);
+
+    RunResult on = runRayproc({"render", scene, "--mode", "raytrace", "--spp", "1", "-o",
+                               dir.file("on.pfm")}, dir);
+    REQUIRE(on.status == 0);
+    CHECK(on.err.find("scene_analysis=on") != std::string::npos);
+    CHECK(on.err.find("skipped refraction stage: no dielectric") != std::string::npos);
+    CHECK(on.err.find("skipped light 0 (point): zero power") != std::string::npos);
+    CHECK(on.err.find("caustic") == std::string::npos); // a gi-only skip
+
+    RunResult off = runRayproc({"render", scene, "--mode", "raytrace", "--spp", "1",
+                                "--no-scene-analysis", "--no-stratification",
+                                "--no-russian-roulette", "-o", dir.file("off.pfm")}, dir);
+    REQUIRE(off.status == 0);
+    CHECK(off.err.find("scene_analysis=off stratification=off") != std::string::npos);
+    CHECK(off.err.find("roulette=off") != std::string::npos);
+    CHECK(off.err.find("skipped") == std::string::npos);
 }
