@@ -14,6 +14,7 @@ import bpy
 
 PLAN = json.loads(PLAN_JSON)
 OUTPUT = OUTPUT_PATH
+SPOT_COSINE_FIX = True
 t_start = time.perf_counter()
 
 # An empty file: no default cube, lamp, camera or grey world.
@@ -133,6 +134,27 @@ for l in PLAN["lights"]:
             li.spot_size = 2.0 * outer
             # Cycles smooth-steps over [cos_outer, cos_outer + (1 - cos_outer) * blend].
             li.spot_blend = (cos_cone - cos_outer) / (1.0 - cos_outer)
+            if SPOT_COSINE_FIX:
+                # Cycles 3.4 also weights a spot by the cosine to its axis; divide it out.
+                # The light-space direction of the emitted ray is the Normal texture coordinate.
+                li.use_nodes = True
+                nt = li.node_tree
+                em = nt.nodes["Emission"]
+                tc = nt.nodes.new("ShaderNodeTexCoord")
+                xyz = nt.nodes.new("ShaderNodeSeparateXYZ")
+                nt.links.new(tc.outputs["Normal"], xyz.inputs[0])
+                ab = nt.nodes.new("ShaderNodeMath")
+                ab.operation = "ABSOLUTE"
+                nt.links.new(xyz.outputs["Z"], ab.inputs[0])
+                mx = nt.nodes.new("ShaderNodeMath")
+                mx.operation = "MAXIMUM"
+                mx.inputs[1].default_value = 1e-4
+                nt.links.new(ab.outputs["Value"], mx.inputs[0])
+                inv = nt.nodes.new("ShaderNodeMath")
+                inv.operation = "DIVIDE"
+                inv.inputs[0].default_value = 1.0
+                nt.links.new(mx.outputs["Value"], inv.inputs[1])
+                nt.links.new(inv.outputs["Value"], em.inputs["Strength"])
         ob = bpy.data.objects.new(l["name"], li)
         ob.matrix_world = matrix(l["matrix"]) if t == "spot" else matrix(
             [[1, 0, 0, l["position"][0]], [0, 1, 0, l["position"][1]],

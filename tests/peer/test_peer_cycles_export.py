@@ -110,7 +110,7 @@ class CornellBox(unittest.TestCase):
     def test_render_settings(self):
         self.assertEqual(self.plan["render"], {"width": 96, "height": 80, "spp": 32,
                                                "max_depth": 7, "seed": 5, "threads": 3})
-        for line in ['c.device = "CPU"', "c.use_adaptive_sampling = False",
+        for line in ["SPOT_COSINE_FIX = True", 'c.device = "CPU"', "c.use_adaptive_sampling = False",
                      "c.use_denoising = False", 'c.pixel_filter_type = "BOX"',
                      "c.filter_width = 1.0", 'c.max_bounces = R["max_depth"]',
                      "c.sample_clamp_indirect = 0.0", "c.blur_glossy = 0.0",
@@ -125,6 +125,13 @@ class OtherScenes(unittest.TestCase):
         _, plan = export(os.path.join(ROOT, "scenes", "materials.json"))
         types = sorted(l["type"] for l in plan["lights"])
         self.assertEqual(types, ["point", "spot", "sun"])
+        spot = next(l for l in plan["lights"] if l["type"] == "spot")
+        # Blender lights shine down their -z: the spot's -z column is its direction.
+        d = [-spot["matrix"][r][2] for r in range(3)]
+        n = math.sqrt(0.55 ** 2 + 0.6 ** 2 + 0.55 ** 2)
+        for a, b in zip(d, [0.55 / n, -0.6 / n, -0.55 / n]):
+            self.assertAlmostEqual(a, b)
+        self.assertEqual(apply(spot["matrix"], [0, 0, 0]), [-4, 5, 4])
         self.assertEqual(plan["world"], [0.08, 0.1, 0.14])
         kinds = {m["type"] for m in plan["materials"].values()}
         self.assertEqual(kinds, {"diffuse", "mirror", "dielectric", "glossy"})
@@ -192,6 +199,7 @@ class OtherScenes(unittest.TestCase):
 
 class TimeToTarget(unittest.TestCase):
     def test_interpolates_log_log(self):
+        sys.dont_write_bytecode = True
         sys.path.insert(0, os.path.join(ROOT, "scripts"))
         from peer_cycles import runner
         # relMSE halves when the time doubles: 0.01 lies at sqrt(2) * 2 between (2, 0.02)
