@@ -7,9 +7,12 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <set>
+#include <thread>
 
 using namespace rayproc;
 
@@ -79,4 +82,37 @@ TEST_CASE("rayproc bench rejects an unknown suite and an unwritable output", "[c
     CHECK(r.status == 1);
     CHECK(r.err.find("--quick") != std::string::npos);
     CHECK(!std::filesystem::exists(dir.file("out/results.csv")));
+}
+
+TEST_CASE("SIGINT stops rayproc bench, keeping the finished rows and writing the report",
+          "[cli][bench]") {
+    test::TempDir dir;
+    std::string out = dir.file("bench");
+    // The default suite on one scene runs for minutes: the signal surely lands mid-run.
+    test::Child child({"bench", "default", "-o", out, "--scene", test::scenePath("cornell-box"),
+                       "--reference", test::goldenPath("cornell-box-path.exr")},
+                      dir.file("stdout.txt"), dir.file("stderr.txt"));
+    REQUIRE(child.started());
+    std::string csv = out + "/results.csv";
+    auto rowsSoFar = [&] {
+        if (!std::filesystem::exists(csv)) return std::size_t(0);
+        std::string text = test::readText(csv);
+        return std::size_t(std::count(text.begin(), text.end(), '\n'));
+    };
+    auto start = std::chrono::steady_clock::now();
+    while (rowsSoFar() < 3 && std::chrono::steady_clock::now() - start < std::chrono::seconds(60))
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    REQUIRE(rowsSoFar() >= 3); // the header and two renders
+    child.signal(SIGINT);
+    bool finished = child.wait(60.0);
+    INFO(child.err());
+    REQUIRE(finished);
+    CHECK(child.status() == 130);
+    CHECK(child.err().find("interrupted") != std::string::npos);
+    std::vector<bench::BenchRow> rows = bench::readResultsCsv(csv);
+    CHECK(rows.size() >= 2);
+    std::string md = test::readText(out + "/summary.md");
+    CHECK(md.find("Interrupted") != std::string::npos);
+    CHECK(md.find("given: `") != std::string::npos);
+    CHECK(std::filesystem::exists(out + "/cornell-box.svg"));
 }
