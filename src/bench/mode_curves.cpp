@@ -13,6 +13,12 @@ const std::vector<std::string>& ownModes() {
 
 } // namespace
 
+std::string settingsWithoutBudget(const std::string& settings) {
+    std::string s = settings;
+    for (const char* key : {"spp", "samples", "seconds", "time"}) s = settingsWithout(s, key);
+    return s;
+}
+
 std::vector<std::string> sceneNames(const std::vector<BenchRow>& rows) {
     std::vector<std::string> names;
     for (const BenchRow& r : rows)
@@ -33,7 +39,7 @@ std::vector<ModeCurve> modeCurves(const std::vector<BenchRow>& rows, const std::
         std::vector<CurvePoint> points;
         for (const BenchRow& r : rows) {
             if (r.scene != scene || r.mode != mode) continue;
-            std::string v = settingsWithout(r.settings, "spp");
+            std::string v = settingsWithoutBudget(r.settings);
             if (std::find(c.variants.begin(), c.variants.end(), v) == c.variants.end())
                 c.variants.push_back(v);
             points.push_back({r.seconds, r.relmse, int(c.rows.size())});

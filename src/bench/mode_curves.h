@@ -14,10 +14,14 @@ namespace rayproc::bench {
 struct ModeCurve {
     std::string mode;
     std::vector<BenchRow> rows;        // this scene's rows of the mode, in file order
-    std::vector<std::string> variants; // distinct settings without spp, in order of appearance
+    std::vector<std::string> variants; // distinct settingsWithoutBudget, in order of appearance
     std::vector<CurvePoint> envelope;  // tag = index into rows
     bool peer = false;                 // not one of rayproc's modes
 };
+
+// The settings without the budget, i.e. what stays fixed along a ladder: every key=value pair
+// but spp=, samples=, seconds= and time= (a peer renderer may name its budget any of these).
+std::string settingsWithoutBudget(const std::string& settings);
 
 // Scene names in order of first appearance.
 std::vector<std::string> sceneNames(const std::vector<BenchRow>& rows);

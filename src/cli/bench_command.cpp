@@ -108,6 +108,10 @@ int runBench(BenchArgs& a) {
     BenchOptions& o = a.options;
     if (o.scenesDir.empty()) o.scenesDir = defaultScenesDir();
     benchSceneJobs(suite, o); // scene files and --reference: fail before any work
+    std::string resultsPath = (fs::path(o.outDir) / "results.csv").string();
+    if (a.reportOnly && !fs::is_regular_file(resultsPath))
+        throw InputError(resultsPath + ": no results to report (--report-only reads the "
+                                       "results.csv of an earlier run)");
     std::error_code ec;
     fs::create_directories(o.outDir, ec);
     if (ec || !fs::is_directory(o.outDir))
@@ -130,7 +134,6 @@ int runBench(BenchArgs& a) {
     ctx.timeCapSeconds = o.timeCapSeconds;
     auto start = std::chrono::steady_clock::now();
     installInterruptHandler();
-    std::string resultsPath = (fs::path(o.outDir) / "results.csv").string();
 
     if (a.reportOnly) {
         std::vector<BenchRow> rows = readResultsCsv(resultsPath);

@@ -1,5 +1,6 @@
 // summary.md: the tables read the envelopes right and say "not reached" instead of
 // extrapolating.
+#include "bench/mode_curves.h"
 #include "bench/summary.h"
 
 #include <catch2/catch.hpp>
@@ -35,4 +36,11 @@ TEST_CASE("renderSummary tabulates time to target and error at equal time", "[be
     CHECK(md.find("| raytrace | 0.0245 |") != std::string::npos);
     CHECK(md.find("128x128") == std::string::npos); // the quick suite is 64x64
     CHECK(md.find("64x64") != std::string::npos);
+}
+
+TEST_CASE("settingsWithoutBudget keeps what stays fixed along a ladder", "[bench]") {
+    CHECK(settingsWithoutBudget("spp=4 gather=64 ic=0.25") == "gather=64 ic=0.25");
+    CHECK(settingsWithoutBudget("samples=16 device=cpu") == "device=cpu");
+    CHECK(settingsWithoutBudget("time=2.5") == "");
+    CHECK(settingsWithoutBudget("seconds=1 spp=2") == "");
 }

@@ -123,6 +123,7 @@ TEST_CASE("scenePlot draws every render and gi's envelope", "[bench]") {
         {"s", "gi", "spp=2 gather=64", 3.0, 1, 0.01, 0},
         {"other", "path", "spp=1", 0.1, 1, 0.2, 0},
         {"s", "cycles", "samples=4", 0.3, 0, 0.04, 0},
+        {"s", "cycles", "samples=16", 0.9, 0, 0.01, 0}, // one setting: a ladder, not a sweep
     };
     LogLogPlot plot = scenePlot(rows, "s", "test");
     CHECK(plot.title == "s: test");
@@ -134,6 +135,8 @@ TEST_CASE("scenePlot draws every render and gi's envelope", "[bench]") {
     CHECK(plot.series[2].label == "path");
     CHECK(plot.series[3].label == "cycles");
     CHECK(plot.series[3].colour != plot.series[2].colour);
+    CHECK(plot.series[3].line);
+    CHECK(plot.series[3].points.size() == 2);
     std::string svg = renderSvg(plot);
-    CHECK(countOf(svg, "class=\"pt\"") == 8); // every row of scene s, one marker each
+    CHECK(countOf(svg, "class=\"pt\"") == 9); // every row of scene s, one marker each
 }
