@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     auto render = rayproc::cli::addRenderCommand(app);
     auto info = rayproc::cli::addInfoCommand(app);
     auto diff = rayproc::cli::addDiffCommand(app);
+    auto bench = rayproc::cli::addBenchCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("render")) return render();
         if (app.got_subcommand("info")) return info();
         if (app.got_subcommand("diff")) return diff();
+        if (app.got_subcommand("bench")) return bench();
     } catch (const rayproc::InputError& e) {
         rayproc::cli::printError(e.what());
     } catch (const rayproc::ImageIoError& e) {

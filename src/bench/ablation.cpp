@@ -1,0 +1,171 @@
+#include "bench/ablation.h"
+
+#include "bench/machine_info.h"
+#include "core/error.h"
+#include "engine/cancel.h"
+#include "image/metrics.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace rayproc::bench {
+
+const std::vector<AblationSwitch>& ablationSwitches() {
+    // Stratification has no switch in the render settings yet; when it has one, it is one more
+    // line here.
+    static const std::vector<AblationSwitch> table = {
+        {"packets (Embree width 16 vs 1)", "path", "--packet-width 1",
+         [](RenderConfig& c) { c.engine.packetWidth = 1; }},
+        {"packets (Embree width 16 vs 1)", "gi", "--packet-width 1",
+         [](RenderConfig& c) { c.engine.packetWidth = 1; }},
+        {"irradiance cache", "gi", "--no-irradiance-cache",
+         [](RenderConfig& c) { c.gi.irradianceCache = false; }},
+        {"precomputed irradiance", "gi", "--no-precomputed-irradiance",
+         [](RenderConfig& c) { c.gi.precomputedIrradiance = false; }},
+        {"caustic map", "gi", "--no-caustics", [](RenderConfig& c) { c.gi.caustics = false; }},
+        {"Russian roulette", "path", "PathSettings::roulette = false",
+         [](RenderConfig& c) { c.path.roulette = false; }},
+    };
+    return table;
+}
+
+std::string formatAblationCsvRow(const AblationRow& r) {
+    auto q = quoteCsvField;
+    char nums[256];
+    std::snprintf(nums, sizeof nums, "%.17g,%.17g,%llu,%llu,%.17g,%.17g", r.secondsOn,
+                  r.secondsOff, (unsigned long long)r.raysOn, (unsigned long long)r.raysOff,
+                  r.relmseOn, r.relmseOff);
+    return q(r.scene) + "," + q(r.optimisation) + "," + q(r.mode) + "," + q(r.settingsOn) + "," +
+           q(r.settingsOff) + "," + nums;
+}
+
+namespace {
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+RenderConfig baseConfig(const BenchScene& b, const BenchSuite& suite, const std::string& mode,
+                        int threads) {
+    int spp = mode == "gi" ? suite.ablationGiSpp : suite.ablationPathSpp;
+    RenderConfig c = RenderConfig::forMode(*b.scene, mode, spp);
+    c.engine.threads = threads;
+    if (mode == "gi" && !suite.giVariants.empty()) {
+        const GiVariant& v = suite.giVariants.front();
+        c.gi.gatherRays = v.gatherRays;
+        c.gi.icAccuracy = v.icAccuracy;
+        c.gi.photons = c.gi.causticPhotons = v.photons;
+    }
+    return c;
+}
+
+std::string ratio(double num, double den) {
+    if (!(den > 0)) return "–";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2fx", num / den);
+    return buf;
+}
+
+std::string g3(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return buf;
+}
+
+} // namespace
+
+AblationRun runAblation(const BenchSuite& suite, const BenchOptions& options,
+                        const std::string& csvPath, const BenchLog& log) {
+    std::ofstream csv(csvPath, std::ios::trunc);
+    if (!csv) throw InputError(csvPath + ": cannot open for writing");
+    csv << kAblationCsvHeader << "\n" << std::flush;
+    AblationRun run;
+    for (const SceneJob& job : benchSceneJobs(suite, options)) {
+        BenchScene b = prepareForSuite(job, suite, options, log);
+        run.scenes.push_back(sceneInfo(b));
+        if (b.reference.cancelled || interruptRequested()) {
+            run.interrupted = true;
+            return run;
+        }
+        for (const AblationSwitch& sw : ablationSwitches()) {
+            RenderConfig on = baseConfig(b, suite, sw.mode, options.threads);
+            RenderConfig off = on;
+            sw.disable(off);
+            AblationRow row{b.name, sw.name, sw.mode, on.settingsString(), off.settingsString()};
+            std::vector<double> tOn, tOff;
+            // Interleaved, so a change in the machine's load falls on both alike.
+            for (int rep = 0; rep < std::max(1, suite.ablationRepeats); ++rep) {
+                for (int which = 0; which < 2; ++which) {
+                    const RenderConfig& c = which == 0 ? on : off;
+                    TimedRender t = renderTimed(*b.scene, *b.accel, c);
+                    if (t.cancelled || interruptRequested()) {
+                        run.interrupted = true;
+                        return run;
+                    }
+                    (which == 0 ? tOn : tOff).push_back(t.seconds);
+                    if (rep == 0) { // the image is the same in every repeat (fixed seed)
+                        double e = compareImages(t.image, b.reference.image).relmse;
+                        (which == 0 ? row.relmseOn : row.relmseOff) = e;
+                        (which == 0 ? row.raysOn : row.raysOff) = t.rays;
+                    }
+                }
+            }
+            row.secondsOn = median(tOn);
+            row.secondsOff = median(tOff);
+            csv << formatAblationCsvRow(row) << "\n" << std::flush;
+            if (!csv) throw InputError(csvPath + ": cannot write");
+            run.rows.push_back(row);
+            log(b.name + " ablation " + sw.name + " (" + sw.mode + "): on " + g3(row.secondsOn) +
+                " s relMSE " + g3(row.relmseOn) + ", off " + g3(row.secondsOff) + " s relMSE " +
+                g3(row.relmseOff));
+        }
+    }
+    return run;
+}
+
+std::string renderAblationMarkdown(const AblationRun& run, const BenchSuite& suite,
+                                   const std::string& commandLine, const std::string& loadAtStart,
+                                   const std::string& loadAtEnd) {
+    std::ostringstream o;
+    o << "# rayproc bench --ablation: suite `" << suite.name << "`\n\n";
+    if (run.interrupted) o << "**Interrupted (Ctrl-C): only the rows that completed.**\n\n";
+    o << "- Command: `" << commandLine << "`, " << utcTimestamp() << ".\n"
+      << "- Machine: " << hardwareThreads() << " hardware threads, " << cpuModel()
+      << ". Load average (1 min) " << loadAtStart << " at the start, " << loadAtEnd
+      << " at the end: a shared machine, so time ratios within about 25% are noise.\n"
+      << "- Each row renders the mode at " << suite.width << "x" << suite.height << " with the "
+      << "optimisation on and off, everything else equal (path " << suite.ablationPathSpp
+      << " spp, gi " << suite.ablationGiSpp << " spp with the suite's first gi setting); "
+      << "times are the median of " << std::max(1, suite.ablationRepeats)
+      << " interleaved renders, relMSE against the scene's reference (the image does not vary "
+         "between repeats).\n"
+      << "- *time off/on* above 1: the optimisation saves time; *relMSE off/on* above 1: it "
+         "lowers the error; *efficiency gain* = (time x relMSE) off / on, the factor by which "
+         "the optimisation improves error-times-time (Monte Carlo efficiency).\n"
+      << "- Not in the table: stratification (no switch in the render settings yet).\n";
+    std::string scene;
+    for (const AblationRow& r : run.rows) {
+        if (r.scene != scene) {
+            scene = r.scene;
+            o << "\n## " << scene << "\n\n| optimisation | mode | turned off by | time on | "
+                 "time off | time off/on | relMSE on | relMSE off | relMSE off/on | efficiency "
+                 "gain |\n|---|---|---|---|---|---|---|---|---|---|\n";
+        }
+        std::string cli;
+        for (const AblationSwitch& sw : ablationSwitches())
+            if (sw.name == r.optimisation && sw.mode == r.mode) cli = sw.cliOption;
+        o << "| " << r.optimisation << " | " << r.mode << " | `" << cli << "` | "
+          << g3(r.secondsOn) << " s | " << g3(r.secondsOff) << " s | "
+          << ratio(r.secondsOff, r.secondsOn) << " | " << g3(r.relmseOn) << " | "
+          << g3(r.relmseOff) << " | " << ratio(r.relmseOff, r.relmseOn) << " | "
+          << ratio(r.secondsOff * r.relmseOff, r.secondsOn * r.relmseOn) << " |\n";
+    }
+    o << "\nEvery row: `ablation.csv`.\n";
+    return o.str();
+}
+
+} // namespace rayproc::bench

@@ -1,0 +1,73 @@
+#include "bench/bench_render.h"
+
+#include "core/error.h"
+
+#include <chrono>
+#include <sstream>
+
+namespace rayproc::bench {
+
+RenderConfig RenderConfig::forMode(const Scene& scene, const std::string& mode, int spp) {
+    RenderConfig c;
+    c.mode = mode;
+    ModeOverrides none;
+    c.preview = previewSettings(scene.render, none);
+    c.raytrace = raytraceSettings(scene.render, none);
+    c.gi = giSettings(scene.render, none);
+    c.path = pathSettings(scene.render, none);
+    c.engine.quiet = true;
+    c.setSpp(spp);
+    return c;
+}
+
+int RenderConfig::spp() const {
+    if (mode == "preview") return preview.spp;
+    if (mode == "raytrace") return raytrace.spp;
+    if (mode == "gi") return gi.spp;
+    return path.spp;
+}
+
+void RenderConfig::setSpp(int spp) {
+    preview.spp = raytrace.spp = gi.spp = path.spp = spp;
+}
+
+std::string RenderConfig::settingsString() const {
+    std::ostringstream o;
+    o << "spp=" << spp();
+    if (mode == "gi") {
+        o << " gather=" << gi.gatherRays << " ic=" << gi.icAccuracy << " photons=" << gi.photons;
+        if (gi.causticPhotons != gi.photons) o << " caustic-photons=" << gi.causticPhotons;
+        if (!gi.irradianceCache) o << " no-irradiance-cache";
+        if (!gi.precomputedIrradiance) o << " no-precomputed-irradiance";
+        if (!gi.caustics) o << " no-caustics";
+    }
+    if ((mode == "path" && !path.roulette) || (mode == "raytrace" && !raytrace.roulette))
+        o << " no-russian-roulette";
+    if (engine.packetWidth != 16) o << " packets=" << engine.packetWidth;
+    if (engine.seed != 1) o << " seed=" << engine.seed;
+    return o.str();
+}
+
+TimedRender renderTimed(const Scene& scene, const EmbreeScene& accel, const RenderConfig& c) {
+    using Clock = std::chrono::steady_clock;
+    Clock::time_point start = Clock::now();
+    RenderResult r;
+    if (c.mode == "preview")
+        r = renderPreview(scene, accel, c.preview, c.engine);
+    else if (c.mode == "raytrace")
+        r = renderRaytrace(scene, accel, c.raytrace, c.engine);
+    else if (c.mode == "gi")
+        r = renderGi(scene, accel, c.gi, c.engine);
+    else if (c.mode == "path")
+        r = renderPath(scene, accel, c.path, c.engine);
+    else
+        throw InputError("unknown mode '" + c.mode + "'");
+    TimedRender t;
+    t.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    t.image = std::move(r.image);
+    t.rays = r.stats.totals.raysTraced;
+    t.cancelled = r.cancelled;
+    return t;
+}
+
+} // namespace rayproc::bench

@@ -1,0 +1,48 @@
+// One bench render: a mode with its full settings, run in-process through the mode's driver and
+// timed from the start of the mode's work to the finished image (for gi: photon tracing,
+// precomputed irradiance and the irradiance cache's prepass included, since the whole
+// renderGi call is timed). Scene loading and the BVH build are not timed: they are the same
+// for every mode.
+#pragma once
+
+#include "accel/embree_scene.h"
+#include "image/image.h"
+#include "modes/modes.h"
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <string>
+
+namespace rayproc::bench {
+
+// Every mode's settings; `mode` picks the one used.
+struct RenderConfig {
+    std::string mode;
+    PreviewSettings preview;
+    RaytraceSettings raytrace;
+    GiSettings gi;
+    PathSettings path;
+    EngineSettings engine;
+
+    // The mode's settings from the scene's render block (as `rayproc render` would take them,
+    // without CLI overrides) and `spp` samples per pixel.
+    static RenderConfig forMode(const Scene& scene, const std::string& mode, int spp);
+    int spp() const;
+    void setSpp(int spp);
+    // The results.csv settings column: "spp=N" plus, for gi, the swept settings
+    // ("gather=64 ic=0.25 photons=200000"), plus every switch that is off ("packets=1",
+    // "no-irradiance-cache", ...). Enough to reproduce the render with `rayproc render`.
+    std::string settingsString() const;
+};
+
+struct TimedRender {
+    Image image;
+    double seconds = 0;     // wall time of the mode driver's call
+    std::uint64_t rays = 0; // every ray handed to Embree (RenderStats totals)
+    bool cancelled = false; // Ctrl-C: the image is partial
+};
+
+// Renders with the mode's driver. Throws InputError for an unknown mode.
+TimedRender renderTimed(const Scene& scene, const EmbreeScene& accel, const RenderConfig& c);
+
+} // namespace rayproc::bench

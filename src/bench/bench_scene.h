@@ -1,0 +1,43 @@
+// A suite's scene ready to bench: loaded, set to the suite's resolution, its BVH built, and its
+// reference image (from the cache, rendered, or given with --reference).
+#pragma once
+
+#include "accel/embree_scene.h"
+#include "bench/reference_cache.h"
+#include "scene/scene.h"
+
+#include <memory>
+#include <string>
+
+namespace rayproc::bench {
+
+// Where a scene's reference comes from.
+enum class ReferenceSource { Cache, Shipped, Given };
+
+// A scene to bench and the reference image to use (empty: the cache).
+struct SceneJob {
+    std::string file;
+    std::string reference;
+    int referenceSpp = 0; // of a shipped reference; 0 if unknown
+    ReferenceSource source = ReferenceSource::Cache;
+};
+
+struct BenchScene {
+    std::string name; // the file's stem: the results' scene column
+    std::string file;
+    int nativeWidth = 0, nativeHeight = 0; // the scene file's own resolution
+    std::unique_ptr<Scene> scene;
+    std::unique_ptr<EmbreeScene> accel;
+    Reference reference;
+    ReferenceSource source = ReferenceSource::Cache;
+    int referenceSpp = 0; // 0: unknown (a given image)
+};
+
+// Loads the job's scene at width x height and its reference: a given image must have that size
+// (InputError otherwise); a shipped one of another size is passed over for the cache, which
+// renders path mode at `cacheSpp` if it has no such image yet. A cancelled reference render
+// leaves reference.cancelled set.
+BenchScene prepareBenchScene(const SceneJob& job, int width, int height,
+                             const std::string& refsDir, int cacheSpp, int threads);
+
+} // namespace rayproc::bench

@@ -1,0 +1,188 @@
+#include "bench/runner.h"
+
+#include "bench/bench_render.h"
+#include "core/error.h"
+#include "engine/cancel.h"
+#include "image/metrics.h"
+#include "scene/scene_loader.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+namespace rayproc::bench {
+
+namespace {
+
+std::string formatSeconds(double s) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g s", s);
+    return buf;
+}
+
+// The configurations a mode's ladder runs: one, or one per swept gi setting.
+std::vector<RenderConfig> ladderConfigs(const BenchScene& b, const BenchSuite& suite,
+                                        const ModeLadder& ladder, int threads) {
+    std::vector<RenderConfig> configs;
+    RenderConfig base = RenderConfig::forMode(*b.scene, ladder.mode, ladder.spp.front());
+    base.engine.threads = threads;
+    if (ladder.mode != "gi") return {base};
+    for (const GiVariant& v : suite.giVariants) {
+        RenderConfig c = base;
+        c.gi.gatherRays = v.gatherRays;
+        c.gi.icAccuracy = v.icAccuracy;
+        c.gi.photons = c.gi.causticPhotons = v.photons;
+        configs.push_back(c);
+    }
+    return configs;
+}
+
+} // namespace
+
+double predictSeconds(int prevSpp, double prevSeconds, int spp, double seconds, int nextSpp) {
+    if (prevSpp <= 0 || spp <= prevSpp) return seconds * double(nextSpp) / spp;
+    double perSample = std::max(0.0, (seconds - prevSeconds) / (spp - prevSpp));
+    return seconds + perSample * (nextSpp - spp);
+}
+
+std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions& options) {
+    namespace fs = std::filesystem;
+    std::vector<SceneJob> jobs;
+    if (!options.sceneFiles.empty()) {
+        for (const std::string& f : options.sceneFiles) {
+            SceneJob job;
+            job.file = f;
+            jobs.push_back(job);
+        }
+    } else {
+        for (const SuiteScene& s : suite.scenes) {
+            SceneJob job;
+            job.file = (fs::path(options.scenesDir) / s.file).string();
+            if (!s.shippedReference.empty()) {
+                fs::path ref = fs::path(options.scenesDir) / s.shippedReference;
+                if (fs::is_regular_file(ref)) {
+                    job.reference = ref.lexically_normal().string();
+                    job.referenceSpp = s.shippedReferenceSpp;
+                    job.source = ReferenceSource::Shipped;
+                }
+            }
+            jobs.push_back(job);
+        }
+    }
+    for (const SceneJob& j : jobs)
+        if (!fs::is_regular_file(j.file))
+            throw InputError(j.file + ": no such scene file" +
+                             (options.sceneFiles.empty()
+                                  ? std::string(" (the suite's scenes are looked up in "
+                                                "--scenes-dir)")
+                                  : std::string()));
+    if (!options.referenceImage.empty()) {
+        if (jobs.size() != 1)
+            throw InputError("--reference is the reference of one scene, but the run has " +
+                             std::to_string(jobs.size()) + " scenes; pick one with --scene FILE");
+        jobs[0].reference = options.referenceImage;
+        jobs[0].referenceSpp = 0;
+        jobs[0].source = ReferenceSource::Given;
+    }
+    return jobs;
+}
+
+BenchScene prepareForSuite(const SceneJob& job, const BenchSuite& suite,
+                           const BenchOptions& options, const BenchLog& log) {
+    std::string refsDir = options.refsDir.empty()
+                              ? (std::filesystem::path(options.outDir) / "refs").string()
+                              : options.refsDir;
+    if (job.reference.empty() &&
+        !std::filesystem::exists(referencePath(refsDir, job.file, suite.width, suite.height,
+                                               suite.referenceSpp)))
+        log("rendering the reference of " + job.file + " (path mode, " +
+            std::to_string(suite.referenceSpp) + " spp, " + std::to_string(suite.width) + "x" +
+            std::to_string(suite.height) + "); it is cached in " + refsDir);
+    BenchScene b = prepareBenchScene(job, suite.width, suite.height, refsDir, suite.referenceSpp,
+                                     options.threads);
+    if (b.reference.rendered && !b.reference.cancelled)
+        log("  done in " + formatSeconds(b.reference.seconds) + ": " + b.reference.path);
+    return b;
+}
+
+SceneInfo sceneInfo(const BenchScene& b) {
+    SceneInfo i;
+    i.name = b.name;
+    i.file = b.file;
+    i.nativeWidth = b.nativeWidth;
+    i.nativeHeight = b.nativeHeight;
+    i.referencePath = b.reference.path;
+    i.referenceSource = b.source;
+    i.referenceSpp = b.referenceSpp;
+    i.referenceRendered = b.reference.rendered;
+    i.referenceSeconds = b.reference.seconds;
+    return i;
+}
+
+SceneInfo describeSceneJob(const SceneJob& job, const BenchSuite& suite,
+                           const BenchOptions& options) {
+    SceneInfo i;
+    i.file = job.file;
+    i.name = std::filesystem::path(job.file).stem().string();
+    std::unique_ptr<Scene> scene = loadScene(job.file);
+    i.nativeWidth = scene->camera.width;
+    i.nativeHeight = scene->camera.height;
+    i.referenceSource = job.source;
+    i.referenceSpp = job.referenceSpp;
+    i.referencePath = job.reference;
+    if (job.reference.empty()) {
+        std::string refsDir = options.refsDir.empty()
+                                  ? (std::filesystem::path(options.outDir) / "refs").string()
+                                  : options.refsDir;
+        i.referencePath =
+            referencePath(refsDir, job.file, suite.width, suite.height, suite.referenceSpp);
+        i.referenceSpp = suite.referenceSpp;
+    }
+    return i;
+}
+
+LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
+                     ResultsCsvWriter& results, const BenchLog& log) {
+    LadderRun run;
+    double timeCap = options.timeCapSeconds > 0 ? options.timeCapSeconds : suite.timeCapSeconds;
+    for (const SceneJob& job : benchSceneJobs(suite, options)) {
+        BenchScene b = prepareForSuite(job, suite, options, log);
+        run.scenes.push_back(sceneInfo(b));
+        if (b.reference.cancelled || interruptRequested()) {
+            run.interrupted = true;
+            return run;
+        }
+        for (const ModeLadder& ladder : suite.ladders) {
+            for (RenderConfig c : ladderConfigs(b, suite, ladder, options.threads)) {
+                double prevSeconds = 0;
+                for (std::size_t k = 0; k < ladder.spp.size(); ++k) {
+                    int spp = ladder.spp[k];
+                    c.setSpp(spp);
+                    TimedRender t = renderTimed(*b.scene, *b.accel, c);
+                    if (t.cancelled || interruptRequested()) {
+                        run.interrupted = true;
+                        return run;
+                    }
+                    ImageMetrics m = compareImages(t.image, b.reference.image);
+                    BenchRow row{b.name, c.mode, c.settingsString(), t.seconds, t.rays,
+                                 m.relmse, m.rmse};
+                    results.append(row);
+                    run.rows.push_back(row);
+                    char line[256];
+                    std::snprintf(line, sizeof line, "%s %s %s: %s, relMSE %.4g",
+                                  b.name.c_str(), c.mode.c_str(), row.settings.c_str(),
+                                  formatSeconds(t.seconds).c_str(), m.relmse);
+                    log(line);
+                    if (k + 1 < ladder.spp.size() &&
+                        predictSeconds(k > 0 ? ladder.spp[k - 1] : 0, prevSeconds, spp,
+                                       t.seconds, ladder.spp[k + 1]) > timeCap)
+                        break;
+                    prevSeconds = t.seconds;
+                }
+            }
+        }
+    }
+    return run;
+}
+
+} // namespace rayproc::bench

@@ -1,0 +1,72 @@
+// The bench runner: for each scene of a suite, each mode (and for gi each swept setting) renders
+// its budget ladder, measures each image against the scene's reference, and appends one row
+// per render to results.csv as it finishes.
+#pragma once
+
+#include "bench/bench_scene.h"
+#include "bench/results_csv.h"
+#include "bench/suite.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace rayproc::bench {
+
+struct BenchOptions {
+    std::string outDir = "bench-results";
+    std::string refsDir;                 // empty: <outDir>/refs
+    std::string scenesDir;               // where the suite's scene files are
+    std::vector<std::string> sceneFiles; // --scene: instead of the suite's scenes
+    std::string referenceImage;          // --reference: for a single scene
+    std::vector<std::string> peerCsvs;   // --peer-csv
+    int threads = 0;                     // engine threads, 0 = all cores
+    double timeCapSeconds = 0;           // > 0: instead of the suite's
+    bool quiet = false;
+};
+
+// One prepared scene's facts the report needs (the scene and BVH themselves are released).
+struct SceneInfo {
+    std::string name, file;
+    int nativeWidth = 0, nativeHeight = 0;
+    std::string referencePath;
+    ReferenceSource referenceSource = ReferenceSource::Cache;
+    int referenceSpp = 0; // 0: unknown (given with --reference)
+    bool referenceRendered = false;
+    double referenceSeconds = 0;
+};
+
+struct LadderRun {
+    std::vector<SceneInfo> scenes;
+    std::vector<BenchRow> rows;
+    bool interrupted = false;
+};
+
+// Progress lines ("cornell-box path spp=16: 0.52 s, relMSE 0.0123") for the command to print.
+using BenchLog = std::function<void(const std::string&)>;
+
+// The scenes to bench: the --scene files, or the suite's under scenesDir, each with its
+// reference (--reference, a shipped one that exists, else the cache). Throws InputError for a
+// missing scene file.
+std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions& options);
+
+// Prepares a scene for the suite (reference included), logging a reference render.
+BenchScene prepareForSuite(const SceneJob& job, const BenchSuite& suite,
+                           const BenchOptions& options, const BenchLog& log);
+SceneInfo sceneInfo(const BenchScene& scene);
+// The same without rendering anything (for --report-only): the scene file is read for its
+// resolution, the reference is named as the run would find it.
+SceneInfo describeSceneJob(const SceneJob& job, const BenchSuite& suite,
+                           const BenchOptions& options);
+
+// The time a render at `nextSpp` is expected to take, from the last two renders of its ladder:
+// a fixed cost plus a cost per sample (gi's photon pass and cache prepass are the fixed part).
+// With no earlier render (prevSpp 0), time in proportion to the samples.
+double predictSeconds(int prevSpp, double prevSeconds, int spp, double seconds, int nextSpp);
+
+// Renders every ladder of the suite; stops early (interrupted = true) on Ctrl-C, keeping the
+// rows of the renders that completed.
+LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
+                     ResultsCsvWriter& results, const BenchLog& log);
+
+} // namespace rayproc::bench

@@ -1,0 +1,68 @@
+#include "bench/suite.h"
+
+#include "core/error.h"
+
+namespace rayproc::bench {
+
+namespace {
+
+BenchSuite defaultSuite() {
+    BenchSuite s;
+    s.name = "default";
+    s.description = "cornell-box and cornell-spheres at 128x128, every mode, gi settings swept";
+    // The golden references: path, 8192 spp, seed 12345, 128x128 (tests/golden/*.args).
+    s.scenes = {{"cornell-box.json", "../tests/golden/cornell-box-path.exr", 8192},
+                {"cornell-spheres.json", "../tests/golden/cornell-spheres-path.exr", 8192}};
+    s.width = s.height = 128;
+    s.referenceSpp = 4096;
+    s.timeCapSeconds = 24;
+    s.ladders = {{"preview", {1, 4, 16}},
+                 {"raytrace", {1, 2, 4, 8, 16, 32, 64}},
+                 {"gi", {1, 2, 4, 8, 16, 32}},
+                 {"path", {1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024}}};
+    // One setting at a time away from gi's defaults (64 gather rays, a = 0.25, 200k photons).
+    s.giVariants = {{64, 0.25f, 200000}, {16, 0.25f, 200000}, {256, 0.25f, 200000},
+                    {64, 0.5f, 200000},  {64, 0.1f, 200000},  {64, 0.25f, 50000},
+                    {64, 0.25f, 800000}};
+    s.ablationPathSpp = 32;
+    s.ablationGiSpp = 4;
+    s.ablationRepeats = 3;
+    return s;
+}
+
+BenchSuite quickSuite() {
+    BenchSuite s;
+    s.name = "quick";
+    s.description = "cornell-box at 64x64, short ladders: a smoke test (CI), not a measurement";
+    s.scenes = {{"cornell-box.json", "", 0}};
+    s.width = s.height = 64;
+    s.referenceSpp = 1024;
+    s.timeCapSeconds = 4;
+    s.ladders = {{"preview", {1, 4}},
+                 {"raytrace", {1, 4, 16}},
+                 {"gi", {1, 4, 16}},
+                 {"path", {1, 4, 16, 64, 256}}};
+    s.giVariants = {{32, 0.25f, 20000}, {16, 0.5f, 10000}};
+    s.ablationPathSpp = 8;
+    s.ablationGiSpp = 1;
+    s.ablationRepeats = 1;
+    return s;
+}
+
+} // namespace
+
+const std::vector<BenchSuite>& benchSuites() {
+    static const std::vector<BenchSuite> suites = {defaultSuite(), quickSuite()};
+    return suites;
+}
+
+const BenchSuite& findSuite(const std::string& name) {
+    std::string known;
+    for (const BenchSuite& s : benchSuites()) {
+        if (s.name == name) return s;
+        known += (known.empty() ? "" : ", ") + s.name;
+    }
+    throw InputError("unknown bench suite '" + name + "'; known suites: " + known);
+}
+
+} // namespace rayproc::bench

@@ -1,0 +1,57 @@
+// Bench suites: which scenes, at which resolution, each mode at which budgets, which gi settings
+// are swept, and the reference each is measured against. A suite is data; the runner
+// (runner.h) renders it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace rayproc::bench {
+
+// One mode's budget ladder: one render per entry of `spp` (a geometric sequence), in order,
+// until the ladder's time cap stops it.
+struct ModeLadder {
+    std::string mode; // preview, raytrace, gi, path
+    std::vector<int> spp;
+};
+
+// One setting of gi mode swept over its ladder; the plot shows each as points and the best of
+// them at each time (the lower envelope) as the gi curve.
+struct GiVariant {
+    int gatherRays = 64;
+    float icAccuracy = 0.25f;
+    int photons = 200000; // global and caustic map alike
+};
+
+// A scene of a suite. A reference shipped with the source tree (the golden path images of
+// tests/golden/, rendered at high spp with their own seed) is used when it exists and has the
+// suite's resolution; otherwise the reference cache renders one.
+struct SuiteScene {
+    std::string file;             // under the scenes directory
+    std::string shippedReference; // relative to the scenes directory; may be empty
+    int shippedReferenceSpp = 0;
+};
+
+struct BenchSuite {
+    std::string name;
+    std::string description;
+    std::vector<SuiteScene> scenes;
+    int width = 128, height = 128;   // every scene is rendered at this size
+    int referenceSpp = 4096;         // path mode, cached in <out>/refs (no shipped reference)
+    // A ladder stops at its last budget, or before a render predicted (predictSeconds in
+    // runner.h) to take longer than this.
+    double timeCapSeconds = 30;
+    std::vector<ModeLadder> ladders;
+    std::vector<GiVariant> giVariants; // at least one
+    // --ablation: the budget of each mode's with/without renders, and timing repeats (median).
+    int ablationPathSpp = 16, ablationGiSpp = 4;
+    int ablationRepeats = 3;
+};
+
+// The suites by name: "default" (about 10 minutes on 2 cores, references included) and
+// "quick" (about a minute: the CI smoke test).
+const std::vector<BenchSuite>& benchSuites();
+// The suite called `name`; throws InputError listing the known ones.
+const BenchSuite& findSuite(const std::string& name);
+
+} // namespace rayproc::bench

@@ -1,0 +1,118 @@
+// The CI smoke test of `rayproc bench --quick`: runs the quick suite as a child process and
+// checks that its outputs exist and hold numbers. Hidden from the default run (about a minute);
+// ctest runs it as `bench_quick` (label bench), or: rayproc_tests "[bench-quick]".
+#include "bench/results_csv.h"
+
+#include "test_util.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <thread>
+
+using namespace rayproc;
+
+TEST_CASE("rayproc bench --quick writes results, plots and a summary", "[.bench-quick]") {
+    test::TempDir dir;
+    std::string out = dir.file("bench");
+    test::RunResult r = test::runRayproc(
+        {"bench", "--quick", "-q", "-o", out, "--scenes-dir",
+         (test::sourceDir() / "scenes").string()},
+        dir, 280);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    INFO("took " << r.seconds << " s");
+
+    std::string csv = out + "/results.csv";
+    REQUIRE(std::filesystem::exists(csv));
+    CHECK(test::readText(csv).rfind(bench::kResultsCsvHeader, 0) == 0);
+    std::vector<bench::BenchRow> rows = bench::readResultsCsv(csv);
+    std::set<std::string> modes;
+    for (const bench::BenchRow& row : rows) {
+        INFO(bench::formatCsvRow(row));
+        CHECK(row.scene == "cornell-box");
+        CHECK(std::isfinite(row.seconds));
+        CHECK(row.seconds > 0);
+        CHECK(row.rays > 0);
+        CHECK(std::isfinite(row.relmse));
+        CHECK(row.relmse > 0);
+        CHECK(std::isfinite(row.rmse));
+        CHECK(!bench::settingValue(row.settings, "spp").empty());
+        modes.insert(row.mode);
+    }
+    CHECK(modes == std::set<std::string>{"preview", "raytrace", "gi", "path"});
+
+    std::string svg = test::readText(out + "/cornell-box.svg");
+    CHECK(svg.size() > 2000);
+    CHECK(svg.find("</svg>") != std::string::npos);
+    std::size_t markers = 0;
+    for (std::size_t p = svg.find("class=\"pt\""); p != std::string::npos;
+         p = svg.find("class=\"pt\"", p + 1))
+        ++markers;
+    CHECK(markers == rows.size());
+
+    std::string md = test::readText(out + "/summary.md");
+    CHECK(md.size() > 500);
+    CHECK(md.find("## cornell-box") != std::string::npos);
+    CHECK(md.find("64x64") != std::string::npos);
+    // The reference is cached: a second run renders it no more.
+    CHECK(!std::filesystem::is_empty(out + "/refs"));
+}
+
+TEST_CASE("rayproc bench rejects an unknown suite and an unwritable output", "[cli][bench]") {
+    test::TempDir dir;
+    test::RunResult r = test::runRayproc({"bench", "nosuch", "-o",
+                                          dir.file("out")},
+                                         dir, 30);
+    CHECK(r.status == 1);
+    CHECK(r.err.find("unknown bench suite 'nosuch'; known suites: default, quick") !=
+          std::string::npos);
+    test::writeText(dir.file("file"), "x");
+    r = test::runRayproc({"bench", "--quick", "-o", dir.file("file/sub")},
+                         dir, 30);
+    CHECK(r.status == 1);
+    CHECK(r.err.find("cannot create the output directory") != std::string::npos);
+    r = test::runRayproc({"bench", "default", "--quick", "-o",
+                          dir.file("out")},
+                         dir, 30);
+    CHECK(r.status == 1);
+    CHECK(r.err.find("--quick") != std::string::npos);
+    CHECK(!std::filesystem::exists(dir.file("out/results.csv")));
+}
+
+TEST_CASE("SIGINT stops rayproc bench, keeping the finished rows and writing the report",
+          "[cli][bench]") {
+    test::TempDir dir;
+    std::string out = dir.file("bench");
+    // The default suite on one scene runs for minutes: the signal surely lands mid-run.
+    test::Child child({"bench", "default", "-o", out, "--scene", test::scenePath("cornell-box"),
+                       "--reference", test::goldenPath("cornell-box-path.exr")},
+                      dir.file("stdout.txt"), dir.file("stderr.txt"));
+    REQUIRE(child.started());
+    std::string csv = out + "/results.csv";
+    auto rowsSoFar = [&] {
+        if (!std::filesystem::exists(csv)) return std::size_t(0);
+        std::string text = test::readText(csv);
+        return std::size_t(std::count(text.begin(), text.end(), '\n'));
+    };
+    auto start = std::chrono::steady_clock::now();
+    while (rowsSoFar() < 3 && std::chrono::steady_clock::now() - start < std::chrono::seconds(60))
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    REQUIRE(rowsSoFar() >= 3); // the header and two renders
+    child.signal(SIGINT);
+    bool finished = child.wait(60.0);
+    INFO(child.err());
+    REQUIRE(finished);
+    CHECK(child.status() == 130);
+    CHECK(child.err().find("interrupted") != std::string::npos);
+    std::vector<bench::BenchRow> rows = bench::readResultsCsv(csv);
+    CHECK(rows.size() >= 2);
+    std::string md = test::readText(out + "/summary.md");
+    CHECK(md.find("Interrupted") != std::string::npos);
+    CHECK(md.find("given: `") != std::string::npos);
+    CHECK(std::filesystem::exists(out + "/cornell-box.svg"));
+}
