@@ -13,8 +13,6 @@
 namespace rayproc::bench {
 
 const std::vector<AblationSwitch>& ablationSwitches() {
-    // Stratification has no switch in the render settings yet; when it has one, it is one more
-    // line here.
     static const std::vector<AblationSwitch> table = {
         {"packets (Embree width 16 vs 1)", "path", "--packet-width 1",
          [](RenderConfig& c) { c.engine.packetWidth = 1; }},
@@ -25,8 +23,14 @@ const std::vector<AblationSwitch>& ablationSwitches() {
         {"precomputed irradiance", "gi", "--no-precomputed-irradiance",
          [](RenderConfig& c) { c.gi.precomputedIrradiance = false; }},
         {"caustic map", "gi", "--no-caustics", [](RenderConfig& c) { c.gi.caustics = false; }},
-        {"Russian roulette", "path", "PathSettings::roulette = false",
+        {"Russian roulette", "path", "--no-russian-roulette",
          [](RenderConfig& c) { c.path.roulette = false; }},
+        {"Russian roulette", "gi", "--no-russian-roulette",
+         [](RenderConfig& c) { c.gi.roulette = false; }},
+        {"stratification", "path", "--no-stratification",
+         [](RenderConfig& c) { c.engine.stratification = false; }},
+        {"stratification", "gi", "--no-stratification",
+         [](RenderConfig& c) { c.engine.stratification = false; }},
     };
     return table;
 }
@@ -145,8 +149,7 @@ std::string renderAblationMarkdown(const AblationRun& run, const BenchSuite& sui
          "between repeats).\n"
       << "- *time off/on* above 1: the optimisation saves time; *relMSE off/on* above 1: it "
          "lowers the error; *efficiency gain* = (time x relMSE) off / on, the factor by which "
-         "the optimisation improves error-times-time (Monte Carlo efficiency).\n"
-      << "- Not in the table: stratification (no switch in the render settings yet).\n";
+         "the optimisation improves error-times-time (Monte Carlo efficiency).\n";
     std::string scene;
     for (const AblationRow& r : run.rows) {
         if (r.scene != scene) {

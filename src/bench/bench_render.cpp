@@ -41,8 +41,10 @@ std::string RenderConfig::settingsString() const {
         if (!gi.precomputedIrradiance) o << " no-precomputed-irradiance";
         if (!gi.caustics) o << " no-caustics";
     }
-    if ((mode == "path" && !path.roulette) || (mode == "raytrace" && !raytrace.roulette))
+    if ((mode == "path" && !path.roulette) || (mode == "raytrace" && !raytrace.roulette) ||
+        (mode == "gi" && !gi.roulette))
         o << " no-russian-roulette";
+    if (!engine.stratification) o << " no-stratification";
     if (engine.packetWidth != 16) o << " packets=" << engine.packetWidth;
     if (engine.seed != 1) o << " seed=" << engine.seed;
     return o.str();
