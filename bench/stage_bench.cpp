@@ -1,0 +1,265 @@
+// Per-stage throughput on the Cornell box and the million-triangle scene, one thread each
+// (inputs made by the pipeline itself, bench/stage_rig.h). Intersection at every packet width
+// is in intersect_bench.cpp; kd-tree kNN and irradiance on a synthetic room in
+// photon_bench.cpp; irradiance-cache lookups in irradiance_cache_bench.cpp.
+//
+//   BM_CameraKernel/scene:S    kernels::generateCameraRays alone over 256 tiles   rays/s
+//   BM_CameraEmit/scene:S      CameraEmitter::emit, one pass of the scene's image   rays/s
+//                              (stratified sub-pixel positions, payload, film sample count)
+//   BM_Shading/scene:S/stage:surface   SurfaceStage::retrace on traced camera batches with
+//                              raytrace mode's policy: hit resolution, emission, routing,
+//                              light sampling and shadow-ray spawning (4 light samples)   rays/s
+//   BM_Shading/scene:S/stage:path      PathStage::retrace on the same batches: NEE, MIS,
+//                              BSDF sampling of the next ray   rays/s
+//   BM_ShadowRetrace/scene:S   ShadowStage::retrace on traced shadow batches the surface
+//                              stage spawned (film accumulation of the unoccluded)   rays/s
+//   BM_PhotonTrace/scene:S     PhotonEmitter + PhotonStage through a 1-thread RayProcessor,
+//                              50K global-map photons per iteration   photons/s, rays/s
+//   BM_Gather/scene:S          GatherStage::retrace on traced final-gather batches (the
+//                              global map's precomputed irradiance at every hit)   rays/s
+//   BM_SceneKnn/scene:S/k:64   PhotonMap::nearest at the gather rays' hit points, on the
+//                              scene's own 200K-photon global map   queries/s
+#include "stage_rig.h"
+
+#include "engine/processor.h"
+#include "gi/photon_emitter.h"
+#include "gi/photon_map.h"
+#include "gi/photon_stage.h"
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rayproc::bench {
+namespace {
+
+constexpr std::size_t kInputBatches = 64;
+
+void setRate(benchmark::State& state, const char* name, double perIteration) {
+    state.counters[name] = benchmark::Counter(perIteration * double(state.iterations()),
+                                              benchmark::Counter::kIsRate);
+}
+
+void configure(benchmark::internal::Benchmark* b) {
+    b->UseRealTime()->Unit(benchmark::kMicrosecond)->MinTime(0.2);
+}
+
+// ---- camera rays
+
+void cameraKernel(benchmark::State& state, std::string sceneName) {
+    const Camera& cam = nativeScene(sceneName).nativeCamera;
+    kernels::CameraFrame frame = cameraFrame(cam);
+    // Film positions and lens samples of a 16x16 tile, moved over 256 tiles of the image.
+    constexpr int kTile = CameraEmitter::kTile, kTiles = 256;
+    alignas(64) float fx[kBatchSize], fy[kBatchSize], lu[kBatchSize], lv[kBatchSize];
+    alignas(64) float ox[kBatchSize], oy[kBatchSize], oz[kBatchSize];
+    alignas(64) float dx[kBatchSize], dy[kBatchSize], dz[kBatchSize];
+    for (int i = 0; i < kBatchSize; ++i) {
+        std::uint64_t key = kernels::pathKey(1, std::uint32_t(i), 0);
+        fx[i] = float(i % kTile) + kernels::uniform(key, 0);
+        fy[i] = float(i / kTile) + kernels::uniform(key, 1);
+        lu[i] = kernels::uniform(key, 2);
+        lv[i] = kernels::uniform(key, 3);
+    }
+    int tilesX = std::max(1, cam.width / kTile);
+    for (auto _ : state) {
+        for (int t = 0; t < kTiles; ++t) {
+            float sx = float((t % tilesX) * kTile), sy = float((t / tilesX) * kTile);
+            for (int i = 0; i < kBatchSize; ++i) {
+                fx[i] += sx;
+                fy[i] += sy;
+            }
+            kernels::generateCameraRays(frame, kBatchSize, fx, fy, lu, lv, ox, oy, oz, dx, dy, dz);
+            for (int i = 0; i < kBatchSize; ++i) {
+                fx[i] -= sx;
+                fy[i] -= sy;
+            }
+            benchmark::DoNotOptimize(dz[kBatchSize - 1]);
+        }
+    }
+    setRate(state, "rays/s", double(kTiles) * kBatchSize);
+}
+
+void cameraEmit(benchmark::State& state, std::string sceneName) {
+    StageRig rig(sceneName, raytracePolicy());
+    CameraEmitter camera(rig.rc, 1);
+    for (auto _ : state) {
+        camera.beginPass(0, 1);
+        while (camera.emit(rig.ctx)) rig.drain(RayKind::Count, 0);
+    }
+    const Camera& cam = rig.loaded.scene->camera;
+    setRate(state, "rays/s", double(cam.width) * double(cam.height));
+}
+
+// ---- shading and shadow
+
+void shading(benchmark::State& state, std::string sceneName, bool pathStage) {
+    StageRig rig(sceneName, pathStage ? pathPolicy() : raytracePolicy());
+    Batches inputs = rig.cameraBatches(kInputBatches);
+    rig.trace(inputs);
+    RetraceStage& stage = pathStage ? static_cast<RetraceStage&>(rig.path)
+                                    : static_cast<RetraceStage&>(rig.surface);
+    auto work = std::make_unique<RayBatch>();
+    for (auto _ : state) {
+        for (const auto& in : inputs) {
+            *work = *in; // the stage may rewrite its input batch
+            stage.retrace(*work, rig.ctx);
+            rig.ctx.flush();
+            rig.drain(RayKind::Count, 0);
+        }
+    }
+    setRate(state, "rays/s", double(rayCount(inputs)));
+}
+
+void shadowRetrace(benchmark::State& state, std::string sceneName) {
+    StageRig rig(sceneName, raytracePolicy());
+    Batches cameras = rig.cameraBatches(kInputBatches);
+    rig.trace(cameras);
+    Batches inputs = rig.spawned(rig.surface, cameras, RayKind::Shadow, 4 * kInputBatches);
+    for (auto _ : state) {
+        for (const auto& in : inputs) rig.shadow.retrace(*in, rig.ctx); // reads, adds to film
+    }
+    setRate(state, "rays/s", double(rayCount(inputs)));
+    state.counters["occluded"] = [&] {
+        std::size_t n = 0;
+        for (const auto& b : inputs)
+            for (int i = 0; i < b->count; ++i) n += b->occluded(i) ? 1 : 0;
+        return double(n) / double(std::max<std::size_t>(1, rayCount(inputs)));
+    }();
+}
+
+// ---- photons and gather
+
+struct PhotonRun {
+    std::vector<PhotonRecord> photons;
+    std::uint64_t raysTraced = 0;
+};
+
+PhotonRun tracePhotons(const std::string& sceneName, std::uint32_t count, int threads) {
+    LoadedScene& s = nativeScene(sceneName);
+    LightSet lights = LightSet::build(*s.scene, *s.accel);
+    Film film(1, 1);
+    ShadingPolicy policy;
+    RenderContext rc{*s.scene, *s.accel, lights, policy, film, 1};
+    Stats stats;
+    Intersector intersector(s.accel->root(), 16);
+    RayProcessor processor(intersector, stats, threads);
+    PhotonStage stage(rc, false, GiSettings{}.maxPhotonDepth);
+    processor.setStage(RayKind::Photon, &stage);
+    PhotonEmitter emitter(lights, s.scene->worldBounds(), count, 1, 1);
+    processor.run(emitter, [] { return false; });
+    return {stage.takePhotons(), stats.merged().raysTraced};
+}
+
+void photonTrace(benchmark::State& state, std::string sceneName) {
+    constexpr std::uint32_t kPhotons = 50000;
+    std::uint64_t rays = 0, stored = 0;
+    for (auto _ : state) {
+        PhotonRun run = tracePhotons(sceneName, kPhotons, 1);
+        rays += run.raysTraced;
+        stored += run.photons.size();
+    }
+    setRate(state, "photons/s", double(kPhotons));
+    state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+    state.counters["stored/photon"] = double(stored) / double(kPhotons) / double(state.iterations());
+}
+
+// The scene's global photon map (200K photons, gi mode's default) with Christensen's
+// precomputed irradiance, and the gi data the gather stage reads. Built once per scene.
+struct SceneGi {
+    PhotonMap global;
+    GiData gi;
+};
+
+const SceneGi& sceneGi(const std::string& sceneName) {
+    static std::map<std::string, std::unique_ptr<SceneGi>> cache;
+    auto& slot = cache[sceneName];
+    if (slot) return *slot;
+    slot = std::make_unique<SceneGi>();
+    GiSettings settings;
+    settings.caustics = false;
+    settings.irradianceCache = false; // every first diffuse hit makes a final gather
+    slot->global.build(tracePhotons(sceneName, std::uint32_t(settings.photons), 0).photons);
+    LoadedScene& s = nativeScene(sceneName);
+    float diag = std::max(1e-6f, length(s.scene->worldBounds().diagonal()));
+    slot->gi.settings = settings;
+    slot->gi.globalRadius = 0.05f * diag; // gi mode's default
+    slot->global.precomputeIrradiance(settings.globalK, slot->gi.globalRadius, 4);
+    slot->gi.global = &slot->global;
+    return *slot;
+}
+
+void gather(benchmark::State& state, std::string sceneName) {
+    const SceneGi& g = sceneGi(sceneName);
+    StageRig rig(sceneName, raytracePolicy(), &g.gi);
+    Batches cameras = rig.cameraBatches(kInputBatches);
+    rig.trace(cameras);
+    Batches inputs = rig.spawned(rig.surface, cameras, RayKind::Gather, kInputBatches);
+    for (auto _ : state) {
+        for (const auto& in : inputs) rig.gather.retrace(*in, rig.ctx);
+    }
+    setRate(state, "rays/s", double(rayCount(inputs)));
+}
+
+void sceneKnn(benchmark::State& state, std::string sceneName) {
+    const SceneGi& g = sceneGi(sceneName);
+    int k = int(state.range(0));
+    std::vector<Vec3> points;
+    {
+        StageRig rig(sceneName, raytracePolicy(), &g.gi);
+        Batches cameras = rig.cameraBatches(kInputBatches);
+        rig.trace(cameras);
+        Batches gathers = rig.spawned(rig.surface, cameras, RayKind::Gather, kInputBatches);
+        const EmbreeScene& accel = *rig.loaded.accel;
+        for (const auto& b : gathers)
+            for (int i = 0; i < b->count; ++i)
+                if (b->hit(i)) {
+                    Vec3 o{b->ox[i], b->oy[i], b->oz[i]}, d{b->dx[i], b->dy[i], b->dz[i]};
+                    points.push_back(accel.surface(b->instId[i], b->geomId[i], b->primId[i],
+                                                   b->u[i], b->v[i], o, d, b->t[i]).p);
+                }
+    }
+    if (points.empty()) {
+        state.SkipWithError("no gather hits");
+        return;
+    }
+    PhotonMap::Neighbours nb;
+    std::size_t i = 0, found = 0;
+    for (auto _ : state) {
+        g.global.nearest(points[i++ % points.size()], k, g.gi.globalRadius, nb);
+        found += nb.index.size();
+    }
+    setRate(state, "queries/s", 1.0);
+    state.counters["found"] = double(found) / double(state.iterations());
+}
+
+const bool kRegistered = [] {
+    for (const char* scene : {"cornell", "million"}) {
+        std::string s = std::string("/scene:") + scene;
+        configure(benchmark::RegisterBenchmark(("BM_CameraKernel" + s).c_str(), cameraKernel,
+                                               std::string(scene)));
+        configure(benchmark::RegisterBenchmark(("BM_CameraEmit" + s).c_str(), cameraEmit,
+                                               std::string(scene)));
+        configure(benchmark::RegisterBenchmark(("BM_Shading" + s + "/stage:surface").c_str(),
+                                               shading, std::string(scene), false));
+        configure(benchmark::RegisterBenchmark(("BM_Shading" + s + "/stage:path").c_str(),
+                                               shading, std::string(scene), true));
+        configure(benchmark::RegisterBenchmark(("BM_ShadowRetrace" + s).c_str(), shadowRetrace,
+                                               std::string(scene)));
+        configure(benchmark::RegisterBenchmark(("BM_PhotonTrace" + s).c_str(), photonTrace,
+                                               std::string(scene)));
+        configure(benchmark::RegisterBenchmark(("BM_Gather" + s).c_str(), gather,
+                                               std::string(scene)));
+        auto* knn = benchmark::RegisterBenchmark(("BM_SceneKnn" + s).c_str(), sceneKnn,
+                                                 std::string(scene));
+        configure(knn);
+        knn->ArgName("k")->Arg(64);
+    }
+    return true;
+}();
+
+} // namespace
+} // namespace rayproc::bench
