@@ -11,6 +11,9 @@
 //                              light sampling and shadow-ray spawning (4 light samples)   rays/s
 //   BM_Shading/scene:S/stage:path      PathStage::retrace on the same batches: NEE, MIS,
 //                              BSDF sampling of the next ray   rays/s
+//   BM_ShadowSpawn/scene:S     ShadowStage::spawn on the diffuse and glossy hits of traced
+//                              camera batches: light sampling, one occlusion ray per sample
+//                              (raytrace policy, 4 samples per area light)   rays/s spawned
 //   BM_ShadowRetrace/scene:S   ShadowStage::retrace on traced shadow batches the surface
 //                              stage spawned (film accumulation of the unoccluded)   rays/s
 //   BM_PhotonTrace/scene:S     PhotonEmitter + PhotonStage through a 1-thread RayProcessor,
@@ -112,6 +115,45 @@ void shading(benchmark::State& state, std::string sceneName, bool pathStage) {
         }
     }
     setRate(state, "rays/s", double(rayCount(inputs)));
+}
+
+// The diffuse and glossy hits of each traced camera batch, as the surface stage lists them.
+std::vector<std::unique_ptr<HitList>> directHits(const StageRig& rig, const Batches& batches) {
+    std::vector<std::unique_ptr<HitList>> lists;
+    const auto& materials = rig.loaded.scene->materials;
+    for (const auto& b : batches) {
+        auto list = std::make_unique<HitList>();
+        for (int i = 0; i < b->count; ++i) {
+            if (!b->hit(i)) continue;
+            Vec3 o{b->ox[i], b->oy[i], b->oz[i]}, d{b->dx[i], b->dy[i], b->dz[i]};
+            SurfaceHit h = rig.loaded.accel->surface(b->instId[i], b->geomId[i], b->primId[i],
+                                                     b->u[i], b->v[i], o, d, b->t[i]);
+            MaterialType type = materials[h.material].type;
+            if (type == MaterialType::Diffuse || type == MaterialType::Glossy) list->add(i, h);
+        }
+        lists.push_back(std::move(list));
+    }
+    return lists;
+}
+
+void shadowSpawn(benchmark::State& state, std::string sceneName) {
+    StageRig rig(sceneName, raytracePolicy());
+    Batches cameras = rig.cameraBatches(kInputBatches);
+    rig.trace(cameras);
+    auto lists = directHits(rig, cameras);
+    std::size_t points = 0;
+    for (const auto& l : lists) points += std::size_t(l->count);
+    std::uint64_t before = rig.stats.stages[int(StageId::Shadow)].raysOut;
+    for (auto _ : state) {
+        for (std::size_t k = 0; k < cameras.size(); ++k) {
+            rig.shadow.spawn(*cameras[k], *lists[k], rig.ctx);
+            rig.ctx.flush();
+            rig.drain(RayKind::Count, 0);
+        }
+    }
+    double spawned = double(rig.stats.stages[int(StageId::Shadow)].raysOut - before);
+    state.counters["rays/s"] = benchmark::Counter(spawned, benchmark::Counter::kIsRate);
+    setRate(state, "points/s", double(points));
 }
 
 void shadowRetrace(benchmark::State& state, std::string sceneName) {
@@ -247,6 +289,8 @@ const bool kRegistered = [] {
                                                shading, std::string(scene), false));
         configure(benchmark::RegisterBenchmark(("BM_Shading" + s + "/stage:path").c_str(),
                                                shading, std::string(scene), true));
+        configure(benchmark::RegisterBenchmark(("BM_ShadowSpawn" + s).c_str(), shadowSpawn,
+                                               std::string(scene)));
         configure(benchmark::RegisterBenchmark(("BM_ShadowRetrace" + s).c_str(), shadowRetrace,
                                                std::string(scene)));
         configure(benchmark::RegisterBenchmark(("BM_PhotonTrace" + s).c_str(), photonTrace,
