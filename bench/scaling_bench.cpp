@@ -12,6 +12,12 @@
 //   intersector_share  the Intersector's seconds (Intersect + Occlude stage timers: packet
 //                      load, Embree, hit write-back), summed over threads, over the render
 //                      phase's wall time x threads (gi: the final render pass only)
+//   staged_share       every stage timer's seconds (emitters, Intersector, retrace stages;
+//                      none is nested in another), summed over threads, over the render
+//                      phase's wall time x threads. On one thread, 1 - staged_share is the
+//                      part of the frame spent outside the processor's stages: light set,
+//                      film, pass commits, resolve, queue traffic: the serial fraction's
+//                      estimate from a 1-thread profile (queue traffic would parallelise)
 #include "bench_modes.h"
 
 #include <benchmark/benchmark.h>
@@ -24,18 +30,20 @@ namespace {
 void modeFrameBench(benchmark::State& state, std::string mode, std::string sceneName,
                     int threads) {
     std::uint64_t rays = 0;
-    double intersectorSeconds = 0, phaseSeconds = 0;
+    double intersectorSeconds = 0, stagedSeconds = 0, phaseSeconds = 0;
     for (auto _ : state) {
         RenderResult r = renderModeFrame(mode, sceneName, threads);
         rays += r.stats.totals.raysTraced;
         intersectorSeconds += r.stats.totals.stages[int(StageId::Intersect)].seconds +
                               r.stats.totals.stages[int(StageId::Occlude)].seconds;
+        for (const StageCounters& c : r.stats.totals.stages) stagedSeconds += c.seconds;
         phaseSeconds += renderPhaseSeconds(r) * threads;
         benchmark::DoNotOptimize(r.image);
     }
     state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
     state.counters["rays/frame"] = double(rays) / double(state.iterations());
     state.counters["intersector_share"] = phaseSeconds > 0 ? intersectorSeconds / phaseSeconds : 0;
+    state.counters["staged_share"] = phaseSeconds > 0 ? stagedSeconds / phaseSeconds : 0;
 }
 
 const bool kRegistered = [] {
