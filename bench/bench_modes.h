@@ -48,8 +48,10 @@ inline RenderResult renderModeFrame(const std::string& mode, const std::string& 
     ModeOverrides o;
     o.spp = f.spp;
     const EmbreeScene& accel = *loaded.accel;
-    if (mode == "preview") return renderPreview(scene, accel, previewSettings(scene.render, o), engine);
-    if (mode == "raytrace") return renderRaytrace(scene, accel, raytraceSettings(scene.render, o), engine);
+    if (mode == "preview")
+        return renderPreview(scene, accel, previewSettings(scene.render, o), engine);
+    if (mode == "raytrace")
+        return renderRaytrace(scene, accel, raytraceSettings(scene.render, o), engine);
     if (mode == "path") return renderPath(scene, accel, pathSettings(scene.render, o), engine);
     return renderGi(scene, accel, giSettings(scene.render, o), engine);
 }

@@ -27,8 +27,7 @@
 namespace rayproc::bench {
 namespace {
 
-void modeFrameBench(benchmark::State& state, std::string mode, std::string sceneName,
-                    int threads) {
+void modeFrameBench(benchmark::State& state, std::string mode, std::string sceneName, int threads) {
     std::uint64_t rays = 0;
     double intersectorSeconds = 0, stagedSeconds = 0, phaseSeconds = 0;
     for (auto _ : state) {

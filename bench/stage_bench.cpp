@@ -42,8 +42,8 @@ namespace {
 constexpr std::size_t kInputBatches = 64;
 
 void setRate(benchmark::State& state, const char* name, double perIteration) {
-    state.counters[name] = benchmark::Counter(perIteration * double(state.iterations()),
-                                              benchmark::Counter::kIsRate);
+    state.counters[name] =
+        benchmark::Counter(perIteration * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
 void configure(benchmark::internal::Benchmark* b) {
@@ -103,8 +103,8 @@ void shading(benchmark::State& state, std::string sceneName, bool pathStage) {
     StageRig rig(sceneName, pathStage ? pathPolicy() : raytracePolicy());
     Batches inputs = rig.cameraBatches(kInputBatches);
     rig.trace(inputs);
-    RetraceStage& stage = pathStage ? static_cast<RetraceStage&>(rig.path)
-                                    : static_cast<RetraceStage&>(rig.surface);
+    RetraceStage& stage =
+        pathStage ? static_cast<RetraceStage&>(rig.path) : static_cast<RetraceStage&>(rig.surface);
     auto work = std::make_unique<RayBatch>();
     for (auto _ : state) {
         for (const auto& in : inputs) {
@@ -206,7 +206,8 @@ void photonTrace(benchmark::State& state, std::string sceneName) {
     }
     setRate(state, "photons/s", double(kPhotons));
     state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-    state.counters["stored/photon"] = double(stored) / double(kPhotons) / double(state.iterations());
+    state.counters["stored/photon"] =
+        double(stored) / double(kPhotons) / double(state.iterations());
 }
 
 // The scene's global photon map (200K photons, gi mode's default) with Christensen's
@@ -260,8 +261,10 @@ void sceneKnn(benchmark::State& state, std::string sceneName) {
             for (int i = 0; i < b->count; ++i)
                 if (b->hit(i)) {
                     Vec3 o{b->ox[i], b->oy[i], b->oz[i]}, d{b->dx[i], b->dy[i], b->dz[i]};
-                    points.push_back(accel.surface(b->instId[i], b->geomId[i], b->primId[i],
-                                                   b->u[i], b->v[i], o, d, b->t[i]).p);
+                    points.push_back(accel
+                                         .surface(b->instId[i], b->geomId[i], b->primId[i], b->u[i],
+                                                  b->v[i], o, d, b->t[i])
+                                         .p);
                 }
     }
     if (points.empty()) {
@@ -287,18 +290,18 @@ const bool kRegistered = [] {
                                                std::string(scene)));
         configure(benchmark::RegisterBenchmark(("BM_Shading" + s + "/stage:surface").c_str(),
                                                shading, std::string(scene), false));
-        configure(benchmark::RegisterBenchmark(("BM_Shading" + s + "/stage:path").c_str(),
-                                               shading, std::string(scene), true));
+        configure(benchmark::RegisterBenchmark(("BM_Shading" + s + "/stage:path").c_str(), shading,
+                                               std::string(scene), true));
         configure(benchmark::RegisterBenchmark(("BM_ShadowSpawn" + s).c_str(), shadowSpawn,
                                                std::string(scene)));
         configure(benchmark::RegisterBenchmark(("BM_ShadowRetrace" + s).c_str(), shadowRetrace,
                                                std::string(scene)));
         configure(benchmark::RegisterBenchmark(("BM_PhotonTrace" + s).c_str(), photonTrace,
                                                std::string(scene)));
-        configure(benchmark::RegisterBenchmark(("BM_Gather" + s).c_str(), gather,
-                                               std::string(scene)));
-        auto* knn = benchmark::RegisterBenchmark(("BM_SceneKnn" + s).c_str(), sceneKnn,
-                                                 std::string(scene));
+        configure(
+            benchmark::RegisterBenchmark(("BM_Gather" + s).c_str(), gather, std::string(scene)));
+        auto* knn =
+            benchmark::RegisterBenchmark(("BM_SceneKnn" + s).c_str(), sceneKnn, std::string(scene));
         configure(knn);
         knn->ArgName("k")->Arg(64);
     }

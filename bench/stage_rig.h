@@ -108,8 +108,10 @@ struct StageRig {
         std::uint64_t stride = std::max<std::uint64_t>(1, units / count);
         Batches out;
         for (std::uint64_t u = 0; camera.emit(ctx); ++u) {
-            if (u % stride == 0) drain(RayKind::Camera, count, &out);
-            else drain(RayKind::Count, 0);
+            if (u % stride == 0)
+                drain(RayKind::Camera, count, &out);
+            else
+                drain(RayKind::Count, 0);
         }
         return out;
     }

@@ -11,7 +11,9 @@ RayRecorder::Scope::Scope(RayRecorder& recorder) {
     RAYPROC_CHECK(s_active.compare_exchange_strong(expected, &recorder));
 }
 
-RayRecorder::Scope::~Scope() { s_active.store(nullptr, std::memory_order_release); }
+RayRecorder::Scope::~Scope() {
+    s_active.store(nullptr, std::memory_order_release);
+}
 
 void RayRecorder::record(const RayBatch& b) {
     ThreadLog& log = m_logs.local();
@@ -21,9 +23,14 @@ void RayRecorder::record(const RayBatch& b) {
     auto copy = [&](std::vector<float>& to, const std::array<float, kBatchSize>& from) {
         to.assign(from.begin(), from.begin() + b.count);
     };
-    copy(r.ox, b.ox); copy(r.oy, b.oy); copy(r.oz, b.oz);
-    copy(r.dx, b.dx); copy(r.dy, b.dy); copy(r.dz, b.dz);
-    copy(r.tnear, b.tnear); copy(r.tfar, b.tfar);
+    copy(r.ox, b.ox);
+    copy(r.oy, b.oy);
+    copy(r.oz, b.oz);
+    copy(r.dx, b.dx);
+    copy(r.dy, b.dy);
+    copy(r.dz, b.dz);
+    copy(r.tnear, b.tnear);
+    copy(r.tfar, b.tfar);
     log.batches.push_back(std::move(r));
     if (m_fullCap > 0 &&
         m_fullTaken[int(b.kind)].fetch_add(1, std::memory_order_relaxed) < m_fullCap)
@@ -32,7 +39,8 @@ void RayRecorder::record(const RayBatch& b) {
 
 std::vector<RecordedBatch> RayRecorder::batches() const {
     std::vector<RecordedBatch> all;
-    for (const ThreadLog& log : m_logs) all.insert(all.end(), log.batches.begin(), log.batches.end());
+    for (const ThreadLog& log : m_logs)
+        all.insert(all.end(), log.batches.begin(), log.batches.end());
     return all;
 }
 

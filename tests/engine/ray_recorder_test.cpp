@@ -102,9 +102,14 @@ TEST_CASE("recorded rays replayed through bare Embree give the engine's hits",
             rtcInitIntersectContext(&ctx);
             for (int i = 0; i < r.count; ++i) {
                 RTCRayHit rh{};
-                rh.ray.org_x = r.ox[i]; rh.ray.org_y = r.oy[i]; rh.ray.org_z = r.oz[i];
-                rh.ray.dir_x = r.dx[i]; rh.ray.dir_y = r.dy[i]; rh.ray.dir_z = r.dz[i];
-                rh.ray.tnear = r.tnear[i]; rh.ray.tfar = r.tfar[i];
+                rh.ray.org_x = r.ox[i];
+                rh.ray.org_y = r.oy[i];
+                rh.ray.org_z = r.oz[i];
+                rh.ray.dir_x = r.dx[i];
+                rh.ray.dir_y = r.dy[i];
+                rh.ray.dir_z = r.dz[i];
+                rh.ray.tnear = r.tnear[i];
+                rh.ray.tfar = r.tfar[i];
                 rh.ray.mask = 0xffffffffu;
                 rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
@@ -114,7 +119,8 @@ TEST_CASE("recorded rays replayed through bare Embree give the engine's hits",
                 } else {
                     rtcIntersect1(accel.root(), &ctx, &rh);
                     CHECK(rh.hit.geomID == b.geomId[i]);
-                    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) CHECK(rh.hit.primID == b.primId[i]);
+                    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
+                        CHECK(rh.hit.primID == b.primId[i]);
                 }
                 ++compared;
             }
