@@ -19,7 +19,8 @@
 //   BM_PhotonTrace/scene:S     PhotonEmitter + PhotonStage through a 1-thread RayProcessor,
 //                              50K global-map photons per iteration   photons/s, rays/s
 //   BM_Gather/scene:S          GatherStage::retrace on traced final-gather batches (the
-//                              global map's precomputed irradiance at every hit)   rays/s
+//                              global map's precomputed irradiance at every hit)   rays/s,
+//                              hit_fraction (gather rays that hit)
 //   BM_SceneKnn/scene:S/k:64   PhotonMap::nearest at the gather rays' hit points, on the
 //                              scene's own 200K-photon global map   queries/s
 #include "stage_rig.h"
@@ -245,6 +246,11 @@ void gather(benchmark::State& state, std::string sceneName) {
         for (const auto& in : inputs) rig.gather.retrace(*in, rig.ctx);
     }
     setRate(state, "rays/s", double(rayCount(inputs)));
+    std::size_t hits = 0;
+    for (const auto& b : inputs)
+        for (int i = 0; i < b->count; ++i) hits += b->hit(i) ? 1 : 0;
+    state.counters["hit_fraction"] =
+        double(hits) / double(std::max<std::size_t>(1, rayCount(inputs)));
 }
 
 void sceneKnn(benchmark::State& state, std::string sceneName) {
