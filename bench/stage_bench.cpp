@@ -23,9 +23,14 @@
 //                              hit_fraction (gather rays that hit)
 //   BM_SceneKnn/scene:S/k:64   PhotonMap::nearest at the gather rays' hit points, on the
 //                              scene's own 200K-photon global map   queries/s
+//   BM_SceneIcLookup/scene:S   IrradianceCache::lookup at diffuse first hits, on a cache
+//                              filled on the scene like one level of gi's prepass (1/8 of
+//                              the resolution)   lookups/s, hit_rate, records
 #include "stage_rig.h"
 
+#include "engine/path_state.h"
 #include "engine/processor.h"
+#include "gi/irradiance_cache.h"
 #include "gi/photon_emitter.h"
 #include "gi/photon_map.h"
 #include "gi/photon_stage.h"
@@ -287,6 +292,112 @@ void sceneKnn(benchmark::State& state, std::string sceneName) {
     state.counters["found"] = double(found) / double(state.iterations());
 }
 
+// Ward's cache filled on the scene the way gi's prepass fills one level: camera rays at 1/8 of
+// the scene's resolution; at each first diffuse hit a record from 64 final-gather rays
+// (irradiance from the scene's global photon map at the gather hits, radius the harmonic mean
+// distance clamped to gi's [0.005, 0.15] x diagonal), inserted in a fixed order. Lookups at
+// the diffuse first hits of full-resolution camera rays (64 tiles), with their shading normals.
+struct SceneCache {
+    std::unique_ptr<IrradianceCache> cache;
+    std::vector<std::pair<Vec3, Vec3>> queries; // (point, normal)
+};
+
+const SceneCache& sceneCache(const std::string& sceneName) {
+    static std::map<std::string, std::unique_ptr<SceneCache>> cached;
+    auto& slot = cached[sceneName];
+    if (slot) return *slot;
+    slot = std::make_unique<SceneCache>();
+    GiData gi = sceneGi(sceneName).gi; // the global map for the gather rays
+    LoadedScene& s = nativeScene(sceneName);
+    float diag = std::max(1e-6f, length(s.scene->worldBounds().diagonal()));
+    gi.icMinRadius = 0.005f * diag;
+    gi.icMaxRadius = 0.15f * diag;
+    IcRequests requests;
+    Camera coarse = s.nativeCamera;
+    coarse.width = std::max(1, coarse.width / 8);
+    coarse.height = std::max(1, coarse.height / 8);
+    for (int i = 0; i < coarse.width * coarse.height * 2; ++i)
+        requests.slots.push_back(std::make_unique<IcRequest>());
+    gi.requests = &requests;
+    ShadingPolicy policy = raytracePolicy();
+    policy.icPrepass = true;
+    {
+        StageRig rig(sceneName, policy, &gi);
+        CameraEmitter camera(rig.rc, 1, &coarse);
+        camera.beginPass(0, 1);
+        while (camera.emit(rig.ctx)) {
+            // Trace every queued batch and hand it to its stage until nothing is left.
+            RayBatch* b = nullptr;
+            for (;;) {
+                if (!rig.queue.tryPop(b)) {
+                    if (!rig.ctx.flush()) break;
+                    continue;
+                }
+                rig.intersector.trace(*b, rig.stats);
+                if (b->kind == RayKind::Gather)
+                    rig.gather.retrace(*b, rig.ctx);
+                else if (b->kind != RayKind::Shadow)
+                    rig.surface.retrace(*b, rig.ctx);
+                rig.pool.release(b);
+            }
+        }
+    }
+    std::vector<IrradianceRecord> records;
+    std::size_t n = std::min<std::size_t>(requests.used.load(), requests.slots.size());
+    for (std::size_t i = 0; i < n; ++i) {
+        const IcRequest& r = *requests.slots[i];
+        double rays = r.rays.load();
+        if (rays <= 0) continue;
+        IrradianceRecord rec;
+        rec.position = r.position;
+        rec.normal = r.normal;
+        for (int c = 0; c < 3; ++c)
+            rec.irradiance[c] =
+                float(kPi * double(r.radiance[c].load()) / IcRequests::kScale / rays);
+        double inv = double(r.inverseDistance.load()) / IcRequests::kScale;
+        float harmonic = inv > 0 ? float(rays / inv) : gi.icMaxRadius;
+        rec.radius = std::clamp(harmonic, gi.icMinRadius, gi.icMaxRadius);
+        records.push_back(rec);
+    }
+    IrradianceCacheSettings cs;
+    cs.accuracy = GiSettings{}.icAccuracy;
+    slot->cache = std::make_unique<IrradianceCache>(s.scene->worldBounds(), cs);
+    slot->cache->insert(records);
+
+    StageRig rig(sceneName, raytracePolicy());
+    Batches cameras = rig.cameraBatches(kInputBatches);
+    rig.trace(cameras);
+    for (const auto& b : cameras)
+        for (int i = 0; i < b->count; ++i) {
+            if (!b->hit(i)) continue;
+            Vec3 o{b->ox[i], b->oy[i], b->oz[i]}, d{b->dx[i], b->dy[i], b->dz[i]};
+            SurfaceHit h = rig.loaded.accel->surface(b->instId[i], b->geomId[i], b->primId[i],
+                                                     b->u[i], b->v[i], o, d, b->t[i]);
+            if (rig.loaded.scene->materials[h.material].type != MaterialType::Diffuse) continue;
+            Vec3 ng, ns;
+            facingNormals(h, -d, ng, ns);
+            slot->queries.push_back({h.p, ns});
+        }
+    return *slot;
+}
+
+void sceneIcLookup(benchmark::State& state, std::string sceneName) {
+    const SceneCache& c = sceneCache(sceneName);
+    if (c.queries.empty() || c.cache->size() == 0) {
+        state.SkipWithError("no records or no diffuse hits");
+        return;
+    }
+    IrradianceCache::LookupResult r;
+    std::size_t i = 0, hits = 0;
+    for (auto _ : state) {
+        const auto& q = c.queries[i++ % c.queries.size()];
+        hits += c.cache->lookup(q.first, q.second, r) ? 1 : 0;
+    }
+    setRate(state, "lookups/s", 1.0);
+    state.counters["hit_rate"] = double(hits) / double(state.iterations());
+    state.counters["records"] = double(c.cache->size());
+}
+
 const bool kRegistered = [] {
     for (const char* scene : {"cornell", "million"}) {
         std::string s = std::string("/scene:") + scene;
@@ -306,6 +417,8 @@ const bool kRegistered = [] {
                                                std::string(scene)));
         configure(
             benchmark::RegisterBenchmark(("BM_Gather" + s).c_str(), gather, std::string(scene)));
+        configure(benchmark::RegisterBenchmark(("BM_SceneIcLookup" + s).c_str(), sceneIcLookup,
+                                               std::string(scene)));
         auto* knn =
             benchmark::RegisterBenchmark(("BM_SceneKnn" + s).c_str(), sceneKnn, std::string(scene));
         configure(knn);
