@@ -1,6 +1,7 @@
 #include "engine/intersect.h"
 
 #include "core/error.h"
+#include "engine/ray_recorder.h"
 
 #include <algorithm>
 
@@ -114,12 +115,14 @@ bool isValidPacketWidth(int width) {
     return width == 1 || width == 4 || width == 8 || width == 16;
 }
 
-Intersector::Intersector(RTCScene scene, int width) : m_scene(scene), m_width(width) {
+Intersector::Intersector(RTCScene scene, int width)
+    : m_scene(scene), m_width(width), m_recorder(RayRecorder::active()) {
     RAYPROC_CHECK(isValidPacketWidth(width));
 }
 
 void Intersector::trace(RayBatch& b, ThreadStats& stats) const {
     StageId id = b.kind == RayKind::Shadow ? StageId::Occlude : StageId::Intersect;
+    if (m_recorder) m_recorder->record(b);
     StageTimer timer(stats, id);
     stats.stages[int(id)].raysIn += b.count;
     stats.raysTraced += b.count;

@@ -10,6 +10,8 @@
 
 namespace rayproc {
 
+class RayRecorder;
+
 class Intersector {
 public:
     // width: 1 selects single-ray rtcIntersect1 / rtcOccluded1; 4, 8, 16 select packets.
@@ -20,6 +22,7 @@ public:
 private:
     RTCScene m_scene;
     int m_width;
+    RayRecorder* m_recorder; // benchmarks only (engine/ray_recorder.h); null otherwise
 };
 
 bool isValidPacketWidth(int width);
