@@ -93,8 +93,8 @@ TEST_CASE("gi debug views photons, caustics and indirect differ from the render 
     CHECK(meanValue(photons) > meanValue(indirect));
 }
 
-TEST_CASE("gi's error log counts its pre-passes; --time-limit stops after the first pass past "
-          "the budget",
+TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after the first pass "
+          "past the budget",
           "[gi]") {
     auto scene = loadSceneAt("cornell-box", 32, 32);
     EmbreeScene accel(*scene);
