@@ -36,7 +36,8 @@ struct RenderArgs {
     // gi
     int photons = -1, causticPhotons = -1, gatherRays = 0;
     float icAccuracy = 0;
-    bool noCache = false, noCaustics = false, noPrecomputed = false;
+    bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
+    double timeLimit = 0;
     std::string debugView = "none";
     // profiling switches
     bool noSceneAnalysis = false, noStratification = false, noRoulette = false;
@@ -97,6 +98,7 @@ int runRender(const RenderArgs& a) {
     engine.quiet = a.quiet;
     engine.sceneAnalysis = !a.noSceneAnalysis;
     engine.stratification = !a.noStratification;
+    engine.timeLimitSeconds = a.timeLimit;
     ToneMapSettings tm;
     tm.exposure = a.exposure;
     tm.op = a.tonemap == "reinhard" ? ToneMap::Reinhard
@@ -152,6 +154,7 @@ int runRender(const RenderArgs& a) {
         s.caustics = !a.noCaustics;
         s.precomputedIrradiance = !a.noPrecomputed;
         s.roulette = !a.noRoulette;
+        s.icGradients = !a.noIcGradients;
         s.debugView = a.debugView == "photons"      ? GiDebugView::Photons
                       : a.debugView == "ic-records" ? GiDebugView::IcRecords
                       : a.debugView == "caustics"   ? GiDebugView::Caustics
@@ -171,6 +174,9 @@ int runRender(const RenderArgs& a) {
         result = renderRaytrace(*scene, accel, s, engine);
     }
 
+    if (result.timeLimitReached && !a.quiet)
+        std::fprintf(stderr, "rayproc: time limit of %g s reached after %d spp (%.2f s)\n",
+                     a.timeLimit, result.samplesDone, result.stats.wallSeconds);
     writeImage(output, result.image, tm);
     if (a.stats) std::fputs(result.stats.toTable().c_str(), stderr);
     if (!a.statsJson.empty()) writeTextAtomically(a.statsJson, result.stats.toJson() + "\n");
@@ -257,16 +263,29 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_flag("--no-russian-roulette", args->noRoulette,
                   "raytrace, path, gi: paths (and gi's photons) end only at the maximum depth "
                   "or at zero throughput");
+    cmd->add_flag("--no-ic-gradients", args->noIcGradients,
+                  "gi: interpolate cached irradiance without Ward & Heckbert's rotational and "
+                  "translational gradients");
     cmd->add_option("--debug-view", args->debugView,
-                    "gi: write one component instead of the image: photons (global map at "
-                    "first hits), ic-records, caustics, indirect")
+                    "gi: a diagnostic image instead of the render: photons (the global + caustic "
+                    "maps' radiance estimate at first diffuse hits, nothing else), ic-records "
+                    "(the render at 1/4 radiance with every cache record's projected position "
+                    "marked magenta, radiance (4, 0, 4)), caustics (caustic map only), indirect "
+                    "(irradiance cache / final gather only)")
         ->check(CLI::IsMember({"none", "photons", "ic-records", "caustics", "indirect"}));
     cmd->add_option("--reference", args->reference,
                     "Reference image (PNG/EXR/HDR/PFM, same size) for the convergence log")
         ->check(CLI::ExistingFile);
     cmd->add_option("--error-log", args->errorLog,
                     "With --reference: after each pass append 'spp,seconds,relmse,rmse' to this "
-                    "CSV file (seconds exclude the time spent measuring the error)");
+                    "CSV file (seconds count from the start of the mode's work, gi's photon "
+                    "tracing, precomputation and cache prepass included, and exclude the time "
+                    "spent measuring the error)");
+    cmd->add_option("--time-limit", args->timeLimit,
+                    "Stop after the first pass that ends past SECONDS (counted like the error "
+                    "log's, gi's pre-passes included); passes are then 1 spp and --spp is the "
+                    "upper bound (give a large one). The log reports the spp done")
+        ->check(CLI::PositiveNumber);
     cmd->add_flag("--quiet,-q", args->quiet, "No progress and no render log on stderr");
     cmd->add_flag("--stats", args->stats, "Print per-stage statistics on stderr at the end");
     cmd->add_option("--stats-json", args->statsJson, "Write the statistics as JSON to this file");

@@ -1,11 +1,13 @@
 #include "gi/gather_stage.h"
 
+#include "engine/material_bsdf.h"
 #include "engine/path_state.h"
 #include "gi/gi_context.h"
 #include "gi/irradiance_cache.h"
 #include "gi/photon_map.h"
 #include "kernels/sampling.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rayproc {
@@ -23,6 +25,8 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
     StageTimer timer(stats, StageId::Gather);
     const GiData& gi = *m_rc.gi;
     const GiSettings& s = gi.settings;
+    const int thetaCount = gi.gatherTheta, phiCount = gi.gatherPhi;
+    const int strata = thetaCount * phiCount;
     std::uint64_t spawned = 0;
     for (int k = 0; k < hits.count; ++k) {
         int i = hits.lane[k];
@@ -41,8 +45,21 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             continue;
         }
         bool prepass = gi.requests != nullptr;
+        if (s.debugView == GiDebugView::Photons) {
+            // The maps themselves at the first diffuse hit: the global map's estimate of all
+            // light reflected there (direct included) plus the caustic map's.
+            ++stats.globalLookups;
+            Vec3 e = gi.global && gi.global->size() > 0
+                         ? gi.global->irradiance(h.p, ns, s.globalK, gi.globalRadius)
+                         : Vec3(0.0f);
+            if (gi.caustic && gi.caustic->size() > 0)
+                e += gi.caustic->irradiance(h.p, ns, s.causticK, gi.causticRadius);
+            m_rc.film.add(b.pixel[i], reflect * e, stats);
+            continue;
+        }
         if (!prepass && s.caustics && gi.caustic && gi.caustic->size() > 0 &&
-            (s.debugView == GiDebugView::None || s.debugView == GiDebugView::Caustics)) {
+            (s.debugView == GiDebugView::None || s.debugView == GiDebugView::Caustics ||
+             s.debugView == GiDebugView::IcRecords)) {
             ++stats.causticLookups;
             Vec3 e = gi.caustic->irradiance(h.p, ns, s.causticK, gi.causticRadius);
             m_rc.film.add(b.pixel[i], reflect * e, stats);
@@ -60,36 +77,60 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         // A new final gather: for a cache record in the prepass, into the film otherwise.
         std::uint32_t target = b.pixel[i];
         std::uint8_t flags = 0;
-        Vec3 weight = w * mat.color / float(s.gatherRays); // cosine sampling: f cos / pdf = albedo
+        Vec3 weight = w * mat.color / float(strata); // cosine sampling: f cos / pdf = albedo
+        Vec3 tu, tv;
+        orthonormalBasis(ns, tu, tv);
+        IcRequest* request = nullptr;
         if (prepass) {
             std::uint32_t slot = gi.requests->used.fetch_add(1);
             if (slot >= gi.requests->slots.size()) continue; // more than the pass can hold
-            IcRequest& rq = *gi.requests->slots[slot];
+            request = gi.requests->slots[slot].get();
+            IcRequest& rq = *request;
             rq.key = (std::uint64_t(b.pixel[i]) << 32) ^ (b.rngKey[i] & 0xffffffffu);
             rq.position = h.p;
             rq.normal = ns;
+            rq.u = tu;
+            rq.v = tv;
+            if (gi.strataWanted) {
+                rq.strataRadiance.assign(std::size_t(strata), Vec3(0.0f));
+                rq.strataDistance.assign(std::size_t(strata), 0.0f);
+            }
             target = slot;
             flags = kFlagGatherRecord;
             weight = Vec3(1.0f);
         }
         std::uint64_t key = kernels::hashCombine(b.rngKey[i], 0x6a7e);
         Vec3 origin = offsetRayOrigin(h.p, ng, ns, m_rc.rayEpsilon);
-        for (int r = 0; r < s.gatherRays; ++r) {
-            Vec2 u = kernels::stratified2D(std::uint32_t(r),
-                                           m_rc.policy.stratify ? std::uint32_t(s.gatherRays) : 1u, key);
-            Vec3 wi = kernels::toWorld(kernels::cosineHemisphere(u), ns);
-            if (dot(wi, ng) <= 0) continue;
+        // Stratum (j, k): sin^2(theta) in [j/M, (j+1)/M), phi in [2 pi k/N, 2 pi (k+1)/N),
+        // one jittered ray each. sin^2(theta) uniform is the cosine-weighted density (Malley),
+        // so every ray carries albedo / (M N) and E = pi / (M N) sum L_jk (GatherStrata).
+        for (int r = 0; r < strata; ++r) {
+            int j = r / phiCount, kk = r % phiCount;
+            float u1 = kernels::uniform(key, 2 * std::uint32_t(r));
+            float u2 = kernels::uniform(key, 2 * std::uint32_t(r) + 1);
+            // --no-stratification: independent cosine-weighted rays (the cache then interpolates
+            // without gradients, which need the strata; see gi.cpp).
+            float s2 = m_rc.policy.stratify ? (float(j) + u1) / float(thetaCount) : u1;
+            float phi = 2.0f * kPi * (m_rc.policy.stratify ? (float(kk) + u2) / float(phiCount) : u2);
+            float sinT = std::sqrt(std::min(1.0f, s2)), cosT = std::sqrt(std::max(0.0f, 1.0f - s2));
+            Vec3 wi = normalize(tu * (sinT * std::cos(phi)) + tv * (sinT * std::sin(phi)) + ns * cosT);
+            if (dot(wi, ng) <= 0) {
+                // Below the geometric surface (shading normals): the stratum counts as dark,
+                // as it does in the film's gathers (weight albedo / (M N), no ray).
+                if (request) request->rays.fetch_add(1, std::memory_order_relaxed);
+                continue;
+            }
             RayBatch& out = ctx.out(RayKind::Gather);
-            int j = out.push(origin.x, origin.y, origin.z, wi.x, wi.y, wi.z, 0.0f, kInfinity);
-            out.pixel[j] = target;
-            out.sample[j] = b.sample[i];
-            out.wr[j] = weight.x; out.wg[j] = weight.y; out.wb[j] = weight.z;
-            out.rngKey[j] = kernels::hashCombine(key, std::uint64_t(r));
-            out.depth[j] = b.depth[i];
-            out.specularDepth[j] = 0;
-            out.flags[j] = flags;
-            out.prevPdf[j] = 0;
-            out.prevCos[j] = 0;
+            int jj = out.push(origin.x, origin.y, origin.z, wi.x, wi.y, wi.z, 0.0f, kInfinity);
+            out.pixel[jj] = target;
+            out.sample[jj] = prepass ? std::uint32_t(r) : b.sample[i]; // prepass: the stratum
+            out.wr[jj] = weight.x; out.wg[jj] = weight.y; out.wb[jj] = weight.z;
+            out.rngKey[jj] = kernels::hashCombine(key, std::uint64_t(r));
+            out.depth[jj] = b.depth[i];
+            out.specularDepth[jj] = 0;
+            out.flags[jj] = flags;
+            out.prevPdf[jj] = 0;
+            out.prevCos[jj] = 0;
             ++spawned;
         }
     }
@@ -101,36 +142,67 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
     StageTimer timer(stats, StageId::Gather);
     stats.stages[int(StageId::Gather)].raysIn += std::uint64_t(b.count);
     const GiData& gi = *m_rc.gi;
+    const int maxSpecular = std::max(0, gi.settings.maxDepth);
+    std::uint64_t spawned = 0;
     for (int i = 0; i < b.count; ++i) {
         Vec3 radiance(0.0f);
         float distance = kInfinity;
+        bool done = true;
         if (b.hit(i)) {
             Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
             SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
             distance = b.t[i];
             const Material& mat = m_rc.scene.materials[h.material];
-            // Emitters are light sampled at the gather's origin; specular surfaces reflect
-            // what the caustic map and the direct light already account for.
+            // Emitters are light sampled at the gather's origin, and light reaching it through
+            // specular surfaces straight from an emitter is the caustic map's: neither is
+            // added here. At a diffuse (or glossy, taken as diffuse) surface the global map
+            // gives the reflected radiance; a mirror or glass surface continues the ray
+            // specularly (one Fresnel-chosen branch, as path mode does) until it reaches one,
+            // so light along L ... D S+ D paths is not lost.
             if (mat.type == MaterialType::Diffuse || mat.type == MaterialType::Glossy) {
                 Vec3 ng, ns;
                 facingNormals(h, -d, ng, ns);
                 ++stats.globalLookups;
                 radiance = mat.color * kInvPi * globalIrradiance(h.p, ns);
+            } else if (b.specularDepth[i] < maxSpecular) {
+                kernels::BsdfParams bsdf = bsdfOf(mat);
+                Vec2 u{kernels::uniform(b.rngKey[i], 40), kernels::uniform(b.rngKey[i], 41)};
+                kernels::BsdfSample smp =
+                    kernels::sampleBsdf(bsdf, -d, h.ng, h.ns, u, kernels::uniform(b.rngKey[i], 42));
+                Vec3 next = laneThroughput(b, i) * smp.weight;
+                if (smp.valid && !isBlack(next) && isFinite(next)) {
+                    Vec3 no = offsetRayOrigin(h.p, h.ng, smp.wi, m_rc.rayEpsilon);
+                    spawnRay(ctx.out(RayKind::Gather), b, i, no, smp.wi, next, b.depth[i],
+                             std::uint8_t(b.specularDepth[i] + 1), b.flags[i], 7);
+                    ++spawned;
+                    done = false;
+                }
             }
         }
+        bool firstSegment = b.specularDepth[i] == 0;
         if (b.flags[i] & kFlagGatherRecord) {
             IcRequest& rq = *gi.requests->slots[b.pixel[i]];
-            for (int c = 0; c < 3; ++c)
-                rq.radiance[c].fetch_add(std::llround(double(radiance[c]) * IcRequests::kScale),
-                                         std::memory_order_relaxed);
-            if (std::isfinite(distance) && distance > 0)
-                rq.inverseDistance.fetch_add(std::llround(IcRequests::kScale / double(distance)),
+            std::uint32_t stratum = b.sample[i];
+            if (firstSegment) {
+                // Ward's R_i: the harmonic mean of the first hits' distances.
+                if (std::isfinite(distance) && distance > 0)
+                    rq.inverseDistance.fetch_add(std::llround(IcRequests::kScale / double(distance)),
+                                                 std::memory_order_relaxed);
+                if (stratum < rq.strataDistance.size()) rq.strataDistance[stratum] = distance;
+            }
+            if (done) {
+                Vec3 l = laneThroughput(b, i) * radiance;
+                for (int c = 0; c < 3; ++c)
+                    rq.radiance[c].fetch_add(std::llround(double(l[c]) * IcRequests::kScale),
                                              std::memory_order_relaxed);
-            rq.rays.fetch_add(1, std::memory_order_relaxed);
-        } else {
+                if (stratum < rq.strataRadiance.size()) rq.strataRadiance[stratum] = l;
+                rq.rays.fetch_add(1, std::memory_order_relaxed);
+            }
+        } else if (done) {
             m_rc.film.add(b.pixel[i], laneThroughput(b, i) * radiance, stats);
         }
     }
+    stats.stages[int(StageId::Gather)].raysOut += spawned;
 }
 
 } // namespace rayproc

@@ -2,13 +2,19 @@
 // Spawning side, at a diffuse hit reached from the camera through specular surfaces only:
 //  - caustics: the caustic photon map's radiance estimate, added directly;
 //  - indirect diffuse: Ward's irradiance cache when a usable record exists, else a final
-//    gather: `gatherRays` cosine-weighted rays, one per stratum of a jittered grid over the
-//    square that maps to the hemisphere with equal cosine-weighted solid angle per cell.
-//  In the cache's prepass it only creates records (the gather rays then sum into them).
+//    gather: M x N ~ `gatherRays` cosine-weighted rays, one jittered ray per stratum
+//    sin^2(theta) in [j/M, (j+1)/M), phi in [2 pi k/N, 2 pi (k+1)/N) (equal cosine-weighted
+//    solid angle each; the layout Ward & Heckbert's gradients read, GatherStrata).
+//  In the cache's prepass it only creates records (the gather rays then sum into them, and
+//  with gradients also write their stratum's radiance and first-hit distance).
 //  At a diffuse hit reached through a glossy bounce it adds the global map's estimate of all
 //  reflected light (no final gather there, and no shadow rays: the map holds direct light).
 // Retrace side: each gather ray's hit reads the global photon map (no second gather): the
 // reflected radiance albedo/pi * E, with E the precomputed (Christensen) or full estimate.
+// At a mirror or glass surface the gather ray continues specularly (one branch, chosen with
+// the Fresnel probability; at most maxDepth specular bounces) until it reaches a diffuse
+// surface, so light along L ... D S+ D paths is kept; emission reached that way is the caustic
+// map's (L S+ D at the gather's origin) and is not added.
 #pragma once
 
 #include "engine/hit_list.h"

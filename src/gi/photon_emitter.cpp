@@ -20,8 +20,9 @@ Vec3 emittedPower(const LightSource& l, float r) {
 } // namespace
 
 PhotonEmitter::PhotonEmitter(const LightSet& lights, const Bounds3& bounds, std::uint32_t count,
-                             std::uint64_t seed, std::uint64_t tag)
-    : m_lights(lights), m_count(count), m_key(kernels::hashCombine(kernels::mix64(seed), tag)) {
+                             std::uint64_t seed, std::uint64_t tag, float rayEpsilon)
+    : m_lights(lights), m_count(count), m_key(kernels::hashCombine(kernels::mix64(seed), tag)),
+      m_rayEpsilon(rayEpsilon) {
     m_center = bounds.empty() ? Vec3(0.0f) : bounds.center();
     m_radius = bounds.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(bounds.diagonal()));
     float total = 0;
@@ -56,11 +57,14 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
         Vec3 offset = kernels::toWorld({d.x * m_radius, d.y * m_radius, 0}, dir);
         return m_center - dir * (2 * m_radius) + offset;
     };
-    // Lambertian emitters: cosine-weighted directions carry the flux exactly.
+    // Lambertian emitters: cosine-weighted directions carry the flux exactly. The photon
+    // starts off the surface on the side it leaves, like every spawned ray: from the surface
+    // point itself it could hit its own emitter at t ~ 0 and be stored there (an inward
+    // emitting sphere then kept a share of its photons at the emission points).
     auto lambertian = [&](const Vec3& p, Vec3 n, bool twoSided) {
         if (twoSided && uPick.y < 0.5f) n = -n;
-        e.origin = p;
         e.direction = kernels::toWorld(kernels::cosineHemisphere(uDir), n);
+        e.origin = offsetRayOrigin(p, n, e.direction, m_rayEpsilon);
         e.power = share;
         e.valid = true;
     };

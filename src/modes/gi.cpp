@@ -64,7 +64,8 @@ std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& ac
     RayProcessor processor(intersector, stats, engine.threads);
     PhotonStage stage(rc, caustic, s.maxPhotonDepth);
     processor.setStage(RayKind::Photon, &stage);
-    PhotonEmitter emitter(lights, scene.worldBounds(), count, engine.seed, caustic ? 2 : 1);
+    PhotonEmitter emitter(lights, scene.worldBounds(), count, engine.seed, caustic ? 2 : 1,
+                          rc.rayEpsilon);
     processor.run(emitter, [] { return false; });
     return stage.takePhotons();
 }
@@ -136,6 +137,17 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
             double inv = double(r->inverseDistance.load()) / IcRequests::kScale;
             float harmonic = inv > 0 ? float(rays / inv) : gi.icMaxRadius;
             rec.radius = std::clamp(harmonic, gi.icMinRadius, gi.icMaxRadius);
+            if (gi.strataWanted &&
+                r->strataRadiance.size() == std::size_t(gi.gatherTheta) * std::size_t(gi.gatherPhi)) {
+                // Ward & Heckbert's gradients from the same strata (the irradiance above is
+                // pi / (M N) times their sum).
+                GatherStrata strata;
+                strata.thetaCount = gi.gatherTheta;
+                strata.phiCount = gi.gatherPhi;
+                strata.radiance = r->strataRadiance;
+                strata.distance = r->strataDistance;
+                IrradianceCache::estimateGradients(strata, r->u, r->v, r->normal, rec.gradT, rec.gradR);
+            }
             records.push_back(rec);
         }
         cache.insert(records);
@@ -145,14 +157,46 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
     return inserted;
 }
 
+// The ic-records debug view: the render dimmed to a quarter, and every cache record's position
+// projected through the (pinhole) camera marked with kIcRecordMarker at its pixel (records are
+// points the camera's rays reached, so nearly all project into the image; occlusion is not
+// tested). Returns the number of marked pixels (several records may share one).
+std::size_t markIcRecords(Image& image, const Camera& cam, const IrradianceCache& cache) {
+    for (float& v : image.pixels) v *= 0.25f;
+    kernels::CameraFrame f = cameraFrame(cam);
+    std::size_t marked = 0;
+    for (const IrradianceRecord& rec : cache.records()) {
+        Vec3 d = rec.position - f.origin;
+        float z = dot(d, f.forward);
+        if (!(z > 0)) continue;
+        float sx = dot(d, f.right) / (z * f.tanHalfFovY * f.aspect);
+        float sy = dot(d, f.up) / (z * f.tanHalfFovY);
+        float fx = 0.5f * (sx + 1.0f) * float(image.width);
+        float fy = 0.5f * (1.0f - sy) * float(image.height);
+        if (!(fx >= 0 && fy >= 0 && fx < float(image.width) && fy < float(image.height))) continue;
+        float* px = image.at(int(fx), int(fy));
+        if (px[0] == kIcRecordMarker.x && px[1] == kIcRecordMarker.y && px[2] == kIcRecordMarker.z)
+            continue;
+        px[0] = kIcRecordMarker.x;
+        px[1] = kIcRecordMarker.y;
+        px[2] = kIcRecordMarker.z;
+        ++marked;
+    }
+    return marked;
+}
+
 } // namespace
 
 std::string GiSettings::toString() const {
+    int thetaCount = 1, phiCount = 1;
+    gatherStrata(gatherRays, thetaCount, phiCount);
     std::ostringstream o;
     o << "mode=gi spp=" << spp << " max_depth=" << maxDepth << " light_samples=" << lightSamples
       << " photons=" << photons << " caustic_photons=" << causticPhotons
       << " global_k=" << globalK << " caustic_k=" << causticK << " gather_rays=" << gatherRays
+      << " gather_strata=" << thetaCount << "x" << phiCount
       << " ic_accuracy=" << icAccuracy << " irradiance_cache=" << (irradianceCache ? "on" : "off")
+      << " ic_gradients=" << (icGradients ? "on" : "off")
       << " caustics=" << (caustics ? "on" : "off")
       << " precomputed_irradiance=" << (precomputedIrradiance ? "on" : "off")
       << " roulette=" << (roulette ? "on" : "off")
@@ -161,7 +205,11 @@ std::string GiSettings::toString() const {
 }
 
 RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSettings& s,
-                      const EngineSettings& engine) {
+                      const EngineSettings& engineIn) {
+    // The mode's clock starts here: the error log's seconds and --time-limit count the
+    // photon passes, the precomputation and the cache's prepass too.
+    EngineSettings engine = engineIn;
+    if (!engine.workStart) engine.workStart = Clock::now();
     // Scene analysis: maps, cache and stages the scene cannot use are skipped.
     LightSet all = LightSet::build(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanGi);
@@ -169,6 +217,9 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     LightSet lights = plan.sampledLights(all);
     GiData gi;
     gi.settings = s;
+    gatherStrata(s.gatherRays, gi.gatherTheta, gi.gatherPhi);
+    // Gradients need the strata layout: independent gather rays (--no-stratification) have none.
+    gi.strataWanted = s.irradianceCache && s.icGradients && engine.stratification;
     float diag = std::max(1e-6f, length(scene.worldBounds().diagonal()));
     gi.globalRadius = s.globalRadius > 0 ? s.globalRadius : 0.05f * diag;
     gi.causticRadius = s.causticRadius > 0 ? s.causticRadius : 0.02f * diag;
@@ -180,9 +231,12 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     Stats photonStats;
     auto t0 = Clock::now();
     PhotonMap global, caustic;
-    if (s.photons > 0 && plan.globalMap) global.build(tracePhotons(scene, accel, lights, s, engine, false, std::uint32_t(s.photons), photonStats));
+    if (s.photons > 0 && plan.globalMap)
+        global.build(tracePhotons(scene, accel, lights, s, engine, false, std::uint32_t(s.photons),
+                                  photonStats));
     if (s.caustics && s.causticPhotons > 0 && plan.causticMap)
-        caustic.build(tracePhotons(scene, accel, lights, s, engine, true, std::uint32_t(s.causticPhotons), photonStats));
+        caustic.build(tracePhotons(scene, accel, lights, s, engine, true,
+                                   std::uint32_t(s.causticPhotons), photonStats));
     double photonSeconds = secondsSince(t0);
     auto t1 = Clock::now();
     if (s.precomputedIrradiance && global.size() > 0)
@@ -199,6 +253,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     // Cache prepass.
     IrradianceCacheSettings cs;
     cs.accuracy = s.icAccuracy;
+    cs.useGradients = s.icGradients;
     IrradianceCache cache(scene.worldBounds(), cs);
     Stats cacheStats;
     auto t2 = Clock::now();
@@ -215,7 +270,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     ShadingPolicy policy;
     policy.maxDepth = s.maxDepth;
     policy.lightSamples = s.lightSamples;
-    policy.directLight = s.debugView == GiDebugView::None;
+    policy.directLight = s.debugView == GiDebugView::None || s.debugView == GiDebugView::IcRecords;
     policy.rouletteEnabled = s.roulette;
     policy.stratify = engine.stratification;
     plan.apply(policy);
@@ -229,7 +284,10 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     double gatherSeconds = t.stages[int(StageId::Gather)].seconds;
     extras.push_back({"gi/lookups_per_second",
                       gatherSeconds > 0 ? double(t.cacheLookups + t.causticLookups + t.globalLookups) / gatherSeconds : 0.0});
-    r.stats.wallSeconds += photonSeconds + precomputeSeconds + cacheSeconds;
+    if (s.debugView == GiDebugView::IcRecords) {
+        extras.push_back({"gi/ic_marked_pixels", double(markIcRecords(r.image, scene.camera, cache))});
+    }
+    // runRenderJob measured its wall time from engine.workStart: the pre-passes are in it.
     r.stats.totals.raysTraced += photonStats.merged().raysTraced + cacheTotals.raysTraced;
     r.stats.extras = extras;
     return r;

@@ -36,7 +36,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
                           const EngineSettings& engine, RadianceStage radiance,
                           const GiData* gi) {
-    auto start = std::chrono::steady_clock::now();
+    auto start = engine.workStart ? *engine.workStart : std::chrono::steady_clock::now();
     Film film(scene.camera.width, scene.camera.height);
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
     rc.gi = gi;
@@ -71,7 +71,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
 
     // Passes of a few samples per pixel: the film commits between passes, which is where
     // progressive output is written and where a cancel leaves a consistent image.
-    int passSpp = std::clamp(spp / 32, 1, 16);
+    int passSpp = engine.timeLimitSeconds > 0 ? 1 : std::clamp(spp / 32, 1, 16);
     int passes = (spp + passSpp - 1) / passSpp;
     std::atomic<int> passIndex{0};
     std::atomic<std::uint64_t> unitsBefore{0};
@@ -97,6 +97,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         film.commitPass();
         passIndex = pass + 1;
         ++result.passesDone;
+        result.samplesDone = first + count;
         auto now = std::chrono::steady_clock::now();
         if (errorLog) {
             // The log's clock stops while the error is measured.
@@ -106,6 +107,12 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
                          m.rmse);
             std::fflush(errorLog.get());
             start += std::chrono::steady_clock::now() - now;
+        }
+        if (engine.timeLimitSeconds > 0 && pass + 1 < passes &&
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >=
+                engine.timeLimitSeconds) {
+            result.timeLimitReached = true;
+            break;
         }
         if (engine.onProgress && pass + 1 < passes &&
             std::chrono::duration<double>(now - lastProgressive).count() >= engine.progressiveSeconds) {

@@ -10,8 +10,10 @@
 #include "lighting/light_set.h"
 #include "scene/scene.h"
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace rayproc {
@@ -36,6 +38,13 @@ struct EngineSettings {
     // are appended to `errorLogPath` as CSV (spp,seconds,relmse,rmse).
     const Image* reference = nullptr;
     std::string errorLogPath;
+    // When the mode's work started (gi sets it before its photon pass): the error log's
+    // seconds, the time limit and the reported wall time count from here. Unset: from the
+    // start of the render passes.
+    std::optional<std::chrono::steady_clock::time_point> workStart;
+    // > 0: stop after the first pass that ends past this many seconds (from workStart, the
+    // error log's measuring excluded). Passes are then 1 spp, so the budget is kept closely.
+    double timeLimitSeconds = 0;
     std::string toString() const;
 };
 
@@ -48,6 +57,8 @@ struct RenderResult {
     RenderStats stats;
     bool cancelled = false;
     int passesDone = 0;
+    int samplesDone = 0;          // samples per pixel rendered (fewer than asked under a time limit)
+    bool timeLimitReached = false;
 };
 
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,

@@ -30,6 +30,24 @@ inline Image renderMode(const Scene& scene, const EmbreeScene& accel, const std:
     return render(scene, accel, o).image;
 }
 
+// gi mode at its defaults (photon counts, gather rays, cache) with `spp` and a fixed seed.
+inline RenderResult renderGiMode(const Scene& scene, const EmbreeScene& accel, int spp,
+                                 std::uint64_t seed = 1,
+                                 GiDebugView view = GiDebugView::None) {
+    EngineSettings engine;
+    engine.threads = 2;
+    engine.seed = seed;
+    engine.quiet = true;
+    GiSettings s = giSettings(scene.render, ModeOverrides{spp, 0, 0});
+    s.debugView = view;
+    return renderGi(scene, accel, s, engine);
+}
+
+// gi's tolerance in the analytic tests: photon density estimation is biased (the disc's
+// curvature, the cone filter's O(1/k), RGBE rounding, the cache's interpolation); measured
+// figures are in docs/testing.md.
+constexpr double kGiTolerance = 0.02;
+
 // Checks, per channel, that the mean radiance over the image (or the pixel rectangle) is within
 // `relTol` of `expected`, and that the check is meaningful: the standard error of the mean
 // (from the per-pixel spread) is below a quarter of the tolerance, so a 1% bias cannot hide

@@ -49,6 +49,12 @@ TEST_CASE("Inside-out furnace: Le / (1 - a) with GI, Le (1 + a) without", "[anal
         direct[c] = le[c] * (1.0f + albedo[c]);
     }
     SECTION("path") { checkMeanRadiance(renderMode(*scene, accel, "path", 256), gi, 0.01, "path"); }
+    SECTION("gi") {
+        // Direct light (Le (1 + a)) by shadow rays; the rest, a^2 Le / (1 - a), from the
+        // cache's final gathers reading the global map. The photons leave the sphere from an
+        // offset origin (a photon starting on the surface could be stored at t ~ 0).
+        checkMeanRadiance(renderGiMode(*scene, accel, 4).image, gi, kGiTolerance, "gi");
+    }
     SECTION("raytrace") {
         checkMeanRadiance(renderMode(*scene, accel, "raytrace", 4), direct, 0.01, "raytrace");
     }
@@ -73,6 +79,14 @@ TEST_CASE("Point light at the centre of a sphere: a/pi I/r^2, over (1 - a) with 
         gi[c] = direct[c] / (1.0f - albedo[c]);
     }
     SECTION("path") { checkMeanRadiance(renderMode(*scene, accel, "path", 256), gi, 0.01, "path"); }
+    SECTION("gi") {
+        checkMeanRadiance(renderGiMode(*scene, accel, 1).image, gi, kGiTolerance, "gi");
+    }
+    SECTION("gi debug view: photons") {
+        // The global map alone at the first hit holds every bounce: L1 / (1 - a) too.
+        checkMeanRadiance(renderGiMode(*scene, accel, 16, 1, GiDebugView::Photons).image, gi,
+                          kGiTolerance, "gi photons view");
+    }
     SECTION("raytrace") {
         checkMeanRadiance(renderMode(*scene, accel, "raytrace", 1), direct, 1e-4, "raytrace");
     }

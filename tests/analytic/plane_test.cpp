@@ -56,6 +56,11 @@ TEST_CASE("Diffuse plane under a constant sky: a * L", "[analytic]") {
     // sum is exact; raytrace's cosine-weighted sky samples are exact; preview's ambient term
     // is a * L by definition.
     SECTION("path") { checkMeanRadiance(renderMode(*scene, accel, "path", 4), expected, 0.01, "path"); }
+    SECTION("gi") {
+        // Direct sky light by shadow rays; nothing else reaches an infinite plane (photons
+        // from the sky land on it, but the gather rays all escape).
+        checkMeanRadiance(renderGiMode(*scene, accel, 4).image, expected, kGiTolerance, "gi");
+    }
     SECTION("raytrace") {
         checkMeanRadiance(renderMode(*scene, accel, "raytrace", 4), expected, 0.01, "raytrace");
     }
