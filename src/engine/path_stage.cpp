@@ -75,14 +75,14 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             std::size_t pick = std::min(std::size_t(up * float(choices)), choices - 1);
             Vec2 u = sample2D(b, i, kDimLight, policy.sppTotal, m_rc.seed);
             Vec3 wi;
-            float lightPdf = 0, distance = kInfinity;
+            float lightPdf = 0;
             Vec3 li;
             bool deltaLight = false;
+            LightSample ls;
             if (pick < lights.lights.size()) {
-                LightSample ls = lights.lights[pick].sample(h.p, u);
+                ls = lights.lights[pick].sample(h.p, u);
                 if (ls.valid) {
                     wi = ls.wi;
-                    distance = ls.distance;
                     lightPdf = ls.pdf;
                     deltaLight = lights.lights[pick].delta();
                     li = ls.weight; // radiance / pdf, or irradiance for delta lights
@@ -98,8 +98,8 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                 float mis = deltaLight ? 1.0f : kernels::powerHeuristic(pickPdf * lightPdf, bsdfPdf);
                 Vec3 c = w * f * li * (mis / pickPdf);
                 if (!isBlack(c)) {
-                    spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h.p, fg, wi, distance, c,
-                                   m_rc.rayEpsilon);
+                    spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h, fg, wi,
+                                   ls.valid ? &ls : nullptr, c);
                     ++shadowOut;
                 }
             }
@@ -118,7 +118,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             if (kernels::uniform(b.rngKey[i], kDimRr) >= q) continue;
             wn = wn / q;
         }
-        Vec3 no = offsetRayOrigin(h.p, h.ng, bs.wi, m_rc.rayEpsilon);
+        Vec3 no = offsetRayOrigin(h, h.ng, bs.wi);
         RayKind kind = bs.transmitted ? RayKind::Refraction : RayKind::Reflection;
         RayBatch& out = ctx.out(kind);
         spawnRay(out, b, i, no, bs.wi, wn, std::uint8_t(std::min(depth, 255)),

@@ -73,7 +73,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             weight = Vec3(1.0f);
         }
         std::uint64_t key = kernels::hashCombine(b.rngKey[i], 0x6a7e);
-        Vec3 origin = offsetRayOrigin(h.p, ng, ns, m_rc.rayEpsilon);
+        Vec3 origin = offsetRayOrigin(h, ng, ns);
         for (int r = 0; r < s.gatherRays; ++r) {
             Vec2 u = kernels::stratified2D(std::uint32_t(r), std::uint32_t(s.gatherRays), key);
             Vec3 wi = kernels::toWorld(kernels::cosineHemisphere(u), ns);
