@@ -114,7 +114,10 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
         int depth = b.depth[i] + 1;
         if (depth > policy.maxDepth || !(maxComponent(wn) > 0)) continue;
         if (policy.rouletteEnabled && depth > policy.rrStartDepth) {
-            float q = std::min(0.95f, maxComponent(wn));
+            // Survival = the throughput itself (at most 1): survivors' weights come back to
+            // ~1 and stay bounded. A cap below 1 (it was 0.95) let them grow by a/0.95 per
+            // bounce where the albedo a > 0.95 (tests/stress/degenerate_test.cpp, [energy]).
+            float q = std::min(1.0f, maxComponent(wn));
             if (kernels::uniform(b.rngKey[i], kDimRr) >= q) continue;
             wn = wn / q;
         }
