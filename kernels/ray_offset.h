@@ -11,6 +11,8 @@
 #include "core/math.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace rayproc::kernels {
 
@@ -25,6 +27,28 @@ constexpr float errorGamma(int n) {
 // its triangle, sphere and disk tests compute the hit distance from (vertex - origin) and the
 // normal of the primitive with errors of a few ulps of those magnitudes (docs/robustness.md).
 constexpr int kEmbreeTestOps = 8;
+
+// The next float above / below v (pbrt's NextFloatUp / Down), by integer arithmetic on the bit
+// pattern: std::nextafter is an out-of-line libm call, and six per shadow ray showed in the
+// benchmarks. Infinities stay; -0 and +0 step to the smallest denormal.
+inline float nextFloatUp(float v) {
+    if (std::isinf(v) && v > 0) return v;
+    if (v == -0.0f) v = 0.0f;
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    bits = v >= 0 ? bits + 1 : bits - 1;
+    std::memcpy(&v, &bits, sizeof bits);
+    return v;
+}
+inline float nextFloatDown(float v) {
+    if (std::isinf(v) && v < 0) return v;
+    if (v == 0.0f) v = -0.0f;
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    bits = v > 0 ? bits - 1 : bits + 1;
+    std::memcpy(&v, &bits, sizeof bits);
+    return v;
+}
 
 inline Vec3 absVec(const Vec3& a) { return {std::abs(a.x), std::abs(a.y), std::abs(a.z)}; }
 
@@ -76,8 +100,8 @@ inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& err, const Vec3& n, const
     if (dot(dir, n) < 0) offset = -offset;
     Vec3 po = p + offset;
     for (int i = 0; i < 3; ++i) {
-        if (offset[i] > 0) po[i] = std::nextafter(po[i], kInfinity);
-        else if (offset[i] < 0) po[i] = std::nextafter(po[i], -kInfinity);
+        if (offset[i] > 0) po[i] = nextFloatUp(po[i]);
+        else if (offset[i] < 0) po[i] = nextFloatDown(po[i]);
     }
     return po;
 }
