@@ -142,7 +142,7 @@ inline RaySet makeIncoherentRays(const EmbreeScene& accel, const Camera& cam) {
         std::uint64_t key = kernels::pathKey(2, std::uint32_t(p), std::uint32_t(k / pixels));
         Vec3 wi = kernels::toWorld(kernels::uniformCone({kernels::uniform(key, 0),
                                                          kernels::uniform(key, 1)}, 0.0f), n);
-        rays.push(offsetRayOrigin(h.p, n, wi, 1e-4f), wi);
+        rays.push(offsetRayOrigin(h, n, wi), wi);
     }
     return rays;
 }

@@ -79,9 +79,9 @@ inline BsdfSample sampleBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& ng
         s.wi = reflect(wo, h);
         if (dot(s.wi, fg) <= 0) return s;
         s.pdf = glossyPdf(wo, s.wi, fs, b.alpha);
-        if (!(s.pdf > 0)) return s;
+        if (!(s.pdf > 0) || !std::isfinite(s.pdf)) return s;
         s.weight = glossyEvalCos(wo, s.wi, fs, b.color, b.alpha) / s.pdf;
-        s.valid = true;
+        s.valid = isFinite(s.weight);
         return s;
     }
     case BsdfKind::Mirror: {
@@ -124,9 +124,14 @@ inline BsdfSample sampleBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& ng
 }
 
 // Veach's power heuristic with beta = 2.
+// Written as 1 / (1 + (pb/pa)^2) so that huge pdfs (a near-delta glossy lobe) cannot overflow
+// the squares into inf / inf = NaN.
 inline float powerHeuristic(float pa, float pb) {
-    float a = pa * pa, b = pb * pb;
-    return a + b > 0 ? a / (a + b) : 0.0f;
+    if (!(pa > 0)) return 0.0f;
+    if (!(pb > 0) || std::isinf(pa)) return std::isinf(pb) ? 0.5f : 1.0f;
+    if (std::isinf(pb)) return 0.0f;
+    float r = pb / pa;
+    return 1.0f / (1.0f + r * r);
 }
 
 } // namespace rayproc::kernels

@@ -1,6 +1,7 @@
 #include "accel/embree_scene.h"
 
 #include "core/error.h"
+#include "kernels/ray_offset.h"
 
 #include <atomic>
 #include <chrono>
@@ -21,6 +22,16 @@ void embreeError(void*, RTCError code, const char* str) {
     // Embree reports API misuse and allocation failures here; both are fatal for a render.
     throw std::runtime_error(std::string("Embree error ") + std::to_string(int(code)) + ": " +
                              (str ? str : ""));
+}
+
+// A unit vector along n that survives tiny and huge lengths (a needle triangle's cross product
+// can be 1e-30, whose squared length underflows): scaled by its largest component first.
+// Zero or non-finite input gives zero.
+Vec3 robustNormalize(const Vec3& n) {
+    if (!isFinite(n)) return Vec3(0.0f);
+    float m = maxComponent(kernels::absVec(n));
+    if (!(m > 0) || !std::isfinite(m)) return Vec3(0.0f);
+    return normalize(n / m);
 }
 
 } // namespace
@@ -210,7 +221,7 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
     }
     const Shape& s = *h.shape;
     h.material = s.material;
-    Vec3 pl, ngl, nsl;
+    Vec3 pl, ngl, nsl, errl;
     switch (s.type) {
     case ShapeType::Mesh: {
         const TriangleMesh& m = *s.mesh;
@@ -218,8 +229,9 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
                  i2 = m.indices[3 * primId + 2];
         const Vec3 &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
         float w = 1.0f - u - v;
-        // The point from barycentrics is more accurate than o + t d far from the origin.
-        pl = p0 * w + p1 * u + p2 * v;
+        // The point from barycentrics is more accurate than o + t d far from the origin, and
+        // its error bound is known (kernels/ray_offset.h).
+        pl = kernels::trianglePoint(p0, p1, p2, u, v, errl);
         ngl = cross(p1 - p0, p2 - p0);
         nsl = m.normals.empty() ? ngl
                                 : m.normals[i0] * w + m.normals[i1] * u + m.normals[i2] * v;
@@ -248,7 +260,8 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
         Vec3 p{float(ocx + tl * dl.x), float(ocy + tl * dl.y), float(ocz + tl * dl.z)};
         ngl = p;
         // Re-project onto the surface: removes what error remains along the normal.
-        pl = s.center + normalize(ngl) * s.radius;
+        pl = s.center + robustNormalize(ngl) * s.radius;
+        errl = kernels::roundSurfaceError(pl, s.center, s.radius);
         nsl = ngl;
         h.uv = {u, v};
         break;
@@ -258,6 +271,7 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
         Vec3 p = toLocal ? toLocal->point(pw) : pw;
         ngl = s.normal;
         pl = p - ngl * (dot(p - s.center, ngl) / dot(ngl, ngl));
+        errl = kernels::roundSurfaceError(pl, s.center, s.radius);
         nsl = ngl;
         h.uv = {u, v};
         break;
@@ -265,15 +279,23 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
     }
     if (toWorld) {
         h.p = toWorld->point(pl);
-        h.ng = normalize(toLocal->normalByInverse(ngl));
-        h.ns = normalize(toLocal->normalByInverse(nsl));
+        h.pError = kernels::transformedPointError(*toWorld, pl, errl);
+        h.ng = robustNormalize(toLocal->normalByInverse(ngl));
+        h.ns = robustNormalize(toLocal->normalByInverse(nsl));
         // The inverse transpose keeps the front side the side the winding named in the
         // shape's own space, also under mirroring transforms (as pbrt's handedness flip does).
     } else {
         h.p = pl;
-        h.ng = normalize(ngl);
-        h.ns = normalize(nsl);
+        h.pError = errl;
+        h.ng = robustNormalize(ngl);
+        h.ns = robustNormalize(nsl);
     }
+    // Degenerate input never yields a zero or NaN normal: a triangle without area (Embree can
+    // still report a hit on a needle whose cross product underflows) faces the ray, and a zero,
+    // missing or non-finite shading normal falls back to the geometric one.
+    if (isBlack(h.ng)) h.ng = robustNormalize(-rayDir);
+    if (isBlack(h.ng)) h.ng = {0, 1, 0};
+    if (isBlack(h.ns)) h.ns = h.ng;
     if (dot(h.ns, h.ng) < 0) h.ns = -h.ns;
     return h;
 }

@@ -41,6 +41,7 @@ struct EmitterRecord {
 // What an intersection is, in world space.
 struct SurfaceHit {
     Vec3 p;        // world-space hit point
+    Vec3 pError;   // per-component bound on |p - true surface point| (kernels/ray_offset.h)
     Vec3 ng;       // unit geometric normal (front side by the shape's winding/outward rule)
     Vec3 ns;       // unit shading normal, on the same side as ng
     Vec2 uv;

@@ -76,14 +76,14 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             std::size_t pick = std::min(std::size_t(up * float(choices)), choices - 1);
             Vec2 u = sample2D(b, i, kDimLight, strata, m_rc.seed);
             Vec3 wi;
-            float lightPdf = 0, distance = kInfinity;
+            float lightPdf = 0;
             Vec3 li;
             bool deltaLight = false;
+            LightSample ls;
             if (pick < lights.lights.size()) {
-                LightSample ls = lights.lights[pick].sample(h.p, u);
+                ls = lights.lights[pick].sample(h.p, u);
                 if (ls.valid) {
                     wi = ls.wi;
-                    distance = ls.distance;
                     lightPdf = ls.pdf;
                     deltaLight = lights.lights[pick].delta();
                     li = ls.weight; // radiance / pdf, or irradiance for delta lights
@@ -99,8 +99,8 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                 float mis = deltaLight ? 1.0f : kernels::powerHeuristic(pickPdf * lightPdf, bsdfPdf);
                 Vec3 c = w * f * li * (mis / pickPdf);
                 if (!isBlack(c)) {
-                    spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h.p, fg, wi, distance, c,
-                                   m_rc.rayEpsilon);
+                    spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h, fg, wi,
+                                   ls.valid ? &ls : nullptr, c);
                     ++shadowOut;
                 }
             }
@@ -115,11 +115,14 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
         int depth = b.depth[i] + 1;
         if (depth > policy.maxDepth || !(maxComponent(wn) > 0)) continue;
         if (policy.rouletteEnabled && depth > policy.rrStartDepth) {
-            float q = std::min(0.95f, maxComponent(wn));
+            // Survival = the throughput itself (at most 1): survivors' weights come back to
+            // ~1 and stay bounded. A cap below 1 (it was 0.95) let them grow by a/0.95 per
+            // bounce where the albedo a > 0.95 (tests/stress/degenerate_test.cpp, [energy]).
+            float q = std::min(1.0f, maxComponent(wn));
             if (kernels::uniform(b.rngKey[i], kDimRr) >= q) continue;
             wn = wn / q;
         }
-        Vec3 no = offsetRayOrigin(h.p, h.ng, bs.wi, m_rc.rayEpsilon);
+        Vec3 no = offsetRayOrigin(h, h.ng, bs.wi);
         RayKind kind = bs.transmitted ? RayKind::Refraction : RayKind::Reflection;
         RayBatch& out = ctx.out(kind);
         spawnRay(out, b, i, no, bs.wi, wn, std::uint8_t(std::min(depth, 255)),

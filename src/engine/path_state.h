@@ -60,16 +60,21 @@ inline void spawnRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& o
     out.flags[j] = flags;
 }
 
-// Writes an occlusion ray from surface point p towards a light sample at `distance` along wi
-// (infinity for directional lights and the sky), carrying its unoccluded contribution.
-inline void spawnShadowRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& p,
-                           const Vec3& ng, const Vec3& wi, float distance, const Vec3& contribution,
-                           float eps) {
-    Vec3 o = offsetRayOrigin(p, ng, wi, eps);
-    // Stop short of the light point by a relative margin, measured from the offset origin
-    // (from p, the offset can eat the margin and let the light occlude its own ray).
-    float tfar = distance == kInfinity ? kInfinity : length(p + wi * distance - o) * (1.0f - 1e-4f);
-    int j = out.push(o.x, o.y, o.z, wi.x, wi.y, wi.z, 0.0f, tfar);
+// Writes an occlusion ray from hit h (facing geometric normal ng) carrying its unoccluded
+// contribution: to the sampled point of `light` when it has one at a finite distance, stopping
+// short of it by that point's error bound (kernels::shadowSegment), else along wi to infinity
+// (directional lights, the sky; light = nullptr).
+inline void spawnShadowRay(RayBatch& out, const RayBatch& parent, int i, const SurfaceHit& h,
+                           const Vec3& ng, const Vec3& wi, const LightSample* light,
+                           const Vec3& contribution) {
+    Vec3 o, d = wi;
+    float tfar = kInfinity;
+    if (light && light->distance != kInfinity)
+        kernels::shadowSegment(h.p, h.pError, ng, light->point, light->pointError, light->normal,
+                               o, d, tfar);
+    else
+        o = offsetRayOrigin(h, ng, wi);
+    int j = out.push(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, tfar);
     out.pixel[j] = parent.pixel[i];
     out.sample[j] = parent.sample[i];
     out.wr[j] = contribution.x; out.wg[j] = contribution.y; out.wb[j] = contribution.z;

@@ -41,7 +41,7 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         int depth = b.depth[i] + 1;
         if (b.specularDepth[i] + 1 > m_rc.policy.maxDepth) continue;
         if (!continuePath(m_rc.policy, depth, b.rngKey[i], 0, w)) continue;
-        Vec3 o = offsetRayOrigin(h.p, ng, wi, m_rc.rayEpsilon);
+        Vec3 o = offsetRayOrigin(h, ng, wi);
         spawnRay(ctx.out(RayKind::Reflection), b, i, o, wi, w, std::uint8_t(depth),
                  std::uint8_t(b.specularDepth[i] + 1), flags, 0);
         ++spawned;

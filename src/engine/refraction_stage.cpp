@@ -32,7 +32,7 @@ void RefractionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         if (dot(wr, ng) <= 0) wr = kernels::reflect(wo, ng);
         Vec3 wRefl = w * fr;
         if (spec <= policy.maxDepth && continuePath(policy, depth, b.rngKey[i], 1, wRefl)) {
-            spawnRay(ctx.out(RayKind::Reflection), b, i, offsetRayOrigin(h.p, ng, wr, m_rc.rayEpsilon),
+            spawnRay(ctx.out(RayKind::Reflection), b, i, offsetRayOrigin(h, ng, wr),
                      wr, wRefl, std::uint8_t(depth), std::uint8_t(spec), flags, 1);
             ++spawned;
         }
@@ -57,7 +57,7 @@ void RefractionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         }
         if (entering) wTrans = wTrans * mat.color;
         if (!policy.previewGlass && !continuePath(policy, depth, b.rngKey[i], 2, wTrans)) continue;
-        spawnRay(ctx.out(RayKind::Refraction), b, i, offsetRayOrigin(h.p, ng, wt, m_rc.rayEpsilon),
+        spawnRay(ctx.out(RayKind::Refraction), b, i, offsetRayOrigin(h, ng, wt),
                  wt, wTrans, tDepth, std::uint8_t(spec), flags, 2);
         ++spawned;
     }

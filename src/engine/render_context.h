@@ -4,6 +4,7 @@
 
 #include "accel/embree_scene.h"
 #include "engine/film.h"
+#include "kernels/ray_offset.h"
 #include "lighting/light_set.h"
 #include "scene/scene.h"
 
@@ -48,15 +49,14 @@ struct RenderContext {
     const ShadingPolicy& policy;
     Film& film;
     std::uint64_t seed = 0;
-    float rayEpsilon = 1e-4f; // origin offset scale, relative to the hit point's magnitude
     const GiData* gi = nullptr; // gi mode: photon maps, irradiance cache
 };
 
-// Offsets a spawned ray's origin off the surface along the geometric normal, on the side of
-// `dir`. The offset grows with the coordinates' magnitude (float spacing grows with it).
-inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& ng, const Vec3& dir, float eps) {
-    float scale = eps * (1.0f + maxComponent(Vec3(std::abs(p.x), std::abs(p.y), std::abs(p.z))));
-    return dot(dir, ng) >= 0 ? p + ng * scale : p - ng * scale;
+// The origin of a ray leaving hit h in direction `dir`: off the surface along the geometric
+// normal `ng` (either side's) by the hit point's error bound, on the side of `dir`
+// (kernels/ray_offset.h, docs/robustness.md).
+inline Vec3 offsetRayOrigin(const SurfaceHit& h, const Vec3& ng, const Vec3& dir) {
+    return kernels::offsetRayOrigin(h.p, h.pError, ng, dir);
 }
 
 } // namespace rayproc

@@ -24,10 +24,9 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
     std::uint64_t spawned = 0;
     const LightSet& lights = m_rc.lights;
     const ShadingPolicy& policy = m_rc.policy;
-    auto emitShadow = [&](int i, const Vec3& p, const Vec3& ng, const Vec3& wi, float distance,
-                          const Vec3& contribution) {
-        spawnShadowRay(ctx.out(RayKind::Shadow), b, i, p, ng, wi, distance, contribution,
-                       m_rc.rayEpsilon);
+    auto emitShadow = [&](int i, const SurfaceHit& h, const Vec3& ng, const Vec3& wi,
+                          const LightSample* light, const Vec3& contribution) {
+        spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h, ng, wi, light, contribution);
         ++spawned;
     };
 
@@ -53,7 +52,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                 if (!ls.valid || dot(ls.wi, ng) <= 0) continue;
                 Vec3 c = w * evalCos(mat, wo, ls.wi, ns) * ls.weight / float(n);
                 if (isBlack(c)) continue;
-                emitShadow(i, h.p, ng, ls.wi, ls.distance, c);
+                emitShadow(i, h, ng, ls.wi, &ls, c);
             }
         }
 
@@ -76,7 +75,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                 if (pdf <= 0 || dot(wi, ng) <= 0) continue;
                 Vec3 c = w * evalCos(mat, wo, wi, ns) * lights.environment / (pdf * float(n));
                 if (isBlack(c)) continue;
-                emitShadow(i, h.p, ng, wi, kInfinity, c);
+                emitShadow(i, h, ng, wi, nullptr, c);
             }
         }
     }

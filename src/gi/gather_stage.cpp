@@ -100,7 +100,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             weight = Vec3(1.0f);
         }
         std::uint64_t key = kernels::hashCombine(b.rngKey[i], 0x6a7e);
-        Vec3 origin = offsetRayOrigin(h.p, ng, ns, m_rc.rayEpsilon);
+        Vec3 origin = offsetRayOrigin(h, ng, ns);
         // Stratum (j, k): sin^2(theta) in [j/M, (j+1)/M), phi in [2 pi k/N, 2 pi (k+1)/N),
         // one jittered ray each. sin^2(theta) uniform is the cosine-weighted density (Malley),
         // so every ray carries albedo / (M N) and E = pi / (M N) sum L_jk (GatherStrata).
@@ -171,7 +171,7 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
                     kernels::sampleBsdf(bsdf, -d, h.ng, h.ns, u, kernels::uniform(b.rngKey[i], 42));
                 Vec3 next = laneThroughput(b, i) * smp.weight;
                 if (smp.valid && !isBlack(next) && isFinite(next)) {
-                    Vec3 no = offsetRayOrigin(h.p, h.ng, smp.wi, m_rc.rayEpsilon);
+                    Vec3 no = offsetRayOrigin(h, h.ng, smp.wi);
                     spawnRay(ctx.out(RayKind::Gather), b, i, no, smp.wi, next, b.depth[i],
                              std::uint8_t(b.specularDepth[i] + 1), b.flags[i], 7);
                     ++spawned;

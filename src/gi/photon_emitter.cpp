@@ -2,6 +2,7 @@
 
 #include "engine/path_state.h"
 #include "kernels/random.h"
+#include "kernels/ray_offset.h"
 #include "kernels/sampling.h"
 
 #include <algorithm>
@@ -20,9 +21,8 @@ Vec3 emittedPower(const LightSource& l, float r) {
 } // namespace
 
 PhotonEmitter::PhotonEmitter(const LightSet& lights, const Bounds3& bounds, std::uint32_t count,
-                             std::uint64_t seed, std::uint64_t tag, float rayEpsilon)
-    : m_lights(lights), m_count(count), m_key(kernels::hashCombine(kernels::mix64(seed), tag)),
-      m_rayEpsilon(rayEpsilon) {
+                             std::uint64_t seed, std::uint64_t tag)
+    : m_lights(lights), m_count(count), m_key(kernels::hashCombine(kernels::mix64(seed), tag)) {
     m_center = bounds.empty() ? Vec3(0.0f) : bounds.center();
     m_radius = bounds.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(bounds.diagonal()));
     float total = 0;
@@ -61,10 +61,11 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
     // starts off the surface on the side it leaves, like every spawned ray: from the surface
     // point itself it could hit its own emitter at t ~ 0 and be stored there (an inward
     // emitting sphere then kept a share of its photons at the emission points).
-    auto lambertian = [&](const Vec3& p, Vec3 n, bool twoSided) {
+    // `err` bounds the rounding of p (docs/robustness.md): the photon leaves its error box.
+    auto lambertian = [&](const Vec3& p, const Vec3& err, Vec3 n, bool twoSided) {
         if (twoSided && uPick.y < 0.5f) n = -n;
         e.direction = kernels::toWorld(kernels::cosineHemisphere(uDir), n);
-        e.origin = offsetRayOrigin(p, n, e.direction, m_rayEpsilon);
+        e.origin = kernels::offsetRayOrigin(p, err, n, e.direction);
         e.power = share;
         e.valid = true;
     };
@@ -113,18 +114,22 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
         float ux = w > 0 ? std::clamp((target2 - lo) / w, 0.0f, 0.99999994f) : 0.5f;
         Vec2 b = kernels::uniformTriangle({ux, uPos.y});
         const Vec3 &a = l.triangles[3 * t], &bb = l.triangles[3 * t + 1], &cc = l.triangles[3 * t + 2];
-        lambertian(a * (1 - b.x - b.y) + bb * b.x + cc * b.y, normalize(cross(bb - a, cc - a)),
-                   l.twoSided);
+        Vec3 err;
+        Vec3 p = kernels::trianglePoint(a, bb, cc, b.x, b.y, err);
+        lambertian(p, err + l.placementError, normalize(cross(bb - a, cc - a)), l.twoSided);
         break;
     }
     case LightSource::Kind::AreaSphere: {
         Vec3 n = kernels::toWorld(kernels::uniformCone(uPos, -1.0f), {0, 0, 1});
-        lambertian(l.center + n * l.radius, n, l.twoSided);
+        Vec3 p = l.center + n * l.radius;
+        lambertian(p, kernels::roundSurfaceError(p, l.center, l.radius) + l.placementError, n,
+                   l.twoSided);
         break;
     }
     case LightSource::Kind::AreaDisk: {
         Vec2 d = kernels::concentricDisk(uPos);
-        lambertian(l.center + kernels::toWorld({d.x * l.radius, d.y * l.radius, 0}, l.normal),
+        Vec3 p = l.center + kernels::toWorld({d.x * l.radius, d.y * l.radius, 0}, l.normal);
+        lambertian(p, kernels::roundSurfaceError(p, l.center, l.radius) + l.placementError,
                    l.normal, l.twoSided);
         break;
     }

@@ -19,9 +19,8 @@ class PhotonEmitter : public Emitter {
 public:
     // sceneBounds: where directional and environment photons start (a disk covering the
     // scene's bounding sphere). tag separates the random streams of the two photon passes.
-    // rayEpsilon: the offset scale of offsetRayOrigin for photons leaving area lights.
     PhotonEmitter(const LightSet& lights, const Bounds3& sceneBounds, std::uint32_t count,
-                  std::uint64_t seed, std::uint64_t tag, float rayEpsilon = 1e-4f);
+                  std::uint64_t seed, std::uint64_t tag);
     bool emit(StageContext& ctx) override;
     std::uint64_t unitsEmitted() const { return m_next.load(); }
     Vec3 totalPower() const { return m_totalPower; }
@@ -39,7 +38,6 @@ private:
     float m_radius;
     std::uint32_t m_count;
     std::uint64_t m_key;
-    float m_rayEpsilon;
     std::vector<float> m_cdf;       // over lights (and the sky, last) by luminance of power
     std::vector<Vec3> m_power;      // per choice
     Vec3 m_totalPower{0, 0, 0};

@@ -54,7 +54,7 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
             continue;
         Vec3 next = power * s.weight / q;
         std::uint8_t nextFlags = std::uint8_t(flags | (s.delta ? kPhotonSpecular : kPhotonDiffuse));
-        Vec3 no = offsetRayOrigin(h.p, h.ng, s.wi, m_rc.rayEpsilon);
+        Vec3 no = offsetRayOrigin(h, h.ng, s.wi);
         spawnRay(ctx.out(RayKind::Photon), b, i, no, s.wi, next, std::uint8_t(depth), 0, nextFlags, 4);
         ++spawned;
     }

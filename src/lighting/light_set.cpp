@@ -1,5 +1,6 @@
 #include "lighting/light_set.h"
 
+#include "kernels/ray_offset.h"
 #include "kernels/sampling.h"
 
 #include <algorithm>
@@ -46,6 +47,9 @@ LightSource fromEmitter(const EmitterRecord& e) {
         s.kind = LightSource::Kind::AreaMesh;
         const TriangleMesh& m = *sh.mesh;
         float total = 0;
+        for (const Vec3& v : m.positions)
+            s.placementError = vmax(s.placementError,
+                                    kernels::transformedPointError(e.toWorld, v, Vec3(0.0f)));
         for (std::size_t t = 0; t < m.triangleCount(); ++t) {
             Vec3 a = e.toWorld.point(m.positions[m.indices[3 * t]]);
             Vec3 b = e.toWorld.point(m.positions[m.indices[3 * t + 1]]);
@@ -60,12 +64,14 @@ LightSource fromEmitter(const EmitterRecord& e) {
     case ShapeType::Sphere:
         s.kind = LightSource::Kind::AreaSphere;
         s.center = e.toWorld.point(sh.center);
+        s.placementError = kernels::transformedPointError(e.toWorld, sh.center, Vec3(0.0f));
         s.radius = sh.radius * uniformScale(e.toWorld);
         s.area = 4 * kPi * s.radius * s.radius;
         break;
     case ShapeType::Disk:
         s.kind = LightSource::Kind::AreaDisk;
         s.center = e.toWorld.point(sh.center);
+        s.placementError = kernels::transformedPointError(e.toWorld, sh.center, Vec3(0.0f));
         s.normal = normalize(e.toLocal.normalByInverse(sh.normal));
         s.radius = sh.radius * uniformScale(e.toWorld);
         s.area = kPi * s.radius * s.radius;
@@ -81,20 +87,27 @@ Vec3 areaRadiance(const LightSource& l, const Vec3& n, const Vec3& towardsReceiv
     return cosL > 0 ? l.radiance : Vec3(0.0f);
 }
 
-LightSample fromAreaPoint(const LightSource& l, const Vec3& p, const Vec3& q, const Vec3& n,
-                          float pdfArea) {
+// A sample at point q (error bound qErr) of an area light with unit normal n. Degenerate
+// geometry (a zero normal, a point coinciding with p, a pdf that under- or overflows) gives an
+// invalid sample, never a NaN or infinite weight.
+LightSample fromAreaPoint(const LightSource& l, const Vec3& p, const Vec3& q, const Vec3& qErr,
+                          const Vec3& n, float pdfArea) {
     LightSample s;
     Vec3 d = q - p;
     float dist2 = lengthSquared(d);
-    if (dist2 <= 0) return s;
+    if (!(dist2 > 0)) return s;
     s.distance = std::sqrt(dist2);
     s.wi = d / s.distance;
     float cosL;
     Vec3 L = areaRadiance(l, n, -s.wi, cosL);
-    if (cosL <= 0) return s;
+    if (!(cosL > 0)) return s;
     s.pdf = pdfArea * dist2 / cosL;
+    if (!(s.pdf > 0) || !std::isfinite(s.pdf)) return s;
     s.weight = L / s.pdf;
-    s.valid = true;
+    s.point = q;
+    s.pointError = qErr + l.placementError;
+    s.normal = n;
+    s.valid = isFinite(s.weight);
     return s;
 }
 
@@ -118,7 +131,8 @@ LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
         }
         if (f <= 0) return s;
         s.weight = intensity * (f / dist2);
-        s.valid = true;
+        s.point = position;
+        s.valid = isFinite(s.weight);
         return s;
     }
     case Kind::Directional:
@@ -137,9 +151,10 @@ LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
         float ux = width > 0 ? std::clamp((target - lo) / width, 0.0f, 0.99999994f) : 0.5f;
         Vec2 b = kernels::uniformTriangle({ux, u.y});
         const Vec3 &a = triangles[3 * t], &bb = triangles[3 * t + 1], &c = triangles[3 * t + 2];
-        Vec3 q = a * (1 - b.x - b.y) + bb * b.x + c * b.y;
+        Vec3 qErr;
+        Vec3 q = kernels::trianglePoint(a, bb, c, b.x, b.y, qErr);
         Vec3 n = normalize(cross(bb - a, c - a));
-        return fromAreaPoint(*this, p, q, n, 1.0f / area);
+        return fromAreaPoint(*this, p, q, qErr, n, 1.0f / area);
     }
     case Kind::AreaSphere: {
         Vec3 toC = center - p;
@@ -147,7 +162,9 @@ LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
         if (d2 <= radius * radius * 1.0001f) {
             // Inside (or on) the sphere: uniform area sampling.
             Vec3 dir = kernels::toWorld(kernels::uniformCone(u, -1.0f), {0, 0, 1});
-            return fromAreaPoint(*this, p, center + dir * radius, dir, 1.0f / area);
+            Vec3 q = center + dir * radius;
+            return fromAreaPoint(*this, p, q, kernels::roundSurfaceError(q, center, radius), dir,
+                                 1.0f / area);
         }
         // Uniform over the cone of directions the sphere subtends (pdf 1 / solid angle).
         float dist = std::sqrt(d2);
@@ -162,14 +179,21 @@ LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
         s.wi = wi;
         s.distance = t;
         s.pdf = 1.0f / (2 * kPi * (1 - cosMax));
+        if (!(s.pdf > 0) || !std::isfinite(s.pdf)) return s; // the cone is too thin for float
         s.weight = radiance / s.pdf;
-        s.valid = true;
+        // The point on the sphere, re-projected onto it (p + t wi carries the error of p and t).
+        Vec3 n = normalize(p + wi * t - center);
+        s.point = center + n * radius;
+        s.pointError = kernels::roundSurfaceError(s.point, center, radius) + placementError;
+        s.normal = n;
+        s.valid = isFinite(s.weight);
         return s;
     }
     case Kind::AreaDisk: {
         Vec2 d = kernels::concentricDisk(u);
         Vec3 q = kernels::toWorld({d.x * radius, d.y * radius, 0}, normal) + center;
-        return fromAreaPoint(*this, p, q, normal, 1.0f / area);
+        return fromAreaPoint(*this, p, q, kernels::roundSurfaceError(q, center, radius), normal,
+                             1.0f / area);
     }
     }
     return s;
@@ -208,8 +232,12 @@ LightSet LightSet::build(const Scene& scene, const EmbreeScene& accel) {
         else set.lights.push_back(fromSceneLight(l));
     }
     for (const EmitterRecord& e : accel.emitters()) {
+        LightSource a = fromEmitter(e);
+        // A light without area (degenerate triangles, radius 0) emits nothing and cannot be
+        // sampled (its pdf would be 1/0); rays cannot hit it either.
+        if (!(a.area > 0) || !std::isfinite(a.area)) continue;
         set.m_areaIndex.push_back({{e.shape, e.instance}, int(set.lights.size())});
-        set.lights.push_back(fromEmitter(e));
+        set.lights.push_back(std::move(a));
     }
     std::sort(set.m_areaIndex.begin(), set.m_areaIndex.end());
     for (std::size_t i = 0; i < set.lights.size(); ++i) set.lights[i].stream = std::uint32_t(i);
@@ -242,6 +270,7 @@ LightSet LightSet::buildPreview(const Scene& scene, const EmbreeScene& accel) {
     };
     for (const EmitterRecord& e : accel.emitters()) {
         LightSource a = fromEmitter(e);
+        if (!(a.area > 0) || !std::isfinite(a.area)) continue; // emits nothing
         const Shape& sh = *e.shape;
         // A Lambertian emitter of area A radiates I(theta) = L A cos(theta): split among points.
         if (a.kind == LightSource::Kind::AreaMesh && sh.isQuad) {

@@ -19,6 +19,10 @@ struct LightSample {
     Vec3 weight;      // incident radiance / pdf (solid angle), or irradiance for delta lights
     float pdf = 0;    // solid-angle pdf of the sample; 0 for delta lights
     bool valid = false;
+    // Where the sample lies, for the shadow ray that must stop short of it: the point, its
+    // floating-point error bound and the light surface's normal (zero for point and spot
+    // lights, which are no surface; unused for directional lights).
+    Vec3 point, pointError, normal;
 };
 
 class LightSource {
@@ -44,6 +48,7 @@ public:
     // The light's index in the set it was built in: keys its random numbers, so a subset
     // samples each remaining light exactly as the full set does.
     std::uint32_t stream = 0;
+    Vec3 placementError; // bound on the rounding of the world-space vertices / centre
 
     LightSample sample(const Vec3& p, Vec2 u) const;
     // Solid-angle pdf with which sample(p, .) picks the direction towards the point q of

@@ -64,8 +64,7 @@ std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& ac
     RayProcessor processor(intersector, stats, engine.threads);
     PhotonStage stage(rc, caustic, s.maxPhotonDepth);
     processor.setStage(RayKind::Photon, &stage);
-    PhotonEmitter emitter(lights, scene.worldBounds(), count, engine.seed, caustic ? 2 : 1,
-                          rc.rayEpsilon);
+    PhotonEmitter emitter(lights, scene.worldBounds(), count, engine.seed, caustic ? 2 : 1);
     processor.run(emitter, [] { return false; });
     return stage.takePhotons();
 }

@@ -36,7 +36,7 @@ std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& ac
     RayProcessor processor(intersector, stats, 2);
     PhotonStage stage(rc, /*causticPass=*/false, maxPhotonDepth);
     processor.setStage(RayKind::Photon, &stage);
-    PhotonEmitter emitter(lights, scene.worldBounds(), count, seed, 1, rc.rayEpsilon);
+    PhotonEmitter emitter(lights, scene.worldBounds(), count, seed, 1);
     processor.run(emitter, [] { return false; });
     return stage.takePhotons();
 }
