@@ -57,24 +57,17 @@ void checkOutputDirectory(const std::string& path) {
         throw ImageIoError(path + ": the directory " + dir.string() + " does not exist");
 }
 
-void writeTextAtomically(const std::string& path, const std::string& text) {
-    std::string tmp = path + ".tmp";
-    {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        f << text;
-        f.flush();
-        if (!f) {
-            std::filesystem::remove(tmp);
-            throw ImageIoError(path + ": cannot write");
-        }
-    }
-    std::filesystem::rename(tmp, path);
-}
-
 int runRender(const RenderArgs& a) {
     std::unique_ptr<Scene> scene = loadScene(a.scene);
     if (a.width > 0) scene->camera.width = a.width;
     if (a.height > 0) scene->camera.height = a.height;
+    // Each side is range-checked by CLI11; the product must also stay within the scene limit.
+    long long pixels = (long long)scene->camera.width * scene->camera.height;
+    if (pixels > kMaxImagePixels)
+        throw InputError("--width/--height: image too large: " +
+                         std::to_string(scene->camera.width) + " x " +
+                         std::to_string(scene->camera.height) + " pixels exceeds the limit of " +
+                         std::to_string(kMaxImagePixels) + " (2^26) pixels");
 
     std::string mode = !a.mode.empty() ? a.mode
                        : !scene->render.mode.empty() ? scene->render.mode
@@ -106,7 +99,16 @@ int runRender(const RenderArgs& a) {
                                     : ToneMap::Clamp;
     if (a.progressive) {
         engine.progressiveSeconds = a.progressiveSeconds;
-        engine.onProgress = [output, tm](const Image& img) { writeImage(output, img, tm); };
+        // A failed progressive write must not end the render: warn once, keep rendering; the
+        // final write reports its own failure.
+        engine.onProgress = [output, tm, warned = false](const Image& img) mutable {
+            try {
+                writeImage(output, img, tm);
+            } catch (const ImageIoError& e) {
+                if (!warned) std::fprintf(stderr, "rayproc: warning: %s; rendering goes on\n", e.what());
+                warned = true;
+            }
+        };
     }
 
     Image reference;
@@ -179,7 +181,7 @@ int runRender(const RenderArgs& a) {
                      a.timeLimit, result.samplesDone, result.stats.wallSeconds);
     writeImage(output, result.image, tm);
     if (a.stats) std::fputs(result.stats.toTable().c_str(), stderr);
-    if (!a.statsJson.empty()) writeTextAtomically(a.statsJson, result.stats.toJson() + "\n");
+    if (!a.statsJson.empty()) writeFileAtomically(a.statsJson, result.stats.toJson() + "\n");
     if (result.cancelled) {
         std::fprintf(stderr,
                      "rayproc: interrupted: wrote the partial image (%zu pixels had no sample)\n",

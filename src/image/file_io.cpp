@@ -55,7 +55,8 @@ std::string errnoText(int err) {
 
 // AtomicFileWriter ----------------------------------------------------------------------------
 
-AtomicFileWriter::AtomicFileWriter(std::string path) : m_path(std::move(path)) {
+AtomicFileWriter::AtomicFileWriter(std::string path, std::string what)
+    : m_path(std::move(path)), m_what(std::move(what)) {
     // pid + a process-wide counter keep concurrent writers (threads or processes) apart.
     static std::atomic<unsigned> counter{0};
     m_tempPath =
@@ -63,16 +64,20 @@ AtomicFileWriter::AtomicFileWriter(std::string path) : m_path(std::move(path)) {
     int fd = ::open(m_tempPath.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0) {
         int err = errno;
-        throwWriteError(m_path, "cannot create temporary file " + quoted(m_tempPath) + ": " +
-                                    errnoText(err));
+        std::string reason =
+            "cannot create temporary file " + quoted(m_tempPath) + ": " + errnoText(err);
+        m_tempPath.clear(); // never created: nothing to remove
+        throwError(reason);
     }
     m_file = ::fdopen(fd, "wb");
     if (!m_file) {
         int err = errno;
         ::close(fd);
         ::unlink(m_tempPath.c_str());
-        throwWriteError(m_path,
-                        "cannot open temporary file " + quoted(m_tempPath) + ": " + errnoText(err));
+        std::string reason =
+            "cannot open temporary file " + quoted(m_tempPath) + ": " + errnoText(err);
+        m_tempPath.clear();
+        throwError(reason);
     }
 }
 
@@ -148,10 +153,14 @@ void AtomicFileWriter::commit() {
     if (failed()) {
         std::string reason = m_error;
         discard();
-        throwWriteError(m_path, reason);
+        throwError(reason);
     }
     m_tempPath.clear(); // it has become the destination: nothing left to remove
     syncDirectory(parentDirectory(m_path));
+}
+
+void AtomicFileWriter::throwError(const std::string& reason) const {
+    throw ImageIoError("cannot write " + m_what + quoted(m_path) + ": " + reason);
 }
 
 // FileReader ----------------------------------------------------------------------------------
@@ -183,3 +192,13 @@ std::uint64_t FileReader::remainingBytes() {
 }
 
 } // namespace rayproc::image_detail
+
+namespace rayproc {
+
+void writeFileAtomically(const std::string& path, const std::string& bytes) {
+    image_detail::AtomicFileWriter out(path, "");
+    out.write(bytes.data(), bytes.size());
+    out.commit();
+}
+
+} // namespace rayproc

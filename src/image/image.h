@@ -56,6 +56,11 @@ ImageFormat imageFormatFromPath(const std::string& path);
 // the same directory, fsync, rename). `tm` only affects PNG; the float formats store radiance.
 void writeImage(const std::string& path, const Image& img, const ToneMapSettings& tm = {});
 
+// Writes `bytes` to `path` the same atomic way (statistics, logs: any output that must never be
+// left half-written). Failures throw ImageIoError "cannot write "<path>": <cause>", and leave
+// neither a temporary file nor a changed destination.
+void writeFileAtomically(const std::string& path, const std::string& bytes);
+
 // Reads an image as linear RGB floats, in the format given by the extension of `path`.
 // PNG is decoded from sRGB to linear; greyscale inputs are replicated to RGB.
 Image readImage(const std::string& path);

@@ -26,7 +26,9 @@ std::string errnoText(int err);
 // from C callbacks (stb) that cannot unwind. commit() reports the recorded failure.
 class AtomicFileWriter {
 public:
-    explicit AtomicFileWriter(std::string path); // throws ImageIoError if the temp can't be made
+    // Throws ImageIoError if the temporary file cannot be made. `what` names the kind of file in
+    // messages: "cannot write <what>"<path>": ..." ("image " or "" for any file).
+    explicit AtomicFileWriter(std::string path, std::string what = "image ");
     ~AtomicFileWriter();
     AtomicFileWriter(const AtomicFileWriter&) = delete;
     AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
@@ -48,7 +50,10 @@ private:
     void recordErrno(const char* what);
     void discard();
 
+    [[noreturn]] void throwError(const std::string& reason) const;
+
     std::string m_path;
+    std::string m_what;
     std::string m_tempPath;
     std::FILE* m_file = nullptr;
     std::string m_error; // first failure, empty while all is well

@@ -11,6 +11,7 @@
 #include <functional>
 #include <optional>
 #include <sstream>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace rayproc {
@@ -19,6 +20,9 @@ using scene_json::Json;
 using scene_json::JsonRef;
 
 namespace {
+
+// The deepest nesting of JSON arrays and objects a scene file may have.
+constexpr std::size_t kMaxJsonDepth = 1024;
 
 // nlohmann reports the byte offset of the last character it read; scene authors want the line
 // and column of that character (both 1-based, columns counted in bytes).
@@ -59,6 +63,13 @@ public:
         switch (event) {
         case Event::object_start:
         case Event::array_start:
+            // Each open container costs the parser and this tracker ~150 bytes for one byte
+            // of input: bound the depth, far above what scenes need (nodes nest <= 256 deep).
+            if (m_frames.size() >= kMaxJsonDepth) {
+                throw InputError(m_file, truncatedPointer(),
+                                 "nested more than " + std::to_string(kMaxJsonDepth) +
+                                     " levels deep (arrays and objects)");
+            }
             m_frames.push_back({event == Event::array_start, 0, {}, {}});
             break;
         case Event::key: {
@@ -95,6 +106,16 @@ private:
         std::string key;                      // objects: the member being read
         std::unordered_set<std::string> keys; // objects: the keys seen so far
     };
+
+    // The first levels of the pointer, for messages about very deep input.
+    std::string truncatedPointer() const {
+        std::string p;
+        for (std::size_t i = 0; i < m_frames.size() && i < 12; ++i) {
+            const Frame& f = m_frames[i];
+            p += "/" + (f.isArray ? std::to_string(f.index) : scene_json::pointerToken(f.key));
+        }
+        return m_frames.size() > 12 ? p + "/..." : p;
+    }
 
     // The pointer of the value being read inside the innermost open container.
     std::string childPointer() const {
@@ -153,6 +174,38 @@ bool hasGeometry(const Node& n, std::unordered_set<const Node*>& empty) {
     return false;
 }
 
+// Nested instancing multiplies: 40 prototypes, each placing the next twice, describe 2^40
+// placements in a few lines. The renderer flattens nesting into one level of Embree instances
+// (docs/architecture.md), so every placement costs memory. Counted per prototype once
+// (memoised), saturating, before anything is built.
+constexpr std::uint64_t kMaxPlacements = 1ull << 22;
+constexpr std::uint64_t kSaturated = 1ull << 62;
+
+std::uint64_t saturatingAdd(std::uint64_t a, std::uint64_t b) {
+    return std::min(kSaturated, a + b); // both <= 2^62: no wrap-around
+}
+
+// Placed groups and instances (an upper bound on the Embree instances) under `n`, `n` included.
+std::uint64_t placements(const Node& n, std::unordered_map<const Node*, std::uint64_t>& memo) {
+    switch (n.kind) {
+    case Node::Kind::Shape:
+        return 0;
+    case Node::Kind::Instance: {
+        if (!n.prototype) return 1;
+        auto it = memo.find(n.prototype);
+        std::uint64_t inside =
+            it != memo.end() ? it->second : (memo[n.prototype] = placements(*n.prototype, memo));
+        return inside; // the prototype group counts itself
+    }
+    case Node::Kind::Group: {
+        std::uint64_t total = 1;
+        for (const auto& c : n.children) total = saturatingAdd(total, placements(*c, memo));
+        return total;
+    }
+    }
+    return 0;
+}
+
 } // namespace
 
 std::unique_ptr<Scene> loadSceneFromString(const std::string& text, const std::string& path) {
@@ -177,6 +230,14 @@ std::unique_ptr<Scene> loadSceneFromString(const std::string& text, const std::s
 
     std::unordered_set<const Node*> empty;
     if (!hasGeometry(*scene->root, empty)) nodes.fail("scene has no geometry");
+    std::unordered_map<const Node*, std::uint64_t> memo;
+    std::uint64_t placed = placements(*scene->root, memo);
+    if (placed > kMaxPlacements) {
+        nodes.fail("the scene places " +
+                   (placed >= kSaturated ? "more than 2^62" : std::to_string(placed)) +
+                   " groups and instances once nested instances are expanded; the limit is " +
+                   std::to_string(kMaxPlacements) + " (2^22)");
+    }
     scene->computeBounds();
     return scene;
 }
@@ -186,6 +247,10 @@ std::unique_ptr<Scene> loadScene(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec))
         throw InputError(path + ": is a directory, not a scene file");
+    // A device or pipe may never end (/dev/zero, /dev/stdin): reading it would grow without
+    // bound, so only regular files are scene files.
+    if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+        throw InputError(path + ": not a regular file (a device, pipe or socket), not a scene file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open the scene file (missing or unreadable)");
     std::ostringstream text;

@@ -13,6 +13,11 @@
 
 namespace rayproc {
 
+// The largest image a scene file (JSON or pbrt) or the command line may ask for: each side
+// 1..16384 and at most 2^26 pixels (67 M; the film alone then holds several GiB).
+constexpr long long kMaxImageSide = 16384;
+constexpr long long kMaxImagePixels = 1LL << 26;
+
 // Reads and validates a scene file, then computes the bounds of every node.
 std::unique_ptr<Scene> loadScene(const std::string& path);
 

@@ -176,7 +176,9 @@ long long JsonRef::integer(long long lo, long long hi) const {
         // Accept 16.0 but not 16.5; huge literals fall out of range below.
         double d = j.get<double>();
         if (!std::isfinite(d) || d != std::floor(d)) fail("expected an integer");
-        inRange = d >= double(lo) && d <= double(hi);
+        // double(hi) may round up past hi (double(LLONG_MAX) is 2^63), and converting a double
+        // beyond the range of long long is undefined: stay strictly below 2^63.
+        inRange = d >= double(lo) && d <= double(hi) && d < 9223372036854775808.0;
         v = inRange ? static_cast<long long>(d) : lo;
     } else {
         fail("expected an integer");

@@ -11,9 +11,6 @@ namespace rayproc::scene_json {
 
 namespace {
 
-constexpr long long kMaxImageSide = 16384;
-constexpr long long kMaxImagePixels = 1LL << 26;
-
 float nonNegative(const JsonRef& v) {
     float x = v.number();
     if (x < 0) v.fail("must not be negative");

@@ -189,7 +189,7 @@ TEST_CASE("Progress is printed as plain lines when stderr is not a terminal", "[
         RunResult r =
             runRayproc({"render", scenePath("cornell-box"), "--mode", "raytrace", "--width", "256",
                         "--height", "256", "--spp", "64", "--threads", "2", "-o", out},
-                       dir);
+                       dir, 600); // ~65 s under AddressSanitizer (scripts/test-sanitizers)
         INFO(r.err);
         REQUIRE(r.status == 0);
         CHECK_FALSE(contains(r.err, "\r")); // no bar redrawing into a file

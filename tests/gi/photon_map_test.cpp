@@ -214,7 +214,7 @@ TEST_CASE("k nearest photons equal brute force, ties and empty results included"
                         std::size_t n = expected.index.size();
                         empty += k > 0 && maxDistance > 0 && n == 0 ? 1 : 0;
                         fewer += n > 0 && int(n) < k ? 1 : 0;
-                        tiesAtK += int(n) == k && n < all.size() && all[n].first == all[n - 1].first
+                        tiesAtK += n > 0 && int(n) == k && n < all.size() && all[n].first == all[n - 1].first
                                        ? 1
                                        : 0;
                     }

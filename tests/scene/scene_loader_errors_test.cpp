@@ -318,9 +318,16 @@ TEST_CASE("Deep nesting is an error, not a stack overflow", "[scene]") {
     for (int i = 0; i < 300; ++i) nodes += "]}";
     std::string path = writeTestFile("deep.json", withNodes("[" + nodes + "]"));
     CHECK_THAT(loadErrorOf(path), Catch::Matchers::Contains("nested too deeply"));
-    // Deeply nested JSON arrays are only a type error.
+    // Deeply nested JSON is refused while parsing, before it costs memory: each open
+    // container takes the parser ~150 bytes per byte of input.
     std::string arrays = std::string(100000, '[') + std::string(100000, ']');
     path = writeTestFile("deep-arrays.json", withSphere(R"("lights": )" + arrays));
+    CHECK_THAT(loadErrorOf(path),
+               Catch::Matchers::Contains("/lights/0/0/0/0/0/0/0/0/0/0/0/...: nested more than "
+                                         "1024 levels"));
+    // 1024 levels are allowed (and are then only a type error).
+    arrays = std::string(1023, '[') + std::string(1023, ']');
+    path = writeTestFile("deep-arrays-ok.json", withSphere(R"("lights": )" + arrays));
     CHECK_THAT(loadErrorOf(path), Catch::Matchers::Contains("/lights/0: expected an object"));
 }
 

@@ -1,5 +1,7 @@
 #include "scene/pbrt/pbrt_camera.h"
 
+#include "scene/scene_loader.h"
+
 #include <cmath>
 
 namespace rayproc::pbrt {
@@ -7,8 +9,8 @@ namespace rayproc::pbrt {
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
-constexpr long long kMaxResolution = 16384;
-constexpr long long kMaxPixels = 1LL << 26;
+constexpr long long kMaxResolution = kMaxImageSide; // scene_loader.h: one limit for all
+constexpr long long kMaxPixels = kMaxImagePixels;
 
 void readFilm(const FilmDirective& film, Scene& scene) {
     const SourceLoc& loc = film.loc;

@@ -94,6 +94,12 @@ std::shared_ptr<TriangleMesh> finishMesh(MeshInput&& in, const ShapeContext& ctx
                       inv.m[0][2] * n.x + inv.m[1][2] * n.y + inv.m[2][2] * n.z)
                     .toFloat();
     }
+    // Every number was finite when read, but a transform can still carry a point beyond a
+    // float's range: geometry the renderer cannot place.
+    for (const Vec3& p : mesh->positions)
+        if (!isFinite(p))
+            failAt(ctx.loc, "a mesh vertex is not finite after the transform (coordinates beyond "
+                            "3.4e38)");
     for (Vec3& n : mesh->normals) {
         n = normalize(n);
         if (!isFinite(n) || lengthSquared(n) == 0) {
@@ -183,6 +189,8 @@ ShapeResult analytic(Shape s, const Vec3d& center, const Vec3d& normal, const Sh
         r.grouped = true;
         r.groupTransform = ctx.toWorld.toAffine();
     }
+    if (!isFinite(s.center) || !std::isfinite(s.radius))
+        failAt(ctx.loc, "the shape's centre or radius is not finite after the transform");
     r.shapes.push_back(s);
     return r;
 }

@@ -6,6 +6,8 @@
 #include "scene/pbrt/ply_header.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 
 namespace rayproc::pbrt {
@@ -89,11 +91,34 @@ public:
         return 0;
     }
 
+    // The length of a list: a count the rest of the file can hold (each value takes at least one
+    // byte in binary and two, a digit and a separator, in ASCII), so that a corrupt count fails
+    // here instead of allocating or looping for billions of values.
+    // `element` and `row` only name the place in messages.
+    std::size_t listLength(Type countType, Type valueType, const std::string& element,
+                           std::size_t row) {
+        double n = read(countType);
+        auto where = [&] { return element + " " + std::to_string(row); };
+        std::size_t minBytes = m_format == Format::Ascii ? 2 : typeSize(valueType);
+        if (!(n >= 0) || n != std::floor(n))
+            fail(m_path, where() + ": list length " + formatCount(n) + " is not a count");
+        if (n > double(left() / minBytes) + 1)
+            fail(m_path, where() + ": a list of " + formatCount(n) +
+                             " values, more than the file holds");
+        return std::size_t(n);
+    }
+
     const char* raw() const { return m_p; }
     std::size_t left() const { return std::size_t(m_end - m_p); }
     void advance(std::size_t n) { m_p += n; }
 
 private:
+    static std::string formatCount(double n) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.0f", n);
+        return buf;
+    }
+
     double readAscii() {
         while (m_p < m_end && (*m_p == ' ' || *m_p == '\n' || *m_p == '\r' || *m_p == '\t')) ++m_p;
         const char* start = m_p;
@@ -169,7 +194,7 @@ void readVertices(PlyCursor& cur, Element& e, Format format, PlyMesh& mesh,
         } else {
             for (const Property& p : e.props) {
                 if (p.isList) {
-                    auto n = std::size_t(cur.read(p.countType));
+                    std::size_t n = cur.listLength(p.countType, p.type, e.name, i);
                     for (std::size_t k = 0; k < n; ++k) cur.read(p.type);
                     continue;
                 }
@@ -177,6 +202,10 @@ void readVertices(PlyCursor& cur, Element& e, Format format, PlyMesh& mesh,
                 if (p.slot != kSkip) v[p.slot] = x;
             }
         }
+        // NaN or beyond a float's range (binary data can hold anything): broken geometry.
+        for (int s = kX; s <= kZ; ++s)
+            if (!std::isfinite(v[s]) || std::fabs(v[s]) > 3.4028234663852886e38)
+                fail(path, "vertex " + std::to_string(i) + ": position is not a finite number");
         mesh.positions[i] = {float(v[kX]), float(v[kY]), float(v[kZ])};
         if (normals) mesh.normals[i] = {float(v[kNx]), float(v[kNy]), float(v[kNz])};
         if (uvs) mesh.uvs[i] = {float(v[kU]), float(v[kV])};
@@ -262,13 +291,12 @@ void readFaces(PlyCursor& cur, const Element& e, Format format, PlyMesh& mesh,
                 cur.read(p.type);
                 continue;
             }
-            double n = cur.read(p.countType);
-            if (n < 0) fail(path, "face " + std::to_string(f) + ": negative vertex count");
+            std::size_t n = cur.listLength(p.countType, p.type, e.name, f);
             if (&p != list) {
-                for (std::size_t k = 0; k < std::size_t(n); ++k) cur.read(p.type);
+                for (std::size_t k = 0; k < n; ++k) cur.read(p.type);
                 continue;
             }
-            idx.resize(std::size_t(n));
+            idx.resize(n);
             for (std::size_t k = 0; k < idx.size(); ++k) {
                 double x = cur.read(p.type);
                 if (x < 0 || x > 4294967295.0)
@@ -284,7 +312,7 @@ void readFaces(PlyCursor& cur, const Element& e, Format format, PlyMesh& mesh,
 void skipElement(PlyCursor& cur, const Element& e) {
     for (std::size_t i = 0; i < e.count; ++i) {
         for (const Property& p : e.props) {
-            std::size_t n = p.isList ? std::size_t(cur.read(p.countType)) : 1;
+            std::size_t n = p.isList ? cur.listLength(p.countType, p.type, e.name, i) : 1;
             for (std::size_t k = 0; k < n; ++k) cur.read(p.type);
         }
     }
@@ -295,6 +323,11 @@ void skipElement(PlyCursor& cur, const Element& e) {
 // The fewest bytes a row of `e` can take: a header cannot promise more rows than the file holds
 // (nor make the reader allocate for them).
 void checkCount(const Element& e, Format format, std::size_t bytesLeft, const std::string& path) {
+    // Rows without properties hold no data, so nothing bounds their count: refuse them rather
+    // than loop over 10^18 empty rows.
+    if (e.props.empty() && e.count > 0)
+        fail(path, "element \"" + e.name + "\" has " + std::to_string(e.count) +
+                       " rows but no properties");
     std::size_t minRow = 0;
     for (const Property& p : e.props)
         minRow += format == Format::Ascii ? 2 : typeSize(p.isList ? p.countType : p.type);
