@@ -66,10 +66,20 @@ inline void spawnShadowRay(RayBatch& out, const RayBatch& parent, int i, const V
                            const Vec3& ng, const Vec3& wi, float distance, const Vec3& contribution,
                            float eps) {
     Vec3 o = offsetRayOrigin(p, ng, wi, eps);
-    // Stop short of the light point by a relative margin, measured from the offset origin
-    // (from p, the offset can eat the margin and let the light occlude its own ray).
-    float tfar = distance == kInfinity ? kInfinity : length(p + wi * distance - o) * (1.0f - 1e-4f);
-    int j = out.push(o.x, o.y, o.z, wi.x, wi.y, wi.z, 0.0f, tfar);
+    // Aim from the offset origin at the light point itself and stop short of it by a relative
+    // margin. Keeping wi would shift the ray parallel to itself: it would meet the light's
+    // plane sooner by offset * (1 - cos^2) / cos, which exceeds the margin at grazing angles,
+    // and the light would occlude its own sample (surfaces parallel to a nearby light lost
+    // up to a third of its direct light, and path mode all light relayed by them).
+    Vec3 dir = wi;
+    float tfar = kInfinity;
+    if (distance != kInfinity) {
+        Vec3 toLight = p + wi * distance - o;
+        float len = length(toLight);
+        dir = toLight / len;
+        tfar = len * (1.0f - 1e-4f);
+    }
+    int j = out.push(o.x, o.y, o.z, dir.x, dir.y, dir.z, 0.0f, tfar);
     out.pixel[j] = parent.pixel[i];
     out.sample[j] = parent.sample[i];
     out.wr[j] = contribution.x; out.wg[j] = contribution.y; out.wb[j] = contribution.z;
