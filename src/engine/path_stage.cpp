@@ -96,7 +96,12 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             if ((lightPdf > 0 || deltaLight) && dot(wi, fg) > 0) {
                 float bsdfPdf;
                 Vec3 f = kernels::evalBsdf(bsdf, wo, wi, h.ng, h.ns, bsdfPdf);
-                float mis = deltaLight ? 1.0f : kernels::powerHeuristic(pickPdf * lightPdf, bsdfPdf);
+                // At the last vertex no BSDF ray follows to collect the emission share, so
+                // the light sample takes the whole weight there.
+                bool lastVertex = b.depth[i] >= policy.maxDepth;
+                float mis = deltaLight || lastVertex
+                                ? 1.0f
+                                : kernels::powerHeuristic(pickPdf * lightPdf, bsdfPdf);
                 Vec3 c = w * f * li * (mis / pickPdf);
                 if (!isBlack(c)) {
                     spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h, fg, wi,
