@@ -22,9 +22,8 @@ Vec3 randomUnit(std::mt19937_64& rng) {
     }
 }
 
-// Traces one ray; true when it hits primitive (geom, prim) of instance inst.
-bool hitsSame(const EmbreeScene& accel, const Vec3& o, const Vec3& d, unsigned inst, unsigned geom,
-              unsigned prim) {
+// Traces one ray from o along d (unbounded) through bare rtcIntersect1.
+RTCRayHit traceOne(const EmbreeScene& accel, const Vec3& o, const Vec3& d) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh{};
@@ -36,6 +35,13 @@ bool hitsSame(const EmbreeScene& accel, const Vec3& o, const Vec3& d, unsigned i
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(accel.root(), &ctx, &rh);
+    return rh;
+}
+
+// Traces one ray; true when it hits primitive (geom, prim) of instance inst.
+bool hitsSame(const EmbreeScene& accel, const Vec3& o, const Vec3& d, unsigned inst, unsigned geom,
+              unsigned prim) {
+    RTCRayHit rh = traceOne(accel, o, d);
     return rh.hit.geomID == geom && rh.hit.primID == prim && rh.hit.instID[0] == inst;
 }
 
@@ -97,17 +103,7 @@ SelfHits probe(double scale, double translation, bool instanced, std::uint64_t s
         Vec3 dir = randomUnit(rng);
         Vec3 target = centre + Vec3(uni(rng) * 2 - 1, uni(rng) * 2 - 1, uni(rng) * 2 - 1) * (0.5f * radius);
         Vec3 o = target - dir * (2 * radius);
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        RTCRayHit rh{};
-        rh.ray.org_x = o.x; rh.ray.org_y = o.y; rh.ray.org_z = o.z;
-        rh.ray.dir_x = dir.x; rh.ray.dir_y = dir.y; rh.ray.dir_z = dir.z;
-        rh.ray.tnear = 0;
-        rh.ray.tfar = kInfinity;
-        rh.ray.mask = 0xffffffffu;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(accel.root(), &ctx, &rh);
+        RTCRayHit rh = traceOne(accel, o, dir);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
         SurfaceHit h = accel.surface(rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.hit.u,
                                      rh.hit.v, o, dir, rh.ray.tfar);
