@@ -151,7 +151,9 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
         if (b.hit(i)) {
             Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
             SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
-            distance = b.t[i];
+            // From the hit point, not Embree's t: t of a sphere differs by an ulp between
+            // packet widths, and the cache's record radii must not (determinism).
+            distance = length(h.p - o);
             const Material& mat = m_rc.scene.materials[h.material];
             // Emitters are light sampled at the gather's origin, and light reaching it through
             // specular surfaces straight from an emitter is the caustic map's: neither is

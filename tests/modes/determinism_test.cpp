@@ -81,3 +81,35 @@ TEST_CASE("Different seeds give different images", "[modes]") {
     // Different noise, the same picture.
     CHECK(meanValue(b) == Approx(meanValue(a)).epsilon(0.05));
 }
+
+// The same for the two global-illumination modes: path's bounces, and gi's photon maps,
+// precomputed irradiance and irradiance cache (filled in passes merged in a fixed order).
+// cornell-spheres: spheres are where rtcIntersect1 and the packet kernels round t differently.
+TEST_CASE("Path and gi images do not depend on the thread count or the packet width", "[modes]") {
+    auto scene = loadSceneAt("cornell-spheres", 32, 32);
+    EmbreeScene accel(*scene);
+    ModeOverrides overrides{2, 0, 0};
+    GiSettings gi = giSettings(scene->render, overrides);
+    gi.photons = gi.causticPhotons = 20000;
+    PathSettings path = pathSettings(scene->render, overrides);
+    for (const std::string mode : {"path", "gi"}) {
+        INFO("mode " << mode);
+        auto run = [&](int threads, int width) {
+            EngineSettings engine;
+            engine.threads = threads;
+            engine.packetWidth = width;
+            engine.quiet = true;
+            return mode == "gi" ? renderGi(*scene, accel, gi, engine)
+                                : renderPath(*scene, accel, path, engine);
+        };
+        RenderResult reference = run(1, 16);
+        CHECK(meanValue(reference.image) > 0.01);
+        CHECK(reference.stats.totals.invalidSamples == 0);
+        for (auto [threads, width] : {std::pair{2, 16}, std::pair{2, 1}, std::pair{1, 4}}) {
+            INFO("threads " << threads << ", packet width " << width);
+            RenderResult r = run(threads, width);
+            INFO("values that differ: " << differingValues(r.image, reference.image));
+            CHECK(sameBits(r.image, reference.image));
+        }
+    }
+}
