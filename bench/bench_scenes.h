@@ -21,6 +21,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <map>
 #include <memory>
@@ -157,6 +159,27 @@ inline const RaySet& raySet(const std::string& sceneName, bool coherent) {
     RaySet rays = coherent ? makeCoherentRays(s.nativeCamera)
                            : makeIncoherentRays(*s.accel, s.nativeCamera);
     return cache.emplace(key, std::move(rays)).first->second;
+}
+
+// Fills the ray half of a bare Embree packet of 16 from struct-of-arrays rays (fields ox, oy,
+// oz, dx, dy, dz, tnear, tfar) starting at `base`; ids are the rays' indices. The raw-Embree
+// baselines of the intersection and engine-efficiency benchmarks share it.
+template <class Soa>
+inline void loadRay16(const Soa& rays, int base, RTCRay16& ray) {
+    std::copy_n(&rays.ox[base], 16, ray.org_x);
+    std::copy_n(&rays.oy[base], 16, ray.org_y);
+    std::copy_n(&rays.oz[base], 16, ray.org_z);
+    std::copy_n(&rays.dx[base], 16, ray.dir_x);
+    std::copy_n(&rays.dy[base], 16, ray.dir_y);
+    std::copy_n(&rays.dz[base], 16, ray.dir_z);
+    std::copy_n(&rays.tnear[base], 16, ray.tnear);
+    std::copy_n(&rays.tfar[base], 16, ray.tfar);
+    for (int k = 0; k < 16; ++k) {
+        ray.time[k] = 0;
+        ray.mask[k] = 0xffffffffu;
+        ray.id[k] = unsigned(base + k);
+        ray.flags[k] = 0;
+    }
 }
 
 } // namespace rayproc::bench

@@ -117,20 +117,7 @@ void replayEmbree(benchmark::State& state, std::string mode, std::string sceneNa
                 alignas(64) int valid[16];
                 for (int k = 0; k < 16; ++k) valid[k] = base + k < r.count ? -1 : 0;
                 alignas(64) RTCRayHit16 rh;
-                std::copy_n(&r.ox[base], 16, rh.ray.org_x);
-                std::copy_n(&r.oy[base], 16, rh.ray.org_y);
-                std::copy_n(&r.oz[base], 16, rh.ray.org_z);
-                std::copy_n(&r.dx[base], 16, rh.ray.dir_x);
-                std::copy_n(&r.dy[base], 16, rh.ray.dir_y);
-                std::copy_n(&r.dz[base], 16, rh.ray.dir_z);
-                std::copy_n(&r.tnear[base], 16, rh.ray.tnear);
-                std::copy_n(&r.tfar[base], 16, rh.ray.tfar);
-                for (int k = 0; k < 16; ++k) {
-                    rh.ray.time[k] = 0;
-                    rh.ray.mask[k] = 0xffffffffu;
-                    rh.ray.id[k] = unsigned(base + k);
-                    rh.ray.flags[k] = 0;
-                }
+                loadRay16(r, base, rh.ray);
                 if (r.kind == RayKind::Shadow) {
                     rtcOccluded16(valid, scene, &ctx, &rh.ray);
                     std::copy_n(rh.ray.tfar, 16, &t[base]);

@@ -86,19 +86,8 @@ void embreeRaw16(benchmark::State& state, std::string sceneName, bool coherent) 
         contextFor(ctx, coherent);
         for (int base = 0; base + 16 <= rays.size(); base += 16) {
             alignas(64) RTCRayHit16 rh;
-            std::copy_n(&rays.ox[base], 16, rh.ray.org_x);
-            std::copy_n(&rays.oy[base], 16, rh.ray.org_y);
-            std::copy_n(&rays.oz[base], 16, rh.ray.org_z);
-            std::copy_n(&rays.dx[base], 16, rh.ray.dir_x);
-            std::copy_n(&rays.dy[base], 16, rh.ray.dir_y);
-            std::copy_n(&rays.dz[base], 16, rh.ray.dir_z);
-            std::copy_n(&rays.tnear[base], 16, rh.ray.tnear);
-            std::copy_n(&rays.tfar[base], 16, rh.ray.tfar);
+            loadRay16(rays, base, rh.ray);
             for (int k = 0; k < 16; ++k) {
-                rh.ray.time[k] = 0;
-                rh.ray.mask[k] = 0xffffffffu;
-                rh.ray.id[k] = unsigned(base + k);
-                rh.ray.flags[k] = 0;
                 rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
             }
