@@ -11,13 +11,48 @@
 
 namespace rayproc::kernels {
 
-enum class BsdfKind { Diffuse, Mirror, Dielectric, Glossy };
+// The kinds follow pbrt-v4's BxDFs (DiffuseBxDF, ConductorBxDF, DielectricBxDF,
+// ThinDielectricBxDF, DiffuseTransmissionBxDF, CoatedDiffuseBxDF) plus rayproc's Mirror and
+// Glossy (GGX + Schlick). Mix materials are resolved to one of their two before this point.
+enum class BsdfKind {
+    Diffuse,
+    Mirror,
+    Dielectric, // smooth (delta) when alphaX and alphaY are below kSmoothAlpha, else rough
+    Glossy,
+    Conductor,  // smooth (delta) or rough like Dielectric
+    ThinDielectric,
+    DiffuseTransmission,
+    CoatedDiffuse,
+};
+
+// Trowbridge-Reitz alphas below this are treated as perfectly smooth (pbrt-v4's
+// EffectivelySmooth).
+constexpr float kSmoothAlpha = 1e-3f;
 
 struct BsdfParams {
     BsdfKind kind = BsdfKind::Diffuse;
-    Vec3 color{0.5f, 0.5f, 0.5f}; // albedo, reflectance, F0, or transmission tint
-    float ior = 1.5f;
-    float alpha = 0.04f; // GGX alpha (glossy)
+    // Diffuse albedo, mirror reflectance, glossy F0, dielectric transmission tint,
+    // diffusetransmission's reflectance, coateddiffuse's base reflectance.
+    Vec3 color{0.5f, 0.5f, 0.5f};
+    float ior = 1.5f;    // dielectric, thin dielectric, coateddiffuse's coat
+    float alpha = 0.04f; // GGX alpha (Glossy)
+    // Trowbridge-Reitz alphas along the tangent and the bitangent (Conductor, Dielectric,
+    // CoatedDiffuse's coat).
+    float alphaX = 0.0f, alphaY = 0.0f;
+    Vec3 eta{1.0f, 1.0f, 1.0f}, k{0.0f, 0.0f, 0.0f}; // Conductor: complex IOR per channel
+    Vec3 transmittance{0.0f, 0.0f, 0.0f};            // DiffuseTransmission
+    // CoatedDiffuse (pbrt-v4's LayeredBxDF): coat thickness, albedo and HG asymmetry of the
+    // medium between coat and base, maximum random-walk depth and the number of walks that
+    // average one evaluation.
+    float thickness = 0.01f;
+    Vec3 albedo{0.0f, 0.0f, 0.0f};
+    float g = 0.0f;
+    int maxDepth = 10;
+    int nSamples = 1;
+    // Per hit: the shading tangent (the x axis of anisotropic roughness; zero: any axis
+    // perpendicular to ns) and the random stream of stochastic evaluation (the coat's walk).
+    Vec3 tangent{0.0f, 0.0f, 0.0f};
+    std::uint64_t key = 0;
 };
 
 struct BsdfSample {

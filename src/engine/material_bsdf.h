@@ -1,23 +1,33 @@
-// A scene material as the BSDF kernels see it (path mode and the photon pass).
+// A scene material at a hit as the BSDF kernels see it: textures evaluated, pbrt-v4's roughness
+// remapping and conductor parameterisations applied, a mix material resolved to one of its two.
+// Every mode and pass calls this (path mode, the photon pass, gi's gathers, raytrace's stages).
 #pragma once
 
+#include "accel/embree_scene.h"
 #include "kernels/bsdf_sampling.h"
 #include "scene/scene.h"
 
+#include <cstdint>
+
 namespace rayproc {
 
-inline kernels::BsdfParams bsdfOf(const Material& m) {
-    kernels::BsdfParams b;
-    b.color = m.color;
-    b.ior = m.ior;
-    b.alpha = kernels::ggxAlpha(m.roughness);
-    switch (m.type) {
-    case MaterialType::Diffuse: b.kind = kernels::BsdfKind::Diffuse; break;
-    case MaterialType::Mirror: b.kind = kernels::BsdfKind::Mirror; break;
-    case MaterialType::Dielectric: b.kind = kernels::BsdfKind::Dielectric; break;
-    case MaterialType::Glossy: b.kind = kernels::BsdfKind::Glossy; break;
-    }
-    return b;
+// The material index a hit shades with: `material` itself, or for a mix material (recursively)
+// the one of its two that pbrt-v4's MixMaterial::ChooseMaterial picks, by a hash of the hit
+// point and the outgoing direction compared with `amount`.
+int resolveMix(const Scene& scene, int material, const SurfaceHit& hit, const Vec3& wo);
+
+// The BSDF of Scene::materials[material] (not a mix: see resolveMix) at `hit`. `key` seeds the
+// stochastic evaluation of layered materials.
+kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& hit,
+                           std::uint64_t key);
+
+// Both steps: the BSDF the hit shades with.
+inline kernels::BsdfParams resolveBsdf(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
+                                       std::uint64_t key) {
+    return bsdfAt(scene, resolveMix(scene, hit.material, hit, wo), hit, key);
 }
+
+// The untextured BSDF of a material (constant parameters only; tests, benchmarks).
+kernels::BsdfParams bsdfOf(const Material& m);
 
 } // namespace rayproc

@@ -45,10 +45,11 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
         if (!b.hit(i)) {
             if (!lights.hasEnvironment()) continue;
             // The sky is sampled cosine-weighted about the previous facing normal.
-            float mis = fromDelta ? 1.0f
-                                  : kernels::powerHeuristic(
-                                        b.prevPdf[i], pickPdf * std::max(0.0f, b.prevCos[i]) * kInvPi);
-            m_rc.film.add(b.pixel[i], w * lights.environment * mis, stats);
+            float envPdf = lights.environment.cosineSampled()
+                               ? std::max(0.0f, b.prevCos[i]) * kInvPi
+                               : lights.environment.pdf(d, Vec3(0.0f));
+            float mis = fromDelta ? 1.0f : kernels::powerHeuristic(b.prevPdf[i], pickPdf * envPdf);
+            m_rc.film.add(b.pixel[i], w * lights.environment.radiance(d) * mis, stats);
             continue;
         }
         SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
@@ -89,9 +90,12 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                     li = ls.weight; // radiance / pdf, or irradiance for delta lights
                 }
             } else {
-                wi = kernels::toWorld(kernels::cosineHemisphere(u), fs);
-                lightPdf = dot(wi, fs) * kInvPi;
-                if (lightPdf > 0) li = lights.environment / lightPdf;
+                EnvironmentSample es = lights.environment.sample(u, fs);
+                if (es.valid) {
+                    wi = es.wi;
+                    lightPdf = es.pdf;
+                    li = es.weight;
+                }
             }
             if ((lightPdf > 0 || deltaLight) && dot(wi, fg) > 0) {
                 float bsdfPdf;

@@ -62,7 +62,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             (mat.type == MaterialType::Diffuse || policy.ambientEnvironment)) {
             if (policy.ambientEnvironment) {
                 // Preview: unshadowed sky light, the cosine-weighted integral of the BSDF.
-                m_rc.film.add(b.pixel[i], w * mat.color * lights.environment, stats);
+                m_rc.film.add(b.pixel[i], w * mat.color * lights.environment.average(), stats);
                 continue;
             }
             int n = policy.lightSamples;
@@ -70,10 +70,10 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             std::uint32_t strata = policy.stratify ? std::uint32_t(n) : 1u;
             for (int s = 0; s < n; ++s) {
                 Vec2 u = kernels::stratified2D(std::uint32_t(s), strata, envKey);
-                Vec3 wi = kernels::toWorld(kernels::cosineHemisphere(u), ns);
-                float pdf = dot(wi, ns) * kInvPi;
-                if (pdf <= 0 || dot(wi, ng) <= 0) continue;
-                Vec3 c = w * evalCos(mat, wo, wi, ns) * lights.environment / (pdf * float(n));
+                EnvironmentSample es = lights.environment.sample(u, ns);
+                Vec3 wi = es.wi;
+                if (!es.valid || dot(wi, ng) <= 0) continue;
+                Vec3 c = w * evalCos(mat, wo, wi, ns) * es.weight / float(n);
                 if (isBlack(c)) continue;
                 emitShadow(i, h, ng, wi, nullptr, c);
             }

@@ -21,7 +21,7 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             bool countEmission = (b.flags[i] & kFlagCountEmission) != 0;
             if (!b.hit(i)) {
                 if (addDirect && (b.flags[i] & kFlagCountEnvironment) && m_rc.lights.hasEnvironment())
-                    m_rc.film.add(b.pixel[i], w * m_rc.lights.environment, stats);
+                    m_rc.film.add(b.pixel[i], w * m_rc.lights.environment.radiance(laneDirection(b, i)), stats);
                 continue;
             }
             Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);

@@ -34,7 +34,7 @@ PhotonEmitter::PhotonEmitter(const LightSet& lights, const Bounds3& bounds, std:
     };
     for (const LightSource& l : lights.lights) add(emittedPower(l, m_radius));
     if (lights.hasEnvironment()) // radiance L from every direction through a disk of radius r
-        add(lights.environment * (4 * kPi * kPi * m_radius * m_radius));
+        add(lights.environment.average() * (4 * kPi * kPi * m_radius * m_radius));
     if (total <= 0) m_cdf.clear();
 }
 

@@ -33,6 +33,7 @@ LightSource fromSceneLight(const Light& l) {
         break;
     case LightType::Directional: s.kind = LightSource::Kind::Directional; break;
     case LightType::Environment: break; // handled by LightSet::environment
+    case LightType::Goniometric: s.kind = LightSource::Kind::Point; break;
     }
     return s;
 }
@@ -228,7 +229,7 @@ Vec3 LightSource::power() const {
 LightSet LightSet::build(const Scene& scene, const EmbreeScene& accel) {
     LightSet set;
     for (const Light& l : scene.lights) {
-        if (l.type == LightType::Environment) set.environment += l.intensity;
+        if (l.type == LightType::Environment && !isBlack(l.intensity)) set.environment.add(l);
         else set.lights.push_back(fromSceneLight(l));
     }
     for (const EmitterRecord& e : accel.emitters()) {
@@ -254,7 +255,7 @@ int LightSet::indexOf(const Shape* shape, int instance) const {
 LightSet LightSet::buildPreview(const Scene& scene, const EmbreeScene& accel) {
     LightSet set;
     for (const Light& l : scene.lights) {
-        if (l.type == LightType::Environment) set.environment += l.intensity;
+        if (l.type == LightType::Environment && !isBlack(l.intensity)) set.environment.add(l);
         else set.lights.push_back(fromSceneLight(l));
     }
     auto addPoint = [&](const Vec3& pos, const Vec3& n, const Vec3& intensity, bool twoSided,

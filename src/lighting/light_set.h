@@ -5,6 +5,7 @@
 
 #include "accel/embree_scene.h"
 #include "core/math.h"
+#include "lighting/environment.h"
 #include "scene/scene.h"
 
 #include <utility>
@@ -59,8 +60,8 @@ public:
 
 struct LightSet {
     std::vector<LightSource> lights;
-    Vec3 environment{0, 0, 0}; // constant radiance of the sky; zero when absent
-    bool hasEnvironment() const { return !isBlack(environment); }
+    EnvironmentLight environment; // the sky; absent when no scene light is an environment
+    bool hasEnvironment() const { return environment.present(); }
 
     // Path mode picks one light per shading point, uniformly among the lights and the sky
     // (the sky is choice number lights.size()).

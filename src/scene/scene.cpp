@@ -2,16 +2,6 @@
 
 namespace rayproc {
 
-const char* materialTypeName(MaterialType t) {
-    switch (t) {
-    case MaterialType::Diffuse: return "diffuse";
-    case MaterialType::Mirror: return "mirror";
-    case MaterialType::Dielectric: return "dielectric";
-    case MaterialType::Glossy: return "glossy";
-    }
-    return "?";
-}
-
 Bounds3 TriangleMesh::bounds() const {
     Bounds3 b;
     for (const Vec3& p : positions) b.extend(p);

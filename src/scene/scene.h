@@ -4,26 +4,14 @@
 #pragma once
 
 #include "core/math.h"
+#include "scene/material.h"
+#include "scene/texture.h"
 
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace rayproc {
-
-enum class MaterialType { Diffuse, Mirror, Dielectric, Glossy };
-
-// One material per leaf. `color` is the diffuse albedo, the mirror reflectance, the glossy
-// specular colour (Schlick F0) or the dielectric transmission tint, depending on `type`.
-struct Material {
-    std::string name;
-    MaterialType type = MaterialType::Diffuse;
-    Vec3 color{0.5f, 0.5f, 0.5f};
-    float ior = 1.5f;       // dielectric only
-    float roughness = 0.2f; // glossy only: GGX alpha = roughness^2
-};
-
-const char* materialTypeName(MaterialType t);
 
 struct TriangleMesh {
     std::vector<Vec3> positions;
@@ -51,6 +39,9 @@ struct Shape {
     Vec3 center{0, 0, 0};
     float radius = 1.0f;
     Vec3 normal{0, 1, 0}; // disk only: the front side
+    // Cut-out (pbrt-v4's shape "alpha"): a hit where alpha(uv) is 0 is ignored; between 0 and 1
+    // it is kept with that probability (a hash of the ray), as pbrt-v4 does.
+    FloatParam alpha{1.0f};
 
     bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
     Bounds3 bounds() const;
@@ -71,7 +62,14 @@ struct Node {
     Bounds3 bounds;                              // in the parent's space (computeBounds)
 };
 
-enum class LightType { Point, Spot, Directional, Environment };
+enum class LightType { Point, Spot, Directional, Environment, Goniometric };
+
+struct Image;
+
+// How an environment image covers the sphere of directions (in the light's own space, where +z
+// is "up" for lat-long maps as in pbrt-v3 / Mitsuba, and pbrt-v4's equal-area octahedral
+// mapping (Clarberg 2008) covers a square image).
+enum class EnvironmentMapping { EqualArea, LatLong };
 
 // Lights without geometry. Emissive shapes are area lights; they live in the tree.
 struct Light {
@@ -82,6 +80,25 @@ struct Light {
     Vec3 intensity{1, 1, 1};    // point, spot: W/sr; directional: irradiance; environment: radiance
     float coneAngle = 30.0f;    // spot: full-intensity half angle, degrees
     float falloffAngle = 5.0f;  // spot: smooth falloff beyond the cone, degrees
+    // Environment and goniometric lights: an image (linear RGB) multiplying `intensity`, and
+    // the light's own frame (light space -> world; rotation only). Environment: radiance from
+    // direction w is intensity * image(lookup(toWorld^-1 w)). Goniometric: intensity * image
+    // in the equal-area parameterisation of the emitted direction (pbrt-v4).
+    std::shared_ptr<const Image> image;
+    EnvironmentMapping mapping = EnvironmentMapping::EqualArea;
+    Affine toWorld;
+};
+
+// Pixel reconstruction filter. The camera emitter importance-samples it: each sample's film
+// position is drawn from |f| and carries the weight f / pdf (1 for positive filters), so the
+// film stays a weighted average per pixel (pbrt-v4's FilterSampler approach).
+struct PixelFilter {
+    enum class Type { Box, Triangle, Gaussian, Mitchell, Lanczos };
+    Type type = Type::Box;
+    Vec2 radius{0.5f, 0.5f};
+    float sigma = 0.5f;            // gaussian
+    float b = 1.0f / 3.0f, c = 1.0f / 3.0f; // mitchell
+    float tau = 3.0f;              // lanczos (sinc)
 };
 
 struct Camera {
@@ -92,6 +109,7 @@ struct Camera {
     int width = 512, height = 512;
     float apertureRadius = 0.0f; // thin lens; 0 = pinhole
     float focusDistance = 0.0f;  // 0 = distance to lookAt
+    PixelFilter filter;          // JSON default: box of radius 0.5; pbrt default: gaussian 1.5
 };
 
 // Render settings that a scene file may carry; the CLI overrides each one it sets.
@@ -107,6 +125,7 @@ struct Scene {
     std::string path; // file it came from, for messages
     Camera camera;
     std::vector<Material> materials;
+    std::vector<Texture> textures;
     std::vector<Light> lights;
     std::unique_ptr<Node> root;                        // a group
     std::vector<std::unique_ptr<Node>> prototypes;     // groups placed by instances

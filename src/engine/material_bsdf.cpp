@@ -1,0 +1,124 @@
+#include "engine/material_bsdf.h"
+
+#include "kernels/random.h"
+#include "texture/texture_eval.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace rayproc {
+
+namespace {
+
+std::uint32_t floatBits(float f) {
+    std::uint32_t u;
+    std::memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+// pbrt-v4's TrowbridgeReitzDistribution::RoughnessToAlpha when remapping, else the value.
+float toAlpha(float roughness, bool remap) {
+    roughness = std::max(roughness, 0.0f);
+    return remap ? std::sqrt(roughness) : roughness;
+}
+
+// Fills the parameters every kind reads from the material's constants and textures.
+kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureContext* tc) {
+    auto color = [&](const ColorParam& p) {
+        return scene && tc ? evalColor(*scene, p, *tc) : p.value;
+    };
+    auto scalar = [&](const FloatParam& p) {
+        return scene && tc ? evalFloat(*scene, p, *tc) : p.value;
+    };
+    kernels::BsdfParams b;
+    b.color = m.colorTexture >= 0 && scene && tc ? evalTexture(*scene, m.colorTexture, *tc)
+                                                 : m.color;
+    b.ior = m.ior;
+    b.alpha = kernels::ggxAlpha(m.roughness);
+    b.alphaX = toAlpha(scalar(m.uRoughness), m.remapRoughness);
+    b.alphaY = toAlpha(scalar(m.vRoughness), m.remapRoughness);
+    switch (m.type) {
+    case MaterialType::Diffuse: b.kind = kernels::BsdfKind::Diffuse; break;
+    case MaterialType::Mirror: b.kind = kernels::BsdfKind::Mirror; break;
+    case MaterialType::Dielectric: b.kind = kernels::BsdfKind::Dielectric; break;
+    case MaterialType::Glossy: b.kind = kernels::BsdfKind::Glossy; break;
+    case MaterialType::Conductor:
+        b.kind = kernels::BsdfKind::Conductor;
+        if (m.useReflectance) {
+            // pbrt-v4: eta = 1 and k = 2 sqrt(r) / sqrt(1 - r) reproduce reflectance r at
+            // normal incidence.
+            Vec3 r = b.color;
+            auto kOf = [](float x) {
+                x = std::clamp(x, 0.0f, 0.9999f);
+                return 2.0f * std::sqrt(x) / std::sqrt(1.0f - x);
+            };
+            b.eta = Vec3(1.0f);
+            b.k = {kOf(r.x), kOf(r.y), kOf(r.z)};
+        } else {
+            b.eta = color(m.eta);
+            b.k = color(m.k);
+        }
+        break;
+    case MaterialType::CoatedDiffuse:
+        b.kind = kernels::BsdfKind::CoatedDiffuse;
+        b.thickness = std::max(scalar(m.thickness), 1e-6f);
+        b.albedo = color(m.albedo);
+        b.g = m.g;
+        b.maxDepth = m.maxDepth;
+        b.nSamples = m.nSamples;
+        break;
+    case MaterialType::ThinDielectric: b.kind = kernels::BsdfKind::ThinDielectric; break;
+    case MaterialType::DiffuseTransmission:
+        b.kind = kernels::BsdfKind::DiffuseTransmission;
+        b.color = b.color * m.scale;
+        b.transmittance = color(m.transmittance) * m.scale;
+        break;
+    case MaterialType::Mix: b.kind = kernels::BsdfKind::Diffuse; break; // resolved earlier
+    }
+    return b;
+}
+
+TextureContext textureContext(const SurfaceHit& hit) {
+    TextureContext tc;
+    tc.uv = hit.uv;
+    tc.p = hit.p;
+    return tc;
+}
+
+} // namespace
+
+int resolveMix(const Scene& scene, int material, const SurfaceHit& hit, const Vec3& wo) {
+    for (int depth = 0; depth < 16; ++depth) {
+        const Material& m = scene.materials[std::size_t(material)];
+        if (m.type != MaterialType::Mix) return material;
+        TextureContext tc = textureContext(hit);
+        float amount = evalFloat(scene, m.amount, tc);
+        if (amount <= 0) {
+            material = m.mix[0];
+        } else if (amount >= 1) {
+            material = m.mix[1];
+        } else {
+            std::uint64_t h = kernels::hashCombine(
+                (std::uint64_t(floatBits(hit.p.x)) << 32) | floatBits(hit.p.y),
+                (std::uint64_t(floatBits(hit.p.z)) << 32) | floatBits(wo.x));
+            h = kernels::hashCombine(h, (std::uint64_t(floatBits(wo.y)) << 32) | floatBits(wo.z));
+            h = kernels::hashCombine(h, std::uint64_t(material));
+            float u = float(h >> 40) * 0x1p-24f;
+            material = amount < u ? m.mix[0] : m.mix[1];
+        }
+    }
+    return material; // a cycle the loaders reject; never reached for valid scenes
+}
+
+kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& hit,
+                           std::uint64_t key) {
+    TextureContext tc = textureContext(hit);
+    kernels::BsdfParams b = build(&scene, scene.materials[std::size_t(material)], &tc);
+    b.key = key;
+    return b;
+}
+
+kernels::BsdfParams bsdfOf(const Material& m) { return build(nullptr, m, nullptr); }
+
+} // namespace rayproc

@@ -1,0 +1,49 @@
+// The environment ("infinite") light: radiance arriving from every direction that escapes the
+// scene, constant or given by an image (pbrt-v4's equal-area octahedral square, or lat-long),
+// sampled in proportion to its luminance so small bright skies (a sun in the map) converge.
+// Several scene environment lights add up into one.
+#pragma once
+
+#include "core/math.h"
+#include "scene/scene.h"
+
+#include <memory>
+#include <vector>
+
+namespace rayproc {
+
+struct EnvironmentSample {
+    Vec3 wi;            // unit world direction towards the sky
+    Vec3 weight;        // radiance / pdf
+    float pdf = 0;      // solid angle
+    bool valid = false;
+};
+
+class EnvironmentLight {
+public:
+    bool present() const { return m_present; }
+    // Adds a scene light of type Environment (constant or image).
+    void add(const Light& light);
+    // Radiance arriving along -dir, i.e. seen by a ray travelling in direction `dir`.
+    Vec3 radiance(const Vec3& dir) const;
+    // A direction to the sky for a shading point with facing shading normal n: cosine-weighted
+    // about n for a constant sky, luminance-importance-sampled for an image.
+    EnvironmentSample sample(Vec2 u, const Vec3& n) const;
+    // The solid-angle pdf with which sample(., n) returns `dir`.
+    float pdf(const Vec3& dir, const Vec3& n) const;
+    // Whether sample() depends on n (constant skies: cosine-weighted) or not (image skies).
+    bool cosineSampled() const { return m_images.empty(); }
+    // Mean radiance over the sphere (preview's unshadowed ambient term, photon power).
+    Vec3 average() const;
+    // Samples a direction from the whole sphere by the sky's luminance (photon emission):
+    // the direction light arrives from, and its solid-angle pdf.
+    EnvironmentSample sampleSphere(Vec2 u) const;
+
+private:
+    struct Map; // an image, its frame and its sampling distribution (environment.cpp)
+    bool m_present = false;
+    Vec3 m_constant{0.0f, 0.0f, 0.0f};
+    std::vector<std::shared_ptr<const Map>> m_images;
+};
+
+} // namespace rayproc

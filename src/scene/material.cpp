@@ -1,0 +1,59 @@
+#include "scene/material.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rayproc {
+
+const char* materialTypeName(MaterialType t) {
+    switch (t) {
+    case MaterialType::Diffuse: return "diffuse";
+    case MaterialType::Mirror: return "mirror";
+    case MaterialType::Dielectric: return "dielectric";
+    case MaterialType::Glossy: return "glossy";
+    case MaterialType::Conductor: return "conductor";
+    case MaterialType::CoatedDiffuse: return "coateddiffuse";
+    case MaterialType::ThinDielectric: return "thindielectric";
+    case MaterialType::DiffuseTransmission: return "diffusetransmission";
+    case MaterialType::Mix: return "mix";
+    }
+    return "?";
+}
+
+} // namespace rayproc
+
+namespace rayproc {
+
+namespace {
+bool smooth(const Material& m) {
+    // Textured roughness may vary: only constant zero-like roughness is delta.
+    return !m.uRoughness.textured() && !m.vRoughness.textured() &&
+           (m.remapRoughness ? std::sqrt(std::max(m.uRoughness.value, 0.0f))
+                             : m.uRoughness.value) < 1e-3f &&
+           (m.remapRoughness ? std::sqrt(std::max(m.vRoughness.value, 0.0f))
+                             : m.vRoughness.value) < 1e-3f;
+}
+} // namespace
+
+MaterialClass materialClass(const std::vector<Material>& materials, int index) {
+    const Material& m = materials[std::size_t(index)];
+    switch (m.type) {
+    case MaterialType::Diffuse:
+    case MaterialType::DiffuseTransmission:
+    case MaterialType::CoatedDiffuse: return MaterialClass::Diffuse;
+    case MaterialType::Glossy: return MaterialClass::Glossy;
+    case MaterialType::Mirror:
+    case MaterialType::ThinDielectric: return MaterialClass::Specular;
+    case MaterialType::Conductor:
+    case MaterialType::Dielectric: return smooth(m) ? MaterialClass::Specular : MaterialClass::Glossy;
+    case MaterialType::Mix: {
+        MaterialClass a = materialClass(materials, m.mix[0]), b = materialClass(materials, m.mix[1]);
+        if (a == MaterialClass::Diffuse || b == MaterialClass::Diffuse) return MaterialClass::Diffuse;
+        if (a == MaterialClass::Glossy || b == MaterialClass::Glossy) return MaterialClass::Glossy;
+        return MaterialClass::Specular;
+    }
+    }
+    return MaterialClass::Diffuse;
+}
+
+} // namespace rayproc

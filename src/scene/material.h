@@ -1,0 +1,95 @@
+// Materials as the scene describes them: pbrt-v4's set (diffuse, coateddiffuse, conductor,
+// dielectric, thindielectric, diffusetransmission, mix) plus rayproc's own mirror and glossy.
+// Any colour or float parameter may be a texture (Scene::textures); the engine resolves a
+// material at a hit into the kernels' BsdfParams (engine/material_bsdf.h).
+#pragma once
+
+#include "core/math.h"
+
+#include <string>
+#include <vector>
+
+namespace rayproc {
+
+// A parameter that is the constant `value`, or Scene::textures[texture] evaluated at the hit.
+struct ColorParam {
+    Vec3 value{0.5f, 0.5f, 0.5f};
+    int texture = -1;
+    bool textured() const { return texture >= 0; }
+};
+struct FloatParam {
+    float value = 0.0f;
+    int texture = -1;
+    bool textured() const { return texture >= 0; }
+};
+
+enum class MaterialType {
+    Diffuse,             // Lambertian: albedo `color`
+    Mirror,              // ideal specular reflection, reflectance `color`
+    Dielectric,          // glass of index `ior`; smooth, or rough (Trowbridge-Reitz) when alpha > 0
+    Glossy,              // rayproc's GGX with Schlick Fresnel, F0 = `color`, alpha = roughness^2
+    Conductor,           // pbrt-v4 conductor: complex Fresnel (eta, k) or an artist's reflectance
+    CoatedDiffuse,       // pbrt-v4 coateddiffuse: a dielectric coat over a diffuse base
+    ThinDielectric,      // pbrt-v4 thindielectric: a thin slab, reflection + straight transmission
+    DiffuseTransmission, // pbrt-v4 diffusetransmission: Lambertian reflection and transmission
+    Mix,                 // pbrt-v4 mix: one of two materials, chosen per hit by `amount`
+};
+
+// Which engine stages a material needs (raytrace and gi route hits by it; path mode samples the
+// whole BSDF whatever the class).
+enum class MaterialClass {
+    Diffuse,  // a non-delta reflector lit by light sampling, whose indirect light gi gathers
+    Glossy,   // a non-delta lobe narrower than diffuse: light sampling + a sampled continuation
+    Specular, // only delta lobes (mirror, smooth conductor, smooth dielectric, thin dielectric)
+};
+
+struct Material {
+    std::string name;
+    MaterialType type = MaterialType::Diffuse;
+    // Diffuse albedo, mirror reflectance, glossy F0, dielectric tint, conductor reflectance
+    // (when useReflectance), coateddiffuse's base reflectance, diffusetransmission's reflectance.
+    Vec3 color{0.5f, 0.5f, 0.5f};
+    int colorTexture = -1; // replaces `color` when >= 0
+    float ior = 1.5f;      // dielectric, thindielectric, coateddiffuse's coat
+    float roughness = 0.2f; // Glossy only: GGX alpha = roughness^2
+
+    // Trowbridge-Reitz roughness of Conductor, Dielectric and CoatedDiffuse's coat, as pbrt-v4
+    // defines it: alpha = remap ? sqrt(r) : r (TrowbridgeReitzDistribution::RoughnessToAlpha);
+    // both alphas below 1e-3 mean a perfectly smooth (delta) interface.
+    FloatParam uRoughness{0.0f}, vRoughness{0.0f};
+    bool remapRoughness = true;
+
+    // Conductor: complex index of refraction per channel, or `color` as the normal-incidence
+    // reflectance (pbrt-v4's "reflectance" parameter, Schlick-like via an equivalent eta/k).
+    ColorParam eta{{0.2004f, 0.9240f, 1.1022f}}; // copper (pbrt-v4's default metal)
+    ColorParam k{{3.9129f, 2.4528f, 2.1422f}};
+    bool useReflectance = false;
+
+    // DiffuseTransmission: Lambertian transmission; both colours are multiplied by `scale`.
+    ColorParam transmittance{{0.25f, 0.25f, 0.25f}};
+    float scale = 1.0f;
+
+    // CoatedDiffuse: coat thickness, medium albedo and phase asymmetry between the layers, and
+    // the random walk's depth and sample count (pbrt-v4's LayeredBxDF).
+    FloatParam thickness{0.01f};
+    ColorParam albedo{{0.0f, 0.0f, 0.0f}};
+    float g = 0.0f;
+    int maxDepth = 10;
+    int nSamples = 1;
+
+    // Mix: Scene::materials[mix[0]] or [mix[1]]: the second with probability `amount`.
+    int mix[2] = {-1, -1};
+    FloatParam amount{0.5f};
+};
+
+const char* materialTypeName(MaterialType t);
+
+} // namespace rayproc
+
+namespace rayproc {
+
+// The class of materials[index]; a mix takes the class of its components, Diffuse if either is
+// Diffuse, else Glossy if either is, else Specular.
+MaterialClass materialClass(const std::vector<Material>& materials, int index);
+
+} // namespace rayproc
