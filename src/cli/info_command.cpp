@@ -66,13 +66,14 @@ nlohmann::ordered_json describe(const Scene& scene, const EmbreeScene& accel) {
 
     std::map<std::string, std::size_t> lights{{"area", accel.emitters().size()},
                                               {"point", 0}, {"spot", 0}, {"directional", 0},
-                                              {"environment", 0}};
+                                              {"environment", 0}, {"goniometric", 0}};
     for (const Light& l : scene.lights) {
         switch (l.type) {
         case LightType::Point: ++lights["point"]; break;
         case LightType::Spot: ++lights["spot"]; break;
         case LightType::Directional: ++lights["directional"]; break;
         case LightType::Environment: ++lights["environment"]; break;
+        case LightType::Goniometric: ++lights["goniometric"]; break;
         }
     }
     std::map<std::string, std::size_t> materials{
@@ -119,13 +120,21 @@ void printText(const nlohmann::ordered_json& j) {
                 g["triangles_placed"].get<std::size_t>());
     std::printf("spheres      %zu\ndisks        %zu\n", g["spheres"].get<std::size_t>(),
                 g["disks"].get<std::size_t>());
-    std::printf("lights       %zu area, %zu point, %zu spot, %zu directional, %zu environment\n",
+    std::printf("lights       %zu area, %zu point, %zu spot, %zu directional, %zu environment",
                 l["area"].get<std::size_t>(), l["point"].get<std::size_t>(),
                 l["spot"].get<std::size_t>(), l["directional"].get<std::size_t>(),
                 l["environment"].get<std::size_t>());
-    std::printf("materials    %zu diffuse, %zu mirror, %zu dielectric, %zu glossy\n",
+    if (l["goniometric"].get<std::size_t>() > 0)
+        std::printf(", %zu goniometric", l["goniometric"].get<std::size_t>());
+    std::printf("\nmaterials    %zu diffuse, %zu mirror, %zu dielectric, %zu glossy",
                 m["diffuse"].get<std::size_t>(), m["mirror"].get<std::size_t>(),
                 m["dielectric"].get<std::size_t>(), m["glossy"].get<std::size_t>());
+    // pbrt-v4's other materials, where the scene has them.
+    for (const auto& [name, count] : m.items())
+        if (name != "diffuse" && name != "mirror" && name != "dielectric" && name != "glossy" &&
+            count.get<std::size_t>() > 0)
+            std::printf(", %zu %s", count.get<std::size_t>(), name.c_str());
+    std::printf("\n");
     std::printf("bounds       (%g, %g, %g) - (%g, %g, %g)\n", b["min"][0].get<double>(),
                 b["min"][1].get<double>(), b["min"][2].get<double>(), b["max"][0].get<double>(),
                 b["max"][1].get<double>(), b["max"][2].get<double>());

@@ -12,7 +12,7 @@ namespace {
 
 // Random dimensions of one path vertex.
 enum PathDim : std::uint32_t { kDimLightPick = 20, kDimLight = 21, kDimBsdf = 23, kDimLobe = 25,
-                               kDimRr = 26 };
+                               kDimRr = 26, kDimLayered = 27 };
 
 // Two numbers for dimension pair `dim` of a lane: at the first hit they are stratified over
 // the pixel's samples (padded: each pair has its own permutation), deeper they are independent.
@@ -65,9 +65,12 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             m_rc.film.add(b.pixel[i], w * le * mis, stats);
         }
 
-        const Material& mat = m_rc.scene.materials[h.material];
-        kernels::BsdfParams bsdf = bsdfOf(mat);
-        bool deltaMaterial = mat.type == MaterialType::Mirror || mat.type == MaterialType::Dielectric;
+        h.material = resolveMix(m_rc.scene, h.material, h, wo);
+        kernels::BsdfParams bsdf = bsdfAt(m_rc.scene, h.material, h,
+                                          kernels::hashCombine(b.rngKey[i], kDimLayered));
+        const bool deltaMaterial =
+            materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
+        const bool transmissive = bsdfTransmits(bsdf);
         Vec3 fg, fs;
         kernels::facingSide(wo, h.ng, h.ns, fg, fs);
 
@@ -97,7 +100,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                     li = es.weight;
                 }
             }
-            if ((lightPdf > 0 || deltaLight) && dot(wi, fg) > 0) {
+            if ((lightPdf > 0 || deltaLight) && (dot(wi, fg) > 0 || transmissive)) {
                 float bsdfPdf;
                 Vec3 f = kernels::evalBsdf(bsdf, wo, wi, h.ng, h.ns, bsdfPdf);
                 // At the last vertex no BSDF ray follows to collect the emission share, so
@@ -108,7 +111,9 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                                 : kernels::powerHeuristic(pickPdf * lightPdf, bsdfPdf);
                 Vec3 c = w * f * li * (mis / pickPdf);
                 if (!isBlack(c)) {
-                    spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h, fg, wi,
+                    // A transmitted light sample leaves from the other side.
+                    Vec3 side = dot(wi, fg) > 0 ? fg : -fg;
+                    spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h, side, wi,
                                    ls.valid ? &ls : nullptr, c);
                     ++shadowOut;
                 }

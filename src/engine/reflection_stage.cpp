@@ -1,5 +1,6 @@
 #include "engine/reflection_stage.h"
 
+#include "engine/material_bsdf.h"
 #include "engine/path_state.h"
 #include "kernels/bsdf.h"
 #include "kernels/sampling.h"
@@ -25,6 +26,35 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             wi = kernels::reflect(wo, ns);
             if (dot(wi, ng) <= 0) wi = kernels::reflect(wo, ng);
             w = w * mat.color;
+        } else if (mat.type != MaterialType::Glossy) {
+            // pbrt-v4's materials: one sample of the whole BSDF. A delta lobe continues as a
+            // mirror does; a glossy lobe's ray sees only the sky (emitters are light sampled);
+            // a diffuse-like sample (a coated base, diffuse transmission) ends here: the
+            // shadow stage gave its direct light and gi's gather its indirect light.
+            kernels::BsdfParams bsdf =
+                bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], kDimReflect));
+            Vec2 u{kernels::uniform(b.rngKey[i], kDimReflect),
+                   kernels::uniform(b.rngKey[i], kDimReflect + 1)};
+            kernels::BsdfSample s =
+                kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u, kernels::uniform(b.rngKey[i], kDimRefract));
+            if (!s.valid) continue;
+            if (!s.delta) {
+                if (materialClass(m_rc.scene.materials, h.material) != MaterialClass::Glossy) continue;
+                flags = std::uint8_t((flags & ~kFlagCountEmission) | kFlagCountEnvironment);
+            }
+            wi = s.wi;
+            w = w * s.weight;
+            if (s.transmitted) {
+                int depth = b.depth[i] + 1;
+                if (b.specularDepth[i] + 1 > m_rc.policy.maxDepth) continue;
+                if (!m_rc.policy.refractionStage) continue;
+                if (!continuePath(m_rc.policy, depth, b.rngKey[i], 0, w)) continue;
+                Vec3 o = offsetRayOrigin(h, -ng, wi);
+                spawnRay(ctx.out(RayKind::Refraction), b, i, o, wi, w, std::uint8_t(depth),
+                         std::uint8_t(b.specularDepth[i] + 1), flags, 0);
+                ++spawned;
+                continue;
+            }
         } else { // glossy
             float alpha = kernels::ggxAlpha(mat.roughness);
             Vec2 u{kernels::uniform(b.rngKey[i], kDimReflect),

@@ -1,5 +1,6 @@
 #include "engine/shadow_stage.h"
 
+#include "engine/material_bsdf.h"
 #include "engine/path_state.h"
 #include "kernels/bsdf.h"
 #include "kernels/sampling.h"
@@ -8,12 +9,18 @@ namespace rayproc {
 
 namespace {
 
-// BSDF value times the cosine at the receiver, for the materials lit by light sampling.
-Vec3 evalCos(const Material& m, const Vec3& wo, const Vec3& wi, const Vec3& n) {
+// BSDF value times the cosine at the receiver, for the materials lit by light sampling:
+// rayproc's diffuse and glossy as they always were, pbrt-v4's through the BSDF kernels.
+Vec3 evalCos(const Material& m, const kernels::BsdfParams& bsdf, const SurfaceHit& h,
+             const Vec3& wo, const Vec3& wi, const Vec3& n) {
+    if (m.type != MaterialType::Diffuse && m.type != MaterialType::Glossy) {
+        float pdf;
+        return kernels::evalBsdf(bsdf, wo, wi, h.ng, h.ns, pdf);
+    }
     float c = dot(wi, n);
     if (c <= 0) return Vec3(0.0f);
-    if (m.type == MaterialType::Diffuse) return m.color * (c * kInvPi);
-    return kernels::glossyEvalCos(wo, wi, n, m.color, kernels::ggxAlpha(m.roughness));
+    if (m.type == MaterialType::Diffuse) return bsdf.color * (c * kInvPi);
+    return kernels::glossyEvalCos(wo, wi, n, bsdf.color, kernels::ggxAlpha(m.roughness));
 }
 
 } // namespace
@@ -39,6 +46,11 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         facingNormals(h, wo, ng, ns);
         Vec3 w = laneThroughput(b, i);
         std::uint64_t key = b.rngKey[i];
+        const kernels::BsdfParams bsdf =
+            bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(key, kDimLightBase - 2));
+        const bool transmits = bsdfTransmits(bsdf);
+        // A light sample through a transmitting surface leaves from its other side.
+        auto side = [&](const Vec3& wi) { return dot(wi, ng) > 0 ? ng : -ng; };
 
         for (const LightSource& light : lights.lights) {
             // A delta light takes one sample and no random numbers.
@@ -49,20 +61,21 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                 Vec2 u = light.delta() ? Vec2{0.5f, 0.5f}
                                        : kernels::stratified2D(std::uint32_t(s), strata, lightKey);
                 LightSample ls = light.sample(h.p, u);
-                if (!ls.valid || dot(ls.wi, ng) <= 0) continue;
-                Vec3 c = w * evalCos(mat, wo, ls.wi, ns) * ls.weight / float(n);
+                if (!ls.valid || (dot(ls.wi, ng) <= 0 && !transmits)) continue;
+                Vec3 c = w * evalCos(mat, bsdf, h, wo, ls.wi, ns) * ls.weight / float(n);
                 if (isBlack(c)) continue;
-                emitShadow(i, h, ng, ls.wi, &ls, c);
+                emitShadow(i, h, side(ls.wi), ls.wi, &ls, c);
             }
         }
 
         // The sky lights diffuse surfaces through cosine-weighted shadow rays. A glossy lobe is
         // narrower than the cosine: its GGX-sampled reflection ray sees the sky instead.
         if (lights.hasEnvironment() &&
-            (mat.type == MaterialType::Diffuse || policy.ambientEnvironment)) {
+            (materialClass(m_rc.scene.materials, h.material) == MaterialClass::Diffuse ||
+             policy.ambientEnvironment)) {
             if (policy.ambientEnvironment) {
                 // Preview: unshadowed sky light, the cosine-weighted integral of the BSDF.
-                m_rc.film.add(b.pixel[i], w * mat.color * lights.environment.average(), stats);
+                m_rc.film.add(b.pixel[i], w * bsdf.color * lights.environment.average(), stats);
                 continue;
             }
             int n = policy.lightSamples;
@@ -73,7 +86,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                 EnvironmentSample es = lights.environment.sample(u, ns);
                 Vec3 wi = es.wi;
                 if (!es.valid || dot(wi, ng) <= 0) continue;
-                Vec3 c = w * evalCos(mat, wo, wi, ns) * es.weight / float(n);
+                Vec3 c = w * evalCos(mat, bsdf, h, wo, wi, ns) * es.weight / float(n);
                 if (isBlack(c)) continue;
                 emitShadow(i, h, ng, wi, nullptr, c);
             }

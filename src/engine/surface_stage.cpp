@@ -1,6 +1,7 @@
 #include "engine/surface_stage.h"
 
 #include "core/error.h"
+#include "engine/material_bsdf.h"
 #include "engine/path_state.h"
 #include "gi/gather_stage.h"
 
@@ -31,19 +32,41 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
                 Vec3 le = emittedRadiance(*h.shape, h.ng, -d);
                 if (!isBlack(le)) m_rc.film.add(b.pixel[i], w * le, stats);
             }
-            switch (materials[h.material].type) {
+            h.material = resolveMix(m_rc.scene, h.material, h, -d);
+            const MaterialType type = materials[h.material].type;
+            const MaterialClass cls = materialClass(materials, h.material);
+            switch (type) {
             case MaterialType::Diffuse:
+            case MaterialType::DiffuseTransmission:
+            case MaterialType::CoatedDiffuse:
                 // gi: past a glossy bounce the global map gives all reflected light, direct too.
                 if (addDirect && (!gi || countEmission)) direct.add(i, h);
                 if (gi) indirect.add(i, h);
+                // The coat's mirror-like reflection of the scene (its delta lobe; its glossy
+                // lobe sees the sky), traced by the reflection stage's sampled BSDF.
+                if (type == MaterialType::CoatedDiffuse && !prepass) reflect.add(i, h);
                 break;
             case MaterialType::Glossy:
                 if (prepass) break;
                 if (addDirect) direct.add(i, h);
                 reflect.add(i, h);
                 break;
-            case MaterialType::Mirror: reflect.add(i, h); break;
-            case MaterialType::Dielectric: refract.add(i, h); break;
+            case MaterialType::Dielectric:
+                if (cls == MaterialClass::Specular) {
+                    refract.add(i, h);
+                    break;
+                }
+                [[fallthrough]]; // rough glass: light sampling and one sampled continuation
+            case MaterialType::Conductor:
+                if (cls == MaterialClass::Glossy) {
+                    if (prepass) break;
+                    if (addDirect) direct.add(i, h);
+                }
+                reflect.add(i, h);
+                break;
+            case MaterialType::Mirror:
+            case MaterialType::ThinDielectric: reflect.add(i, h); break;
+            case MaterialType::Mix: break; // resolved above
             }
         }
     }

@@ -31,12 +31,14 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
     for (int k = 0; k < hits.count; ++k) {
         int i = hits.lane[k];
         const SurfaceHit& h = hits.hit[k];
-        const Material& mat = m_rc.scene.materials[h.material];
         Vec3 wo = -laneDirection(b, i);
+        // The diffuse albedo (textured); pbrt-v4's diffuse-like materials count as Lambertian
+        // with their base reflectance here.
+        const Vec3 albedo = bsdfAt(m_rc.scene, h.material, h, 0).color;
         Vec3 ng, ns;
         facingNormals(h, wo, ng, ns);
         Vec3 w = laneThroughput(b, i);
-        Vec3 reflect = w * mat.color * kInvPi; // Lambertian: L = albedo / pi * E
+        Vec3 reflect = w * albedo * kInvPi; // Lambertian: L = albedo / pi * E
         bool firstDiffuse = (b.flags[i] & kFlagCountEmission) != 0;
 
         if (!firstDiffuse) {
@@ -77,7 +79,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         // A new final gather: for a cache record in the prepass, into the film otherwise.
         std::uint32_t target = b.pixel[i];
         std::uint8_t flags = 0;
-        Vec3 weight = w * mat.color / float(strata); // cosine sampling: f cos / pdf = albedo
+        Vec3 weight = w * albedo / float(strata); // cosine sampling: f cos / pdf = albedo
         Vec3 tu, tv;
         orthonormalBasis(ns, tu, tv);
         IcRequest* request = nullptr;
@@ -154,20 +156,22 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
             // From the hit point, not Embree's t: t of a sphere differs by an ulp between
             // packet widths, and the cache's record radii must not (determinism).
             distance = length(h.p - o);
-            const Material& mat = m_rc.scene.materials[h.material];
+            h.material = resolveMix(m_rc.scene, h.material, h, -d);
             // Emitters are light sampled at the gather's origin, and light reaching it through
             // specular surfaces straight from an emitter is the caustic map's: neither is
             // added here. At a diffuse (or glossy, taken as diffuse) surface the global map
             // gives the reflected radiance; a mirror or glass surface continues the ray
             // specularly (one Fresnel-chosen branch, as path mode does) until it reaches one,
             // so light along L ... D S+ D paths is not lost.
-            if (mat.type == MaterialType::Diffuse || mat.type == MaterialType::Glossy) {
+            if (materialClass(m_rc.scene.materials, h.material) != MaterialClass::Specular) {
                 Vec3 ng, ns;
                 facingNormals(h, -d, ng, ns);
                 ++stats.globalLookups;
-                radiance = mat.color * kInvPi * globalIrradiance(h.p, ns);
+                radiance = bsdfAt(m_rc.scene, h.material, h, 0).color * kInvPi *
+                           globalIrradiance(h.p, ns);
             } else if (b.specularDepth[i] < maxSpecular) {
-                kernels::BsdfParams bsdf = bsdfOf(mat);
+                kernels::BsdfParams bsdf =
+                    bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], 43));
                 Vec2 u{kernels::uniform(b.rngKey[i], 40), kernels::uniform(b.rngKey[i], 41)};
                 kernels::BsdfSample smp =
                     kernels::sampleBsdf(bsdf, -d, h.ng, h.ns, u, kernels::uniform(b.rngKey[i], 42));

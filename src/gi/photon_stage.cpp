@@ -24,10 +24,12 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         if (!b.hit(i)) continue;
         Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
         SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
-        const Material& mat = m_rc.scene.materials[h.material];
         Vec3 wo = -d;
+        h.material = resolveMix(m_rc.scene, h.material, h, wo);
         Vec3 power = laneThroughput(b, i);
-        bool specularSurface = mat.type == MaterialType::Mirror || mat.type == MaterialType::Dielectric;
+        // Photons are stored where a lookup may read them: at diffuse and glossy surfaces.
+        bool specularSurface =
+            materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
         std::uint8_t flags = b.flags[i];
         if (!specularSurface) {
             bool store = m_causticPass ? (flags & kPhotonSpecular) && !(flags & kPhotonDiffuse) : true;
@@ -41,7 +43,8 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         }
         int depth = b.depth[i] + 1;
         if (depth >= m_maxDepth) continue;
-        kernels::BsdfParams bsdf = bsdfOf(mat);
+        kernels::BsdfParams bsdf =
+            bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], kDimLobe + 1));
         Vec2 u{kernels::uniform(b.rngKey[i], kDimScatter), kernels::uniform(b.rngKey[i], kDimScatter + 1)};
         kernels::BsdfSample s = kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u,
                                                     kernels::uniform(b.rngKey[i], kDimLobe));

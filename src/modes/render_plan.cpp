@@ -143,6 +143,43 @@ std::vector<std::string> RenderPlan::logLines(unsigned mode) const {
     return out;
 }
 
+namespace {
+
+// Counts a leaf of materials[m] into the stages its material needs (both of a mix's).
+void countMaterial(const std::vector<Material>& materials, int m, RenderPlan& p, int depth) {
+    const Material& mat = materials[std::size_t(m)];
+    const bool delta = materialClass(materials, m) == MaterialClass::Specular;
+    switch (mat.type) {
+    case MaterialType::Diffuse: ++p.diffuseLeaves; break;
+    case MaterialType::Glossy: ++p.glossyLeaves; break;
+    case MaterialType::Mirror: ++p.mirrorLeaves; break;
+    case MaterialType::Dielectric:
+        ++p.dielectricLeaves;
+        if (!delta) ++p.glossyLeaves; // light sampling and a sampled continuation
+        break;
+    case MaterialType::Conductor: ++(delta ? p.mirrorLeaves : p.glossyLeaves); break;
+    case MaterialType::ThinDielectric:
+        ++p.dielectricLeaves;
+        ++p.mirrorLeaves;
+        break;
+    case MaterialType::CoatedDiffuse:
+        ++p.diffuseLeaves;
+        ++p.glossyLeaves; // the coat's reflection
+        break;
+    case MaterialType::DiffuseTransmission:
+        ++p.diffuseLeaves;
+        ++p.dielectricLeaves; // transmitted rays
+        break;
+    case MaterialType::Mix:
+        if (depth < 16)
+            for (int k = 0; k < 2; ++k)
+                if (mat.mix[k] >= 0) countMaterial(materials, mat.mix[k], p, depth + 1);
+        break;
+    }
+}
+
+} // namespace
+
 RenderPlan fullPlan(const LightSet& lights) {
     RenderPlan p;
     p.lights.resize(lights.lights.size());
@@ -159,12 +196,7 @@ RenderPlan analyseScene(const Scene& scene, const EmbreeScene& accel, const Ligh
     for (const PlacedLeaf& l : leaves) {
         int m = l.shape->material;
         if (m < 0 || std::size_t(m) >= scene.materials.size()) continue;
-        switch (scene.materials[std::size_t(m)].type) {
-        case MaterialType::Diffuse: ++p.diffuseLeaves; break;
-        case MaterialType::Glossy: ++p.glossyLeaves; break;
-        case MaterialType::Mirror: ++p.mirrorLeaves; break;
-        case MaterialType::Dielectric: ++p.dielectricLeaves; break;
-        }
+        countMaterial(scene.materials, m, p, 0);
     }
     const bool diffuse = p.diffuseLeaves > 0, glossy = p.glossyLeaves > 0;
     const bool specular = p.mirrorLeaves + p.dielectricLeaves > 0;

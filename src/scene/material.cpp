@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace rayproc {
 
@@ -54,6 +55,22 @@ MaterialClass materialClass(const std::vector<Material>& materials, int index) {
     }
     }
     return MaterialClass::Diffuse;
+}
+
+bool mixContainsItself(const std::vector<Material>& materials, int index) {
+    // Depth-first colouring: 1 = on the current path, 2 = done; reaching a 1 is a cycle.
+    std::vector<char> state(materials.size(), 0);
+    std::function<bool(int)> cyclic = [&](int mat) {
+        if (mat < 0 || std::size_t(mat) >= materials.size()) return false;
+        const Material& m = materials[std::size_t(mat)];
+        if (m.type != MaterialType::Mix || state[std::size_t(mat)] == 2) return false;
+        if (state[std::size_t(mat)] == 1) return true;
+        state[std::size_t(mat)] = 1;
+        bool found = cyclic(m.mix[0]) || cyclic(m.mix[1]);
+        state[std::size_t(mat)] = 2;
+        return found;
+    };
+    return cyclic(index);
 }
 
 } // namespace rayproc

@@ -92,4 +92,7 @@ namespace rayproc {
 // Diffuse, else Glossy if either is, else Specular.
 MaterialClass materialClass(const std::vector<Material>& materials, int index);
 
+// Whether the mix materials[index] contains itself through its components (loaders reject it).
+bool mixContainsItself(const std::vector<Material>& materials, int index);
+
 } // namespace rayproc

@@ -1,6 +1,7 @@
 // Scene loading: the flat sections of a scene file (camera, render settings, materials,
 // lights). Each key is optional unless noted; the defaults are those of scene.h.
 #include "core/error.h"
+#include "scene/metals.h"
 #include "scene/scene_loader_detail.h"
 
 #include <nlohmann/json.hpp>
@@ -70,9 +71,52 @@ SceneRenderSettings parseRenderSettings(const JsonRef& v) {
     return s;
 }
 
+namespace {
+
+// "roughness" (both axes) or "u_roughness" / "v_roughness", and "remap_roughness" (pbrt-v4's
+// remapping alpha = sqrt(r), on by default as in pbrt-v4).
+void parseRoughness(const JsonRef& m, Material& mat) {
+    if (m.has("roughness")) {
+        mat.uRoughness.value = mat.vRoughness.value = m["roughness"].numberIn(0, 1e6f);
+    }
+    if (m.has("u_roughness")) mat.uRoughness.value = m["u_roughness"].numberIn(0, 1e6f);
+    if (m.has("v_roughness")) mat.vRoughness.value = m["v_roughness"].numberIn(0, 1e6f);
+    if (m.has("remap_roughness")) mat.remapRoughness = m["remap_roughness"].boolean();
+}
+
+// A conductor's complex index: "eta" and "k" as colours, or "metal": a name of pbrt-v4's
+// measured metals ("Ag", "Al", "Au", "Cu", "CuZn", "MgO", "TiO2"), or "reflectance".
+void parseConductor(const JsonRef& m, Material& mat) {
+    if (m.has("metal")) {
+        if (m.has("eta") || m.has("k") || m.has("reflectance"))
+            m.fail("give \"metal\", or \"eta\" and \"k\", or \"reflectance\", not several");
+        std::string metal = m["metal"].nonEmptyString();
+        Vec3 eta, k;
+        if (!namedMetal(metal, eta, k))
+            m["metal"].fail("unknown metal \"" + metal +
+                            "\" (expected one of Ag, Al, Au, Cu, CuZn, MgO, TiO2)");
+        mat.eta.value = eta;
+        mat.k.value = k;
+    } else if (m.has("reflectance")) {
+        if (m.has("eta") || m.has("k")) m.fail("give \"eta\" and \"k\", or \"reflectance\", not both");
+        mat.color = m["reflectance"].albedo();
+        mat.useReflectance = true;
+    } else {
+        if (m.has("eta")) mat.eta.value = m["eta"].color();
+        if (m.has("k")) mat.k.value = m["k"].color();
+    }
+    parseRoughness(m, mat);
+}
+
+} // namespace
+
 void parseMaterials(const JsonRef& v, Scene& scene) {
     if (!v.isObject()) v.fail("expected an object mapping material names to materials");
-    static const std::vector<std::string> kTypes = {"diffuse", "mirror", "dielectric", "glossy"};
+    static const std::vector<std::string> kTypes = {
+        "diffuse", "mirror", "dielectric", "glossy", "conductor", "coateddiffuse",
+        "thindielectric", "diffusetransmission", "mix"};
+    const std::size_t first = scene.materials.size();
+    std::vector<std::pair<std::size_t, JsonRef>> mixes;
     for (const std::string& name : v.keys()) {
         JsonRef m = v[name];
         if (name.empty()) m.fail("material name must not be empty");
@@ -91,17 +135,71 @@ void parseMaterials(const JsonRef& v, Scene& scene) {
             m.expectObject({"type", "color"}, "a mirror material");
             mat.type = MaterialType::Mirror;
         } else if (type == "dielectric") {
-            m.expectObject({"type", "color", "ior"}, "a dielectric material");
+            m.expectObject({"type", "color", "ior", "roughness", "u_roughness", "v_roughness",
+                            "remap_roughness"},
+                           "a dielectric material");
             mat.type = MaterialType::Dielectric;
             if (m.has("ior")) mat.ior = m["ior"].positive();
-        } else {
+            parseRoughness(m, mat);
+        } else if (type == "glossy") {
             m.expectObject({"type", "color", "roughness"}, "a glossy material");
             mat.type = MaterialType::Glossy;
             if (m.has("roughness")) mat.roughness = m["roughness"].numberIn(0, 1);
+        } else if (type == "conductor") {
+            m.expectObject({"type", "metal", "eta", "k", "reflectance", "roughness", "u_roughness",
+                            "v_roughness", "remap_roughness"},
+                           "a conductor material");
+            mat.type = MaterialType::Conductor;
+            parseConductor(m, mat);
+        } else if (type == "coateddiffuse") {
+            m.expectObject({"type", "color", "ior", "roughness", "u_roughness", "v_roughness",
+                            "remap_roughness", "thickness", "albedo", "g", "max_depth",
+                            "samples"},
+                           "a coateddiffuse material");
+            mat.type = MaterialType::CoatedDiffuse;
+            mat.color = Vec3(0.5f);
+            if (m.has("ior")) mat.ior = m["ior"].positive();
+            parseRoughness(m, mat);
+            if (m.has("thickness")) mat.thickness.value = m["thickness"].positive();
+            if (m.has("albedo")) mat.albedo.value = m["albedo"].albedo();
+            if (m.has("g")) mat.g = m["g"].numberIn(-0.999f, 0.999f);
+            if (m.has("max_depth")) mat.maxDepth = int(m["max_depth"].integer(1, 1000));
+            if (m.has("samples")) mat.nSamples = int(m["samples"].integer(1, 1000));
+        } else if (type == "thindielectric") {
+            m.expectObject({"type", "ior"}, "a thindielectric material");
+            mat.type = MaterialType::ThinDielectric;
+            if (m.has("ior")) mat.ior = m["ior"].positive();
+        } else if (type == "diffusetransmission") {
+            m.expectObject({"type", "color", "transmittance", "scale"},
+                           "a diffusetransmission material");
+            mat.type = MaterialType::DiffuseTransmission;
+            mat.color = Vec3(0.25f);
+            if (m.has("transmittance")) mat.transmittance.value = m["transmittance"].albedo();
+            if (m.has("scale")) mat.scale = m["scale"].numberIn(0, 1e6f);
+        } else {
+            m.expectObject({"type", "materials", "amount"}, "a mix material");
+            mat.type = MaterialType::Mix;
+            if (m.has("amount")) mat.amount.value = m["amount"].numberIn(0, 1);
+            mixes.push_back({scene.materials.size(), m});
         }
         if (m.has("color")) mat.color = m["color"].albedo();
         scene.materials.push_back(mat);
     }
+    // A mix names two materials of this block, in any order; it must not contain itself.
+    for (auto& [index, m] : mixes) {
+        JsonRef names = m["materials"];
+        if (!names.isArray() || names.arraySize() != 2)
+            names.fail("expected an array of two material names");
+        for (std::size_t k = 0; k < 2; ++k) {
+            std::string ref = names[k].nonEmptyString();
+            int found = scene.findMaterial(ref);
+            if (found < int(first)) names[k].fail("unknown material \"" + ref + "\"");
+            scene.materials[index].mix[k] = found;
+        }
+    }
+    for (auto& [index, m] : mixes)
+        if (mixContainsItself(scene.materials, int(index)))
+            m["materials"].fail("the mix contains itself");
 }
 
 void parseLights(const JsonRef& v, Scene& scene) {

@@ -2,6 +2,8 @@
 // rayproc's materials and lights.
 #include "pbrt_test_util.h"
 
+#include "engine/material_bsdf.h"
+#include "scene/metals.h"
 #include "scene/pbrt/pbrt_spectrum.h"
 
 #include <cmath>
@@ -52,37 +54,55 @@ TEST_CASE("diffuse, the default material, and named materials", "[pbrt]") {
     CHECK(r.scene->materials[std::size_t(s.material)].color == Vec3(0, 1, 0));
 }
 
-TEST_CASE("conductor: mirror when smooth, glossy when rough, and its colour", "[pbrt]") {
+TEST_CASE("conductor: complex index (rgb, named metal, copper default) or reflectance, pbrt's roughness", "[pbrt]") {
     Material m = materialOf("Material \"conductor\" \"rgb reflectance\" [0.9 0.8 0.7]");
-    CHECK(m.type == MaterialType::Mirror);
+    CHECK(m.type == MaterialType::Conductor);
+    CHECK(m.useReflectance);
     CHECK(m.color == Vec3(0.9f, 0.8f, 0.7f));
-    Material spectral = materialOf("Material \"conductor\" \"spectrum eta\" \"metal-Au-eta\" "
-                                   "\"spectrum k\" \"metal-Au-k\"");
-    CHECK(spectral.type == MaterialType::Mirror);
-    CHECK(spectral.color == Vec3(0.9f)); // a neutral stand-in for measured spectra
-    Material defaults = materialOf("Material \"conductor\"");
-    CHECK(defaults.color == Vec3(0.9f));
-    Material rgbEta = materialOf("Material \"conductor\" \"rgb eta\" [0.2 0.2 0.2] "
-                                 "\"rgb k\" [3 3 3]");
-    float f0 = (0.64f + 9) / (1.44f + 9); // ((n-1)^2 + k^2) / ((n+1)^2 + k^2)
-    CHECK(near(rgbEta.color, Vec3(f0)));
+    CHECK(materialClass({m}, 0) == MaterialClass::Specular); // roughness 0: a delta lobe
 
+    Material gold = materialOf("Material \"conductor\" \"spectrum eta\" \"metal-Au-eta\" "
+                               "\"spectrum k\" \"metal-Au-k\"");
+    CHECK_FALSE(gold.useReflectance);
+    Vec3 auEta, auK;
+    REQUIRE(namedMetal("Au", auEta, auK));
+    CHECK(gold.eta.value == auEta);
+    CHECK(gold.k.value == auK);
+    CHECK(gold.eta.value.z > gold.eta.value.x); // gold: blue has the higher index
+
+    Vec3 cuEta, cuK;
+    REQUIRE(namedMetal("Cu", cuEta, cuK));
+    Material defaults = materialOf("Material \"conductor\"");
+    CHECK(defaults.eta.value == cuEta); // pbrt-v4's default metal is copper
+    CHECK(defaults.k.value == cuK);
+    Material rgbEta = materialOf("Material \"conductor\" \"rgb eta\" [0.2 0.3 0.4] "
+                                 "\"rgb k\" [3 4 5]");
+    CHECK(rgbEta.eta.value == Vec3(0.2f, 0.3f, 0.4f));
+    CHECK(rgbEta.k.value == Vec3(3, 4, 5));
+
+    // pbrt-v4: alpha = sqrt(roughness) when remapping (the default), else roughness.
     Material rough = materialOf("Material \"conductor\" \"float roughness\" 0.3");
-    CHECK(rough.type == MaterialType::Glossy);
-    // pbrt: alpha = sqrt(roughness) (remapped); rayproc: alpha = roughness^2.
-    CHECK(rough.roughness == Approx(std::pow(0.3, 0.25)));
+    CHECK(rough.uRoughness.value == Approx(0.3f));
+    CHECK(rough.remapRoughness);
+    CHECK(bsdfOf(rough).alphaX == Approx(std::sqrt(0.3f)));
+    CHECK(materialClass({rough}, 0) == MaterialClass::Glossy);
     Material raw = materialOf("Material \"conductor\" \"float roughness\" 0.3 "
                               "\"bool remaproughness\" false");
-    CHECK(raw.roughness == Approx(std::sqrt(0.3)));
-    std::vector<std::string> w;
+    CHECK(bsdfOf(raw).alphaX == Approx(0.3f));
     Material aniso = materialOf("Material \"conductor\" \"float uroughness\" 0.1 "
-                                "\"float vroughness\" 0.4",
-                                &w);
-    CHECK(aniso.type == MaterialType::Glossy);
-    CHECK(anyContains(w, "anisotropic roughness"));
+                                "\"float vroughness\" 0.4 \"bool remaproughness\" false");
+    CHECK(bsdfOf(aniso).alphaX == Approx(0.1f));
+    CHECK(bsdfOf(aniso).alphaY == Approx(0.4f));
+    // Below pbrt's 1e-3 the lobe is a delta: roughness 1e-7 remapped is alpha 3e-4.
+    CHECK(materialClass({materialOf("Material \"conductor\" \"float roughness\" 1e-7")}, 0) ==
+          MaterialClass::Specular);
+    // pbrt-v4's reflectance parameterisation: eta 1, k = 2 sqrt(r) / sqrt(1 - r).
+    kernels::BsdfParams rb = bsdfOf(m);
+    CHECK(rb.eta == Vec3(1.0f));
+    CHECK(rb.k.x == Approx(2 * std::sqrt(0.9f) / std::sqrt(0.1f)));
 }
 
-TEST_CASE("dielectric, coateddiffuse, interface and unsupported materials", "[pbrt]") {
+TEST_CASE("dielectric, thindielectric, diffusetransmission, coateddiffuse, mix, interface and unsupported materials", "[pbrt]") {
     Material glass = materialOf("Material \"dielectric\" \"float eta\" 1.33");
     CHECK(glass.type == MaterialType::Dielectric);
     CHECK(glass.ior == Approx(1.33f));
@@ -91,15 +111,50 @@ TEST_CASE("dielectric, coateddiffuse, interface and unsupported materials", "[pb
     CHECK(materialOf("Material \"dielectric\" \"spectrum eta\" \"glass-BK7\"").ior ==
           Approx(1.5168f));
     std::vector<std::string> w;
-    materialOf("Material \"dielectric\" \"float roughness\" 0.2", &w);
-    CHECK(anyContains(w, "rough dielectrics are not supported"));
+    Material roughGlass = materialOf("Material \"dielectric\" \"float roughness\" 0.2", &w);
+    CHECK(w.empty());
+    CHECK(materialClass({roughGlass}, 0) == MaterialClass::Glossy);
+    CHECK(materialClass({glass}, 0) == MaterialClass::Specular);
+
+    Material thin = materialOf("Material \"thindielectric\" \"float eta\" 1.4");
+    CHECK(thin.type == MaterialType::ThinDielectric);
+    CHECK(thin.ior == Approx(1.4f));
+
+    Material dt = materialOf("Material \"diffusetransmission\" \"rgb transmittance\" [0.1 0.2 0.3] "
+                             "\"float scale\" 2");
+    CHECK(dt.type == MaterialType::DiffuseTransmission);
+    CHECK(dt.color == Vec3(0.25f)); // pbrt-v4's default reflectance
+    CHECK(bsdfOf(dt).transmittance == Vec3(0.2f, 0.4f, 0.6f));
+    CHECK(bsdfOf(dt).color == Vec3(0.5f));
 
     Material coated = materialOf("Material \"coateddiffuse\" \"rgb reflectance\" [0.2 0.4 0.6] "
-                                 "\"float roughness\" 0.1",
+                                 "\"float roughness\" 0.1 \"float thickness\" 0.05 \"integer nsamples\" 4",
                                  &w);
-    CHECK(coated.type == MaterialType::Diffuse);
+    CHECK(w.empty());
+    CHECK(coated.type == MaterialType::CoatedDiffuse);
     CHECK(coated.color == Vec3(0.2f, 0.4f, 0.6f));
-    CHECK(anyContains(w, "coateddiffuse\" is approximated as diffuse"));
+    CHECK(coated.thickness.value == Approx(0.05f));
+    CHECK(coated.nSamples == 4);
+    CHECK(coated.maxDepth == 10);
+    CHECK(coated.ior == Approx(1.5f));
+
+    auto mixed = loadWorld("MakeNamedMaterial \"both\" \"string type\" \"mix\" "
+                           "\"string materials\" [\"red\" \"gold\"] \"float amount\" 0.25\n"
+                           "NamedMaterial \"both\"\nShape \"sphere\"\n"
+                           "MakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [1 0 0]\n"
+                           "MakeNamedMaterial \"gold\" \"string type\" \"conductor\"\n");
+    const Material& mix = mixed.scene->materials[std::size_t(rootShapes(*mixed.scene)[0].shape->material)];
+    CHECK(mix.type == MaterialType::Mix);
+    CHECK(mix.amount.value == Approx(0.25f));
+    CHECK(mixed.scene->materials[std::size_t(mix.mix[0])].name == "red");
+    CHECK(mixed.scene->materials[std::size_t(mix.mix[1])].name == "gold");
+    std::string e = pbrtErrorOf(std::string(kPbrtHeader) + "MakeNamedMaterial \"a\" \"string type\" \"mix\" "
+                              "\"string materials\" [\"a\" \"b\"]\n"
+                              "MakeNamedMaterial \"b\" \"string type\" \"diffuse\"\n"
+                              "NamedMaterial \"a\"\nShape \"sphere\"\n");
+    CHECK_THAT(e, Catch::Contains("contains itself"));
+    e = pbrtErrorOf(std::string(kPbrtHeader) + "Material \"mix\" \"string materials\" [\"x\" \"y\"]\nShape \"sphere\"\n");
+    CHECK_THAT(e, Catch::Contains("\"x\", which was never defined"));
 
     Material hair = materialOf("Material \"hair\" \"float eumelanin\" 1.3", &w);
     CHECK(hair.type == MaterialType::Diffuse);

@@ -2,6 +2,8 @@
 // figure, transforms, instances and prototypes, shapes and defaults.
 #include "scene_test_files.h"
 
+#include "scene/metals.h"
+
 #include <map>
 
 using namespace rayproc;
@@ -319,4 +321,54 @@ TEST_CASE("Lights, camera and render settings", "[scene]") {
         "radius": 1}])"));
     CHECK(plain->camera.fovY == Camera{}.fovY);
     CHECK(plain->camera.width == Camera{}.width);
+}
+
+TEST_CASE("pbrt-v4 materials in JSON: conductor, coateddiffuse, thindielectric, diffusetransmission, mix", "[scene]") {
+    auto scene = loadText("pbrt-mats.json", R"({
+        "materials": {
+            "au": {"type": "conductor", "metal": "Au", "roughness": 0.01},
+            "brushed": {"type": "conductor", "eta": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.1],
+                        "u_roughness": 0.05, "v_roughness": 0.2, "remap_roughness": false},
+            "paint": {"type": "conductor", "reflectance": [0.9, 0.5, 0.1]},
+            "plastic": {"type": "coateddiffuse", "color": [0.8, 0.1, 0.1], "thickness": 0.02,
+                        "samples": 3},
+            "film": {"type": "thindielectric", "ior": 1.4},
+            "paper": {"type": "diffusetransmission", "transmittance": [0.3, 0.3, 0.3]},
+            "rough-glass": {"type": "dielectric", "roughness": 0.1},
+            "worn": {"type": "mix", "materials": ["plastic", "au"], "amount": 0.3}},
+        "nodes": [{"type": "sphere", "radius": 1, "material": "worn"}]})");
+    const auto& m = scene->materials;
+    REQUIRE(m.size() == 8);
+    Vec3 eta, k;
+    REQUIRE(namedMetal("Au", eta, k));
+    CHECK(m[0].type == MaterialType::Conductor);
+    CHECK(m[0].eta.value == eta);
+    CHECK(m[0].k.value == k);
+    CHECK(m[0].remapRoughness);
+    CHECK(m[1].uRoughness.value == 0.05f);
+    CHECK(m[1].vRoughness.value == 0.2f);
+    CHECK_FALSE(m[1].remapRoughness);
+    CHECK(m[2].useReflectance);
+    CHECK(m[2].color == Vec3(0.9f, 0.5f, 0.1f));
+    CHECK(m[3].type == MaterialType::CoatedDiffuse);
+    CHECK(m[3].thickness.value == 0.02f);
+    CHECK(m[3].nSamples == 3);
+    CHECK(m[4].type == MaterialType::ThinDielectric);
+    CHECK(m[5].color == Vec3(0.25f));
+    CHECK(m[5].transmittance.value == Vec3(0.3f));
+    CHECK(materialClass(m, 6) == MaterialClass::Glossy);
+    CHECK(m[7].mix[0] == 3);
+    CHECK(m[7].mix[1] == 0);
+    CHECK(m[7].amount.value == 0.3f);
+    CHECK(materialClass(m, 7) == MaterialClass::Diffuse);
+
+    checkLoadError("mix-self.json", R"({"materials": {"a": {"type": "mix", "materials": ["a", "a"]}},
+        "nodes": [{"type": "sphere", "radius": 1, "material": "a"}]})",
+                   "/materials/a/materials", "contains itself");
+    checkLoadError("mix-missing.json", R"({"materials": {"a": {"type": "mix", "materials": ["a", "b"]}},
+        "nodes": [{"type": "sphere", "radius": 1, "material": "a"}]})",
+                   "/materials/a/materials/1", "unknown material \"b\"");
+    checkLoadError("metal.json", R"({"materials": {"a": {"type": "conductor", "metal": "Xx"}},
+        "nodes": [{"type": "sphere", "radius": 1, "material": "a"}]})",
+                   "/materials/a/metal", "unknown metal");
 }

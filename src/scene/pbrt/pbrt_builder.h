@@ -97,6 +97,7 @@ private:
     std::vector<Node*> place(std::vector<Shape>& shapes, bool grouped,
                              const Affine& groupTransform);
     bool hasGeometry() const;
+    void resolveMixes();
 
     Scene& m_scene;
     Warnings& m_warnings;
@@ -113,6 +114,12 @@ private:
     std::vector<bool> m_isInterface; // per Scene::materials entry
     int m_defaultMaterial = -1;
     std::vector<Pending> m_pendingMaterials; // shape nodes whose named material comes later
+    struct PendingMix {
+        int material;
+        std::string names[2];
+        SourceLoc loc;
+    };
+    std::vector<PendingMix> m_pendingMixes;
     std::unordered_map<std::string, Node*> m_objects;
     Node* m_object = nullptr; // the prototype being defined
     std::vector<Pending> m_instances;

@@ -17,7 +17,10 @@ int SceneBuilder::addMaterial(const std::string& type, const ParamList& params,
     r.material.name = name.empty() ? type + " (" + loc.fileAndLine() + ")" : name;
     m_scene.materials.push_back(r.material);
     m_isInterface.push_back(r.interface);
-    return int(m_scene.materials.size()) - 1;
+    int index = int(m_scene.materials.size()) - 1;
+    if (r.material.type == MaterialType::Mix)
+        m_pendingMixes.push_back({index, {r.mixNames[0], r.mixNames[1]}, loc});
+    return index;
 }
 
 // pbrt's default material: diffuse, reflectance 0.5.
@@ -197,6 +200,28 @@ bool SceneBuilder::hasGeometry() const {
     return hasLeaf(*m_scene.root, hasLeaf);
 }
 
+// Mix materials name their two materials, which may be defined later; a mix that reaches
+// itself through other mixes is an error (it would never resolve to a surface).
+void SceneBuilder::resolveMixes() {
+    for (const PendingMix& p : m_pendingMixes) {
+        Material& m = m_scene.materials[std::size_t(p.material)];
+        for (int k = 0; k < 2; ++k) {
+            auto it = m_namedMaterials.find(p.names[k]);
+            if (it == m_namedMaterials.end())
+                failAt(p.loc, "Material \"mix\" names \"" + p.names[k] +
+                                  "\", which was never defined (MakeNamedMaterial)");
+            if (m_isInterface[std::size_t(it->second)])
+                failAt(p.loc, "Material \"mix\" cannot mix \"" + p.names[k] +
+                                  "\", an interface material");
+            m.mix[k] = it->second;
+        }
+    }
+    for (const PendingMix& p : m_pendingMixes)
+        if (mixContainsItself(m_scene.materials, p.material))
+            failAt(p.loc, "Material \"mix\" \"" + m_scene.materials[std::size_t(p.material)].name +
+                              "\" contains itself");
+}
+
 void SceneBuilder::finish() {
     if (!m_stack.empty()) {
         const Frame& f = m_stack.back();
@@ -209,6 +234,7 @@ void SceneBuilder::finish() {
             failAt(p.loc, "NamedMaterial \"" + p.name + "\" was never defined (MakeNamedMaterial)");
         p.node->shape.material = it->second;
     }
+    resolveMixes();
     for (const Pending& p : m_instances) {
         auto it = m_objects.find(p.name);
         if (it == m_objects.end())

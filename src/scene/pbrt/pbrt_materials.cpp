@@ -1,71 +1,88 @@
 #include "scene/pbrt/pbrt_materials.h"
 
+#include "scene/metals.h"
+#include "scene/pbrt/pbrt_spectrum.h"
+
 #include <cmath>
 
 namespace rayproc::pbrt {
 
 namespace {
 
-// pbrt treats microfacet alphas below this as perfectly smooth (EffectivelySmooth).
-constexpr double kSmoothAlpha = 1e-3;
-
-// The mean GGX alpha of (u, v)roughness; anisotropy is averaged away with a warning.
-double readAlpha(const ParamList& params, const ValueReader& values, Warnings& warnings,
-                 const SourceLoc& loc) {
-    float r = values.scalar(params, "roughness", 0.0f);
-    float u = values.scalar(params, "uroughness", r);
-    float v = values.scalar(params, "vroughness", r);
-    bool remap = params.getBool("remaproughness", true);
-    if (u < 0 || v < 0) failAt(loc, "roughness must not be negative");
-    double au = roughnessToAlpha(u, remap), av = roughnessToAlpha(v, remap);
-    if (std::fabs(au - av) > 1e-6)
-        warnings.add(loc, "anisotropic roughness is not supported; the mean of uroughness and "
-                          "vroughness is used");
-    return 0.5 * (au + av);
+// A colour parameter that may be a texture, or `def`.
+ColorParam colorParam(const ParamList& params, const ValueReader& values, std::string_view name,
+                      SpectrumUse use, Vec3 def) {
+    ColorParam c;
+    c.value = values.color(params, name, use, def);
+    return c;
 }
 
-// Normal-incidence reflectance of a conductor with complex index eta + ik.
-float conductorF0(float eta, float k) {
-    return ((eta - 1) * (eta - 1) + k * k) / ((eta + 1) * (eta + 1) + k * k);
+// A float parameter that may be a texture, or `def`.
+FloatParam floatParam(const ParamList& params, const ValueReader& values, std::string_view name,
+                      float def) {
+    FloatParam f;
+    f.value = values.scalar(params, name, def);
+    return f;
 }
 
-void conductor(const ParamList& params, const ValueReader& values, Warnings& warnings,
-               const SourceLoc& loc, Material& m) {
-    Vec3 color(0.9f);
-    if (params.has("reflectance")) {
-        color = values.color(params, "reflectance", SpectrumUse::Albedo, Vec3(0.9f));
+// An unbounded spectral parameter (a conductor's eta or k): rgb, a constant, or a named metal
+// spectrum; `def` if absent.
+ColorParam metalParam(const ParamList& params, const ValueReader& values, std::string_view name,
+                      Vec3 def) {
+    const Param* p = params.find(name);
+    if (p && p->type == "spectrum" && p->numbers.empty() && p->strings.size() == 1) {
+        Vec3 v;
+        if (namedMetalSpectrum(p->strings[0], v)) {
+            p->used = true;
+            ColorParam c;
+            c.value = v;
+            return c;
+        }
+    }
+    return colorParam(params, values, name, SpectrumUse::Unbounded, def);
+}
+
+// A dielectric's "eta": a float, a constant spectrum or a named glass (at 587.6 nm).
+float etaParam(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
+               float def) {
+    const Param* eta = params.find("eta");
+    double ior = def;
+    if (eta && (eta->type == "float" || eta->type == "texture"))
+        ior = values.scalar(params, "eta", def);
+    else if (eta)
+        ior = values.color(params, "eta", SpectrumUse::Unbounded, Vec3(def)).x;
+    if (!(ior > 0)) failAt(eta ? eta->loc : loc, "eta must be positive");
+    return float(ior);
+}
+
+// "roughness", "uroughness", "vroughness" and "remaproughness", pbrt-v4's defaults.
+void readRoughness(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
+                   Material& m) {
+    FloatParam r = floatParam(params, values, "roughness", 0.0f);
+    m.uRoughness = params.find("uroughness") ? floatParam(params, values, "uroughness", 0.0f) : r;
+    m.vRoughness = params.find("vroughness") ? floatParam(params, values, "vroughness", 0.0f) : r;
+    m.remapRoughness = params.getBool("remaproughness", true);
+    if (m.uRoughness.value < 0 || m.vRoughness.value < 0)
+        failAt(loc, "roughness must not be negative");
+}
+
+void conductor(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
+               Material& m) {
+    m.type = MaterialType::Conductor;
+    if (params.find("reflectance")) {
+        ColorParam r = colorParam(params, values, "reflectance", SpectrumUse::Albedo, Vec3(0.9f));
+        m.color = r.value;
+        m.colorTexture = r.texture;
+        m.useReflectance = true;
         params.ignore({"eta", "k"});
     } else {
-        const Param* eta = params.get("eta", {"rgb", "spectrum", "float", "texture"});
-        const Param* k = params.get("k", {"rgb", "spectrum", "float", "texture"});
-        Vec3 e, kk;
-        if (eta && k && ValueReader::plainColor(*eta, e) && ValueReader::plainColor(*k, kk))
-            color = {conductorF0(e.x, kk.x), conductorF0(e.y, kk.y), conductorF0(e.z, kk.z)};
+        Vec3 cuEta, cuK;
+        namedMetalSpectrum("metal-Cu-eta", cuEta);
+        namedMetalSpectrum("metal-Cu-k", cuK);
+        m.eta = metalParam(params, values, "eta", cuEta);
+        m.k = metalParam(params, values, "k", cuK);
     }
-    double alpha = readAlpha(params, values, warnings, loc);
-    m.color = color;
-    if (alpha < kSmoothAlpha) {
-        m.type = MaterialType::Mirror;
-    } else {
-        m.type = MaterialType::Glossy;
-        m.roughness = float(std::sqrt(alpha));
-    }
-}
-
-void dielectric(const ParamList& params, const ValueReader& values, Warnings& warnings,
-                const SourceLoc& loc, Material& m) {
-    m.type = MaterialType::Dielectric;
-    m.color = Vec3(1.0f);
-    const Param* eta = params.find("eta");
-    double ior = 1.5;
-    if (eta && (eta->type == "float" || eta->type == "texture"))
-        ior = values.scalar(params, "eta", 1.5f);
-    else if (eta)
-        ior = values.color(params, "eta", SpectrumUse::Unbounded, Vec3(1.5f)).x;
-    if (!(ior > 0)) failAt(eta ? eta->loc : loc, "dielectric eta must be positive");
-    m.ior = float(ior);
-    if (readAlpha(params, values, warnings, loc) >= kSmoothAlpha)
-        warnings.add(loc, "rough dielectrics are not supported; rendered smooth");
+    readRoughness(params, values, loc, m);
 }
 
 } // namespace
@@ -81,18 +98,81 @@ MaterialResult convertMaterial(const std::string& type, const ParamList& params,
     Material& m = r.material;
     m.type = MaterialType::Diffuse;
     m.color = Vec3(0.5f);
+    auto base = [&](std::string_view name, Vec3 def) {
+        ColorParam c = colorParam(params, values, name, SpectrumUse::Albedo, def);
+        m.color = c.value;
+        m.colorTexture = c.texture;
+    };
+    for (const char* unsupported : {"displacement", "normalmap"})
+        if (const Param* p = params.find(unsupported)) {
+            warnings.add(p->loc, "parameter " + p->decl() + " (bump / normal mapping) is not "
+                                 "supported; ignored");
+            p->used = true;
+        }
     if (type == "diffuse") {
-        m.color = values.color(params, "reflectance", SpectrumUse::Albedo, Vec3(0.5f));
+        base("reflectance", Vec3(0.5f));
     } else if (type == "coateddiffuse") {
-        m.color = values.color(params, "reflectance", SpectrumUse::Albedo, Vec3(0.5f));
-        params.ignore({"roughness", "uroughness", "vroughness", "remaproughness", "thickness",
-                       "eta", "albedo", "g", "maxdepth", "nsamples"});
-        warnings.add(loc, "Material \"coateddiffuse\" is approximated as diffuse with its "
-                          "reflectance (no clear-coat highlight)");
+        m.type = MaterialType::CoatedDiffuse;
+        base("reflectance", Vec3(0.5f));
+        readRoughness(params, values, loc, m);
+        m.ior = etaParam(params, values, loc, 1.5f);
+        m.thickness = floatParam(params, values, "thickness", 0.01f);
+        m.albedo = colorParam(params, values, "albedo", SpectrumUse::Albedo, Vec3(0.0f));
+        m.g = values.scalar(params, "g", 0.0f);
+        m.maxDepth = int(params.getInt("maxdepth", 10));
+        m.nSamples = int(params.getInt("nsamples", 1));
+        if (!(m.g > -1 && m.g < 1)) failAt(loc, "\"g\" must lie in (-1, 1)");
+        if (m.maxDepth < 1 || m.nSamples < 1)
+            failAt(loc, "\"maxdepth\" and \"nsamples\" must be at least 1");
+        if (!(m.thickness.value > 0)) failAt(loc, "\"thickness\" must be positive");
     } else if (type == "conductor") {
-        conductor(params, values, warnings, loc, m);
+        conductor(params, values, loc, m);
+    } else if (type == "coatedconductor") {
+        warnings.add(loc, "Material \"coatedconductor\" is rendered as its conductor without the "
+                          "dielectric coat");
+        m.type = MaterialType::Conductor;
+        Vec3 cuEta, cuK;
+        namedMetalSpectrum("metal-Cu-eta", cuEta);
+        namedMetalSpectrum("metal-Cu-k", cuK);
+        if (params.find("reflectance")) {
+            base("reflectance", Vec3(0.9f));
+            m.useReflectance = true;
+        } else {
+            m.eta = metalParam(params, values, "conductor.eta", cuEta);
+            m.k = metalParam(params, values, "conductor.k", cuK);
+        }
+        FloatParam r = floatParam(params, values, "conductor.roughness", 0.0f);
+        m.uRoughness = params.find("conductor.uroughness")
+                           ? floatParam(params, values, "conductor.uroughness", 0.0f) : r;
+        m.vRoughness = params.find("conductor.vroughness")
+                           ? floatParam(params, values, "conductor.vroughness", 0.0f) : r;
+        m.remapRoughness = params.getBool("remaproughness", true);
+        for (const Param& p : params.all()) p.used = true; // the coat is reported above
     } else if (type == "dielectric") {
-        dielectric(params, values, warnings, loc, m);
+        m.type = MaterialType::Dielectric;
+        m.color = Vec3(1.0f);
+        m.ior = etaParam(params, values, loc, 1.5f);
+        readRoughness(params, values, loc, m);
+    } else if (type == "thindielectric") {
+        m.type = MaterialType::ThinDielectric;
+        m.color = Vec3(1.0f);
+        m.ior = etaParam(params, values, loc, 1.5f);
+    } else if (type == "diffusetransmission") {
+        m.type = MaterialType::DiffuseTransmission;
+        base("reflectance", Vec3(0.25f));
+        m.transmittance =
+            colorParam(params, values, "transmittance", SpectrumUse::Albedo, Vec3(0.25f));
+        m.scale = values.scalar(params, "scale", 1.0f);
+        if (!(m.scale >= 0)) failAt(loc, "\"scale\" must not be negative");
+    } else if (type == "mix") {
+        m.type = MaterialType::Mix;
+        const Param* names = params.get("materials", {"string"});
+        if (!names || names->strings.size() != 2)
+            failAt(names ? names->loc : loc, "Material \"mix\" needs \"string materials\" with "
+                                             "two material names");
+        r.mixNames[0] = names->strings[0];
+        r.mixNames[1] = names->strings[1];
+        m.amount = floatParam(params, values, "amount", 0.5f);
     } else if (type == "interface" || type == "" || type == "none") {
         r.interface = true;
         m.type = MaterialType::Dielectric; // if it must stand somewhere: pass straight through

@@ -1,27 +1,25 @@
-// pbrt-v4 materials as rayproc's four (docs/pbrt-import.md has the table):
-// - diffuse -> Diffuse (reflectance);
-// - conductor -> Mirror when smooth, Glossy when rough; the colour is "reflectance" if given,
-//   else the normal-incidence Fresnel reflectance of RGB or constant eta / k, else (named or
-//   sampled spectra, pbrt's copper default) a neutral 0.9;
-// - dielectric -> Dielectric (eta -> ior; roughness ignored with a warning);
-// - coateddiffuse -> Diffuse with its base reflectance (the clear coat's highlight is lost;
-//   rayproc's Glossy is a bare metal-like lobe that would turn the base colour specular);
-// - interface -> no surface (shapes skipped) where known at the shape;
-// - anything else -> Diffuse 0.5 with a warning.
+// pbrt-v4 materials as rayproc materials (docs/pbrt-import.md, "Materials", has the table):
+// diffuse, coateddiffuse, conductor, dielectric, thindielectric, diffusetransmission and mix
+// keep pbrt-v4's meaning and parameters (scene/material.h); coatedconductor becomes its
+// conductor with a warning (no coat); interface is no surface; anything else is diffuse 0.5
+// with a warning. Parameters may be textures; named metal spectra become RGB.
 #pragma once
 
 #include "scene/pbrt/pbrt_values.h"
 #include "scene/scene.h"
 
+#include <string>
+
 namespace rayproc::pbrt {
 
 struct MaterialResult {
     Material material;
-    bool interface = false; // pbrt's "interface": a medium boundary, no surface
+    bool interface = false;  // pbrt's "interface": a medium boundary, no surface
+    std::string mixNames[2]; // mix: the named materials, resolved by the builder
 };
 
-// pbrt's roughness parameter as a GGX alpha (pbrt's RoughnessToAlpha is sqrt when
-// "remaproughness" is on); rayproc's Material::roughness is sqrt(alpha).
+// pbrt's roughness parameter as a Trowbridge-Reitz alpha (pbrt-v4's RoughnessToAlpha is sqrt
+// when "remaproughness" is on).
 double roughnessToAlpha(double roughness, bool remap);
 
 MaterialResult convertMaterial(const std::string& type, const ParamList& params,
