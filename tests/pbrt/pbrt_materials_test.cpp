@@ -176,8 +176,8 @@ TEST_CASE("Constant textures stand for values, other classes fall back with a wa
     CHECK(m.color == Vec3(0.8f, 0.1f, 0.1f));
     Material g = materialOf("Texture \"r\" \"float\" \"constant\" \"float value\" 0.3\n"
                             "Material \"conductor\" \"texture roughness\" \"r\"");
-    CHECK(g.type == MaterialType::Glossy);
-    CHECK(g.roughness == Approx(std::pow(0.3, 0.25)));
+    CHECK(g.type == MaterialType::Conductor);
+    CHECK(bsdfOf(g).alphaX == Approx(std::sqrt(0.3f))); // remapped, as pbrt-v4 does
     std::vector<std::string> w;
     Material img = materialOf("Texture \"wood\" \"spectrum\" \"imagemap\" \"string filename\" "
                               "\"wood.png\"\nMaterial \"diffuse\" \"texture reflectance\" \"wood\"",
@@ -260,4 +260,18 @@ TEST_CASE("Lights: point, spot, distant, infinite, area, scale, power and blackb
     CHECK_FALSE(shapes[1].shape->twoSided);
     CHECK_FALSE(shapes[2].shape->isEmissive());
     CHECK(area.warned("AreaLightSource \"projector\" is not supported"));
+}
+
+TEST_CASE("Media: defined silently, a warning only where a shape or the camera is in one", "[pbrt]") {
+    auto unused = loadWorld("MakeNamedMedium \"green\" \"string type\" \"homogeneous\" "
+                            "\"rgb sigma_a\" [0.5 0.2 0.4]\n"
+                            "AttributeBegin\nMediumInterface \"green\" \"\"\nAttributeEnd\n"
+                            "Shape \"sphere\"\n");
+    CHECK(unused.warnings.empty());
+    auto used = loadWorld("MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n"
+                          "MediumInterface \"fog\" \"\"\nShape \"sphere\"\n");
+    CHECK(used.warned("participating media are not supported: the shape bounds medium \"fog\""));
+    std::string e = pbrtErrorOf(std::string(kPbrtHeader) + "MediumInterface \"nope\"\n"
+                                                           "Shape \"sphere\"\n");
+    CHECK_THAT(e, Catch::Contains(":5:1: MediumInterface names \"nope\", which was never defined"));
 }

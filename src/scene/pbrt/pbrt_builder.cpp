@@ -100,6 +100,9 @@ void SceneBuilder::reportUnused(const ParamList& params, const std::string& what
 
 void SceneBuilder::camera(const std::string& type, ParamList params, const SourceLoc& loc) {
     requireOptions("Camera", loc);
+    if (!m_state.mediumOutside.empty())
+        m_warnings.add(loc, "participating media are not supported: the camera's medium \"" +
+                                m_state.mediumOutside + "\" is ignored (vacuum)");
     m_camera = {true, m_state.ctm, type, std::move(params), loc};
     Mat4 worldFromCamera;
     if (m_state.ctm.inverse(worldFromCamera)) m_coordSystems["camera"] = worldFromCamera;

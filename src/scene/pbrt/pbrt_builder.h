@@ -15,6 +15,7 @@
 
 #include <filesystem>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace rayproc::pbrt {
@@ -55,6 +56,11 @@ public:
     void areaLightSource(const std::string& type, const ParamList& params, const SourceLoc& loc);
     void shape(const std::string& type, const ParamList& params, const SourceLoc& loc,
                const std::filesystem::path& dir);
+    // Participating media are not rendered: a named medium is accepted, and a warning is given
+    // once where a shape or the camera is actually placed inside or outside of one.
+    void makeNamedMedium(const std::string& name, const ParamList& params, const SourceLoc& loc);
+    void mediumInterface(const std::string& inside, const std::string& outside,
+                         const SourceLoc& loc);
     void objectBegin(const std::string& name, const SourceLoc& loc);
     void objectEnd(const SourceLoc& loc);
     void objectInstance(const std::string& name, const SourceLoc& loc);
@@ -77,6 +83,7 @@ private:
         std::string materialName; // NamedMaterial, when material == -1
         SourceLoc materialLoc;
         std::optional<AreaEmission> area;
+        std::string mediumInside, mediumOutside; // MediumInterface; empty: vacuum
     };
     struct Frame {
         std::string kind;
@@ -120,6 +127,8 @@ private:
         SourceLoc loc;
     };
     std::vector<PendingMix> m_pendingMixes;
+    std::unordered_set<std::string> m_media; // MakeNamedMedium names
+    std::vector<Pending> m_mediumUses;       // MediumInterface names (node unused)
     std::unordered_map<std::string, Node*> m_objects;
     Node* m_object = nullptr; // the prototype being defined
     std::vector<Pending> m_instances;

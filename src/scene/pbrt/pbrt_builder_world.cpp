@@ -119,6 +119,11 @@ void SceneBuilder::shape(const std::string& type, const ParamList& params, const
     ShapeResult r = convertShape(type, params, ctx, m_warnings);
     reportUnused(params, "Shape \"" + type + "\"");
     if (r.shapes.empty()) return;
+    if (!m_state.mediumInside.empty() || !m_state.mediumOutside.empty())
+        m_warnings.add(loc, "participating media are not supported: the shape bounds medium \"" +
+                                (m_state.mediumInside.empty() ? m_state.mediumOutside
+                                                              : m_state.mediumInside) +
+                                "\", which is ignored (vacuum on both sides)");
 
     int material = m_state.material;
     bool pending = false;
@@ -148,6 +153,21 @@ void SceneBuilder::shape(const std::string& type, const ParamList& params, const
 }
 
 // Object instancing ----------------------------------------------------------------------------
+
+void SceneBuilder::makeNamedMedium(const std::string& name, const ParamList& params,
+                                   const SourceLoc& loc) {
+    if (m_media.count(name)) failAt(loc, "medium \"" + name + "\" is defined twice");
+    m_media.insert(name);
+    for (const Param& p : params.all()) p.used = true; // reported where a medium is used
+}
+
+void SceneBuilder::mediumInterface(const std::string& inside, const std::string& outside,
+                                   const SourceLoc& loc) {
+    for (const std::string* name : {&inside, &outside})
+        if (!name->empty()) m_mediumUses.push_back({nullptr, *name, loc});
+    m_state.mediumInside = inside;
+    m_state.mediumOutside = outside;
+}
 
 void SceneBuilder::objectBegin(const std::string& name, const SourceLoc& loc) {
     requireWorld("ObjectBegin", loc);
@@ -235,6 +255,10 @@ void SceneBuilder::finish() {
         p.node->shape.material = it->second;
     }
     resolveMixes();
+    for (const Pending& p : m_mediumUses) // pbrt-v4 resolves medium names after parsing too
+        if (!m_media.count(p.name))
+            failAt(p.loc, "MediumInterface names \"" + p.name + "\", which was never defined "
+                          "(MakeNamedMedium)");
     for (const Pending& p : m_instances) {
         auto it = m_objects.find(p.name);
         if (it == m_objects.end())

@@ -239,13 +239,12 @@ void Parser::directive(const Token& d) {
         params();
         b.unsupported("Attribute (default parameters)", "ignored", loc);
     } else if (n == "MakeNamedMedium") {
-        string(d, "medium name");
-        params();
-        b.unsupported("MakeNamedMedium (participating media)", "ignored", loc);
+        std::string name = string(d, "medium name");
+        b.makeNamedMedium(name, params(), loc);
     } else if (n == "MediumInterface") {
-        string(d, "medium name");
-        if (tok().peek().is(Token::Kind::String)) string(d, "medium name");
-        b.unsupported("MediumInterface (participating media)", "ignored", loc);
+        std::string inside = string(d, "medium name"), outside = inside;
+        if (tok().peek().is(Token::Kind::String)) outside = string(d, "medium name");
+        b.mediumInterface(inside, outside, loc);
     } else {
         failAt(loc, "unknown directive \"" + std::string(n) + "\"");
     }
