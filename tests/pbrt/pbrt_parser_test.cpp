@@ -101,14 +101,15 @@ TEST_CASE("Film, Sampler and Integrator set the resolution, spp, seed and depth"
     CHECK(r.scene->camera.height == 100);
     CHECK(r.scene->render.spp == 64);
     CHECK(r.scene->render.seed == 7);
-    CHECK(r.scene->render.maxDepth == 12);
+    // pbrt's 12 scattering events are rayproc's 11 bounces before the last light sample.
+    CHECK(r.scene->render.maxDepth == 11);
     CHECK(r.scene->render.mode.empty());
 
     auto defaults = loadPbrt("Integrator \"path\"\nWorldBegin\nShape \"sphere\"\n");
     CHECK(defaults.scene->camera.width == 1280); // pbrt's default film
     CHECK(defaults.scene->camera.height == 720);
     CHECK(defaults.scene->render.spp == 0); // no Sampler: the mode decides
-    CHECK(defaults.scene->render.maxDepth == 5);
+    CHECK(defaults.scene->render.maxDepth == 4); // pbrt's default maxdepth 5
 }
 
 TEST_CASE("pbrt's fov spans the shorter image axis, rayproc's fovY is vertical", "[pbrt]") {

@@ -130,12 +130,18 @@ void SceneBuilder::sampler(const std::string& type, const ParamList& params,
 // The same limits as a JSON scene's "max_depth" (1..10000).
 void SceneBuilder::integrator(const ParamList& params, const SourceLoc& loc) {
     requireOptions("Integrator", loc);
+    // pbrt-v4's maxdepth D bounds the scattering events of a path: light is sampled at the
+    // first D vertices and emission found at vertex D + 1. rayproc's max depth M counts the
+    // bounces before the last vertex, which takes a light sample: M + 1 scattering events. So
+    // D becomes M = D - 1 (the same paths); rayproc's shortest is M = 1 (two events).
     long long depth = params.getInt("maxdepth", 5);
     if (depth < 0) failAt(loc, "Integrator: maxdepth must not be negative");
-    if (depth == 0)
-        m_warnings.add(loc, "maxdepth 0 (emitted light only) is not supported; using 1");
-    if (depth > 10000) m_warnings.add(loc, "maxdepth above 10000 is not supported; using 10000");
-    m_scene.render.maxDepth = int(std::clamp<long long>(depth, 1, 10000));
+    if (depth <= 1)
+        m_warnings.add(loc, "maxdepth " + std::to_string(depth) +
+                                " is not supported (rayproc's paths have at least two scattering "
+                                "events); using 2");
+    if (depth > 10001) m_warnings.add(loc, "maxdepth above 10001 is not supported; using 10001");
+    m_scene.render.maxDepth = int(std::clamp<long long>(depth - 1, 1, 10000));
     for (const Param& p : params.all()) p.used = true; // the render mode decides the algorithm
 }
 
