@@ -88,7 +88,7 @@ inline void checkChiRun(const ChiRun& run, const std::string& label) {
     CHECK(run.weightMismatches == 0);
 }
 
-// The weighted-histogram test: per bin of a (cos theta, phi) grid around +z, the mean of the
+// The weighted-histogram test: per bin of a (cos theta, phi) grid around `axis`, the mean of the
 // sample weights falling in it, (1/N) sum w 1{wi in bin}, and the integral of evalBsdf's f |cos|
 // over it (by m x m jittered points per bin), are two unbiased estimates of the same number.
 // With both variances estimated, sum (A - B)^2 / (varA + varB) is chi-square with one degree of
@@ -101,9 +101,12 @@ struct WeightedRun {
 };
 
 inline WeightedRun weightedHistogramRun(const BsdfParams& sampled, const BsdfParams& evaluated,
-                                        const Vec3& wo, float cosMin, int samples, int perBinSide,
-                                        std::uint64_t seed, int channel = 0) {
-    DirectionHistogram hist(kUp, cosMin, kThetaBins, kPhiBins);
+                                        const Vec3& wo, const Vec3& axis, float cosMin,
+                                        int samples, int perBinSide, std::uint64_t seed,
+                                        int channel = 0) {
+    DirectionHistogram hist(axis, cosMin, kThetaBins, kPhiBins);
+    Vec3 ax = normalize(axis), tx, ty; // the histogram's frame
+    orthonormalBasis(ax, tx, ty);
     int nb = hist.binCount();
     std::vector<double> sum(std::size_t(nb), 0.0), sum2(std::size_t(nb), 0.0);
     TestRng rng(seed);
@@ -139,7 +142,8 @@ inline WeightedRun weightedHistogramRun(const BsdfParams& sampled, const BsdfPar
                     double c = c0 + (j + jitter.uniform()) / m * dc;
                     double phi = p0 + (k + jitter.uniform()) / m * dp;
                     double sn = std::sqrt(std::max(0.0, 1.0 - c * c));
-                    Vec3 wi(float(sn * std::cos(phi)), float(sn * std::sin(phi)), float(c));
+                    Vec3 wi = normalize(tx * float(sn * std::cos(phi)) +
+                                        ty * float(sn * std::sin(phi)) + ax * float(c));
                     e.key = (std::uint64_t(bin) << 32) ^ std::uint64_t(j * m + k) ^ seed;
                     float p;
                     double v = kernels::evalBsdf(e, wo, wi, kUp, kUp, p)[channel];
