@@ -178,3 +178,32 @@ TEST_CASE("Transmissive kinds evaluate both sides, opaque kinds only wo's",
     glass.kind = BsdfKind::Dielectric;
     CHECK(isDeltaBsdf(glass));
 }
+
+TEST_CASE("Rough conductor and dielectric obey (generalised) reciprocity", "[bsdf]") {
+    // Conductor: f(wo, wi) = f(wi, wo). Dielectric reflection likewise; transmission carries
+    // radiance, so f(wi, wo) / eta_wi^2 = f(wo, wi) / eta_wo^2 (Veach 1997, 5.2): with wo
+    // outside and wi inside, f(wi, wo) = eta^2 f(wo, wi). evalBsdf returns f |cos wi|.
+    auto f = [](const BsdfParams& b, const Vec3& wo, const Vec3& wi) {
+        float p;
+        return evalBsdf(b, wo, wi, kUp, kUp, p) / std::abs(wi.z);
+    };
+    BsdfParams metal = conductor(0.2f, 0.45f, Vec3(1.0f, 0.3f, 0.0f));
+    BsdfParams glass = roughDielectric(0.25f, 0.15f);
+    glass.color = Vec3(1.0f);
+    int checked = 0;
+    for (float a : {15.0f, 50.0f, 80.0f})
+        for (float b : {5.0f, 35.0f, 70.0f})
+            for (float phi : {0.0f, 100.0f, 200.0f}) {
+                Vec3 wo = direction(a, 10.0f), wi = direction(b, phi);
+                INFO("theta_o " << a << ", theta_i " << b << ", phi_i " << phi);
+                Vec3 m1 = f(metal, wo, wi), m2 = f(metal, wi, wo);
+                CHECK(length(m1 - m2) <= 1e-4f * length(m1) + 1e-7f);
+                float r1 = f(glass, wo, wi).x, r2 = f(glass, wi, wo).x;
+                CHECK(std::abs(r1 - r2) <= 1e-4f * r1 + 1e-7f);
+                Vec3 below = -wi;
+                float t1 = f(glass, wo, below).x, t2 = f(glass, below, wo).x;
+                CHECK(std::abs(t2 - 2.25f * t1) <= 1e-3f * t2 + 1e-7f);
+                checked += t1 > 0;
+            }
+    CHECK(checked >= 6); // transmission needs wi roughly opposite wo in azimuth
+}
