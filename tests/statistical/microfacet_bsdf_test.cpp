@@ -7,6 +7,8 @@
 // significance (Sidak over every chi-square test of the suite).
 #include "bsdf_test_util.h"
 
+#include <vector>
+
 using namespace rayproc;
 using namespace rayproc::test;
 using namespace rayproc::kernels;
@@ -206,4 +208,61 @@ TEST_CASE("Rough conductor and dielectric obey (generalised) reciprocity", "[bsd
                 checked += t1 > 0;
             }
     CHECK(checked >= 6); // transmission needs wi roughly opposite wo in azimuth
+}
+
+TEST_CASE("Every kind with a tilted shading normal: finite values, the right side of ng",
+          "[bsdf]") {
+    // Shading normals up to ~35 degrees off the geometric one, wo anywhere: samples must be
+    // finite and non-negative, reflections must leave on wo's side of ng and transmissions on
+    // the other; evalBsdf finite with a non-negative pdf.
+    std::vector<BsdfParams> kinds;
+    for (BsdfKind k : {BsdfKind::Diffuse, BsdfKind::Mirror, BsdfKind::Dielectric,
+                       BsdfKind::Glossy, BsdfKind::Conductor, BsdfKind::ThinDielectric,
+                       BsdfKind::DiffuseTransmission, BsdfKind::CoatedDiffuse}) {
+        BsdfParams b;
+        b.kind = k;
+        b.transmittance = Vec3(0.4f);
+        b.eta = Vec3(0.2f, 0.9f, 1.1f);
+        b.k = Vec3(3.9f, 2.4f, 2.2f);
+        kinds.push_back(b);
+        if (k == BsdfKind::Dielectric || k == BsdfKind::Conductor ||
+            k == BsdfKind::CoatedDiffuse) {
+            b.alphaX = 0.3f;
+            b.alphaY = 0.05f;
+            b.tangent = Vec3(0.3f, 0.8f, 0.1f);
+            b.albedo = Vec3(0.5f);
+            kinds.push_back(b);
+        }
+    }
+    TestRng rng(77);
+    const Vec3 ng = kUp;
+    for (const BsdfParams& b0 : kinds) {
+        BsdfParams b = b0;
+        int bad = 0, wrongSide = 0, valid = 0;
+        for (int i = 0; i < 20000; ++i) {
+            Vec2 t = rng.uniform2();
+            Vec3 ns = normalize(Vec3(0.7f * (t.x - 0.5f), 0.7f * (t.y - 0.5f), 1.0f));
+            Vec2 d = rng.uniform2();
+            float z = 2.0f * d.x - 1.0f, r = std::sqrt(std::max(0.0f, 1 - z * z));
+            Vec3 wo(r * std::cos(2 * kPi * d.y), r * std::sin(2 * kPi * d.y), z);
+            if (std::abs(wo.z) < 1e-3f) continue;
+            b.key = std::uint64_t(i);
+            BsdfSample s = sampleBsdf(b, wo, ng, ns, rng.uniform2(), rng.uniform());
+            if (!s.valid) continue;
+            ++valid;
+            if (!isFinite(s.weight) || s.weight.x < 0 || s.weight.y < 0 || s.weight.z < 0 ||
+                !(s.pdf >= 0) || !std::isfinite(s.pdf))
+                ++bad;
+            float side = dot(s.wi, ng) * dot(wo, ng);
+            if (s.transmitted ? side >= 0 : side <= 0) ++wrongSide;
+            float p;
+            Vec3 f = evalBsdf(b, wo, s.wi, ng, ns, p);
+            if (!isFinite(f) || !(p >= 0) || !std::isfinite(p)) ++bad;
+        }
+        INFO("kind " << int(b.kind) << ", alphas " << b.alphaX << ", " << b.alphaY << ": "
+                     << valid << " valid samples");
+        CHECK(valid > 5000);
+        CHECK(bad == 0);
+        CHECK(wrongSide == 0);
+    }
 }
