@@ -3,78 +3,36 @@
 // and in world space, wo and wi point away from the surface, ng is the geometric normal as the
 // shape defines it (outward / by winding), ns the shading normal on the same side as ng.
 // `weight` is f * |cos(wi, ns)| / pdf; delta lobes report pdf = 0 and delta = true.
+// Transmissive kinds (Dielectric, ThinDielectric, DiffuseTransmission) return values for wi on
+// either side of ng, opaque ones 0 on the other side. CoatedDiffuse is stochastic (pbrt-v4's
+// LayeredBxDF): f and pdf are estimates seeded by BsdfParams::key, and a sample's weight is its
+// random walk's (unbiased, not f / pdf of evalBsdf). Rough Dielectric transmission carries
+// radiance (f / eta^2), as pbrt-v4's TransportMode::Radiance.
 #pragma once
 
 #include "core/math.h"
 #include "kernels/bsdf.h"
+#include "kernels/bsdf_params.h"
+#include "kernels/mis.h"
+#include "kernels/pbrt_bsdfs.h"
 #include "kernels/sampling.h"
 
 namespace rayproc::kernels {
-
-// The kinds follow pbrt-v4's BxDFs (DiffuseBxDF, ConductorBxDF, DielectricBxDF,
-// ThinDielectricBxDF, DiffuseTransmissionBxDF, CoatedDiffuseBxDF) plus rayproc's Mirror and
-// Glossy (GGX + Schlick). Mix materials are resolved to one of their two before this point.
-enum class BsdfKind {
-    Diffuse,
-    Mirror,
-    Dielectric, // smooth (delta) when alphaX and alphaY are below kSmoothAlpha, else rough
-    Glossy,
-    Conductor,  // smooth (delta) or rough like Dielectric
-    ThinDielectric,
-    DiffuseTransmission,
-    CoatedDiffuse,
-};
-
-// Trowbridge-Reitz alphas below this are treated as perfectly smooth (pbrt-v4's
-// EffectivelySmooth).
-constexpr float kSmoothAlpha = 1e-3f;
-
-struct BsdfParams {
-    BsdfKind kind = BsdfKind::Diffuse;
-    // Diffuse albedo, mirror reflectance, glossy F0, dielectric transmission tint,
-    // diffusetransmission's reflectance, coateddiffuse's base reflectance.
-    Vec3 color{0.5f, 0.5f, 0.5f};
-    float ior = 1.5f;    // dielectric, thin dielectric, coateddiffuse's coat
-    float alpha = 0.04f; // GGX alpha (Glossy)
-    // Trowbridge-Reitz alphas along the tangent and the bitangent (Conductor, Dielectric,
-    // CoatedDiffuse's coat).
-    float alphaX = 0.0f, alphaY = 0.0f;
-    Vec3 eta{1.0f, 1.0f, 1.0f}, k{0.0f, 0.0f, 0.0f}; // Conductor: complex IOR per channel
-    Vec3 transmittance{0.0f, 0.0f, 0.0f};            // DiffuseTransmission
-    // CoatedDiffuse (pbrt-v4's LayeredBxDF): coat thickness, albedo and HG asymmetry of the
-    // medium between coat and base, maximum random-walk depth and the number of walks that
-    // average one evaluation.
-    float thickness = 0.01f;
-    Vec3 albedo{0.0f, 0.0f, 0.0f};
-    float g = 0.0f;
-    int maxDepth = 10;
-    int nSamples = 1;
-    // Per hit: the shading tangent (the x axis of anisotropic roughness; zero: any axis
-    // perpendicular to ns) and the random stream of stochastic evaluation (the coat's walk).
-    Vec3 tangent{0.0f, 0.0f, 0.0f};
-    std::uint64_t key = 0;
-};
-
-struct BsdfSample {
-    Vec3 wi;
-    Vec3 weight;
-    float pdf = 0;
-    bool delta = false;
-    bool transmitted = false;
-    bool valid = false;
-};
-
-// Opaque BSDFs shade the side wo is on; returns the normals turned to that side.
-inline void facingSide(const Vec3& wo, const Vec3& ng, const Vec3& ns, Vec3& fg, Vec3& fs) {
-    bool front = dot(wo, ng) >= 0;
-    fg = front ? ng : -ng;
-    fs = front ? ns : -ns;
-}
 
 // f * |cos| and the solid-angle pdf of sampling wi, for the non-delta lobes (0 for delta).
 inline Vec3 evalBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& wi, const Vec3& ng,
                      const Vec3& ns, float& pdf) {
     pdf = 0;
+    // The pbrt-v4 kinds (kernels/pbrt_bsdfs.h); the older four continue below.
+    switch (b.kind) {
+    case BsdfKind::Conductor: return evalConductor(b, wo, wi, ng, ns, pdf);
+    case BsdfKind::Dielectric:
+        if (roughAlphas(b)) return evalRoughDielectric(b, wo, wi, ng, ns, pdf);
+        break;
+    case BsdfKind::DiffuseTransmission: return evalDiffuseTransmission(b, wo, wi, ng, ns, pdf);
+    case BsdfKind::CoatedDiffuse: return evalCoatedDiffuse(b, wo, wi, ng, ns, pdf);
+    default: break;
+    }
     Vec3 fg, fs;
     facingSide(wo, ng, ns, fg, fs);
     if (dot(wi, fg) <= 0) return Vec3(0.0f); // the other side: opaque
@@ -94,6 +52,16 @@ inline Vec3 evalBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& wi, const 
 // u: two uniform numbers for the direction, uc: one for choosing a lobe.
 inline BsdfSample sampleBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& ng, const Vec3& ns,
                              Vec2 u, float uc) {
+    switch (b.kind) {
+    case BsdfKind::Conductor: return sampleConductor(b, wo, ng, ns, u);
+    case BsdfKind::Dielectric:
+        if (roughAlphas(b)) return sampleRoughDielectric(b, wo, ng, ns, u, uc);
+        break;
+    case BsdfKind::ThinDielectric: return sampleThinDielectric(b, wo, ng, ns, uc);
+    case BsdfKind::DiffuseTransmission: return sampleDiffuseTransmission(b, wo, ng, ns, u, uc);
+    case BsdfKind::CoatedDiffuse: return sampleCoatedDiffuse(b, wo, ng, ns, u, uc);
+    default: break;
+    }
     BsdfSample s;
     switch (b.kind) {
     case BsdfKind::Diffuse: {
@@ -154,19 +122,30 @@ inline BsdfSample sampleBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& ng
         s.valid = true;
         return s;
     }
+    default: break; // the pbrt-v4 kinds returned above
     }
     return s;
 }
 
-// Veach's power heuristic with beta = 2.
-// Written as 1 / (1 + (pb/pa)^2) so that huge pdfs (a near-delta glossy lobe) cannot overflow
-// the squares into inf / inf = NaN.
-inline float powerHeuristic(float pa, float pb) {
-    if (!(pa > 0)) return 0.0f;
-    if (!(pb > 0) || std::isinf(pa)) return std::isinf(pb) ? 0.5f : 1.0f;
-    if (std::isinf(pb)) return 0.0f;
-    float r = pb / pa;
-    return 1.0f / (1.0f + r * r);
+// True when every lobe is a delta (evalBsdf is zero everywhere; light sampling cannot help).
+inline bool isDeltaBsdf(const BsdfParams& b) {
+    switch (b.kind) {
+    case BsdfKind::Mirror:
+    case BsdfKind::ThinDielectric: return true;
+    case BsdfKind::Dielectric: return !roughAlphas(b) || b.ior == 1.0f;
+    case BsdfKind::Conductor: return !roughAlphas(b);
+    default: return false;
+    }
+}
+
+// True when the BSDF can send light to the other side of the surface.
+inline bool hasTransmission(const BsdfParams& b) {
+    switch (b.kind) {
+    case BsdfKind::Dielectric:
+    case BsdfKind::ThinDielectric: return true;
+    case BsdfKind::DiffuseTransmission: return !isBlack(b.transmittance);
+    default: return false;
+    }
 }
 
 } // namespace rayproc::kernels

@@ -1,0 +1,231 @@
+// World-space evaluation and sampling of the pbrt-v4 kinds (Conductor, rough Dielectric,
+// ThinDielectric, DiffuseTransmission, CoatedDiffuse): the local BxDFs of local_bxdfs.h,
+// dielectric_bxdf.h and layered.h in the shading frame of (ns, tangent), plus the geometric
+// test every rayproc BSDF makes: a reflection must leave on wo's side of ng and a transmission on
+// the other, so shading normals cannot leak light through a surface. Samples are re-evaluated
+// with the eval functions, so a sample's pdf and weight are exactly evalBsdf's (except
+// CoatedDiffuse, whose weight is its random walk's and whose pdf is the stochastic estimate).
+#pragma once
+
+#include "kernels/bsdf.h"
+#include "kernels/bsdf_params.h"
+#include "kernels/dielectric_bxdf.h"
+#include "kernels/layered.h"
+
+namespace rayproc::kernels {
+
+inline bool roughAlphas(const BsdfParams& b) {
+    return std::max(b.alphaX, b.alphaY) >= kSmoothAlpha;
+}
+
+// Whether wi is on the side of the geometric surface that the lobe (reflection or not) implies.
+inline bool geometricSideAgrees(const Vec3& wo, const Vec3& wi, const Vec3& ng, bool reflection) {
+    float s = dot(wo, ng) * dot(wi, ng);
+    return reflection ? s > 0 : s < 0;
+}
+
+inline TrowbridgeReitz microfacetsOf(const BsdfParams& b) { return {b.alphaX, b.alphaY}; }
+
+// --- Conductor: opaque, shades the side wo is on.
+
+inline Vec3 evalConductor(const BsdfParams& b, const Vec3& wo, const Vec3& wi, const Vec3& ng,
+                          const Vec3& ns, float& pdf) {
+    pdf = 0;
+    Vec3 fg, fs;
+    facingSide(wo, ng, ns, fg, fs);
+    ConductorBxdf c{microfacetsOf(b), b.eta, b.k};
+    if (dot(wi, fg) <= 0 || c.smooth()) return Vec3(0.0f);
+    ShadingFrame frame(fs, b.tangent);
+    Vec3 lo = frame.toLocal(wo), li = frame.toLocal(wi);
+    pdf = c.pdf(lo, li);
+    return c.f(lo, li) * std::abs(li.z);
+}
+
+inline BsdfSample sampleConductor(const BsdfParams& b, const Vec3& wo, const Vec3& ng,
+                                  const Vec3& ns, Vec2 u) {
+    BsdfSample s;
+    Vec3 fg, fs;
+    facingSide(wo, ng, ns, fg, fs);
+    ConductorBxdf c{microfacetsOf(b), b.eta, b.k};
+    ShadingFrame frame(fs, b.tangent);
+    Vec3 lo = frame.toLocal(wo);
+    if (c.smooth()) {
+        // Delta reflection about the shading normal (the geometric one if that would go below,
+        // as Mirror does), weighted by the complex Fresnel reflectance.
+        Vec3 n = fs;
+        s.wi = reflect(wo, n);
+        if (dot(s.wi, fg) <= 0) s.wi = reflect(wo, n = fg);
+        s.weight = fresnelComplex(std::abs(dot(wo, n)), b.eta, b.k);
+        s.delta = true;
+        s.valid = true;
+        return s;
+    }
+    LobeSample ls = c.sample(lo, u);
+    if (!ls.valid) return s;
+    s.wi = normalize(frame.toWorld(ls.wi));
+    Vec3 f = evalConductor(b, wo, s.wi, ng, ns, s.pdf);
+    if (!(s.pdf > 0) || !std::isfinite(s.pdf)) return s;
+    s.weight = f / s.pdf;
+    s.valid = isFinite(s.weight);
+    return s;
+}
+
+// --- Dielectric, rough: the frame's normal and the index follow wo's side of ng, as the smooth
+// case's "entering"; the transmission tint `color` applies on entering, as there.
+
+struct RoughDielectricSetup {
+    bool entering;
+    DielectricBxdf bxdf;
+    ShadingFrame frame;
+};
+
+inline RoughDielectricSetup roughDielectricSetup(const BsdfParams& b, const Vec3& wo,
+                                                 const Vec3& ng, const Vec3& ns) {
+    bool entering = dot(wo, ng) > 0;
+    return {entering, DielectricBxdf{entering ? b.ior : 1.0f / b.ior, microfacetsOf(b)},
+            ShadingFrame(entering ? ns : -ns, b.tangent)};
+}
+
+inline Vec3 evalRoughDielectric(const BsdfParams& b, const Vec3& wo, const Vec3& wi,
+                                const Vec3& ng, const Vec3& ns, float& pdf) {
+    pdf = 0;
+    RoughDielectricSetup d = roughDielectricSetup(b, wo, ng, ns);
+    Vec3 lo = d.frame.toLocal(wo), li = d.frame.toLocal(wi);
+    bool reflect = sameHemisphere(lo, li);
+    if (!geometricSideAgrees(wo, wi, ng, reflect)) return Vec3(0.0f);
+    pdf = d.bxdf.pdf(lo, li);
+    Vec3 f(d.bxdf.f(lo, li, Transport::Radiance) * std::abs(li.z));
+    return !reflect && d.entering ? f * b.color : f;
+}
+
+inline BsdfSample sampleRoughDielectric(const BsdfParams& b, const Vec3& wo, const Vec3& ng,
+                                        const Vec3& ns, Vec2 u, float uc) {
+    BsdfSample s;
+    RoughDielectricSetup d = roughDielectricSetup(b, wo, ng, ns);
+    LobeSample ls = d.bxdf.sample(d.frame.toLocal(wo), uc, u, Transport::Radiance);
+    if (!ls.valid) return s;
+    s.wi = normalize(d.frame.toWorld(ls.wi));
+    s.transmitted = !ls.reflection;
+    if (!geometricSideAgrees(wo, s.wi, ng, ls.reflection)) return s;
+    if (ls.specular) {
+        // An index-matched interface (ior 1): straight through, a delta lobe.
+        s.weight = ls.f * (std::abs(ls.wi.z) / ls.pdf);
+        if (s.transmitted && d.entering) s.weight *= b.color;
+        s.delta = true;
+        s.valid = isFinite(s.weight);
+        return s;
+    }
+    Vec3 f = evalRoughDielectric(b, wo, s.wi, ng, ns, s.pdf);
+    if (!(s.pdf > 0) || !std::isfinite(s.pdf)) return s;
+    s.weight = f / s.pdf;
+    s.valid = isFinite(s.weight);
+    return s;
+}
+
+// --- ThinDielectric: delta reflection with the slab's total reflectance R', else straight
+// through (wi = -wo). Either weight is R' / R' = T' / T' = 1.
+
+inline BsdfSample sampleThinDielectric(const BsdfParams& b, const Vec3& wo, const Vec3& ng,
+                                       const Vec3& ns, float uc) {
+    BsdfSample s;
+    s.delta = true;
+    s.valid = true;
+    s.weight = Vec3(1.0f);
+    if (uc < thinDielectricReflectance(dot(wo, ns), b.ior)) {
+        Vec3 fg, fs;
+        facingSide(wo, ng, ns, fg, fs);
+        s.wi = reflect(wo, fs);
+        if (dot(s.wi, fg) <= 0) s.wi = reflect(wo, fg);
+        return s;
+    }
+    s.wi = -wo;
+    s.transmitted = true;
+    return s;
+}
+
+// --- DiffuseTransmission: reflectance `color` on wo's side, `transmittance` on the other.
+
+inline Vec3 evalDiffuseTransmission(const BsdfParams& b, const Vec3& wo, const Vec3& wi,
+                                    const Vec3& ng, const Vec3& ns, float& pdf) {
+    pdf = 0;
+    Vec3 fg, fs;
+    facingSide(wo, ng, ns, fg, fs);
+    ShadingFrame frame(fs, Vec3(0.0f));
+    Vec3 lo = frame.toLocal(wo), li = frame.toLocal(wi);
+    if (!geometricSideAgrees(wo, wi, ng, sameHemisphere(lo, li))) return Vec3(0.0f);
+    DiffuseTransmissionBxdf d{b.color, b.transmittance};
+    pdf = d.pdf(lo, li);
+    return d.f(lo, li) * std::abs(li.z);
+}
+
+inline BsdfSample sampleDiffuseTransmission(const BsdfParams& b, const Vec3& wo, const Vec3& ng,
+                                            const Vec3& ns, Vec2 u, float uc) {
+    BsdfSample s;
+    Vec3 fg, fs;
+    facingSide(wo, ng, ns, fg, fs);
+    ShadingFrame frame(fs, Vec3(0.0f));
+    LobeSample ls = DiffuseTransmissionBxdf{b.color, b.transmittance}.sample(frame.toLocal(wo),
+                                                                              u, uc);
+    if (!ls.valid) return s;
+    s.wi = normalize(frame.toWorld(ls.wi));
+    s.transmitted = !ls.reflection;
+    Vec3 f = evalDiffuseTransmission(b, wo, s.wi, ng, ns, s.pdf);
+    if (!(s.pdf > 0)) return s;
+    s.weight = f / s.pdf;
+    s.valid = isFinite(s.weight);
+    return s;
+}
+
+// --- CoatedDiffuse: opaque (the base is), shades the side wo is on. Stochastic: f and pdf are
+// estimates from streams keyed by b.key and the directions, deterministic for the same inputs.
+
+inline CoatedDiffuseBxdf coatedDiffuseOf(const BsdfParams& b) {
+    CoatedDiffuseBxdf c;
+    c.top = DielectricBxdf{b.ior, microfacetsOf(b)};
+    c.base = LambertBxdf{b.color};
+    c.thickness = std::max(b.thickness, std::numeric_limits<float>::min());
+    c.albedo = b.albedo;
+    c.g = b.g;
+    c.maxDepth = b.maxDepth;
+    c.nSamples = std::max(1, b.nSamples);
+    return c;
+}
+
+inline Vec3 evalCoatedDiffuse(const BsdfParams& b, const Vec3& wo, const Vec3& wi,
+                              const Vec3& ng, const Vec3& ns, float& pdf) {
+    pdf = 0;
+    Vec3 fg, fs;
+    facingSide(wo, ng, ns, fg, fs);
+    if (dot(wi, fg) <= 0) return Vec3(0.0f);
+    ShadingFrame frame(fs, b.tangent);
+    Vec3 lo = frame.toLocal(wo), li = frame.toLocal(wi);
+    CoatedDiffuseBxdf c = coatedDiffuseOf(b);
+    pdf = c.pdf(lo, li, b.key);
+    return c.f(lo, li, b.key) * std::abs(li.z);
+}
+
+// The weight is the walk's f |cos| / pdf (unbiased for f |cos| / p), the pdf evalBsdf's estimate
+// (what MIS needs); a smooth coat's mirror reflection is a delta sample.
+inline BsdfSample sampleCoatedDiffuse(const BsdfParams& b, const Vec3& wo, const Vec3& ng,
+                                      const Vec3& ns, Vec2 u, float uc) {
+    BsdfSample s;
+    Vec3 fg, fs;
+    facingSide(wo, ng, ns, fg, fs);
+    ShadingFrame frame(fs, b.tangent);
+    CoatedDiffuseBxdf c = coatedDiffuseOf(b);
+    Vec3 lo = frame.toLocal(wo);
+    LobeSample ls = c.sample(lo, uc, u, b.key);
+    if (!ls.valid || !(ls.pdf > 0)) return s;
+    s.wi = normalize(frame.toWorld(ls.wi));
+    if (dot(s.wi, fg) <= 0) return s;
+    s.weight = ls.f * (std::abs(ls.wi.z) / ls.pdf);
+    if (ls.specular) {
+        s.delta = true;
+    } else {
+        s.pdf = c.pdf(lo, frame.toLocal(s.wi), b.key);
+    }
+    s.valid = isFinite(s.weight);
+    return s;
+}
+
+} // namespace rayproc::kernels
