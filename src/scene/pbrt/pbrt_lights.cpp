@@ -181,6 +181,12 @@ void convertLight(const std::string& type, const ParamList& params, const Mat4& 
         l.direction = direction(toWorld, from, to, loc).toFloat(); // where the light travels
     } else if (type == "infinite") {
         convertInfinite(params, toWorld, values, warnings, loc, l);
+        for (Light& other : scene.lights) {
+            if (!l.image && other.type == LightType::Environment && !other.image) {
+                other.intensity += l.intensity; // constant skies add up into one
+                return;
+            }
+        }
     } else if (type == "goniometric") {
         convertGoniometric(params, toWorld, values, warnings, loc, l);
     } else {
