@@ -71,10 +71,22 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
     };
 
     if (c == m_lights.lights.size()) { // the sky
-        e.direction = kernels::toWorld(kernels::uniformCone(uDir, -1.0f), {0, 0, 1});
+        if (m_lights.environment.cosineSampled()) { // constant: uniform directions
+            e.direction = kernels::toWorld(kernels::uniformCone(uDir, -1.0f), {0, 0, 1});
+            e.origin = disk(e.direction, uPos);
+            e.power = share;
+            e.valid = true;
+            return e;
+        }
+        // An image sky: the direction light arrives from is drawn by the sky's density, the
+        // photon travels the opposite way through the disk; its flux is L / pdf times the
+        // disk's area pi r^2, shared among this light's photons.
+        EnvironmentSample s = m_lights.environment.sampleSphere(uDir);
+        if (!s.valid) return e;
+        e.direction = -s.wi;
         e.origin = disk(e.direction, uPos);
-        e.power = share;
-        e.valid = true;
+        e.power = s.weight * (kPi * m_radius * m_radius / (pChoice * float(m_count)));
+        e.valid = isFinite(e.power);
         return e;
     }
     const LightSource& l = m_lights.lights[c];
@@ -83,7 +95,9 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
         e.origin = l.position;
         e.direction = kernels::toWorld(kernels::uniformCone(uDir, -1.0f), {0, 0, 1});
         e.power = share;
-        e.valid = true;
+        if (l.goniometric) // uniform directions; the image's factor relative to its mean
+            e.power = share * (l.directionalFactor(e.direction) / l.goniometricMean);
+        e.valid = !isBlack(e.power);
         break;
     case LightSource::Kind::Spot: {
         // Uniform in the outer cone; the falloff scales the photon's power.

@@ -39,11 +39,28 @@ public:
     // the direction light arrives from, and its solid-angle pdf.
     EnvironmentSample sampleSphere(Vec2 u) const;
 
+    // The mean of the channels of an image map's radiance over the sphere and its pdf for a
+    // world direction (tests; `index` in the order of add()).
+    std::size_t imageCount() const { return m_images.size(); }
+
+    struct Map; // an image, its frame and its sampling distribution (environment_map.cpp)
+
 private:
-    struct Map; // an image, its frame and its sampling distribution (environment.cpp)
+    // With an image, sample() is a mixture: component i (the constant part uniformly over
+    // the sphere, then each image by its distribution) is chosen with probability
+    // m_pick[i] - m_pick[i-1], proportional to its mean radiance; pdf() is the mixture's.
+    void updatePick();
+    float mixturePdf(const Vec3& dir) const;
+
     bool m_present = false;
     Vec3 m_constant{0.0f, 0.0f, 0.0f};
     std::vector<std::shared_ptr<const Map>> m_images;
+    std::vector<float> m_pick; // cumulative: constant, then each image; last = 1
 };
+
+// The radiance scale that gives an equal-area image sky the upper-hemisphere (+z in light space)
+// illuminance `target`, by pbrt-v4's estimate: 2 pi / N times the sum over the upper-hemisphere
+// pixels of luminance * cos theta (pbrt_lights.cpp explains the factor).
+float equalAreaIlluminanceScale(const Image& image, float target);
 
 } // namespace rayproc

@@ -2,6 +2,7 @@
 
 #include "kernels/ray_offset.h"
 #include "kernels/sampling.h"
+#include "lighting/sphere_mapping.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,6 +20,20 @@ float smoothStep(float a, float b, float x) {
 // Uniform scale factor of a transform (the cube root of its volume change).
 float uniformScale(const Affine& a) { return std::cbrt(std::abs(a.determinant())); }
 
+float pixelMean(const Image& img, int x, int y) {
+    const float* p = img.at(x, y);
+    float m = (p[0] + p[1] + p[2]) / 3.0f;
+    return m > 0 && std::isfinite(m) ? m : 0.0f;
+}
+
+// Equal-area pixels all cover 4 pi / N, so the mean over the sphere is the pixel mean.
+float goniometricMean(const Image& img) {
+    double sum = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) sum += pixelMean(img, x, y);
+    return float(sum / (double(img.width) * img.height));
+}
+
 LightSource fromSceneLight(const Light& l) {
     LightSource s;
     s.position = l.position;
@@ -33,7 +48,14 @@ LightSource fromSceneLight(const Light& l) {
         break;
     case LightType::Directional: s.kind = LightSource::Kind::Directional; break;
     case LightType::Environment: break; // handled by LightSet::environment
-    case LightType::Goniometric: s.kind = LightSource::Kind::Point; break;
+    case LightType::Goniometric:
+        s.kind = LightSource::Kind::Point;
+        if (l.image && l.image->width > 0 && l.image->height > 0) {
+            s.goniometric = l.image;
+            s.toLight = l.toWorld.inverse();
+            s.goniometricMean = goniometricMean(*l.image);
+        }
+        break;
     }
     return s;
 }
@@ -124,8 +146,7 @@ LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
         if (dist2 <= 0) return s;
         s.distance = std::sqrt(dist2);
         s.wi = d / s.distance;
-        float f = 1.0f;
-        if (kind == Kind::Spot) f = smoothStep(cosFalloff, cosCone, dot(-s.wi, direction));
+        float f = directionalFactor(-s.wi);
         if (lobe) {
             float c = dot(lobeNormal, -s.wi);
             f *= lobeTwoSided ? std::abs(c) : std::max(0.0f, c);
@@ -200,6 +221,19 @@ LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
     return s;
 }
 
+float LightSource::directionalFactor(const Vec3& wOut) const {
+    if (kind == Kind::Spot) return smoothStep(cosFalloff, cosCone, dot(wOut, direction));
+    if (!goniometric) return 1.0f;
+    Vec3 d = toLight.vector(wOut);
+    float len = length(d);
+    if (!(len > 0)) return 0.0f;
+    Vec2 uv = equalAreaSphereToSquare(d / len);
+    int res = goniometric->width;
+    int x = int(std::floor(uv.x * float(res))), y = int(std::floor(uv.y * float(res)));
+    wrapEqualAreaPixel(x, y, res);
+    return pixelMean(*goniometric, x, y);
+}
+
 float LightSource::pdf(const Vec3& p, const Vec3& q, const Vec3& nq) const {
     if (delta()) return 0.0f;
     Vec3 d = q - p;
@@ -219,7 +253,7 @@ float LightSource::pdf(const Vec3& p, const Vec3& q, const Vec3& nq) const {
 
 Vec3 LightSource::power() const {
     switch (kind) {
-    case Kind::Point: return intensity * (4 * kPi);
+    case Kind::Point: return intensity * (4 * kPi * goniometricMean);
     case Kind::Spot: return intensity * (2 * kPi * (1 - 0.5f * (cosCone + cosFalloff)));
     case Kind::Directional: return Vec3(0.0f); // needs the scene's extent; see photon emitter
     default: return radiance * (kPi * area * (twoSided ? 2.0f : 1.0f));

@@ -6,7 +6,10 @@
 #include "accel/embree_scene.h"
 #include "core/math.h"
 #include "lighting/environment.h"
+#include "image/image.h"
 #include "scene/scene.h"
+
+#include <memory>
 
 #include <utility>
 #include <vector>
@@ -38,6 +41,15 @@ public:
     // A point light that stands for a piece of an area light radiates with a cosine lobe.
     bool lobe = false, lobeTwoSided = false;
     Vec3 lobeNormal;
+    // A goniometric light is a point light whose intensity in the emitted direction w is
+    // `intensity` times the channel mean of `goniometric` at equalAreaSphereToSquare(toLight w)
+    // (nearest pixel, pbrt-v4); `goniometricMean` is that factor's mean over the sphere.
+    std::shared_ptr<const Image> goniometric;
+    Affine toLight;
+    float goniometricMean = 1;
+    // The factor by which the intensity varies with the emitted direction (spot falloff,
+    // goniometric image; 1 for a plain point light). `wOut` is unit, from the light outwards.
+    float directionalFactor(const Vec3& wOut) const;
     // Area lights
     Vec3 radiance;
     bool twoSided = false;

@@ -1,12 +1,14 @@
 // Scene loading: the flat sections of a scene file (camera, render settings, materials,
 // lights). Each key is optional unless noted; the defaults are those of scene.h.
 #include "core/error.h"
+#include "image/image.h"
 #include "scene/metals.h"
 #include "scene/scene_loader_detail.h"
 
 #include <nlohmann/json.hpp>
 
 #include <climits>
+#include <filesystem>
 
 namespace rayproc::scene_json {
 
@@ -202,9 +204,42 @@ void parseMaterials(const JsonRef& v, Scene& scene) {
             m["materials"].fail("the mix contains itself");
 }
 
+// "image": a file relative to the scene file, read as linear RGB; "mapping" says how it covers
+// the sphere ("equal-area" needs a square image). Errors name the JSON path.
+void parseLightImage(const JsonRef& l, Light& light, bool allowLatLong) {
+    JsonRef file = l["image"];
+    std::filesystem::path p(file.nonEmptyString());
+    if (p.is_relative()) p = std::filesystem::path(l.file()).parent_path() / p;
+    try {
+        light.image = std::make_shared<const Image>(readImage(p.string()));
+    } catch (const ImageIoError& e) {
+        file.fail(e.what());
+    }
+    light.mapping = EnvironmentMapping::EqualArea;
+    if (allowLatLong && l.has("mapping")) {
+        std::string m = l["mapping"].string();
+        if (m == "lat-long") light.mapping = EnvironmentMapping::LatLong;
+        else if (m != "equal-area") l["mapping"].fail("expected \"equal-area\" or \"lat-long\"");
+    }
+    if (light.image->width <= 0 || light.image->height <= 0) file.fail("the image is empty");
+    if (light.mapping == EnvironmentMapping::EqualArea && light.image->width != light.image->height)
+        file.fail("an equal-area image must be square, this one is " +
+                  std::to_string(light.image->width) + " x " + std::to_string(light.image->height) +
+                  (allowLatLong ? " (\"mapping\": \"lat-long\" reads latitude-longitude maps)" : ""));
+}
+
+// "transform": the light's frame (light space -> world; its translation is ignored).
+Affine parseLightFrame(const JsonRef& l) {
+    if (!l.has("transform")) return Affine::identity();
+    Affine a = parseTransform(l["transform"]);
+    a.m[0][3] = a.m[1][3] = a.m[2][3] = 0;
+    return a;
+}
+
 void parseLights(const JsonRef& v, Scene& scene) {
     if (!v.isArray()) v.fail("expected an array of lights");
-    static const std::vector<std::string> kTypes = {"point", "spot", "directional", "environment"};
+    static const std::vector<std::string> kTypes = {"point", "spot", "directional",
+                                                      "environment", "goniometric"};
     bool haveEnvironment = false;
     for (std::size_t i = 0; i < v.arraySize(); ++i) {
         JsonRef l = v[i];
@@ -234,12 +269,25 @@ void parseLights(const JsonRef& v, Scene& scene) {
             light.type = LightType::Directional;
             light.direction = l["direction"].direction();
             light.intensity = l["irradiance"].color();
+        } else if (type == "goniometric") {
+            l.expectObject({"type", "name", "position", "intensity", "image", "transform"},
+                           "a goniometric light");
+            light.type = LightType::Goniometric;
+            light.position = l["position"].vec3();
+            light.intensity = l["intensity"].color();
+            parseLightImage(l, light, false);
+            light.toWorld = parseLightFrame(l);
         } else {
-            l.expectObject({"type", "name", "radiance"}, "an environment light");
+            l.expectObject({"type", "name", "radiance", "image", "mapping", "transform", "scale"},
+                           "an environment light");
             if (haveEnvironment) l.fail("a scene may have only one environment light");
             haveEnvironment = true;
             light.type = LightType::Environment;
-            light.intensity = l["radiance"].color();
+            if (!l.has("image") || l.has("radiance")) light.intensity = l["radiance"].color();
+            if (l.has("image")) parseLightImage(l, light, true);
+            else if (l.has("mapping")) l["mapping"].fail("\"mapping\" needs an \"image\"");
+            if (l.has("scale")) light.intensity = light.intensity * nonNegative(l["scale"]);
+            light.toWorld = parseLightFrame(l);
         }
         if (l.has("name")) light.name = l["name"].string();
         scene.lights.push_back(light);

@@ -1,5 +1,6 @@
-// pbrt light sources as rayproc lights: point, spot, distant -> directional, infinite (constant)
-// -> environment; AreaLightSource "diffuse" as the emission of the shapes that follow. Colours
+// pbrt light sources as rayproc lights: point, spot, goniometric, distant -> directional,
+// infinite (constant or image) -> environment; AreaLightSource "diffuse" as the emission of the
+// shapes that follow. Colours
 // follow pbrt-v4's photometric convention (pbrt_values.h): RGB values are taken as they are,
 // other spectra are normalised to luminance 1, then "scale" multiplies and "power" (point and
 // spot lights) sets the emitted power as pbrt computes it.
@@ -20,9 +21,18 @@ void convertLight(const std::string& type, const ParamList& params, const Mat4& 
                   Scene& scene);
 
 struct AreaEmission {
-    Vec3 radiance{0, 0, 0};
+    Vec3 radiance{0, 0, 0}; // L * scale (before any "power")
     bool twoSided = false;
+    double power = -1; // "power" (W); > 0: the radiance is set from the shapes' area
 };
+
+// The radiance the shapes of one Shape directive emit: e.radiance, or, when "power" is given,
+// rescaled so that the shapes emit that power in total (pbrt-v4: phi = pi A L, twice for
+// two-sided). pbrt-v4 applies "power" to each triangle of a mesh separately (a triangle is a
+// shape there); we apply it to the directive's whole area, which is what "power" means.
+Vec3 areaRadianceForPower(const AreaEmission& e, double area);
+// The world-space area of the shapes of one Shape directive placed by `toWorld`.
+double shapesArea(const std::vector<Shape>& shapes, const Affine& toWorld);
 
 // AreaLightSource; nothing for an unsupported type (with a warning).
 std::optional<AreaEmission> convertAreaLight(const std::string& type, const ParamList& params,

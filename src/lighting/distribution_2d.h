@@ -1,0 +1,32 @@
+// A piecewise-constant density on [0,1]^2 over a grid of cells (an image's pixels): sampling
+// picks a row by its marginal weight, then a cell within the row by its weight, then a uniform
+// point inside the cell (inversion of the two cumulative sums). pdf(p) = f(cell) / mean(f).
+#pragma once
+
+#include "core/math.h"
+
+#include <vector>
+
+namespace rayproc {
+
+class Distribution2D {
+public:
+    Distribution2D() = default;
+    // `weights` row-major, width * height, non-negative (negatives and NaN count as 0).
+    Distribution2D(std::vector<float> weights, int width, int height);
+
+    bool valid() const { return m_total > 0; }
+    // A point of [0,1)^2, its density with respect to area in [0,1]^2, and its cell.
+    Vec2 sample(Vec2 u, float& pdf, int& cellX, int& cellY) const;
+    float pdf(Vec2 p) const;
+    float pdfCell(int x, int y) const;
+
+private:
+    int m_width = 0, m_height = 0;
+    std::vector<float> m_weights;  // cell weights
+    std::vector<double> m_rowCdf;  // per row: cumulative weights within it (width entries)
+    std::vector<double> m_margCdf; // cumulative row totals (height entries)
+    double m_total = 0;
+};
+
+} // namespace rayproc

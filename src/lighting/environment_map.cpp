@@ -1,0 +1,108 @@
+#include "lighting/environment_map.h"
+
+#include "lighting/sphere_mapping.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rayproc {
+
+namespace {
+
+float channelMean(const Vec3& c) { return (c.x + c.y + c.z) / 3.0f; }
+
+// sin theta at the centre of lat-long row y of h rows.
+float rowSinTheta(int y, int h) { return std::sin(kPi * (float(y) + 0.5f) / float(h)); }
+
+} // namespace
+
+EnvironmentLight::Map::Map(const Light& light)
+    : image(light.image), scale(light.intensity), mapping(light.mapping), toWorld(light.toWorld),
+      toLight(light.toWorld.inverse()) {
+    const int w = image->width, h = image->height;
+    std::vector<float> weights(std::size_t(w) * std::size_t(h));
+    // Equal-area pixels all cover 4 pi / N; lat-long pixels cover 2 pi^2 sin(theta) / N.
+    double sumW = 0;
+    Vec3 sum{0, 0, 0};
+    for (int y = 0; y < h; ++y) {
+        float area = mapping == EnvironmentMapping::LatLong ? rowSinTheta(y, h) : 1.0f;
+        for (int x = 0; x < w; ++x) {
+            Vec3 L = pixelRadiance(x, y);
+            weights[std::size_t(y) * w + x] = channelMean(L) * area;
+            sum += L * area;
+            sumW += area;
+        }
+    }
+    if (mapping == EnvironmentMapping::LatLong) // the sphere's 4 pi = sum of 2 pi^2 sin / N
+        average = sum * float(2 * kPi * kPi / (4 * kPi * double(w) * h));
+    else
+        average = sum / float(sumW);
+    distribution = Distribution2D(std::move(weights), w, h);
+}
+
+void EnvironmentLight::Map::pixelOf(const Vec3& d, int& x, int& y) const {
+    const int w = image->width, h = image->height;
+    if (mapping == EnvironmentMapping::EqualArea) {
+        Vec2 uv = equalAreaSphereToSquare(d);
+        x = int(std::floor(uv.x * float(w)));
+        y = int(std::floor(uv.y * float(h)));
+        wrapEqualAreaPixel(x, y, w); // uv == 1 lands one past the edge: fold it back
+        return;
+    }
+    Vec2 uv = sphereToLatLong(d);
+    x = int(std::floor(uv.x * float(w))) % w;
+    y = std::clamp(int(std::floor(uv.y * float(h))), 0, h - 1);
+}
+
+Vec3 EnvironmentLight::Map::pixelRadiance(int x, int y) const {
+    const float* p = image->at(x, y);
+    Vec3 c{std::max(0.0f, p[0]), std::max(0.0f, p[1]), std::max(0.0f, p[2])};
+    return isFinite(c) ? c * scale : Vec3(0.0f);
+}
+
+// Equal-area: d(omega) = 4 pi d(uv); lat-long: d(omega) = 2 pi^2 sin(theta) d(uv), with
+// sin theta from the direction's xy (accurate near the poles, unlike sqrt(1 - z^2)).
+float EnvironmentLight::Map::solidAnglePdf(float pdfUv, const Vec3& d) const {
+    if (mapping == EnvironmentMapping::EqualArea) return pdfUv / (4 * kPi);
+    float sinTheta = std::sqrt(d.x * d.x + d.y * d.y);
+    return sinTheta > 0 ? pdfUv / (2 * kPi * kPi * sinTheta) : 0.0f;
+}
+
+Vec3 EnvironmentLight::Map::radiance(const Vec3& dirWorld) const {
+    Vec3 d = toLight.vector(dirWorld);
+    float len = length(d);
+    if (!(len > 0)) return Vec3(0.0f);
+    int x, y;
+    pixelOf(d / len, x, y);
+    return pixelRadiance(x, y);
+}
+
+float EnvironmentLight::Map::pdf(const Vec3& dirWorld) const {
+    Vec3 d = toLight.vector(dirWorld);
+    float len = length(d);
+    if (!(len > 0)) return 0.0f;
+    d = d / len;
+    int x, y;
+    pixelOf(d, x, y);
+    return solidAnglePdf(distribution.pdfCell(x, y), d);
+}
+
+Vec3 EnvironmentLight::Map::sample(Vec2 u, float& pdf, Vec3& L) const {
+    pdf = 0;
+    if (!distribution.valid()) return Vec3(0.0f);
+    float pdfUv;
+    int x, y;
+    Vec2 uv = distribution.sample(u, pdfUv, x, y);
+    Vec3 d = mapping == EnvironmentMapping::EqualArea ? equalAreaSquareToSphere(uv)
+                                                      : latLongToSphere(uv);
+    pdf = solidAnglePdf(pdfUv, d);
+    // The radiance and density of the pixel the direction maps back to (the same pixel up to
+    // rounding at its edges), so that weight and pdf() agree exactly.
+    int px, py;
+    pixelOf(d, px, py);
+    L = pixelRadiance(px, py);
+    if (px != x || py != y) pdf = this->pdf(toWorld.vector(d));
+    return normalize(toWorld.vector(d));
+}
+
+} // namespace rayproc

@@ -1,0 +1,77 @@
+// Image skies through the renderer (path mode): a diffuse sphere under a constant image sky
+// matches the constant sky (a L on the sphere), and a single bright pixel (a "sun") gives the
+// analytic irradiance E = L * (4 pi / N) * cos(theta) on a plane: radiance a / pi * E.
+#include "analytic/analytic.h"
+#include "image/image.h"
+#include "lighting/sphere_mapping.h"
+
+#include <filesystem>
+#include <unistd.h>
+
+using namespace rayproc;
+using namespace rayproc::test;
+
+namespace {
+
+std::string tempImage(const std::string& name, const Image& img) {
+    auto dir = std::filesystem::temp_directory_path() /
+               ("rayproc-lights-tests-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    std::string path = (dir / name).string();
+    writeImage(path, img);
+    return path;
+}
+
+// A sphere of albedo `a` filling the view, lit by `sky` (a JSON light).
+std::string sphereUnderSky(const Vec3& a, const std::string& sky) {
+    return R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "fov": 20,
+                          "resolution": [16, 16]},
+               "materials": {"m": {"type": "diffuse", "color": )" + jsonVec(a) + R"(}},
+               "lights": [)" + sky + R"(],
+               "nodes": [{"type": "sphere", "material": "m", "radius": 1}]})";
+}
+
+} // namespace
+
+TEST_CASE("A diffuse sphere under a constant image sky renders as under the constant sky",
+          "[lights]") {
+    const Vec3 albedo(0.5f, 0.8f, 0.2f);
+    const float L = 1.5f;
+    Image flat(8, 8);
+    for (float& v : flat.pixels) v = 1.0f;
+    std::string path = tempImage("flat.pfm", flat);
+    // A convex object sees only sky: irradiance pi L everywhere, radiance a L.
+    Vec3 expected = albedo * L;
+    for (std::string sky : {std::string(R"({"type": "environment", "radiance": [1.5, 1.5, 1.5]})"),
+                            R"({"type": "environment", "image": ")" + path +
+                                R"(", "scale": 1.5, "transform": {"rotate": {"angle": 40, "axis": [0, 1, 0]}}})"}) {
+        auto scene = sceneFromJson(sphereUnderSky(albedo, sky));
+        EmbreeScene accel(*scene);
+        checkMeanRadiance(renderMode(*scene, accel, "path", 64), expected, 0.01, sky);
+    }
+}
+
+TEST_CASE("One bright pixel of an image sky lights a plane with E = L * 4pi/N * cos", "[lights]") {
+    const int res = 32;
+    const int sx = 13, sy = 18; // the "sun" pixel
+    const float sun = 5000.0f, albedo = 0.5f;
+    Image sky(res, res);
+    float* p = sky.at(sx, sy);
+    p[0] = p[1] = p[2] = sun;
+    std::string path = tempImage("sun.pfm", sky);
+    Vec3 d = equalAreaSquareToSphere({(sx + 0.5f) / res, (sy + 0.5f) / res});
+    REQUIRE(d.z > 0.3f); // above the plane z = 0 (light space = world space)
+    double E = sun * (4 * kPi / (res * res)) * d.z;
+    double expected = albedo / kPi * E;
+    auto scene = sceneFromJson(
+        R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 20,
+                       "resolution": [16, 16]},
+            "materials": {"m": {"type": "diffuse", "color": [0.5, 0.5, 0.5]}},
+            "lights": [{"type": "environment", "image": ")" + path + R"("}],
+            "nodes": [{"type": "quad", "material": "m",
+                       "corners": [[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0]]}]})");
+    EmbreeScene accel(*scene);
+    Image img = renderMode(*scene, accel, "path", 16);
+    INFO("analytic radiance " << expected << " (sun direction z " << d.z << ")");
+    checkMeanRadiance(img, Vec3(float(expected)), 0.02, "sun");
+}

@@ -1,0 +1,173 @@
+// The pbrt importer's lights against hand-computed figures: point and spot "power", distant
+// "illuminance", goniometric images and power, image infinite lights (equal-area, lat-long
+// fallback, illuminance, portal, L with filename), area light "power" and "blackbody" colours;
+// and the Bitterli classroom's skydome loading without warnings.
+#include "image/image.h"
+#include "lighting/environment.h"
+#include "lighting/light_set.h"
+#include "pbrt/pbrt_test_util.h"
+#include "scene/pbrt/pbrt_lights.h"
+#include "scene/pbrt/pbrt_spectrum.h"
+
+#include <filesystem>
+
+using namespace rayproc;
+using namespace rayproc::test;
+
+namespace {
+
+// A world snippet with a small sphere, since a scene must have geometry.
+LoadedPbrt loadLights(const std::string& lights) {
+    return loadWorld(lights + "\nShape \"sphere\" \"float radius\" 0.01\n");
+}
+
+const Light& onlyLight(const LoadedPbrt& r) {
+    REQUIRE(r.scene->lights.size() == 1);
+    return r.scene->lights[0];
+}
+
+void writeImageFile(const std::string& name, int w, int h, float value) {
+    Image img(w, h);
+    for (float& v : img.pixels) v = value;
+    writeImage((pbrtTestDir() / name).string(), img);
+}
+
+} // namespace
+
+TEST_CASE("pbrt point light: I * scale, power / (4 pi)", "[lights]") {
+    auto r = loadLights(R"(LightSource "point" "rgb I" [1 0.5 0.25] "float scale" 2)");
+    CHECK(onlyLight(r).intensity.y == Approx(1.0f));
+    auto p = loadLights(R"(LightSource "point" "float power" 100)");
+    CHECK(onlyLight(p).intensity.x == Approx(7.957747f)); // 100 / (4 pi)
+}
+
+TEST_CASE("pbrt spot light: smoothstep falloff and power over its cone", "[lights]") {
+    auto r = loadLights(R"(LightSource "spot" "float coneangle" 30 "float conedeltaangle" 10
+                          "float power" 50 "point3 from" [0 0 0] "point3 to" [0 0 -1])");
+    const Light& l = onlyLight(r);
+    // k_e = 2 pi ((1 - cos 20) + (cos 20 - cos 30) / 2) = 0.6103548
+    CHECK(l.intensity.x == Approx(81.91956f).epsilon(1e-5));
+    CHECK(l.coneAngle == Approx(20.0f));
+    CHECK(l.falloffAngle == Approx(10.0f));
+    // Full intensity inside 20 degrees, half way (smoothstep 0.5) at cos = mid, 0 beyond 30.
+    LightSet set;
+    Scene& s = *r.scene;
+    EmbreeScene accel(s);
+    set = LightSet::build(s, accel);
+    const LightSource& spot = set.lights[0];
+    auto at = [&](float deg) {
+        float t = deg * kPi / 180;
+        return spot.directionalFactor(normalize(l.direction * std::cos(t) +
+                                                normalize(cross(l.direction, {0, 1, 0})) * std::sin(t)));
+    };
+    CHECK(at(10) == Approx(1.0f));
+    CHECK(at(31) == Approx(0.0f));
+    float c20 = std::cos(20 * kPi / 180), c30 = std::cos(30 * kPi / 180);
+    float mid = std::acos(0.5f * (c20 + c30)) * 180 / kPi;
+    CHECK(at(mid) == Approx(0.5f).margin(1e-3));
+}
+
+TEST_CASE("pbrt distant light: L * scale * illuminance", "[lights]") {
+    auto r = loadLights(R"(LightSource "distant" "rgb L" [2 2 2] "float scale" 0.5
+                          "float illuminance" 3 "point3 from" [0 1 0] "point3 to" [0 0 0])");
+    const Light& l = onlyLight(r);
+    CHECK(l.type == LightType::Directional);
+    CHECK(l.intensity.x == Approx(3.0f));
+    CHECK(l.direction.y == Approx(-1.0f));
+}
+
+TEST_CASE("pbrt blackbody light colour: luminance 1 times scale", "[lights]") {
+    auto r = loadLights(R"(LightSource "point" "blackbody I" 3000 "float scale" 4)");
+    Vec3 I = onlyLight(r).intensity;
+    CHECK(luminance(I) == Approx(4.0f).epsilon(1e-3));
+    CHECK(I.x > I.z); // a 3000 K blackbody is orange
+    Vec3 d65 = pbrt::blackbodyRgb(6504);
+    CHECK(d65.x == Approx(1.0f).epsilon(0.06)); // near white, not white balanced
+    CHECK(d65.z == Approx(1.0f).epsilon(0.1));
+}
+
+TEST_CASE("pbrt goniometric light: image in equal-area light space, power", "[lights]") {
+    writeImageFile("gonio.pfm", 8, 8, 0.5f);
+    writeImageFile("wide.pfm", 16, 8, 1.0f);
+    auto r = loadLights(R"(LightSource "goniometric" "string filename" "gonio.pfm"
+                          "rgb I" [1 1 1] "float power" 20)");
+    const Light& l = onlyLight(r);
+    CHECK(l.type == LightType::Goniometric);
+    REQUIRE(l.image);
+    // k_e = 4 pi * mean = 2 pi: I = 20 / (2 pi)
+    CHECK(l.intensity.x == Approx(20.0f / (2 * kPi)));
+    EmbreeScene accel(*r.scene);
+    LightSet set = LightSet::build(*r.scene, accel);
+    CHECK(luminance(set.lights[0].power()) == Approx(20.0f).epsilon(1e-4));
+    // pbrt-v4 swaps y and z: the image's centre (+z) is the light's +y.
+    Vec3 centre = l.toWorld.vector({0, 0, 1});
+    CHECK(std::abs(centre.y) == Approx(1.0f));
+    CHECK(pbrtErrorOf(std::string(kPbrtHeader) +
+                      R"(LightSource "goniometric" "string filename" "wide.pfm")")
+              .find("square") != std::string::npos);
+}
+
+TEST_CASE("pbrt image infinite light: equal-area, illuminance, portal, lat-long", "[lights]") {
+    writeImageFile("sky.pfm", 64, 64, 2.0f);
+    writeImageFile("wide.pfm", 16, 8, 1.0f);
+    auto r = loadLights(R"(LightSource "infinite" "string filename" "sky.pfm" "float scale" 3)");
+    const Light& l = onlyLight(r);
+    CHECK(l.type == LightType::Environment);
+    REQUIRE(l.image);
+    CHECK(l.mapping == EnvironmentMapping::EqualArea);
+    CHECK(l.intensity.x == Approx(3.0f));
+    CHECK(r.warnings.empty());
+    // pbrt-v4's illuminance estimate of a uniform map of radiance 2 is 2 pi / N * sum of
+    // 2 cos over the upper half: about 2 * pi / 2 = pi, so "illuminance" 10 scales by ~10 / pi.
+    auto e = loadLights(R"(LightSource "infinite" "string filename" "sky.pfm" "float illuminance" 10)");
+    CHECK(onlyLight(e).intensity.x == Approx(10.0f / kPi).epsilon(0.01));
+    auto p = loadLights(R"(LightSource "infinite" "string filename" "sky.pfm"
+                          "point3 portal" [0 0 0 1 0 0 1 1 0 0 1 0])");
+    CHECK(p.warned("portal"));
+    auto w = loadLights(R"(LightSource "infinite" "string filename" "wide.pfm")");
+    CHECK(w.warned("lat-long"));
+    CHECK(onlyLight(w).mapping == EnvironmentMapping::LatLong);
+    CHECK(pbrtErrorOf(std::string(kPbrtHeader) +
+                      R"(LightSource "infinite" "string filename" "sky.pfm" "rgb L" [1 1 1])")
+              .find("not both") != std::string::npos);
+    // Constant skies: illuminance / pi.
+    auto c = loadLights(R"(LightSource "infinite" "rgb L" [1 1 1] "float illuminance" 3.14159265)");
+    CHECK(onlyLight(c).intensity.x == Approx(1.0f));
+    CHECK_FALSE(onlyLight(c).image);
+}
+
+TEST_CASE("pbrt area light power: radiance = power / (pi A sides)", "[lights]") {
+    pbrt::AreaEmission e;
+    e.radiance = {1, 1, 1};
+    e.power = 10;
+    CHECK(pbrt::areaRadianceForPower(e, 2.0).x == Approx(10.0 / (kPi * 2)));
+    e.twoSided = true;
+    CHECK(pbrt::areaRadianceForPower(e, 2.0).x == Approx(10.0 / (kPi * 4)));
+    Shape disk;
+    disk.type = ShapeType::Disk;
+    disk.radius = 2;
+    CHECK(pbrt::shapesArea({disk}, Affine::scale({0.5f, 0.5f, 0.5f})) == Approx(kPi));
+}
+
+TEST_CASE("The classroom's skydome loads as an equal-area image sky without warnings",
+          "[lights]") {
+    const std::string path = "/work/shared/scenes/bitterli/classroom/scene-v4.pbrt";
+    if (!std::filesystem::exists(path)) return; // the shared scenes are not everywhere
+    std::vector<std::string> warnings;
+    auto scene = loadPbrtScene(path, &warnings);
+    for (const std::string& w : warnings) {
+        INFO(w);
+        CHECK(w.find("infinite") == std::string::npos);
+        CHECK(w.find("LightSource") == std::string::npos);
+        CHECK(w.find("Skydome") == std::string::npos);
+    }
+    int skies = 0;
+    for (const Light& l : scene->lights) {
+        if (l.type != LightType::Environment) continue;
+        ++skies;
+        REQUIRE(l.image);
+        CHECK(l.image->width == 512);
+        CHECK(l.mapping == EnvironmentMapping::EqualArea);
+    }
+    CHECK(skies == 1);
+}
