@@ -47,7 +47,11 @@ TEST_CASE("A diffuse sphere under a constant image sky renders as under the cons
                                 R"(", "scale": 1.5, "transform": {"rotate": {"angle": 40, "axis": [0, 1, 0]}}})"}) {
         auto scene = sceneFromJson(sphereUnderSky(albedo, sky));
         EmbreeScene accel(*scene);
-        checkMeanRadiance(renderMode(*scene, accel, "path", 64), expected, 0.01, sky);
+        checkMeanRadiance(renderMode(*scene, accel, "path", 64), expected, 0.01, "path " + sky);
+        checkMeanRadiance(renderMode(*scene, accel, "raytrace", 256), expected, 0.01,
+                          "raytrace " + sky);
+        checkMeanRadiance(renderGiMode(*scene, accel, 64).image, expected, kGiTolerance,
+                          "gi " + sky);
     }
 }
 
