@@ -13,16 +13,24 @@ using namespace rayproc;
 
 namespace {
 
+// A per-process folder with two images, removed at exit.
+struct JsonLightsDir {
+    std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                 ("rayproc-json-lights-" + std::to_string(::getpid()));
+    JsonLightsDir() {
+        std::filesystem::create_directories(path / "maps");
+        writeImage((path / "maps" / "square.pfm").string(), Image(8, 8));
+        writeImage((path / "maps" / "wide.pfm").string(), Image(16, 8));
+    }
+    ~JsonLightsDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path, ec);
+    }
+};
+
 std::filesystem::path testDir() {
-    static std::filesystem::path dir = [] {
-        auto d = std::filesystem::temp_directory_path() /
-                 ("rayproc-json-lights-" + std::to_string(::getpid()));
-        std::filesystem::create_directories(d / "maps");
-        writeImage((d / "maps" / "square.pfm").string(), Image(8, 8));
-        writeImage((d / "maps" / "wide.pfm").string(), Image(16, 8));
-        return d;
-    }();
-    return dir;
+    static JsonLightsDir dir;
+    return dir.path;
 }
 
 std::unique_ptr<Scene> load(const std::string& lights) {
