@@ -13,10 +13,22 @@ using namespace rayproc::test;
 
 namespace {
 
+// A per-process folder, removed at exit.
+struct TempFolder {
+    std::filesystem::path path;
+    explicit TempFolder(const std::string& name)
+        : path(std::filesystem::temp_directory_path() / (name + std::to_string(::getpid()))) {
+        std::filesystem::create_directories(path);
+    }
+    ~TempFolder() {
+        std::error_code ec;
+        std::filesystem::remove_all(path, ec);
+    }
+};
+
 std::string tempImage(const std::string& name, const Image& img) {
-    auto dir = std::filesystem::temp_directory_path() /
-               ("rayproc-lights-tests-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
+    static TempFolder folder("rayproc-lights-tests-");
+    const std::filesystem::path& dir = folder.path;
     std::string path = (dir / name).string();
     writeImage(path, img);
     return path;
@@ -47,7 +59,11 @@ TEST_CASE("A diffuse sphere under a constant image sky renders as under the cons
                                 R"(", "scale": 1.5, "transform": {"rotate": {"angle": 40, "axis": [0, 1, 0]}}})"}) {
         auto scene = sceneFromJson(sphereUnderSky(albedo, sky));
         EmbreeScene accel(*scene);
-        checkMeanRadiance(renderMode(*scene, accel, "path", 64), expected, 0.01, sky);
+        checkMeanRadiance(renderMode(*scene, accel, "path", 64), expected, 0.01, "path " + sky);
+        checkMeanRadiance(renderMode(*scene, accel, "raytrace", 256), expected, 0.01,
+                          "raytrace " + sky);
+        checkMeanRadiance(renderGiMode(*scene, accel, 64).image, expected, kGiTolerance,
+                          "gi " + sky);
     }
 }
 

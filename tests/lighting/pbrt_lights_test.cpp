@@ -5,6 +5,7 @@
 #include "image/image.h"
 #include "lighting/environment.h"
 #include "lighting/light_set.h"
+#include "lighting/sphere_mapping.h"
 #include "pbrt/pbrt_test_util.h"
 #include "scene/pbrt/pbrt_lights.h"
 #include "scene/pbrt/pbrt_spectrum.h"
@@ -102,6 +103,22 @@ TEST_CASE("pbrt goniometric light: image in equal-area light space, power", "[li
     // pbrt-v4 swaps y and z: the image's centre (+z) is the light's +y.
     Vec3 centre = l.toWorld.vector({0, 0, 1});
     CHECK(std::abs(centre.y) == Approx(1.0f));
+    // One bright pixel: the intensity towards its direction (y and z swapped) is I * 7.
+    Image one(8, 8);
+    float* px = one.at(2, 5);
+    px[0] = px[1] = px[2] = 7.0f;
+    writeImage((pbrtTestDir() / "gonio-one.pfm").string(), one);
+    auto g = loadLights(R"(LightSource "goniometric" "string filename" "gonio-one.pfm"
+                           "rgb I" [2 2 2])");
+    EmbreeScene gAccel(*g.scene);
+    LightSet gSet = LightSet::build(*g.scene, gAccel);
+    Vec3 d = equalAreaSquareToSphere({2.5f / 8, 5.5f / 8});
+    const LightSource& gl = gSet.lights[0];
+    CHECK(gl.directionalFactor({d.x, d.z, d.y}) == Approx(7.0f));
+    CHECK(gl.directionalFactor(d) == Approx(0.0f)); // unswapped: another pixel
+    LightSample ls = gl.sample(Vec3{d.x, d.z, d.y} * 2.0f, {0.5f, 0.5f});
+    REQUIRE(ls.valid);
+    CHECK(ls.weight.x == Approx(2.0f * 7.0f / 4.0f)); // I * image / r^2
     CHECK(pbrtErrorOf(std::string(kPbrtHeader) +
                       R"(LightSource "goniometric" "string filename" "wide.pfm")")
               .find("square") != std::string::npos);

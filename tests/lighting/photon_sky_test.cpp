@@ -28,6 +28,13 @@ TEST_CASE("Image sky photons: a sphere stores 4 pi <L> pi R^2 at first hits", "[
     std::filesystem::create_directories(dir);
     std::string path = (dir / "sky.pfm").string();
     writeImage(path, sky);
+    struct Cleanup {
+        std::filesystem::path dir;
+        ~Cleanup() {
+            std::error_code ec;
+            std::filesystem::remove_all(dir, ec);
+        }
+    } cleanup{dir};
     const float R = 1.5f;
     auto scene = sceneFromJson(
         R"({"camera": {"position": [0, 0, 8], "look_at": [0, 0, 0], "resolution": [8, 8]},

@@ -1,9 +1,9 @@
 // pbrt light sources as rayproc lights: point, spot, goniometric, distant -> directional,
 // infinite (constant or image) -> environment; AreaLightSource "diffuse" as the emission of the
-// shapes that follow. Colours
-// follow pbrt-v4's photometric convention (pbrt_values.h): RGB values are taken as they are,
-// other spectra are normalised to luminance 1, then "scale" multiplies and "power" (point and
-// spot lights) sets the emitted power as pbrt computes it.
+// shapes that follow. Colours follow pbrt-v4's photometric convention (pbrt_values.h): RGB
+// values are taken as they are, other spectra are normalised to luminance 1; then "scale"
+// multiplies, "power" (point, spot, goniometric) sets the emitted power and "illuminance"
+// (distant, infinite) the illuminance, as pbrt-v4 computes them (docs/pbrt-import.md).
 #pragma once
 
 #include "scene/pbrt/pbrt_transform.h"
