@@ -43,6 +43,9 @@ struct BsdfParams {
     float g = 0.0f;
     int maxDepth = 10;
     int nSamples = 1;
+    // CoatedDiffuse: true, pbrt-v4's stochastic random walk; false, the closed form of
+    // kernels/coated_analytic.h (no scattering medium: albedo is ignored).
+    bool coatWalk = true;
     // Per hit: the shading tangent (the x axis of anisotropic roughness; zero: any axis
     // perpendicular to ns) and the random stream of stochastic evaluation (the coat's walk).
     Vec3 tangent{0.0f, 0.0f, 0.0f};

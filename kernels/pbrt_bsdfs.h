@@ -9,6 +9,7 @@
 
 #include "kernels/bsdf.h"
 #include "kernels/bsdf_params.h"
+#include "kernels/coated_analytic.h"
 #include "kernels/dielectric_bxdf.h"
 #include "kernels/layered.h"
 
@@ -191,6 +192,10 @@ inline CoatedDiffuseBxdf coatedDiffuseOf(const BsdfParams& b) {
     return c;
 }
 
+inline CoatedAnalytic coatedAnalyticOf(const BsdfParams& b) {
+    return CoatedAnalytic{b.ior, microfacetsOf(b), b.color, b.thickness};
+}
+
 inline Vec3 evalCoatedDiffuse(const BsdfParams& b, const Vec3& wo, const Vec3& wi,
                               const Vec3& ng, const Vec3& ns, float& pdf) {
     pdf = 0;
@@ -199,6 +204,7 @@ inline Vec3 evalCoatedDiffuse(const BsdfParams& b, const Vec3& wo, const Vec3& w
     if (dot(wi, fg) <= 0) return Vec3(0.0f);
     ShadingFrame frame(fs, b.tangent);
     Vec3 lo = frame.toLocal(wo), li = frame.toLocal(wi);
+    if (!b.coatWalk) return coatedAnalyticOf(b).evalCos(lo, li, pdf);
     CoatedDiffuseBxdf c = coatedDiffuseOf(b);
     pdf = c.pdf(lo, li, b.key);
     return c.f(lo, li, b.key) * std::abs(li.z);
@@ -212,8 +218,37 @@ inline BsdfSample sampleCoatedDiffuse(const BsdfParams& b, const Vec3& wo, const
     Vec3 fg, fs;
     facingSide(wo, ng, ns, fg, fs);
     ShadingFrame frame(fs, b.tangent);
-    CoatedDiffuseBxdf c = coatedDiffuseOf(b);
     Vec3 lo = frame.toLocal(wo);
+    if (!b.coatWalk) {
+        // The coat's reflection with the probability specularProbability(), else the base
+        // (cosine-weighted); the weight is the whole non-delta f |cos| over the mixture pdf.
+        CoatedAnalytic c = coatedAnalyticOf(b);
+        if (lo.z <= 0) return s;
+        float ps = c.specularProbability(lo);
+        Vec3 li;
+        if (uc < ps) {
+            if (c.smooth()) {
+                s.wi = normalize(frame.toWorld(Vec3(-lo.x, -lo.y, lo.z)));
+                if (dot(s.wi, fg) <= 0) return s;
+                s.weight = Vec3(fresnelDielectricSigned(lo.z, c.eta) / ps);
+                s.delta = true;
+                s.valid = isFinite(s.weight);
+                return s;
+            }
+            li = reflectAbout(lo, c.mf.sampleVisible(lo, u));
+        } else {
+            li = cosineHemisphere(u);
+        }
+        if (li.z <= 0) return s;
+        Vec3 f = c.evalCos(lo, li, s.pdf);
+        if (!(s.pdf > 0)) return s;
+        s.wi = normalize(frame.toWorld(li));
+        if (dot(s.wi, fg) <= 0) return s;
+        s.weight = f / s.pdf;
+        s.valid = isFinite(s.weight);
+        return s;
+    }
+    CoatedDiffuseBxdf c = coatedDiffuseOf(b);
     LobeSample ls = c.sample(lo, uc, u, b.key);
     if (!ls.valid || !(ls.pdf > 0)) return s;
     s.wi = normalize(frame.toWorld(ls.wi));

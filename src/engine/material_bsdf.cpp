@@ -67,6 +67,8 @@ kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureCo
         b.g = m.g;
         b.maxDepth = m.maxDepth;
         b.nSamples = m.nSamples;
+        b.coatWalk = m.coatModel == Material::CoatModel::RandomWalk ||
+                     (m.coatModel == Material::CoatModel::Auto && !isBlack(b.albedo));
         break;
     case MaterialType::ThinDielectric: b.kind = kernels::BsdfKind::ThinDielectric; break;
     case MaterialType::DiffuseTransmission:

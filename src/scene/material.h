@@ -76,6 +76,11 @@ struct Material {
     float g = 0.0f;
     int maxDepth = 10;
     int nSamples = 1;
+    // How CoatedDiffuse is evaluated: pbrt-v4's stochastic random walk, or the closed form of
+    // kernels/coated_analytic.h (its depth-unbounded limit without a scattering medium). Auto:
+    // the closed form unless the medium scatters (albedo > 0), which only the walk models.
+    enum class CoatModel { Auto, Analytic, RandomWalk };
+    CoatModel coatModel = CoatModel::Auto;
 
     // Mix: Scene::materials[mix[0]] or [mix[1]]: the second with probability `amount`.
     int mix[2] = {-1, -1};

@@ -156,7 +156,7 @@ void parseMaterials(const JsonRef& v, Scene& scene) {
         } else if (type == "coateddiffuse") {
             m.expectObject({"type", "color", "ior", "roughness", "u_roughness", "v_roughness",
                             "remap_roughness", "thickness", "albedo", "g", "max_depth",
-                            "samples"},
+                            "samples", "model"},
                            "a coateddiffuse material");
             mat.type = MaterialType::CoatedDiffuse;
             mat.color = Vec3(0.5f);
@@ -167,6 +167,13 @@ void parseMaterials(const JsonRef& v, Scene& scene) {
             if (m.has("g")) mat.g = m["g"].numberIn(-0.999f, 0.999f);
             if (m.has("max_depth")) mat.maxDepth = int(m["max_depth"].integer(1, 1000));
             if (m.has("samples")) mat.nSamples = int(m["samples"].integer(1, 1000));
+            if (m.has("model")) {
+                std::string model = m["model"].nonEmptyString();
+                if (model == "auto") mat.coatModel = Material::CoatModel::Auto;
+                else if (model == "analytic") mat.coatModel = Material::CoatModel::Analytic;
+                else if (model == "random-walk") mat.coatModel = Material::CoatModel::RandomWalk;
+                else m["model"].fail("expected \"auto\", \"analytic\" or \"random-walk\"");
+            }
         } else if (type == "thindielectric") {
             m.expectObject({"type", "ior"}, "a thindielectric material");
             mat.type = MaterialType::ThinDielectric;
