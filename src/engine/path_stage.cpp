@@ -54,6 +54,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
         }
         SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
         Vec3 wo = -d;
+        w = w * interiorTransmittance(h, o, d);
         Vec3 le = emittedRadiance(*h.shape, h.ng, wo);
         if (!isBlack(le)) {
             float mis = 1.0f;

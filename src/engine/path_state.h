@@ -26,6 +26,16 @@ inline void facingNormals(const SurfaceHit& h, const Vec3& wo, Vec3& ng, Vec3& n
 }
 
 inline Vec3 laneThroughput(const RayBatch& b, int i) { return {b.wr[i], b.wg[i], b.wb[i]}; }
+
+// Beer-Lambert absorption of a segment travelled inside a shape filled with an absorbing medium:
+// a ray from o along d that reaches the shape's surface from its back side (d along the outward
+// normal) was inside for the whole segment.
+inline Vec3 interiorTransmittance(const SurfaceHit& h, const Vec3& o, const Vec3& d) {
+    const Vec3& sigma = h.shape->interiorAbsorption;
+    if (isBlack(sigma) || dot(d, h.ng) <= 0) return Vec3(1.0f);
+    float t = length(h.p - o);
+    return {std::exp(-sigma.x * t), std::exp(-sigma.y * t), std::exp(-sigma.z * t)};
+}
 inline Vec3 laneDirection(const RayBatch& b, int i) { return {b.dx[i], b.dy[i], b.dz[i]}; }
 
 // The paper's termination: "until the maximum ray depth is achieved or the contributed

@@ -28,6 +28,13 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
             SurfaceHit h =
                 m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
+            Vec3 absorbed = interiorTransmittance(h, o, d);
+            if (absorbed.x != 1.0f || absorbed.y != 1.0f || absorbed.z != 1.0f) {
+                w = w * absorbed; // the stages below read the lane's throughput
+                b.wr[i] = w.x;
+                b.wg[i] = w.y;
+                b.wb[i] = w.z;
+            }
             if (countEmission && addDirect) {
                 Vec3 le = emittedRadiance(*h.shape, h.ng, -d);
                 if (!isBlack(le)) m_rc.film.add(b.pixel[i], w * le, stats);

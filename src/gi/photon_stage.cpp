@@ -26,7 +26,7 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
         Vec3 wo = -d;
         h.material = resolveMix(m_rc.scene, h.material, h, wo);
-        Vec3 power = laneThroughput(b, i);
+        Vec3 power = laneThroughput(b, i) * interiorTransmittance(h, o, d);
         // Photons are stored where a lookup may read them: at diffuse and glossy surfaces.
         bool specularSurface =
             materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;

@@ -42,6 +42,9 @@ struct Shape {
     // Cut-out (pbrt-v4's shape "alpha"): a hit where alpha(uv) is 0 is ignored; between 0 and 1
     // it is kept with that probability (a hash of the ray), as pbrt-v4 does.
     FloatParam alpha{1.0f};
+    // A homogeneous absorbing medium filling the closed shape (pbrt-v4's MediumInterface
+    // "inside"): radiance travelling a distance d inside is attenuated by exp(-sigmaA d).
+    Vec3 interiorAbsorption{0.0f, 0.0f, 0.0f};
 
     bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
     Bounds3 bounds() const;

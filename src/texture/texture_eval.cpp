@@ -1,17 +1,127 @@
+// pbrt-v4's textures: "uv" mapping (s, t) = (su u + du, sv v + dv); image maps flip t (image row
+// 0 is t = 1), look up texel centres at (s w - 1/2, t h - 1/2) with the wrap mode, filter
+// bilinearly (trilinearly between MIP levels when a footprint is known) and apply scale and
+// invert; checkerboards alternate on the integer lattice of (s, t).
 #include "texture/texture_eval.h"
+
+#include "texture/texture_image.h"
+
+#include <algorithm>
+#include <cmath>
 
 namespace rayproc {
 
-Vec3 evalTexture(const Scene& scene, int index, const TextureContext& ctx) {
-    const Texture& t = scene.textures[std::size_t(index)];
+namespace {
+
+// Maps a texel coordinate into the image, or returns false where the texel is black.
+bool wrapTexel(TextureWrap wrap, int w, int h, int& x, int& y) {
+    switch (wrap) {
+    case TextureWrap::Repeat:
+        x = ((x % w) + w) % w;
+        y = ((y % h) + h) % h;
+        return true;
+    case TextureWrap::Clamp:
+        x = std::clamp(x, 0, w - 1);
+        y = std::clamp(y, 0, h - 1);
+        return true;
+    case TextureWrap::Black: return x >= 0 && x < w && y >= 0 && y < h;
+    case TextureWrap::Octahedral:
+        // Across an edge of the equal-area square the sphere continues mirrored.
+        if (x < 0) {
+            x = -x - 1;
+            y = h - 1 - y;
+        } else if (x >= w) {
+            x = 2 * w - 1 - x;
+            y = h - 1 - y;
+        }
+        if (y < 0) {
+            x = w - 1 - x;
+            y = -y - 1;
+        } else if (y >= h) {
+            x = w - 1 - x;
+            y = 2 * h - 1 - y;
+        }
+        x = std::clamp(x, 0, w - 1);
+        y = std::clamp(y, 0, h - 1);
+        return true;
+    }
+    return false;
+}
+
+Vec3 texel(const TextureImage::Level& l, TextureWrap wrap, int x, int y) {
+    if (!wrapTexel(wrap, l.width, l.height, x, y)) return Vec3(0.0f);
+    const float* p = l.at(x, y);
+    return {p[0], p[1], p[2]};
+}
+
+Vec3 bilinear(const TextureImage::Level& l, TextureWrap wrap, float s, float t) {
+    float x = s * float(l.width) - 0.5f, y = t * float(l.height) - 0.5f;
+    float fx = std::floor(x), fy = std::floor(y);
+    int x0 = int(fx), y0 = int(fy);
+    float dx = x - fx, dy = y - fy;
+    return texel(l, wrap, x0, y0) * ((1 - dx) * (1 - dy)) + texel(l, wrap, x0 + 1, y0) * (dx * (1 - dy)) +
+           texel(l, wrap, x0, y0 + 1) * ((1 - dx) * dy) + texel(l, wrap, x0 + 1, y0 + 1) * (dx * dy);
+}
+
+Vec3 lookupImage(const Texture& t, float s, float tt, float footprint) {
+    const TextureImage& img = *t.image;
+    tt = 1.0f - tt;
+    if (t.filter == TextureFilter::Point) {
+        const TextureImage::Level& l = img.levels[0];
+        return texel(l, t.wrap, int(std::floor(s * float(l.width))), int(std::floor(tt * float(l.height))));
+    }
+    // The MIP level whose texels match the footprint (trilinear and EWA; EWA's anisotropic
+    // footprint is approximated by its width). Without a footprint: the finest level.
+    float width = footprint * float(std::max(img.width(), img.height()));
+    if (t.filter == TextureFilter::Bilinear || !(width > 1.0f))
+        return bilinear(img.levels[0], t.wrap, s, tt);
+    float level = std::min(std::log2(width), float(img.levels.size() - 1));
+    int l0 = int(std::floor(level));
+    int l1 = std::min(l0 + 1, int(img.levels.size()) - 1);
+    float d = level - float(l0);
+    return bilinear(img.levels[std::size_t(l0)], t.wrap, s, tt) * (1 - d) +
+           bilinear(img.levels[std::size_t(l1)], t.wrap, s, tt) * d;
+}
+
+Vec3 operand(const Scene& scene, int index, const Vec3& value, const TextureContext& ctx) {
+    return index >= 0 ? evalTexture(scene, index, ctx) : value;
+}
+
+Vec3 evaluate(const Scene& scene, const Texture& t, const TextureContext& ctx) {
+    const float s = t.su * ctx.uv.x + t.du, tt = t.sv * ctx.uv.y + t.dv;
     switch (t.type) {
     case TextureType::Constant: return t.value;
-    default: return t.value;
+    case TextureType::Image: {
+        if (!t.image) return t.value; // the file was missing: the loader said so
+        Vec3 v = lookupImage(t, s, tt, ctx.footprint) * t.scale;
+        if (t.invert) v = Vec3(1.0f) - v;
+        if (t.isFloat) v = Vec3((v.x + v.y + v.z) / 3.0f);
+        return v;
     }
+    case TextureType::Scale:
+        return operand(scene, t.a, t.aValue, ctx) * operand(scene, t.b, t.bValue, ctx);
+    case TextureType::Mix: {
+        float amount = t.amountTexture >= 0 ? evalFloatTexture(scene, t.amountTexture, ctx) : t.amount;
+        return operand(scene, t.a, t.aValue, ctx) * (1 - amount) +
+               operand(scene, t.b, t.bValue, ctx) * amount;
+    }
+    case TextureType::Checkerboard: {
+        bool even = (long long)(std::floor(s) + std::floor(tt)) % 2 == 0;
+        return even ? operand(scene, t.a, t.aValue, ctx) : operand(scene, t.b, t.bValue, ctx);
+    }
+    }
+    return t.value;
+}
+
+} // namespace
+
+Vec3 evalTexture(const Scene& scene, int index, const TextureContext& ctx) {
+    return evaluate(scene, scene.textures[std::size_t(index)], ctx);
 }
 
 float evalFloatTexture(const Scene& scene, int index, const TextureContext& ctx) {
-    return evalTexture(scene, index, ctx).x;
+    Vec3 v = evalTexture(scene, index, ctx);
+    return scene.textures[std::size_t(index)].isFloat ? v.x : (v.x + v.y + v.z) / 3.0f;
 }
 
 } // namespace rayproc

@@ -10,6 +10,7 @@ namespace rayproc::pbrt {
 
 SceneBuilder::SceneBuilder(Scene& scene, Warnings& warnings, const std::filesystem::path& mainFile)
     : m_scene(scene), m_warnings(warnings), m_mainDir(mainFile.parent_path()), m_values(warnings) {
+    m_values.bindTextures(&m_scene.textures, m_mainDir);
     m_scene.path = mainFile.string();
     m_scene.root = std::make_unique<Node>();
     m_scene.root->kind = Node::Kind::Group;

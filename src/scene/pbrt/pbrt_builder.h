@@ -105,6 +105,7 @@ private:
                              const Affine& groupTransform);
     bool hasGeometry() const;
     void resolveMixes();
+    void setInteriorAbsorption(Node& n, const Vec3& sigmaA);
 
     Scene& m_scene;
     Warnings& m_warnings;
@@ -127,8 +128,14 @@ private:
         SourceLoc loc;
     };
     std::vector<PendingMix> m_pendingMixes;
-    std::unordered_set<std::string> m_media; // MakeNamedMedium names
-    std::vector<Pending> m_mediumUses;       // MediumInterface names (node unused)
+    struct Medium {
+        std::string type;
+        Vec3 sigmaA;
+        bool absorbingOnly = false;
+    };
+    std::unordered_map<std::string, Medium> m_media; // MakeNamedMedium
+    std::vector<Pending> m_mediumUses;              // MediumInterface names (node unused)
+    std::vector<Pending> m_interiorMedia;           // shapes filled with a medium
     std::unordered_map<std::string, Node*> m_objects;
     Node* m_object = nullptr; // the prototype being defined
     std::vector<Pending> m_instances;

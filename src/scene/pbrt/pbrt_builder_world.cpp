@@ -119,11 +119,9 @@ void SceneBuilder::shape(const std::string& type, const ParamList& params, const
     ShapeResult r = convertShape(type, params, ctx, m_warnings);
     reportUnused(params, "Shape \"" + type + "\"");
     if (r.shapes.empty()) return;
-    if (!m_state.mediumInside.empty() || !m_state.mediumOutside.empty())
-        m_warnings.add(loc, "participating media are not supported: the shape bounds medium \"" +
-                                (m_state.mediumInside.empty() ? m_state.mediumOutside
-                                                              : m_state.mediumInside) +
-                                "\", which is ignored (vacuum on both sides)");
+    if (!m_state.mediumOutside.empty())
+        m_warnings.add(loc, "participating media around shapes are not supported: the medium "
+                            "\"" + m_state.mediumOutside + "\" outside this shape is ignored");
 
     int material = m_state.material;
     bool pending = false;
@@ -141,15 +139,23 @@ void SceneBuilder::shape(const std::string& type, const ParamList& params, const
                             "which are not supported; skipped");
         return;
     }
+    Vec3 radiance = emissive ? m_state.area->radiance : Vec3(0.0f);
+    if (emissive && m_state.area->power > 0) // pbrt-v4: "power" sets L from the emitting area
+        radiance = areaRadianceForPower(
+            *m_state.area,
+            shapesArea(r.shapes, r.grouped ? r.groupTransform : Affine::identity()));
     for (Shape& s : r.shapes) {
         s.material = pending ? 0 : material;
         if (emissive) {
-            s.emission = m_state.area->radiance;
+            s.emission = radiance;
             s.twoSided = m_state.area->twoSided;
         }
     }
-    for (Node* n : place(r.shapes, r.grouped, r.groupTransform))
+    for (Node* n : place(r.shapes, r.grouped, r.groupTransform)) {
         if (pending) m_pendingMaterials.push_back({n, m_state.materialName, m_state.materialLoc});
+        if (!m_state.mediumInside.empty())
+            m_interiorMedia.push_back({n, m_state.mediumInside, loc});
+    }
 }
 
 // Object instancing ----------------------------------------------------------------------------
@@ -157,8 +163,18 @@ void SceneBuilder::shape(const std::string& type, const ParamList& params, const
 void SceneBuilder::makeNamedMedium(const std::string& name, const ParamList& params,
                                    const SourceLoc& loc) {
     if (m_media.count(name)) failAt(loc, "medium \"" + name + "\" is defined twice");
-    m_media.insert(name);
-    for (const Param& p : params.all()) p.used = true; // reported where a medium is used
+    // Homogeneous media that only absorb are rendered (inside closed shapes); others are
+    // reported where a shape uses them.
+    Medium m;
+    m.type = params.getString("type", "");
+    double scale = params.getFloat("scale", 1.0);
+    m.sigmaA = m_values.color(params, "sigma_a", SpectrumUse::Unbounded, Vec3(0.0011f, 0.0024f, 0.014f)) *
+               float(scale);
+    Vec3 sigmaS = m_values.color(params, "sigma_s", SpectrumUse::Unbounded, Vec3(2.55f, 3.21f, 3.77f));
+    m.absorbingOnly = m.type == "homogeneous" && isBlack(sigmaS) && !params.find("Le") &&
+                      !params.find("preset");
+    for (const Param& p : params.all()) p.used = true;
+    m_media[name] = m;
 }
 
 void SceneBuilder::mediumInterface(const std::string& inside, const std::string& outside,
@@ -242,6 +258,12 @@ void SceneBuilder::resolveMixes() {
                               "\" contains itself");
 }
 
+// Every shape leaf under `n` gets the medium's absorption.
+void SceneBuilder::setInteriorAbsorption(Node& n, const Vec3& sigmaA) {
+    if (n.kind == Node::Kind::Shape) n.shape.interiorAbsorption = sigmaA;
+    for (auto& c : n.children) setInteriorAbsorption(*c, sigmaA);
+}
+
 void SceneBuilder::finish() {
     if (!m_stack.empty()) {
         const Frame& f = m_stack.back();
@@ -259,6 +281,15 @@ void SceneBuilder::finish() {
         if (!m_media.count(p.name))
             failAt(p.loc, "MediumInterface names \"" + p.name + "\", which was never defined "
                           "(MakeNamedMedium)");
+    for (const Pending& p : m_interiorMedia) {
+        const Medium& m = m_media.at(p.name);
+        if (m.absorbingOnly)
+            setInteriorAbsorption(*p.node, m.sigmaA);
+        else
+            m_warnings.add(p.loc, "participating media that scatter or emit are not supported: "
+                                  "medium \"" + p.name + "\" (type \"" + m.type +
+                                  "\") inside this shape is ignored");
+    }
     for (const Pending& p : m_instances) {
         auto it = m_objects.find(p.name);
         if (it == m_objects.end())

@@ -215,11 +215,7 @@ std::optional<AreaEmission> convertAreaLight(const std::string& type, const Para
     e.radiance = L * float(params.getFloat("scale", 1.0));
     e.twoSided = params.getBool("twosided", false);
     e.power = params.getFloat("power", -1.0);
-    // The shapes' area is known only where they are placed (SceneBuilder::shape, which must
-    // call areaRadianceForPower(e, shapesArea(...))); until it does, say so.
-    if (e.power > 0)
-        warnings.add(loc, "area light \"power\" is not applied yet (needs the shapes' area); "
-                          "the shapes emit L * scale");
+    // The shapes' area is known only where they are placed: SceneBuilder::shape applies it.
     if (!isFinite(e.radiance) || e.radiance.x < 0 || e.radiance.y < 0 || e.radiance.z < 0)
         failAt(loc, "area light radiance must be finite and not negative (check \"scale\")");
     return e;

@@ -9,20 +9,14 @@ namespace rayproc::pbrt {
 
 namespace {
 
-// A colour parameter that may be a texture, or `def`.
 ColorParam colorParam(const ParamList& params, const ValueReader& values, std::string_view name,
                       SpectrumUse use, Vec3 def) {
-    ColorParam c;
-    c.value = values.color(params, name, use, def);
-    return c;
+    return values.colorParam(params, name, use, def);
 }
 
-// A float parameter that may be a texture, or `def`.
 FloatParam floatParam(const ParamList& params, const ValueReader& values, std::string_view name,
                       float def) {
-    FloatParam f;
-    f.value = values.scalar(params, name, def);
-    return f;
+    return values.floatParam(params, name, def);
 }
 
 // An unbounded spectral parameter (a conductor's eta or k): rgb, a constant, or a named metal

@@ -1,8 +1,105 @@
 #include "scene/pbrt/pbrt_values.h"
 
 #include "scene/pbrt/pbrt_spectrum.h"
+#include "image/image.h"
+#include "texture/texture_image.h"
+
+#include <cstdlib>
 
 namespace rayproc::pbrt {
+
+namespace {
+
+TextureWrap parseWrap(const std::string& w, const SourceLoc& loc) {
+    if (w == "repeat") return TextureWrap::Repeat;
+    if (w == "black") return TextureWrap::Black;
+    if (w == "clamp") return TextureWrap::Clamp;
+    if (w == "octahedralsphere") return TextureWrap::Octahedral;
+    failAt(loc, "unknown texture wrap mode \"" + w +
+                    "\" (expected repeat, black, clamp or octahedralsphere)");
+}
+
+TextureFilter parseFilter(const std::string& f, const SourceLoc& loc) {
+    if (f == "point") return TextureFilter::Point;
+    if (f == "bilinear") return TextureFilter::Bilinear;
+    if (f == "trilinear") return TextureFilter::Trilinear;
+    if (f == "ewa" || f == "EWA") return TextureFilter::Ewa;
+    failAt(loc, "unknown texture filter \"" + f + "\" (expected point, bilinear, trilinear or ewa)");
+}
+
+TextureEncoding parseEncoding(const std::string& e, const SourceLoc& loc) {
+    if (e == "sRGB" || e == "srgb") return {TextureEncoding::Kind::Srgb};
+    if (e == "linear") return {TextureEncoding::Kind::Linear};
+    if (e.rfind("gamma ", 0) == 0) {
+        char* end = nullptr;
+        float g = std::strtof(e.c_str() + 6, &end);
+        if (end != e.c_str() + 6 && g > 0) return {TextureEncoding::Kind::Gamma, g};
+    }
+    failAt(loc, "unknown encoding \"" + e + "\" (expected sRGB, linear or \"gamma <value>\")");
+}
+
+} // namespace
+
+// pbrt-v4's (u, v) mapping parameters, shared by image maps and checkerboards.
+static void readMapping(const ParamList& params, rayproc::Texture& t, Warnings& warnings,
+                        const SourceLoc& loc) {
+    std::string mapping = params.getString("mapping", "uv");
+    if (mapping != "uv")
+        warnings.add(loc, "texture mapping \"" + mapping + "\" is not supported; using \"uv\"");
+    t.su = float(params.getFloat("uscale", 1.0));
+    t.sv = float(params.getFloat("vscale", 1.0));
+    t.du = float(params.getFloat("udelta", 0.0));
+    t.dv = float(params.getFloat("vdelta", 0.0));
+    params.ignore({"v1", "v2"}); // planar mapping's axes
+}
+
+rayproc::Texture ValueReader::imageTexture(const std::string& name, const ParamList& params,
+                                           bool isFloat, const SourceLoc& loc,
+                                           bool& missing) const {
+    rayproc::Texture t;
+    t.type = TextureType::Image;
+    readMapping(params, t, m_warnings, loc);
+    t.filter = parseFilter(params.getString("filter", "bilinear"), loc);
+    t.wrap = parseWrap(params.getString("wrap", "repeat"), loc);
+    t.scale = float(params.getFloat("scale", 1.0));
+    t.invert = params.getBool("invert", false);
+    params.ignore({"maxanisotropy"});
+    TextureEncoding encoding = parseEncoding(params.getString("encoding", "sRGB"), loc);
+    std::string file = params.getString("filename", "");
+    if (file.empty()) failAt(loc, "Texture \"" + name + "\" (imagemap) needs \"string filename\"");
+    std::filesystem::path path(file);
+    if (path.is_relative()) path = m_dir / path;
+    t.filename = path.string();
+    missing = false;
+    try {
+        t.image = loadTextureImage(t.filename, encoding);
+    } catch (const ImageIoError& e) {
+        // A missing or unreadable file warns and leaves the parameters that use the texture at
+        // their defaults (the shared scenes lack two texture files).
+        m_warnings.add(loc, std::string(e.what()) + "; parameters that use texture \"" + name +
+                                "\" keep their default values");
+        missing = true;
+    }
+    return t;
+}
+
+void ValueReader::operand(const ParamList& params, std::string_view name, bool isFloat, Vec3 def,
+                          int& index, Vec3& value) const {
+    index = -1;
+    value = def;
+    const Param* p = params.find(name);
+    if (!p) return;
+    if (p->type == "texture") {
+        p->used = true;
+        const Texture* t = texture(*p, isFloat);
+        if (t->constant)
+            value = t->hasValue ? convert(t->value, SpectrumUse::Unbounded, def) : Vec3(1.0f);
+        else if (!t->missing)
+            index = t->index;
+        return;
+    }
+    value = isFloat ? Vec3(scalar(params, name, def.x)) : color(params, name, SpectrumUse::Unbounded, def);
+}
 
 void ValueReader::defineTexture(const std::string& name, const std::string& type,
                                 const std::string& className, const ParamList& params,
@@ -18,11 +115,45 @@ void ValueReader::defineTexture(const std::string& name, const std::string& type
             t.value = *v;
             t.hasValue = true;
         }
+    } else if (m_table && (className == "imagemap" || className == "scale" ||
+                           className == "mix" || className == "checkerboard")) {
+        rayproc::Texture rt;
+        rt.name = name;
+        rt.isFloat = t.isFloat;
+        Vec3 one(1.0f), zero(0.0f);
+        if (className == "imagemap") {
+            rt = imageTexture(name, params, t.isFloat, loc, t.missing);
+            rt.name = name;
+            rt.isFloat = t.isFloat;
+        } else if (className == "scale") {
+            rt.type = TextureType::Scale;
+            operand(params, "tex", t.isFloat, one, rt.a, rt.aValue);
+            operand(params, "scale", true, one, rt.b, rt.bValue);
+        } else if (className == "mix") {
+            rt.type = TextureType::Mix;
+            operand(params, "tex1", t.isFloat, zero, rt.a, rt.aValue);
+            operand(params, "tex2", t.isFloat, one, rt.b, rt.bValue);
+            Vec3 amount;
+            operand(params, "amount", true, Vec3(0.5f), rt.amountTexture, amount);
+            rt.amount = amount.x;
+        } else {
+            rt.type = TextureType::Checkerboard;
+            if (params.getInt("dimension", 2) != 2)
+                m_warnings.add(loc, "3D checkerboard textures are not supported; using 2D");
+            readMapping(params, rt, m_warnings, loc);
+            operand(params, "tex1", t.isFloat, one, rt.a, rt.aValue);
+            operand(params, "tex2", t.isFloat, zero, rt.b, rt.bValue);
+        }
+        if (!t.missing) {
+            m_table->push_back(std::move(rt));
+            t.index = int(m_table->size()) - 1;
+        }
     } else {
         m_warnings.add(loc, "Texture class \"" + className +
                                 "\" is not supported; parameters that use such a texture get "
                                 "their default value");
         for (const Param& p : params.all()) p.used = true; // reported once, as the class
+        t.missing = true;
     }
     auto& table = t.isFloat ? m_floatTextures : m_spectrumTextures;
     if (table.count(name))
@@ -30,6 +161,42 @@ void ValueReader::defineTexture(const std::string& name, const std::string& type
                                 "\" redefined; the last "
                                 "definition is used");
     table[name] = std::move(t);
+}
+
+ColorParam ValueReader::colorParam(const ParamList& params, std::string_view name,
+                                   SpectrumUse use, Vec3 def) const {
+    ColorParam c;
+    c.value = def;
+    const Param* p = params.get(name, {"rgb", "spectrum", "blackbody", "texture"});
+    if (!p) return c;
+    if (p->type != "texture") {
+        c.value = convert(*p, use, def);
+        return c;
+    }
+    const Texture* t = texture(*p, false);
+    if (t->constant)
+        c.value = t->hasValue ? convert(t->value, use, def) : Vec3(1.0f);
+    else if (!t->missing)
+        c.texture = t->index;
+    return c;
+}
+
+FloatParam ValueReader::floatParam(const ParamList& params, std::string_view name,
+                                   float def) const {
+    FloatParam f;
+    f.value = def;
+    const Param* p = params.get(name, {"float", "texture"});
+    if (!p) return f;
+    if (p->type != "texture") {
+        f.value = scalar(params, name, def);
+        return f;
+    }
+    const Texture* t = texture(*p, true);
+    if (t->constant)
+        f.value = t->hasValue ? float(t->value.numbers[0]) : 1.0f;
+    else if (!t->missing)
+        f.texture = t->index;
+    return f;
 }
 
 const ValueReader::Texture* ValueReader::texture(const Param& ref, bool wantFloat) const {

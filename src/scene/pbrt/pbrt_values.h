@@ -1,16 +1,21 @@
 // Colour and scalar parameters as rayproc values: "rgb", "spectrum" (a constant, wavelength /
-// value pairs, or a named spectrum), "blackbody", and "texture" references to named textures of
-// class "constant". How a spectrum becomes a colour depends on its use, as in pbrt-v4:
+// value pairs, or a named spectrum), "blackbody", and "texture" references to named textures:
+// "constant" ones stand for their value; "imagemap", "scale", "mix" and "checkerboard" become
+// entries of Scene::textures that a ColorParam / FloatParam refers to. How a spectrum becomes a colour depends on its use, as in pbrt-v4:
 // reflectances must lie in [0, 1]; emission spectra other than RGB are normalised to
 // luminance 1 (pbrt's "1 nit" convention; the light's "scale" sets the brightness).
 #pragma once
 
 #include "core/math.h"
+#include "scene/material.h"
+#include "scene/texture.h"
 #include "scene/pbrt/pbrt_params.h"
 #include "scene/pbrt/pbrt_warnings.h"
 
+#include <filesystem>
 #include <string>
 #include <unordered_map>
+#include <vector>
 
 namespace rayproc::pbrt {
 
@@ -19,6 +24,11 @@ enum class SpectrumUse { Albedo, Unbounded, Illuminant };
 class ValueReader {
 public:
     explicit ValueReader(Warnings& warnings) : m_warnings(warnings) {}
+    // Where textures go (Scene::textures) and the folder image file names are relative to.
+    void bindTextures(std::vector<rayproc::Texture>* table, std::filesystem::path dir) {
+        m_table = table;
+        m_dir = std::move(dir);
+    }
 
     // The Texture directive. `type` is "float" or "spectrum" (pbrt-v3's "color" too).
     void defineTexture(const std::string& name, const std::string& type,
@@ -29,6 +39,11 @@ public:
     Vec3 color(const ParamList& params, std::string_view name, SpectrumUse use, Vec3 def) const;
     // A float parameter or float texture, or `def`.
     float scalar(const ParamList& params, std::string_view name, float def) const;
+    // The same as parameters that may refer to a texture of any class. A texture whose image
+    // file was missing gives `def` (the loader warned where the texture was defined).
+    ColorParam colorParam(const ParamList& params, std::string_view name, SpectrumUse use,
+                          Vec3 def) const;
+    FloatParam floatParam(const ParamList& params, std::string_view name, float def) const;
 
     // A colour parameter's value as written (rgb, spectrum constant or blackbody); false if it
     // is absent, a named or sampled spectrum, or a texture.
@@ -41,13 +56,22 @@ private:
         std::string className;
         Param value; // "value" of a constant texture (type float, rgb, spectrum or blackbody)
         bool hasValue = false;
+        int index = -1;       // Scene::textures entry of the other classes
+        bool missing = false; // an image map whose file could not be read
     };
+    // A texture operand ("tex", "tex1", "amount", ...): a texture index or a value.
+    void operand(const ParamList& params, std::string_view name, bool isFloat, Vec3 def,
+                 int& index, Vec3& value) const;
+    rayproc::Texture imageTexture(const std::string& name, const ParamList& params,
+                                  bool isFloat, const SourceLoc& loc, bool& missing) const;
     Vec3 convert(const Param& p, SpectrumUse use, Vec3 def) const;
     const Texture* texture(const Param& ref, bool wantFloat) const;
 
     Warnings& m_warnings;
     std::unordered_map<std::string, Texture> m_floatTextures;
     std::unordered_map<std::string, Texture> m_spectrumTextures;
+    std::vector<rayproc::Texture>* m_table = nullptr;
+    std::filesystem::path m_dir;
 };
 
 } // namespace rayproc::pbrt

@@ -1,0 +1,108 @@
+#include "texture/texture_image.h"
+
+#include "image/image.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+
+namespace rayproc {
+
+namespace {
+
+float decode(float v, const TextureEncoding& e) {
+    switch (e.kind) {
+    case TextureEncoding::Kind::Linear: return v;
+    case TextureEncoding::Kind::Gamma: return std::pow(std::max(v, 0.0f), e.gamma);
+    case TextureEncoding::Kind::Srgb: return srgbToLinear(std::clamp(v, 0.0f, 1.0f));
+    }
+    return v;
+}
+
+std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
+                                               const TextureEncoding& encoding) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw ImageIoError("cannot read the texture \"" + path + "\": " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    const int w = spec.width, h = spec.height, nch = spec.nchannels;
+    if (w <= 0 || h <= 0 || nch <= 0 || std::int64_t(w) * h > (std::int64_t(1) << 28))
+        throw ImageIoError("cannot read the texture \"" + path + "\": unsupported size " +
+                           std::to_string(w) + "x" + std::to_string(h));
+    std::vector<float> px(std::size_t(w) * h * nch);
+    if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, px.data()))
+        throw ImageIoError("cannot read the texture \"" + path + "\": " + in->geterror());
+    // Integer files store encoded values; float files hold linear radiance or reflectance.
+    const bool isFloat = spec.format.basetype == OIIO::TypeDesc::FLOAT ||
+                         spec.format.basetype == OIIO::TypeDesc::HALF ||
+                         spec.format.basetype == OIIO::TypeDesc::DOUBLE;
+    TextureEncoding e = isFloat ? TextureEncoding{TextureEncoding::Kind::Linear} : encoding;
+    const int alphaChannel = spec.alpha_channel >= 0 ? spec.alpha_channel
+                                                     : (nch == 2 || nch == 4 ? nch - 1 : -1);
+    auto img = std::make_shared<TextureImage>();
+    TextureImage::Level base;
+    base.width = w;
+    base.height = h;
+    base.rgb.resize(std::size_t(w) * h * 3);
+    if (alphaChannel >= 0) {
+        img->hasAlpha = true;
+        img->alpha.resize(std::size_t(w) * h);
+    }
+    for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
+        const float* p = &px[i * nch];
+        for (int c = 0; c < 3; ++c) {
+            // Grey (and grey + alpha) files repeat their one colour channel.
+            int src = nch >= 3 ? c : 0;
+            base.rgb[3 * i + c] = decode(p[src], e);
+        }
+        if (alphaChannel >= 0) img->alpha[i] = p[alphaChannel]; // alpha is never encoded
+    }
+    img->levels.push_back(std::move(base));
+    buildMipLevels(*img);
+    return img;
+}
+
+} // namespace
+
+void buildMipLevels(TextureImage& img) {
+    img.levels.resize(1);
+    while (img.levels.back().width > 1 || img.levels.back().height > 1) {
+        const TextureImage::Level& f = img.levels.back();
+        TextureImage::Level c;
+        c.width = (f.width + 1) / 2;
+        c.height = (f.height + 1) / 2;
+        c.rgb.assign(std::size_t(c.width) * c.height * 3, 0.0f);
+        for (int y = 0; y < c.height; ++y)
+            for (int x = 0; x < c.width; ++x) {
+                float sum[3] = {0, 0, 0};
+                int n = 0;
+                for (int dy = 0; dy < 2; ++dy)
+                    for (int dx = 0; dx < 2; ++dx) {
+                        int fx = std::min(2 * x + dx, f.width - 1), fy = std::min(2 * y + dy, f.height - 1);
+                        const float* p = f.at(fx, fy);
+                        for (int k = 0; k < 3; ++k) sum[k] += p[k];
+                        ++n;
+                    }
+                float* q = &c.rgb[3 * (std::size_t(y) * c.width + x)];
+                for (int k = 0; k < 3; ++k) q[k] = sum[k] / float(n);
+            }
+        img.levels.push_back(std::move(c));
+    }
+}
+
+std::shared_ptr<const TextureImage> loadTextureImage(const std::string& path,
+                                                     const TextureEncoding& encoding) {
+    static std::mutex mutex;
+    static std::map<std::string, std::weak_ptr<const TextureImage>> cache;
+    std::string key = path + "\n" + std::to_string(int(encoding.kind)) + "\n" +
+                      std::to_string(encoding.gamma);
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto hit = cache[key].lock()) return hit;
+    auto img = decodeFile(path, encoding);
+    cache[key] = img;
+    return img;
+}
+
+} // namespace rayproc
