@@ -182,8 +182,10 @@ TEST_CASE("Constant textures stand for values, other classes fall back with a wa
     Material img = materialOf("Texture \"wood\" \"spectrum\" \"imagemap\" \"string filename\" "
                               "\"wood.png\"\nMaterial \"diffuse\" \"texture reflectance\" \"wood\"",
                               &w);
-    CHECK(img.color == Vec3(0.5f));
-    CHECK(anyContains(w, "Texture class \"imagemap\" is not supported"));
+    CHECK(img.color == Vec3(0.5f)); // the file is missing: the parameter keeps its default
+    CHECK(img.colorTexture == -1);
+    CHECK(anyContains(w, "cannot read the texture"));
+    CHECK(anyContains(w, "parameters that use texture \"wood\" keep their default values"));
     std::string e = pbrtErrorOf(std::string(kPbrtHeader) +
                                 "Material \"diffuse\" \"texture reflectance\" \"nope\"\n");
     CHECK_THAT(e, Catch::Contains(":5:20: no spectrum texture named \"nope\""));
@@ -260,15 +262,25 @@ TEST_CASE("Lights: point, spot, distant, infinite, area, scale, power and blackb
     CHECK(area.warned("AreaLightSource \"projector\" is not supported"));
 }
 
-TEST_CASE("Media: defined silently, a warning only where a shape or the camera is in one", "[pbrt]") {
+TEST_CASE("Media: absorbing media fill their shapes, others warn where used", "[pbrt]") {
     auto unused = loadWorld("MakeNamedMedium \"green\" \"string type\" \"homogeneous\" "
                             "\"rgb sigma_a\" [0.5 0.2 0.4]\n"
                             "AttributeBegin\nMediumInterface \"green\" \"\"\nAttributeEnd\n"
                             "Shape \"sphere\"\n");
     CHECK(unused.warnings.empty());
+    CHECK(rootShapes(*unused.scene)[0].shape->interiorAbsorption == Vec3(0.0f));
+    auto green = loadWorld("MakeNamedMedium \"green\" \"string type\" \"homogeneous\" "
+                           "\"rgb sigma_a\" [0.5 0.2 0.4] \"rgb sigma_s\" [0 0 0] \"float scale\" 2\n"
+                           "AttributeBegin\nMediumInterface \"green\" \"\"\nShape \"sphere\"\nAttributeEnd\n"
+                           "Shape \"sphere\"\n");
+    CHECK(green.warnings.empty());
+    REQUIRE(rootShapes(*green.scene).size() == 2);
+    CHECK(rootShapes(*green.scene)[0].shape->interiorAbsorption == Vec3(1.0f, 0.4f, 0.8f));
+    CHECK(rootShapes(*green.scene)[1].shape->interiorAbsorption == Vec3(0.0f));
+    // pbrt-v4's default homogeneous medium scatters: not rendered, said so.
     auto used = loadWorld("MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n"
                           "MediumInterface \"fog\" \"\"\nShape \"sphere\"\n");
-    CHECK(used.warned("participating media are not supported: the shape bounds medium \"fog\""));
+    CHECK(used.warned("media that scatter or emit are not supported: medium \"fog\""));
     std::string e = pbrtErrorOf(std::string(kPbrtHeader) + "MediumInterface \"nope\"\n"
                                                            "Shape \"sphere\"\n");
     CHECK_THAT(e, Catch::Contains(":5:1: MediumInterface names \"nope\", which was never defined"));

@@ -1,0 +1,185 @@
+// Image textures: OpenImageIO decoding (float files linear, 8-bit files from sRGB), pbrt-v4's
+// texel addressing and t flip, bilinear filtering, wrap modes, MIP levels, the scale, mix and
+// checkerboard combinations, and the pbrt importer's texture classes and missing files.
+#include "pbrt/pbrt_test_util.h"
+#include "test_util.h"
+
+#include "image/image.h"
+#include "texture/texture_eval.h"
+#include "texture/texture_image.h"
+
+#include <catch2/catch.hpp>
+
+using namespace rayproc;
+using namespace rayproc::test;
+
+namespace {
+
+// A 2x2 linear image: top row red, green; bottom row blue, white (as PFM: stored linear).
+std::string writeQuadImage(const std::string& name) {
+    Image img(2, 2);
+    const float px[4][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+    for (int i = 0; i < 4; ++i)
+        for (int c = 0; c < 3; ++c) img.at(i % 2, i / 2)[c] = px[i][c];
+    std::filesystem::path p = pbrtTestDir() / name;
+    std::filesystem::create_directories(p.parent_path());
+    std::string path = p.string();
+    writeImage(path, img);
+    return path;
+}
+
+Scene sceneWith(std::vector<Texture> textures) {
+    Scene s;
+    s.textures = std::move(textures);
+    return s;
+}
+
+Vec3 at(const Scene& s, float u, float v, int index = 0) {
+    TextureContext ctx;
+    ctx.uv = {u, v};
+    return evalTexture(s, index, ctx);
+}
+
+bool near(const Vec3& a, const Vec3& b, float eps = 1e-5f) { return length(a - b) < eps; }
+
+} // namespace
+
+TEST_CASE("Image textures: texel centres, the t flip, bilinear filtering and wraps", "[texture]") {
+    Texture t;
+    t.type = TextureType::Image;
+    t.image = loadTextureImage(writeQuadImage("quad.pfm"), TextureEncoding{});
+    REQUIRE(t.image->width() == 2);
+    Scene s = sceneWith({t});
+    // Row 0 of the file is t = 1 (pbrt-v4 flips t): its texel centres are at t = 0.75.
+    CHECK(near(at(s, 0.25f, 0.75f), {1, 0, 0}));
+    CHECK(near(at(s, 0.75f, 0.75f), {0, 1, 0}));
+    CHECK(near(at(s, 0.25f, 0.25f), {0, 0, 1}));
+    CHECK(near(at(s, 0.75f, 0.25f), {1, 1, 1}));
+    CHECK(near(at(s, 0.5f, 0.5f), {0.5f, 0.5f, 0.5f})); // the four texels' mean
+    CHECK(near(at(s, 0.5f, 0.75f), {0.5f, 0.5f, 0.0f}));
+    CHECK(near(at(s, 1.25f, -0.25f), {1, 0, 0})); // repeat: (0.25, 0.75)
+    s.textures[0].wrap = TextureWrap::Black;
+    CHECK(near(at(s, -0.5f, 0.25f), {0, 0, 0}));
+    s.textures[0].wrap = TextureWrap::Clamp;
+    CHECK(near(at(s, -3.0f, 0.75f), {1, 0, 0}));
+    s.textures[0].wrap = TextureWrap::Repeat;
+    s.textures[0].filter = TextureFilter::Point;
+    CHECK(near(at(s, 0.6f, 0.9f), {0, 1, 0}));
+    // uv mapping, scale and invert.
+    s.textures[0].filter = TextureFilter::Bilinear;
+    s.textures[0].su = 0.5f; // s = u / 2
+    CHECK(near(at(s, 0.5f, 0.75f), {1, 0, 0}));
+    s.textures[0].scale = 2;
+    s.textures[0].invert = true;
+    CHECK(near(at(s, 0.5f, 0.75f), {-1, 1, 1}));
+}
+
+TEST_CASE("8-bit files decode from sRGB, float files are linear; MIP levels average", "[texture]") {
+    Image img(4, 2);
+    for (float& p : img.pixels) p = 0.5f;
+    std::string png = (pbrtTestDir() / "half.png").string();
+    writeImage(png, img); // 8-bit sRGB: 0.5 linear is stored as 188
+    auto decoded = loadTextureImage(png, TextureEncoding{});
+    CHECK(decoded->levels[0].at(1, 1)[0] == Approx(0.5f).margin(0.003f));
+    auto raw = loadTextureImage(png, TextureEncoding{TextureEncoding::Kind::Linear});
+    CHECK(raw->levels[0].at(1, 1)[0] == Approx(188.0f / 255.0f).margin(1e-4f));
+    auto quad = loadTextureImage(writeQuadImage("quad-mip.pfm"), TextureEncoding{});
+    REQUIRE(quad->levels.size() == 2);
+    const float* top = quad->levels[1].at(0, 0);
+    CHECK(top[0] == Approx(0.5f));
+    CHECK(top[1] == Approx(0.5f));
+    CHECK(top[2] == Approx(0.5f));
+    CHECK_THROWS_AS(loadTextureImage((pbrtTestDir() / "nope.tga").string(), TextureEncoding{}),
+                    ImageIoError);
+}
+
+TEST_CASE("Scale, mix and checkerboard textures", "[texture]") {
+    Texture a, b, scale, mix, check;
+    a.value = {0.2f, 0.4f, 0.6f};
+    b.value = {1.0f, 0.0f, 0.5f};
+    scale.type = TextureType::Scale;
+    scale.a = 0;
+    scale.bValue = Vec3(0.5f);
+    mix.type = TextureType::Mix;
+    mix.a = 0;
+    mix.b = 1;
+    mix.amount = 0.25f;
+    check.type = TextureType::Checkerboard;
+    check.a = 0;
+    check.b = 1;
+    check.su = check.sv = 4; // 4 x 4 squares over the unit square
+    Scene s = sceneWith({a, b, scale, mix, check});
+    CHECK(near(at(s, 0, 0, 2), {0.1f, 0.2f, 0.3f}));
+    CHECK(near(at(s, 0, 0, 3), {0.4f, 0.3f, 0.575f}));
+    CHECK(near(at(s, 0.1f, 0.1f, 4), a.value)); // square (0, 0): even
+    CHECK(near(at(s, 0.3f, 0.1f, 4), b.value)); // square (1, 0): odd
+    CHECK(near(at(s, 0.3f, 0.3f, 4), a.value)); // square (1, 1): even
+    CHECK(evalFloatTexture(s, 0, TextureContext{}) == Approx(0.4f)); // a colour's mean
+}
+
+TEST_CASE("pbrt textures: imagemap, scale, mix and checkerboard classes, missing files", "[texture][pbrt]") {
+    writeQuadImage("tex/quad.pfm");
+    auto r = loadWorld("Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"tex/quad.pfm\" "
+                       "\"float uscale\" 2 \"string wrap\" \"clamp\" \"string filter\" \"trilinear\"\n"
+                       "Texture \"half\" \"spectrum\" \"scale\" \"texture tex\" \"img\" \"float scale\" 0.5\n"
+                       "Texture \"m\" \"float\" \"mix\" \"float tex1\" 0.2 \"float tex2\" 0.8\n"
+                       "Texture \"c\" \"spectrum\" \"checkerboard\" \"texture tex1\" \"half\" \"rgb tex2\" [0 1 0]\n"
+                       "Material \"conductor\" \"texture roughness\" \"m\" \"texture reflectance\" \"c\"\n"
+                       "Shape \"sphere\"\n");
+    CHECK(r.warnings.empty());
+    const Scene& s = *r.scene;
+    REQUIRE(s.textures.size() == 4);
+    CHECK(s.textures[0].type == TextureType::Image);
+    CHECK(s.textures[0].su == 2.0f);
+    CHECK(s.textures[0].wrap == TextureWrap::Clamp);
+    CHECK(s.textures[0].filter == TextureFilter::Trilinear);
+    CHECK(s.textures[1].type == TextureType::Scale);
+    CHECK(s.textures[1].a == 0);
+    CHECK(s.textures[1].bValue.x == 0.5f);
+    CHECK(s.textures[2].type == TextureType::Mix);
+    CHECK(s.textures[2].isFloat);
+    CHECK(s.textures[3].type == TextureType::Checkerboard);
+    CHECK(s.textures[3].a == 1);
+    CHECK(s.textures[3].bValue == Vec3(0, 1, 0));
+    const Material& m = s.materials[std::size_t(rootShapes(s)[0].shape->material)];
+    CHECK(m.colorTexture == 3);
+    CHECK(m.uRoughness.texture == 2);
+
+    auto missing = loadWorld("Texture \"w\" \"spectrum\" \"imagemap\" \"string filename\" \"none.tga\"\n"
+                             "Material \"diffuse\" \"texture reflectance\" \"w\"\nShape \"sphere\"\n");
+    CHECK(missing.warned("scene.pbrt:5: ")); // file and line
+    CHECK(missing.warned("cannot read the texture"));
+    CHECK(missing.scene->textures.empty());
+    const Material& d = missing.scene->materials[std::size_t(rootShapes(*missing.scene)[0].shape->material)];
+    CHECK(d.colorTexture == -1);
+    CHECK(d.color == Vec3(0.5f));
+    std::string e = pbrtErrorOf(std::string(kPbrtHeader) +
+                                "Texture \"w\" \"spectrum\" \"imagemap\" \"string filename\" \"x.png\" "
+                                "\"string wrap\" \"mirror\"\n");
+    CHECK_THAT(e, Catch::Contains("unknown texture wrap mode \"mirror\""));
+}
+
+TEST_CASE("A textured diffuse material shades with the texture in path mode", "[texture]") {
+    // A quad whose texture is red on its left half and blue on its right, seen head-on.
+    Image img(2, 1);
+    img.at(0, 0)[0] = 1.0f;
+    img.at(1, 0)[2] = 1.0f;
+    std::string path = (pbrtTestDir() / "rb.pfm").string();
+    writeImage(path, img);
+    auto r = loadWorld("Texture \"rb\" \"spectrum\" \"imagemap\" \"string filename\" \"rb.pfm\" "
+                       "\"string filter\" \"point\"\n"
+                       "Material \"diffuse\" \"texture reflectance\" \"rb\"\n"
+                       "Shape \"trianglemesh\" \"point3 P\" [-1 -1 0 1 -1 0 1 1 0 -1 1 0] "
+                       "\"point2 uv\" [0 0 1 0 1 1 0 1] \"integer indices\" [0 1 2 0 2 3]\n"
+                       "LightSource \"infinite\" \"rgb L\" [1 1 1]\n",
+                       "textured.pbrt");
+    EmbreeScene accel(*r.scene);
+    RenderOptions o;
+    o.mode = "path";
+    o.spp = 4;
+    Image out = render(*r.scene, accel, o).image;
+    const float* left = out.at(12, 16);
+    const float* right = out.at(20, 16);
+    CHECK(left[0] > 10 * left[2]);
+    CHECK(right[2] > 10 * right[0]);
+}
