@@ -74,10 +74,13 @@ inline float sampleTent(float u, float r) {
 inline float evalFilter(const FilterShape& s, Vec2 p) {
     if (std::abs(p.x) > s.rx || std::abs(p.y) > s.ry) return 0;
     switch (s.type) {
-    case FilterType::Box: return 1;
-    case FilterType::Triangle: return (s.rx - std::abs(p.x)) * (s.ry - std::abs(p.y));
+    case FilterType::Box:
+        return 1;
+    case FilterType::Triangle:
+        return (s.rx - std::abs(p.x)) * (s.ry - std::abs(p.y));
     case FilterType::Gaussian:
-        return std::max(0.0f, detail::gaussian1D(p.x, s.sigma) - detail::gaussian1D(s.rx, s.sigma)) *
+        return std::max(0.0f,
+                        detail::gaussian1D(p.x, s.sigma) - detail::gaussian1D(s.rx, s.sigma)) *
                std::max(0.0f, detail::gaussian1D(p.y, s.sigma) - detail::gaussian1D(s.ry, s.sigma));
     case FilterType::Mitchell:
         return detail::mitchell1D(2 * p.x / s.rx, s.b, s.c) *
@@ -97,8 +100,7 @@ class FilterSampler {
 public:
     // `positivePart`: sample max(f, 0) instead of |f| (every weight 1), for a film that cannot
     // take signed weights.
-    explicit FilterSampler(const FilterShape& shape, bool positivePart = false)
-        : m_shape(shape) {
+    explicit FilterSampler(const FilterShape& shape, bool positivePart = false) : m_shape(shape) {
         if (shape.type == FilterType::Box || shape.type == FilterType::Triangle) return;
         m_nx = std::max(1, int(32 * shape.rx));
         m_ny = std::max(1, int(32 * shape.ry));
@@ -130,7 +132,8 @@ public:
         case FilterType::Triangle:
             return {{detail::sampleTent(u.x, m_shape.rx), detail::sampleTent(u.y, m_shape.ry)},
                     1.0f};
-        default: break;
+        default:
+            break;
         }
         if (!(m_total > 0)) return {{0, 0}, 0.0f}; // a filter that is zero everywhere
         // Row by the marginal, then column by the row's conditional; the remainder of u within
@@ -161,11 +164,13 @@ public:
     double pdf(Vec2 p) const {
         if (std::abs(p.x) > m_shape.rx || std::abs(p.y) > m_shape.ry) return 0;
         switch (m_shape.type) {
-        case FilterType::Box: return 1.0 / (4.0 * m_shape.rx * m_shape.ry);
+        case FilterType::Box:
+            return 1.0 / (4.0 * m_shape.rx * m_shape.ry);
         case FilterType::Triangle:
             return double(evalFilter(m_shape, p)) /
                    (double(m_shape.rx) * m_shape.rx * m_shape.ry * m_shape.ry);
-        default: break;
+        default:
+            break;
         }
         if (!(m_total > 0)) return 0;
         int i = std::min(m_nx - 1, int((p.x + m_shape.rx) / (2 * m_shape.rx) * m_nx));
@@ -190,9 +195,9 @@ private:
 
     FilterShape m_shape;
     int m_nx = 0, m_ny = 0;
-    std::vector<float> m_f;        // f at the cell centres, row-major (y rows)
-    std::vector<double> m_rowCdf;  // running sum of the rows' |f|, m_ny + 1 entries
-    std::vector<double> m_cdf;     // per row, running sum of |f| over its cells (m_nx + 1 each)
+    std::vector<float> m_f;       // f at the cell centres, row-major (y rows)
+    std::vector<double> m_rowCdf; // running sum of the rows' |f|, m_ny + 1 entries
+    std::vector<double> m_cdf;    // per row, running sum of |f| over its cells (m_nx + 1 each)
     double m_total = 0;
 };
 

@@ -145,12 +145,11 @@ int runDiff(const DiffArgs& a) {
     // fraction-resolution render) is box-downsampled to the test's size first.
     int factor = downsampleFactor(test, reference);
     if (factor == 0)
-        throw ImageIoError("cannot compare images of different sizes: " + a.test + " is " +
-                           std::to_string(test.width) + "x" + std::to_string(test.height) +
-                           ", the reference " + a.reference + " is " +
-                           std::to_string(reference.width) + "x" +
-                           std::to_string(reference.height) +
-                           " (not an integer multiple of the test's size)");
+        throw ImageIoError(
+            "cannot compare images of different sizes: " + a.test + " is " +
+            std::to_string(test.width) + "x" + std::to_string(test.height) + ", the reference " +
+            a.reference + " is " + std::to_string(reference.width) + "x" +
+            std::to_string(reference.height) + " (not an integer multiple of the test's size)");
     if (factor > 1) reference = boxDownsample(reference, factor);
     ImageMetrics m = compareImages(test, reference, cropOf(a)); // throws for a bad crop
 

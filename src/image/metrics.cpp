@@ -139,7 +139,8 @@ Image boxDownsample(const Image& image, int factor) {
                 }
             }
             for (int c = 0; c < 3; ++c)
-                out.at(x, y)[c] = n > 0 ? float(sum[c] / n) : std::numeric_limits<float>::quiet_NaN();
+                out.at(x, y)[c] =
+                    n > 0 ? float(sum[c] / n) : std::numeric_limits<float>::quiet_NaN();
         }
     }
     return out;

@@ -18,10 +18,10 @@ struct CropRect {
 struct ImageMetrics {
     double rmse = 0;   // sqrt(mean over pixels and channels of (a - b)^2)
     double relmse = 0; // mean over pixels and channels of (a - b)^2 / (b^2 + 0.01), b = reference
-    double psnr = 0;   // 10 log10(peak^2 / MSE), peak = 1 (radiance 1 = display white); inf if equal
-    double mae = 0;    // mean absolute difference
-    double maxAbs = 0; // largest absolute difference
-    std::size_t pixels = 0;            // pixels compared (finite reference)
+    double psnr = 0; // 10 log10(peak^2 / MSE), peak = 1 (radiance 1 = display white); inf if equal
+    double mae = 0;  // mean absolute difference
+    double maxAbs = 0;                  // largest absolute difference
+    std::size_t pixels = 0;             // pixels compared (finite reference)
     std::size_t referenceNonFinite = 0; // pixels skipped: a reference channel is NaN or Inf
 
     // The public-scene suite's bias measures (docs/public-scenes.md), over the same pixels.

@@ -6,7 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <climits>
+#include <iterator>
+#include <utility>
 
 namespace rayproc::scene_json {
 
@@ -25,12 +28,18 @@ PixelFilter parseFilter(const JsonRef& v) {
     PixelFilter f;
     if (v.has("type")) {
         std::string t = v["type"].string();
-        if (t == "box") f.type = PixelFilter::Type::Box;
-        else if (t == "triangle") f.type = PixelFilter::Type::Triangle;
-        else if (t == "gaussian") f.type = PixelFilter::Type::Gaussian;
-        else if (t == "mitchell") f.type = PixelFilter::Type::Mitchell;
-        else if (t == "lanczos") f.type = PixelFilter::Type::Lanczos;
-        else v["type"].fail("unknown filter \"" + t + "\" (box, triangle, gaussian, mitchell, lanczos)");
+        using T = PixelFilter::Type;
+        static const std::pair<const char*, T> kTypes[] = {{"box", T::Box},
+                                                           {"triangle", T::Triangle},
+                                                           {"gaussian", T::Gaussian},
+                                                           {"mitchell", T::Mitchell},
+                                                           {"lanczos", T::Lanczos}};
+        auto it = std::find_if(std::begin(kTypes), std::end(kTypes),
+                               [&](const auto& k) { return t == k.first; });
+        if (it == std::end(kTypes))
+            v["type"].fail("unknown filter \"" + t +
+                           "\" (box, triangle, gaussian, mitchell, lanczos)");
+        f.type = it->second;
     }
     if (v.has("radius")) {
         JsonRef r = v["radius"];
@@ -52,9 +61,9 @@ PixelFilter parseFilter(const JsonRef& v) {
 } // namespace
 
 Camera parseCamera(const JsonRef& v) {
-    v.expectObject({"position", "look_at", "up", "fov", "resolution", "aperture", "focus_distance",
-                    "filter"},
-                   "the camera");
+    v.expectObject(
+        {"position", "look_at", "up", "fov", "resolution", "aperture", "focus_distance", "filter"},
+        "the camera");
     Camera c;
     if (v.has("position")) c.position = v["position"].vec3();
     if (v.has("look_at")) c.lookAt = v["look_at"].vec3();

@@ -146,8 +146,9 @@ std::string jsonWithFilter(const std::string& filter) {
 } // namespace
 
 TEST_CASE("JSON: the camera's filter key", "[filter]") {
-    auto s = loadSceneFromString(R"({"camera": {"position": [0, 0, 5]}, "materials": {"m": {"type": "diffuse"}}, "nodes": [{"type": "sphere", "radius": 1, "material": "m"}]})",
-                                 "/tmp/filter.json");
+    auto s = loadSceneFromString(
+        R"({"camera": {"position": [0, 0, 5]}, "materials": {"m": {"type": "diffuse"}}, "nodes": [{"type": "sphere", "radius": 1, "material": "m"}]})",
+        "/tmp/filter.json");
     CHECK(s->camera.filter.type == PixelFilter::Type::Box);
     CHECK(s->camera.filter.radius.x == 0.5f);
     s = loadSceneFromString(jsonWithFilter(R"({"type": "gaussian", "radius": 1.5, "sigma": 0.4})"),

@@ -62,7 +62,8 @@ std::vector<NamedShape> shapes() {
 }
 
 // Integral of g(f) over each bin by the midpoint rule, row-major.
-template <class G> std::vector<double> binIntegrals(const FilterShape& s, G g) {
+template <class G>
+std::vector<double> binIntegrals(const FilterShape& s, G g) {
     int bx = binsFor(s, s.rx), by = binsFor(s, s.ry);
     std::vector<double> out(std::size_t(bx) * by, 0.0);
     double bw = 2.0 * s.rx / bx, bh = 2.0 * s.ry / by;
