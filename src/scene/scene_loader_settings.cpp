@@ -6,10 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <climits>
-#include <iterator>
-#include <utility>
 
 namespace rayproc::scene_json {
 
@@ -28,18 +25,23 @@ PixelFilter parseFilter(const JsonRef& v) {
     PixelFilter f;
     if (v.has("type")) {
         std::string t = v["type"].string();
+        struct Named {
+            const char* name;
+            PixelFilter::Type type;
+        };
         using T = PixelFilter::Type;
-        static const std::pair<const char*, T> kTypes[] = {{"box", T::Box},
-                                                           {"triangle", T::Triangle},
-                                                           {"gaussian", T::Gaussian},
-                                                           {"mitchell", T::Mitchell},
-                                                           {"lanczos", T::Lanczos}};
-        auto it = std::find_if(std::begin(kTypes), std::end(kTypes),
-                               [&](const auto& k) { return t == k.first; });
-        if (it == std::end(kTypes))
+        static const Named kTypes[] = {{"box", T::Box},
+                                       {"triangle", T::Triangle},
+                                       {"gaussian", T::Gaussian},
+                                       {"mitchell", T::Mitchell},
+                                       {"lanczos", T::Lanczos}};
+        const Named* found = nullptr;
+        for (const Named& k : kTypes)
+            if (t == k.name) found = &k;
+        if (!found)
             v["type"].fail("unknown filter \"" + t +
                            "\" (box, triangle, gaussian, mitchell, lanczos)");
-        f.type = it->second;
+        f.type = found->type;
     }
     if (v.has("radius")) {
         JsonRef r = v["radius"];
