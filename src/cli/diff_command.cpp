@@ -91,8 +91,9 @@ nlohmann::ordered_json jsonNumber(double v) {
     return v;
 }
 
-void printText(const DiffArgs& a, const Image& img, const ImageMetrics& m) {
+void printText(const DiffArgs& a, const Image& img, const ImageMetrics& m, int factor) {
     std::printf("size     %dx%d\n", img.width, img.height);
+    if (factor > 1) std::printf("reference box-downsampled by %d\n", factor);
     if (auto c = cropOf(a)) std::printf("crop     %d %d %d %d\n", c->x0, c->y0, c->x1, c->y1);
     std::printf("pixels   %zu\n", m.pixels);
     std::printf("rmse     %s\n", formatNumber(m.rmse).c_str());
@@ -100,9 +101,15 @@ void printText(const DiffArgs& a, const Image& img, const ImageMetrics& m) {
     std::printf("psnr     %s dB\n", formatNumber(m.psnr).c_str());
     std::printf("mae      %s\n", formatNumber(m.mae).c_str());
     std::printf("max_abs  %s\n", formatNumber(m.maxAbs).c_str());
+    std::printf("mean_rel %s\n", formatNumber(m.meanRel).c_str());
+    std::printf("block_rel %s (%zu blocks of %dx%d, %zu near-black skipped)\n",
+                formatNumber(m.blockRel).c_str(), m.blocks, kMetricBlock, kMetricBlock,
+                m.blocksSkipped);
+    if (m.referenceNonFinite > 0)
+        std::printf("skipped  %zu pixels with a non-finite reference\n", m.referenceNonFinite);
 }
 
-void printJson(const DiffArgs& a, const Image& img, const ImageMetrics& m,
+void printJson(const DiffArgs& a, const Image& img, const ImageMetrics& m, int factor,
                const std::vector<Exceeded>& exceeded) {
     nlohmann::ordered_json j;
     j["test"] = a.test;
@@ -116,6 +123,12 @@ void printJson(const DiffArgs& a, const Image& img, const ImageMetrics& m,
     j["psnr"] = jsonNumber(m.psnr);
     j["mae"] = jsonNumber(m.mae);
     j["max_abs"] = jsonNumber(m.maxAbs);
+    j["mean_rel"] = jsonNumber(m.meanRel);
+    j["block_rel"] = jsonNumber(m.blockRel);
+    j["blocks"] = m.blocks;
+    j["blocks_skipped"] = m.blocksSkipped;
+    j["reference_nonfinite"] = m.referenceNonFinite;
+    j["reference_downsample"] = factor;
     j["exceeded"] = nlohmann::ordered_json::array();
     for (const Exceeded& e : exceeded) j["exceeded"].push_back(e.metric);
     std::printf("%s\n", j.dump(2).c_str());
@@ -128,12 +141,16 @@ int runDiff(const DiffArgs& a) {
 
     Image test = readImage(a.test);
     Image reference = readImage(a.reference);
-    if (test.width != reference.width || test.height != reference.height)
-        throw ImageIoError("cannot compare images of different sizes: " + a.test + " is " +
-                           std::to_string(test.width) + "x" + std::to_string(test.height) +
-                           ", the reference " + a.reference + " is " +
-                           std::to_string(reference.width) + "x" +
-                           std::to_string(reference.height));
+    // A reference at an integer multiple of the test's size (a full-resolution reference for a
+    // fraction-resolution render) is box-downsampled to the test's size first.
+    int factor = downsampleFactor(test, reference);
+    if (factor == 0)
+        throw ImageIoError(
+            "cannot compare images of different sizes: " + a.test + " is " +
+            std::to_string(test.width) + "x" + std::to_string(test.height) + ", the reference " +
+            a.reference + " is " + std::to_string(reference.width) + "x" +
+            std::to_string(reference.height) + " (not an integer multiple of the test's size)");
+    if (factor > 1) reference = boxDownsample(reference, factor);
     ImageMetrics m = compareImages(test, reference, cropOf(a)); // throws for a bad crop
 
     if (!a.output.empty()) writeImage(a.output, differenceImage(test, reference, a.scale));
@@ -146,9 +163,9 @@ int runDiff(const DiffArgs& a) {
         exceeded.push_back({"rmse", "--max-rmse", m.rmse, a.maxRmse});
 
     if (a.json)
-        printJson(a, test, m, exceeded);
+        printJson(a, test, m, factor, exceeded);
     else
-        printText(a, test, m);
+        printText(a, test, m, factor);
     for (const Exceeded& e : exceeded)
         std::fprintf(stderr, "rayproc diff: %s %s exceeds %s %s\n", e.metric.c_str(),
                      formatNumber(e.value).c_str(), e.option.c_str(),
@@ -165,12 +182,16 @@ std::function<int()> addDiffCommand(CLI::App& app) {
                 "absolute difference; optionally a difference image and an error heatmap");
     cmd->add_option("test", args->test, "Image to check (.png, .exr, .hdr or .pfm)")->required();
     cmd->add_option("reference", args->reference,
-                    "Reference image, same size (the metrics' b; e.g. a high-spp path-traced "
-                    "render)")
+                    "Reference image (the metrics' b; e.g. a high-spp path-traced render): the "
+                    "test's size, or an integer multiple f of it on both axes, in which case it "
+                    "is box-downsampled by f automatically (non-finite pixels left out of each "
+                    "average)")
         ->required();
     cmd->add_flag("--json", args->json,
                   "Print the metrics as JSON: width, height, pixels, rmse, relmse, psnr (null "
-                  "when the images are equal), mae, max_abs, exceeded (names of failed limits)");
+                  "when the images are equal), mae, max_abs, mean_rel, block_rel, blocks, "
+                  "blocks_skipped, reference_nonfinite, reference_downsample, exceeded (names "
+                  "of failed limits)");
     cmd->add_option("-o,--output", args->output,
                     "Write the difference image |test - reference| per channel, times --scale "
                     "(.pfm/.exr/.hdr: linear values; .png: clamped to 1, sRGB-encoded)");
@@ -214,7 +235,11 @@ std::function<int()> addDiffCommand(CLI::App& app) {
     cmd->footer("Metrics (over pixels and R, G, B of the compared region; b = reference): "
                 "rmse = sqrt(mean (a-b)^2); relmse = mean (a-b)^2 / (b^2 + 0.01); "
                 "psnr = 10 log10(1 / mean (a-b)^2) dB, peak 1, inf when equal; "
-                "mae = mean |a-b|; max_abs = max |a-b|. PNG inputs are decoded to linear.\n"
+                "mae = mean |a-b|; max_abs = max |a-b|; mean_rel = max over R, G, B of "
+                "|mean a - mean b| / mean b; block_rel = mean over 32x32 blocks of |A-B| / B "
+                "(A, B the block averages over pixels and channels; blocks with B below 1e-3 "
+                "of the image mean skipped). Pixels with a non-finite reference are left out "
+                "of every metric. PNG inputs are decoded to linear.\n"
                 "Exit status: 0 within the limits, 1 a limit exceeded (named on stderr), "
                 "2 error (missing or unreadable file, different sizes, bad crop or option).\n"
                 "See docs/image-comparison.md.");

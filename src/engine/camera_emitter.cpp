@@ -24,9 +24,21 @@ kernels::CameraFrame cameraFrame(const Camera& cam) {
     return f;
 }
 
+kernels::FilterShape filterShape(const PixelFilter& f) {
+    kernels::FilterShape s;
+    s.type = kernels::FilterType(int(f.type)); // the enumerators are listed in the same order
+    s.rx = f.radius.x;
+    s.ry = f.radius.y;
+    s.sigma = f.sigma;
+    s.b = f.b;
+    s.c = f.c;
+    s.tau = f.tau;
+    return s;
+}
+
 CameraEmitter::CameraEmitter(const RenderContext& rc, int totalSpp, const Camera* camera)
     : m_rc(rc), m_camera(camera ? *camera : rc.scene.camera), m_frame(cameraFrame(m_camera)),
-      m_totalSpp(totalSpp) {
+      m_filter(filterShape(m_camera.filter), /*positivePart=*/true), m_totalSpp(totalSpp) {
     const Camera& cam = m_camera;
     m_tilesX = (cam.width + kTile - 1) / kTile;
     m_tilesY = (cam.height + kTile - 1) / kTile;
@@ -62,8 +74,17 @@ bool CameraEmitter::emit(StageContext& ctx) {
             std::uint32_t strata = m_rc.policy.stratify ? std::uint32_t(m_totalSpp) : 1u;
             Vec2 s = kernels::stratified2D(std::uint32_t(sample), strata, pixelKey);
             std::uint64_t key = kernels::pathKey(m_rc.seed, p, std::uint32_t(sample));
-            fx[n] = float(x) + s.x;
-            fy[n] = float(y) + s.y;
+            if (m_camera.filter.type == PixelFilter::Type::Box) {
+                // x + (0.5 - r) + 2 r s: for the default radius 0.5 exactly x + s, the film
+                // positions (and images) rayproc has always produced.
+                float rx = m_camera.filter.radius.x, ry = m_camera.filter.radius.y;
+                fx[n] = float(x) + (0.5f - rx) + 2.0f * rx * s.x;
+                fy[n] = float(y) + (0.5f - ry) + 2.0f * ry * s.y;
+            } else {
+                kernels::FilterSample fs = m_filter.sample(s);
+                fx[n] = float(x) + 0.5f + fs.offset.x;
+                fy[n] = float(y) + 0.5f + fs.offset.y;
+            }
             lu[n] = kernels::uniform(key, 0);
             lv[n] = kernels::uniform(key, 1);
             pix[n] = p;

@@ -1,10 +1,13 @@
 // Camera emitter: generates primary rays tile by tile (16x16 pixels = one batch, coherent),
-// one stratified sub-pixel sample per pixel per unit, for the samples of one pass.
+// one stratified sub-pixel sample per pixel per unit, for the samples of one pass. The camera's
+// pixel filter places each sample: its offset from the pixel centre is drawn from the filter
+// (kernels/filter_sampling.h), so the film's plain per-pixel average is the filtered pixel.
 #pragma once
 
 #include "engine/render_context.h"
 #include "engine/stage.h"
 #include "kernels/camera_rays.h"
+#include "kernels/filter_sampling.h"
 
 #include <atomic>
 
@@ -12,6 +15,8 @@ namespace rayproc {
 
 // The kernel's view of a scene camera: world-space axes, field of view, lens.
 kernels::CameraFrame cameraFrame(const Camera& camera);
+// The kernel's view of a scene pixel filter.
+kernels::FilterShape filterShape(const PixelFilter& filter);
 
 class CameraEmitter : public Emitter {
 public:
@@ -29,6 +34,9 @@ private:
     const RenderContext& m_rc;
     Camera m_camera;
     kernels::CameraFrame m_frame;
+    // Signed weights (mitchell's and lanczos's negative lobes) would have to travel with each
+    // path to the film; until the stages carry them, the positive part of the filter is used.
+    kernels::FilterSampler m_filter;
     int m_totalSpp;
     int m_tilesX, m_tilesY;
     int m_firstSample = 0, m_passCount = 0;

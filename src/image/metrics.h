@@ -18,14 +18,38 @@ struct CropRect {
 struct ImageMetrics {
     double rmse = 0;   // sqrt(mean over pixels and channels of (a - b)^2)
     double relmse = 0; // mean over pixels and channels of (a - b)^2 / (b^2 + 0.01), b = reference
-    double psnr = 0;   // 10 log10(peak^2 / MSE), peak = 1 (radiance 1 = display white); inf if equal
-    double mae = 0;    // mean absolute difference
-    double maxAbs = 0; // largest absolute difference
-    std::size_t pixels = 0;
+    double psnr = 0; // 10 log10(peak^2 / MSE), peak = 1 (radiance 1 = display white); inf if equal
+    double mae = 0;  // mean absolute difference
+    double maxAbs = 0;                  // largest absolute difference
+    std::size_t pixels = 0;             // pixels compared (finite reference)
+    std::size_t referenceNonFinite = 0; // pixels skipped: a reference channel is NaN or Inf
+
+    // The public-scene suite's bias measures (docs/public-scenes.md), over the same pixels.
+    // meanRel = max over R, G, B of |mean(a) - mean(b)| / mean(b): the worst channel's relative
+    // error of the image mean (inf when a reference channel's mean is 0 and a's is not).
+    double meanRel = 0;
+    // blockRel = mean over kMetricBlock^2-pixel blocks (partial edge blocks included) of
+    // |A - B| / B, where A and B are the block's averages of a and b over pixels and channels.
+    // Blocks with B < kBlockFloor * (the reference's image mean) are skipped: relative error is
+    // meaningless in near-black regions.
+    double blockRel = 0;
+    std::size_t blocks = 0, blocksSkipped = 0;
 };
 
+constexpr int kMetricBlock = 32;
+constexpr double kBlockFloor = 1e-3;
+
+// Pixels whose reference has a non-finite channel are left out of every sum.
 // Throws ImageIoError if the sizes differ or the crop is empty or outside the image.
 ImageMetrics compareImages(const Image& test, const Image& reference,
                            const std::optional<CropRect>& crop = std::nullopt);
+
+// The reference at 1/factor of its resolution: each output pixel is the average of a
+// factor x factor block, over the block's finite pixels (NaN if it has none, so the comparison
+// skips it). The size must be divisible by factor.
+Image boxDownsample(const Image& image, int factor);
+
+// The integer f >= 1 with reference size = f * test size on both axes, or 0 if there is none.
+int downsampleFactor(const Image& test, const Image& reference);
 
 } // namespace rayproc

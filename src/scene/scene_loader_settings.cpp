@@ -20,11 +20,54 @@ float nonNegative(const JsonRef& v) {
     return x;
 }
 
+// "filter": {"type": "box" | "triangle" | "gaussian" | "mitchell" | "lanczos", "radius": r or
+// [rx, ry], "sigma", "b", "c", "tau"}; absent keys take scene.h's defaults (box of radius 0.5).
+PixelFilter parseFilter(const JsonRef& v) {
+    v.expectObject({"type", "radius", "sigma", "b", "c", "tau"}, "the camera's filter");
+    PixelFilter f;
+    if (v.has("type")) {
+        std::string t = v["type"].string();
+        struct Named {
+            const char* name;
+            PixelFilter::Type type;
+        };
+        using T = PixelFilter::Type;
+        static const Named kTypes[] = {{"box", T::Box},
+                                       {"triangle", T::Triangle},
+                                       {"gaussian", T::Gaussian},
+                                       {"mitchell", T::Mitchell},
+                                       {"lanczos", T::Lanczos}};
+        const Named* found = nullptr;
+        for (const Named& k : kTypes)
+            if (t == k.name) found = &k;
+        if (!found)
+            v["type"].fail("unknown filter \"" + t +
+                           "\" (box, triangle, gaussian, mitchell, lanczos)");
+        f.type = found->type;
+    }
+    if (v.has("radius")) {
+        JsonRef r = v["radius"];
+        if (r.isArray()) {
+            if (r.arraySize() != 2) r.fail("expected a number or an array of 2 numbers [rx, ry]");
+            f.radius = {r[std::size_t(0)].numberIn(1e-3f, 16.0f), r[1].numberIn(1e-3f, 16.0f)};
+        } else {
+            float x = r.numberIn(1e-3f, 16.0f);
+            f.radius = {x, x};
+        }
+    }
+    if (v.has("sigma")) f.sigma = v["sigma"].positive();
+    if (v.has("b")) f.b = v["b"].number();
+    if (v.has("c")) f.c = v["c"].number();
+    if (v.has("tau")) f.tau = v["tau"].positive();
+    return f;
+}
+
 } // namespace
 
 Camera parseCamera(const JsonRef& v) {
-    v.expectObject({"position", "look_at", "up", "fov", "resolution", "aperture", "focus_distance"},
-                   "the camera");
+    v.expectObject(
+        {"position", "look_at", "up", "fov", "resolution", "aperture", "focus_distance", "filter"},
+        "the camera");
     Camera c;
     if (v.has("position")) c.position = v["position"].vec3();
     if (v.has("look_at")) c.lookAt = v["look_at"].vec3();
@@ -50,6 +93,7 @@ Camera parseCamera(const JsonRef& v) {
     }
     if (v.has("aperture")) c.apertureRadius = nonNegative(v["aperture"]);
     if (v.has("focus_distance")) c.focusDistance = nonNegative(v["focus_distance"]);
+    if (v.has("filter")) c.filter = parseFilter(v["filter"]);
 
     // A view direction must exist and must not be parallel to up.
     Vec3 view = c.lookAt - c.position;

@@ -235,3 +235,104 @@ TEST_CASE("Heatmap tick labels use only the built-in glyphs", "[image]") {
         CHECK(label.find_first_not_of("0123456789.e-+") == std::string::npos);
     }
 }
+
+// The public-scene suite's measures (docs/public-scenes.md), checked against values computed by
+// hand.
+namespace {
+
+Image rgbImage(int w, int h, float r, float g, float b) {
+    Image img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            img.at(x, y)[0] = r;
+            img.at(x, y)[1] = g;
+            img.at(x, y)[2] = b;
+        }
+    return img;
+}
+
+// Left columns [0, split) take value v, the rest w, on every channel.
+Image splitImage(int w, int h, int split, float v, float wv) {
+    Image img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) img.at(x, y)[c] = x < split ? v : wv;
+    return img;
+}
+
+} // namespace
+
+TEST_CASE("Mean error is the worst channel's relative error of the image mean", "[image]") {
+    Image ref = rgbImage(4, 4, 1.0f, 2.0f, 4.0f);
+    // R exact, G +5%, B -5%: the worst channel is 0.05.
+    ImageMetrics m = compareImages(rgbImage(4, 4, 1.0f, 2.1f, 3.8f), ref);
+    CHECK(m.meanRel == Approx(0.05).epsilon(1e-5));
+    // Per-pixel errors of opposite sign cancel in the mean: +10% and -10% halves give 0.
+    Image test = splitImage(4, 4, 2, 1.1f, 0.9f);
+    CHECK(compareImages(test, constantImage(4, 4, 1.0f)).meanRel == Approx(0.0).margin(1e-6));
+}
+
+TEST_CASE("Block error averages the blocks' relative errors, partial blocks included", "[image]") {
+    // 64x32: two full blocks at +20% and -10%: (0.2 + 0.1) / 2; image mean +5%.
+    ImageMetrics m = compareImages(splitImage(64, 32, 32, 1.2f, 0.9f), constantImage(64, 32, 1));
+    CHECK(m.blocks == 2);
+    CHECK(m.blocksSkipped == 0);
+    CHECK(m.blockRel == Approx(0.15).epsilon(1e-5));
+    CHECK(m.meanRel == Approx(0.05).epsilon(1e-4));
+    // 40x32: a full block (+20%) and an 8-pixel-wide edge block (-10%) count the same;
+    // the image mean is (32 * 1.2 + 8 * 0.9) / 40 = 1.14.
+    m = compareImages(splitImage(40, 32, 32, 1.2f, 0.9f), constantImage(40, 32, 1));
+    CHECK(m.blocks == 2);
+    CHECK(m.blockRel == Approx(0.15).epsilon(1e-5));
+    CHECK(m.meanRel == Approx(0.14).epsilon(1e-4));
+}
+
+TEST_CASE("Block error skips near-black reference blocks", "[image]") {
+    // Reference mean (1 + 1e-4) / 2; the right block's 1e-4 is below 1e-3 of it: skipped, even
+    // though the test is 100% off there.
+    Image ref = splitImage(64, 32, 32, 1.0f, 1e-4f);
+    Image test = splitImage(64, 32, 32, 1.1f, 2e-4f);
+    ImageMetrics m = compareImages(test, ref);
+    CHECK(m.blocks == 1);
+    CHECK(m.blocksSkipped == 1);
+    CHECK(m.blockRel == Approx(0.1).epsilon(1e-5));
+}
+
+TEST_CASE("Non-finite reference pixels are left out of every metric", "[image]") {
+    Image ref = constantImage(4, 4, 1.0f);
+    Image test = constantImage(4, 4, 1.5f);
+    ref.at(1, 2)[1] = std::numeric_limits<float>::quiet_NaN();
+    ref.at(3, 0)[0] = std::numeric_limits<float>::infinity();
+    test.at(1, 2)[0] = 100.0f; // would dominate every metric if counted
+    ImageMetrics m = compareImages(test, ref);
+    CHECK(m.pixels == 14);
+    CHECK(m.referenceNonFinite == 2);
+    CHECK(m.rmse == Approx(0.5));
+    CHECK(m.maxAbs == Approx(0.5));
+    CHECK(m.relmse == Approx(0.25 / 1.01));
+    CHECK(m.meanRel == Approx(0.5));
+    CHECK(m.blockRel == Approx(0.5));
+}
+
+TEST_CASE("Box downsampling averages finite pixels; the factor must divide both sizes", "[image]") {
+    Image img(4, 2);
+    for (int x = 0; x < 4; ++x)
+        for (int y = 0; y < 2; ++y)
+            for (int c = 0; c < 3; ++c) img.at(x, y)[c] = float(x + 4 * y);
+    img.at(3, 1)[2] = std::numeric_limits<float>::quiet_NaN();
+    Image d = boxDownsample(img, 2);
+    REQUIRE(d.width == 2);
+    REQUIRE(d.height == 1);
+    CHECK(d.at(0, 0)[0] == Approx((0 + 1 + 4 + 5) / 4.0));
+    CHECK(d.at(1, 0)[0] == Approx((2 + 3 + 6) / 3.0)); // pixel (3, 1) left out on every channel
+    CHECK(boxDownsample(gradientImage(4, 2), 1).pixels == gradientImage(4, 2).pixels);
+    CHECK_THROWS_AS(boxDownsample(img, 3), ImageIoError);
+
+    Image all = constantImage(2, 2, std::numeric_limits<float>::quiet_NaN());
+    CHECK(std::isnan(boxDownsample(all, 2).at(0, 0)[0]));
+
+    CHECK(downsampleFactor(Image(4, 3), Image(16, 12)) == 4);
+    CHECK(downsampleFactor(Image(4, 3), Image(4, 3)) == 1);
+    CHECK(downsampleFactor(Image(4, 3), Image(16, 9)) == 0); // different factors per axis
+    CHECK(downsampleFactor(Image(4, 3), Image(10, 6)) == 0);
+}

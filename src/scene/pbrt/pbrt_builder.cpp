@@ -114,6 +114,11 @@ void SceneBuilder::film(ParamList params, const SourceLoc& loc) {
     m_film = {true, std::move(params), loc};
 }
 
+void SceneBuilder::pixelFilter(const std::string& type, ParamList params, const SourceLoc& loc) {
+    requireOptions("PixelFilter", loc);
+    m_filter = {true, type, std::move(params), loc};
+}
+
 void SceneBuilder::sampler(const std::string& type, const ParamList& params,
                            const SourceLoc& loc) {
     requireOptions("Sampler", loc);
@@ -152,6 +157,8 @@ void SceneBuilder::worldBegin(const SourceLoc& loc) {
     m_worldFix = convertCamera(m_camera, m_film, m_scene, m_warnings, loc);
     reportUnused(m_camera.params, "Camera \"" + m_camera.type + "\"");
     reportUnused(m_film.params, "Film");
+    m_scene.camera.filter = convertFilter(m_filter, m_warnings);
+    reportUnused(m_filter.params, "PixelFilter \"" + m_filter.type + "\"");
     m_state.ctm = Mat4();
     m_coordSystems["world"] = Mat4();
 }

@@ -41,6 +41,7 @@ public:
     // The options block (before WorldBegin).
     void camera(const std::string& type, ParamList params, const SourceLoc& loc);
     void film(ParamList params, const SourceLoc& loc);
+    void pixelFilter(const std::string& type, ParamList params, const SourceLoc& loc);
     void sampler(const std::string& type, const ParamList& params, const SourceLoc& loc);
     void integrator(const ParamList& params, const SourceLoc& loc);
     void worldBegin(const SourceLoc& loc);
@@ -116,6 +117,7 @@ private:
     std::unordered_map<std::string, Mat4> m_coordSystems;
     CameraDirective m_camera;
     FilmDirective m_film;
+    FilterDirective m_filter;
     bool m_inWorld = false;
     Mat4 m_worldFix; // identity, or the mirror that makes rayproc's camera show pbrt's image
     std::unordered_map<std::string, int> m_namedMaterials;

@@ -113,4 +113,48 @@ Mat4 convertCamera(const CameraDirective& cam, const FilmDirective& film, Scene&
     return Mat4::mirror(eye, normalize(cross(up, forward)));
 }
 
+PixelFilter convertFilter(const FilterDirective& d, Warnings& warnings) {
+    PixelFilter f;
+    f.type = PixelFilter::Type::Gaussian;
+    f.radius = {1.5f, 1.5f};
+    f.sigma = 0.5f;
+    if (!d.given) return f;
+    const ParamList& p = d.params;
+    // pbrt-v4's default radius of each filter.
+    double r = 0.5;
+    if (d.type == "box") {
+        f.type = PixelFilter::Type::Box;
+    } else if (d.type == "triangle") {
+        f.type = PixelFilter::Type::Triangle;
+        r = 2.0;
+    } else if (d.type == "gaussian") {
+        r = 1.5;
+        f.sigma = float(p.getFloat("sigma", 0.5));
+        if (!(f.sigma > 0)) failAt(d.loc, "PixelFilter \"gaussian\": \"sigma\" must be positive");
+    } else if (d.type == "mitchell") {
+        f.type = PixelFilter::Type::Mitchell;
+        r = 2.0;
+        f.b = float(p.getFloat("B", 1.0 / 3.0));
+        f.c = float(p.getFloat("C", 1.0 / 3.0));
+    } else if (d.type == "sinc") {
+        f.type = PixelFilter::Type::Lanczos;
+        f.tau = float(p.getFloat("tau", 3.0));
+        if (!(f.tau > 0)) failAt(d.loc, "PixelFilter \"sinc\": \"tau\" must be positive");
+    } else {
+        warnings.add(d.loc, "PixelFilter \"" + d.type +
+                                "\" is not supported; using pbrt-v4's default gaussian");
+        for (const Param& q : p.all()) q.used = true;
+        return f;
+    }
+    double rx = p.getFloat("xradius", r), ry = p.getFloat("yradius", r);
+    if (!(rx > 0) || !(ry > 0) || rx > 16 || ry > 16)
+        failAt(d.loc, "PixelFilter \"" + d.type + "\": radii " + std::to_string(rx) + ", " +
+                          std::to_string(ry) + " must be in (0, 16] pixels");
+    f.radius = {float(rx), float(ry)};
+    if (f.type == PixelFilter::Type::Mitchell || f.type == PixelFilter::Type::Lanczos)
+        warnings.add(d.loc, "PixelFilter \"" + d.type +
+                                "\": negative lobes are not supported; its positive part is used");
+    return f;
+}
+
 } // namespace rayproc::pbrt

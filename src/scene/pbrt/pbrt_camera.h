@@ -35,6 +35,19 @@ struct FilmDirective {
     SourceLoc loc;
 };
 
+struct FilterDirective {
+    bool given = false;
+    std::string type;
+    ParamList params;
+    SourceLoc loc;
+};
+
+// pbrt-v4's pixel filter as Camera::filter: without a PixelFilter directive pbrt-v4's default,
+// a gaussian of radius 1.5 and sigma 0.5. Radii must be positive (an input error otherwise);
+// an unknown type warns and takes the default. Mitchell's and lanczos's negative lobes are
+// clamped by the camera emitter, which warns here.
+PixelFilter convertFilter(const FilterDirective& filter, Warnings& warnings);
+
 // Fills scene.camera and returns the transform every world-space shape and light must take:
 // identity, or the mirror described above. `worldBegin` locates messages about a default camera.
 Mat4 convertCamera(const CameraDirective& camera, const FilmDirective& film, Scene& scene,

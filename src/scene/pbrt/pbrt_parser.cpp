@@ -223,11 +223,8 @@ void Parser::directive(const Token& d) {
         b.requireOptions("Accelerator", loc);
         params();
     } else if (n == "PixelFilter") {
-        string(d, "filter type");
-        b.requireOptions("PixelFilter", loc);
-        params();
-        b.unsupported("PixelFilter", "rayproc averages the samples of each pixel (box filter)",
-                      loc);
+        std::string type = string(d, "filter type");
+        b.pixelFilter(type, params(), loc);
     } else if (n == "ColorSpace") {
         if (string(d, "colour space") != "srgb")
             b.unsupported("A colour space other than srgb", "values are read as sRGB", loc);
