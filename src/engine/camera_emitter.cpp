@@ -7,6 +7,12 @@
 namespace rayproc {
 
 static_assert(CameraEmitter::kTile * CameraEmitter::kTile == kBatchSize);
+// filterShape converts the filter type by value.
+static_assert(int(kernels::FilterType::Box) == int(PixelFilter::Type::Box) &&
+              int(kernels::FilterType::Triangle) == int(PixelFilter::Type::Triangle) &&
+              int(kernels::FilterType::Gaussian) == int(PixelFilter::Type::Gaussian) &&
+              int(kernels::FilterType::Mitchell) == int(PixelFilter::Type::Mitchell) &&
+              int(kernels::FilterType::Lanczos) == int(PixelFilter::Type::Lanczos));
 
 kernels::CameraFrame cameraFrame(const Camera& cam) {
     Affine toWorld = Affine::lookAt(cam.position, cam.lookAt, cam.up);
@@ -26,7 +32,7 @@ kernels::CameraFrame cameraFrame(const Camera& cam) {
 
 kernels::FilterShape filterShape(const PixelFilter& f) {
     kernels::FilterShape s;
-    s.type = kernels::FilterType(int(f.type)); // the enumerators are listed in the same order
+    s.type = kernels::FilterType(int(f.type));
     s.rx = f.radius.x;
     s.ry = f.radius.y;
     s.sigma = f.sigma;
