@@ -10,9 +10,9 @@ namespace rayproc::test {
 // 4 (light_sampling_test.cpp); rough conductor 14, rough dielectric 13, diffuse transmission 3
 // (microfacet_bsdf_test.cpp); coated diffuse 4 weighted-histogram tests
 // (coated_diffuse_bsdf_test.cpp); the analytic coat 4 (tests/kernels/coated_analytic_test.cpp);
-// sphere mappings and image skies (tests/lighting/), counted generously. A correct suite fails
-// by chance with probability 1%.
-constexpr int kChiSquareTests = 64;
+// pixel filters 11 (filter_sampling_test.cpp); sphere mappings and image skies
+// (tests/lighting/), counted generously. A correct suite fails by chance with probability 1%.
+constexpr int kChiSquareTests = 72;
 constexpr double kOverallSignificance = 0.01;
 inline double testSignificance() { return sidakSignificance(kOverallSignificance, kChiSquareTests); }
 
