@@ -4,6 +4,7 @@
 // invert; checkerboards alternate on the integer lattice of (s, t).
 #include "texture/texture_eval.h"
 
+#include "lighting/sphere_mapping.h"
 #include "texture/texture_image.h"
 
 #include <algorithm>
@@ -26,23 +27,14 @@ bool wrapTexel(TextureWrap wrap, int w, int h, int& x, int& y) {
         return true;
     case TextureWrap::Black: return x >= 0 && x < w && y >= 0 && y < h;
     case TextureWrap::Octahedral:
-        // Across an edge of the equal-area square the sphere continues mirrored.
-        if (x < 0) {
-            x = -x - 1;
-            y = h - 1 - y;
-        } else if (x >= w) {
-            x = 2 * w - 1 - x;
-            y = h - 1 - y;
+        // Across an edge of the equal-area square the sphere continues mirrored (square
+        // images only; another shape clamps).
+        if (w == h) {
+            wrapEqualAreaPixel(x, y, w);
+        } else {
+            x = std::clamp(x, 0, w - 1);
+            y = std::clamp(y, 0, h - 1);
         }
-        if (y < 0) {
-            x = w - 1 - x;
-            y = -y - 1;
-        } else if (y >= h) {
-            x = w - 1 - x;
-            y = 2 * h - 1 - y;
-        }
-        x = std::clamp(x, 0, w - 1);
-        y = std::clamp(y, 0, h - 1);
         return true;
     }
     return false;

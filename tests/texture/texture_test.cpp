@@ -65,6 +65,10 @@ TEST_CASE("Image textures: texel centres, the t flip, bilinear filtering and wra
     s.textures[0].wrap = TextureWrap::Repeat;
     s.textures[0].filter = TextureFilter::Point;
     CHECK(near(at(s, 0.6f, 0.9f), {0, 1, 0}));
+    // Octahedral: left of the top-left texel is the square's other side, mirrored: bottom-left.
+    s.textures[0].wrap = TextureWrap::Octahedral;
+    CHECK(near(at(s, -0.25f, 0.75f), {0, 0, 1}));
+    s.textures[0].wrap = TextureWrap::Repeat;
     // uv mapping, scale and invert.
     s.textures[0].filter = TextureFilter::Bilinear;
     s.textures[0].su = 0.5f; // s = u / 2
