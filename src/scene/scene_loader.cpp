@@ -211,13 +211,14 @@ std::uint64_t placements(const Node& n, std::unordered_map<const Node*, std::uin
 std::unique_ptr<Scene> loadSceneFromString(const std::string& text, const std::string& path) {
     Json doc = parseJson(text, path);
     JsonRef top(doc, path, "");
-    top.expectObject({"camera", "render", "materials", "lights", "prototypes", "nodes"},
+    top.expectObject({"camera", "render", "textures", "materials", "lights", "prototypes", "nodes"},
                      "the scene");
 
     auto scene = std::make_unique<Scene>();
     scene->path = path;
     if (top.has("camera")) scene->camera = scene_json::parseCamera(top["camera"]);
     if (top.has("render")) scene->render = scene_json::parseRenderSettings(top["render"]);
+    if (top.has("textures")) scene_json::parseTextures(top["textures"], *scene);
     if (top.has("materials")) scene_json::parseMaterials(top["materials"], *scene);
     if (top.has("lights")) scene_json::parseLights(top["lights"], *scene);
 

@@ -90,6 +90,7 @@ Affine parseTransform(const JsonRef& v);
 // Top-level sections (scene_loader_settings.cpp).
 Camera parseCamera(const JsonRef& v);
 SceneRenderSettings parseRenderSettings(const JsonRef& v);
+void parseTextures(const JsonRef& v, Scene& scene);
 void parseMaterials(const JsonRef& v, Scene& scene);
 void parseLights(const JsonRef& v, Scene& scene);
 

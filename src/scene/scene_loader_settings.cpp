@@ -4,6 +4,7 @@
 #include "image/image.h"
 #include "scene/metals.h"
 #include "scene/scene_loader_detail.h"
+#include "texture/texture_image.h"
 
 #include <nlohmann/json.hpp>
 
@@ -119,6 +120,119 @@ SceneRenderSettings parseRenderSettings(const JsonRef& v) {
 
 namespace {
 
+// The index of the texture named by the string `v`, or a JSON-path error.
+int textureNamed(const JsonRef& v, const Scene& scene) {
+    std::string name = v.nonEmptyString();
+    for (std::size_t i = 0; i < scene.textures.size(); ++i)
+        if (scene.textures[i].name == name) return int(i);
+    v.fail("unknown texture \"" + name + "\"");
+}
+
+// A colour that may be a texture's name; `albedo`: components in [0, 1].
+ColorParam colorParam(const JsonRef& v, const Scene& scene, bool albedo) {
+    ColorParam c;
+    if (v.isString()) c.texture = textureNamed(v, scene);
+    else c.value = albedo ? v.albedo() : v.color();
+    return c;
+}
+
+// A texture operand: a colour, a number (grey) or a texture's name.
+void textureOperand(const JsonRef& v, const Scene& scene, int& index, Vec3& value) {
+    if (v.isString()) index = textureNamed(v, scene);
+    else if (v.isNumber()) value = Vec3(v.number());
+    else value = v.color();
+}
+
+} // namespace
+
+// "textures": named textures, each defined before the ones that use it (so no cycles).
+void parseTextures(const JsonRef& v, Scene& scene) {
+    if (!v.isObject()) v.fail("expected an object mapping texture names to textures");
+    static const std::vector<std::string> kTypes = {"image", "constant", "scale", "mix",
+                                                    "checkerboard"};
+    for (const std::string& name : v.keys()) {
+        JsonRef t = v[name];
+        if (name.empty()) t.fail("texture name must not be empty");
+        std::string type = parseType(t, "texture", kTypes);
+        Texture tex;
+        tex.name = name;
+        auto mapping = [&]() {
+            if (t.has("uscale")) tex.su = t["uscale"].number();
+            if (t.has("vscale")) tex.sv = t["vscale"].number();
+            if (t.has("udelta")) tex.du = t["udelta"].number();
+            if (t.has("vdelta")) tex.dv = t["vdelta"].number();
+        };
+        if (type == "image") {
+            t.expectObject({"type", "file", "uscale", "vscale", "udelta", "vdelta", "filter",
+                            "wrap", "encoding", "scale", "invert"},
+                           "an image texture");
+            tex.type = TextureType::Image;
+            mapping();
+            if (t.has("scale")) tex.scale = t["scale"].number();
+            if (t.has("invert")) tex.invert = t["invert"].boolean();
+            if (t.has("filter")) {
+                std::string f = t["filter"].string();
+                if (f == "point") tex.filter = TextureFilter::Point;
+                else if (f == "bilinear") tex.filter = TextureFilter::Bilinear;
+                else if (f == "trilinear") tex.filter = TextureFilter::Trilinear;
+                else t["filter"].fail("expected \"point\", \"bilinear\" or \"trilinear\"");
+            }
+            if (t.has("wrap")) {
+                std::string w = t["wrap"].string();
+                if (w == "repeat") tex.wrap = TextureWrap::Repeat;
+                else if (w == "clamp") tex.wrap = TextureWrap::Clamp;
+                else if (w == "black") tex.wrap = TextureWrap::Black;
+                else t["wrap"].fail("expected \"repeat\", \"clamp\" or \"black\"");
+            }
+            TextureEncoding encoding;
+            if (t.has("encoding")) {
+                std::string e = t["encoding"].string();
+                if (e == "linear") encoding.kind = TextureEncoding::Kind::Linear;
+                else if (e != "srgb") t["encoding"].fail("expected \"srgb\" or \"linear\"");
+            }
+            JsonRef file = t["file"];
+            std::filesystem::path p(file.nonEmptyString());
+            if (p.is_relative()) p = std::filesystem::path(t.file()).parent_path() / p;
+            tex.filename = p.string();
+            try {
+                tex.image = loadTextureImage(tex.filename, encoding);
+            } catch (const ImageIoError& e) {
+                file.fail(e.what());
+            }
+        } else if (type == "constant") {
+            t.expectObject({"type", "value"}, "a constant texture");
+            tex.value = t["value"].color();
+        } else if (type == "scale") {
+            t.expectObject({"type", "tex", "scale"}, "a scale texture");
+            tex.type = TextureType::Scale;
+            if (t.has("tex")) textureOperand(t["tex"], scene, tex.a, tex.aValue);
+            if (t.has("scale")) textureOperand(t["scale"], scene, tex.b, tex.bValue);
+        } else if (type == "mix") {
+            t.expectObject({"type", "tex1", "tex2", "amount"}, "a mix texture");
+            tex.type = TextureType::Mix;
+            tex.aValue = Vec3(0.0f);
+            tex.bValue = Vec3(1.0f);
+            if (t.has("tex1")) textureOperand(t["tex1"], scene, tex.a, tex.aValue);
+            if (t.has("tex2")) textureOperand(t["tex2"], scene, tex.b, tex.bValue);
+            if (t.has("amount")) {
+                if (t["amount"].isString()) tex.amountTexture = textureNamed(t["amount"], scene);
+                else tex.amount = t["amount"].numberIn(0, 1);
+            }
+        } else {
+            t.expectObject({"type", "tex1", "tex2", "uscale", "vscale", "udelta", "vdelta"},
+                           "a checkerboard texture");
+            tex.type = TextureType::Checkerboard;
+            tex.bValue = Vec3(0.0f);
+            mapping();
+            if (t.has("tex1")) textureOperand(t["tex1"], scene, tex.a, tex.aValue);
+            if (t.has("tex2")) textureOperand(t["tex2"], scene, tex.b, tex.bValue);
+        }
+        scene.textures.push_back(std::move(tex));
+    }
+}
+
+namespace {
+
 // "roughness" (both axes) or "u_roughness" / "v_roughness", and "remap_roughness" (pbrt-v4's
 // remapping alpha = sqrt(r), on by default as in pbrt-v4).
 void parseRoughness(const JsonRef& m, Material& mat) {
@@ -227,7 +341,7 @@ void parseMaterials(const JsonRef& v, Scene& scene) {
                            "a diffusetransmission material");
             mat.type = MaterialType::DiffuseTransmission;
             mat.color = Vec3(0.25f);
-            if (m.has("transmittance")) mat.transmittance.value = m["transmittance"].albedo();
+            if (m.has("transmittance")) mat.transmittance = colorParam(m["transmittance"], scene, true);
             if (m.has("scale")) mat.scale = m["scale"].numberIn(0, 1e6f);
         } else {
             m.expectObject({"type", "materials", "amount"}, "a mix material");
@@ -235,7 +349,11 @@ void parseMaterials(const JsonRef& v, Scene& scene) {
             if (m.has("amount")) mat.amount.value = m["amount"].numberIn(0, 1);
             mixes.push_back({scene.materials.size(), m});
         }
-        if (m.has("color")) mat.color = m["color"].albedo();
+        if (m.has("color")) {
+            ColorParam c = colorParam(m["color"], scene, true);
+            mat.color = c.textured() ? Vec3(0.5f) : c.value;
+            mat.colorTexture = c.texture;
+        }
         scene.materials.push_back(mat);
     }
     // A mix names two materials of this block, in any order; it must not contain itself.

@@ -5,6 +5,8 @@
 #include "test_util.h"
 
 #include "image/image.h"
+#include "scene/scene_loader.h"
+#include "core/error.h"
 #include "texture/texture_eval.h"
 #include "texture/texture_image.h"
 
@@ -186,4 +188,43 @@ TEST_CASE("A textured diffuse material shades with the texture in path mode", "[
     const float* right = out.at(20, 16);
     CHECK(left[0] > 10 * left[2]);
     CHECK(right[2] > 10 * right[0]);
+}
+
+TEST_CASE("JSON textures: image, checkerboard, scale, mix, and colours that name them", "[texture][scene]") {
+    writeQuadImage("json/quad.pfm");
+    std::string dir = (pbrtTestDir() / "json").string();
+    std::string path = dir + "/textured.json";
+    writeText(path, R"({
+        "textures": {
+            "img": {"type": "image", "file": "quad.pfm", "uscale": 2, "wrap": "clamp", "filter": "point"},
+            "half": {"type": "scale", "tex": "img", "scale": 0.5},
+            "check": {"type": "checkerboard", "tex1": "half", "tex2": [0, 1, 0], "uscale": 8, "vscale": 8},
+            "blend": {"type": "mix", "tex1": 0.2, "tex2": "check", "amount": 0.25}},
+        "materials": {"m": {"type": "diffuse", "color": "blend"},
+                      "p": {"type": "diffusetransmission", "transmittance": "img"}},
+        "nodes": [{"type": "sphere", "radius": 1, "material": "m"}]})");
+    auto scene = loadScene(path);
+    REQUIRE(scene->textures.size() == 4);
+    CHECK(scene->textures[0].image);
+    CHECK(scene->textures[0].su == 2.0f);
+    CHECK(scene->textures[0].wrap == TextureWrap::Clamp);
+    CHECK(scene->textures[1].a == 0);
+    CHECK(scene->textures[2].a == 1);
+    CHECK(scene->textures[2].bValue == Vec3(0, 1, 0));
+    CHECK(scene->textures[3].aValue == Vec3(0.2f));
+    CHECK(scene->textures[3].amount == 0.25f);
+    CHECK(scene->materials[0].colorTexture == 3);
+    CHECK(scene->materials[1].transmittance.texture == 0);
+
+    writeText(dir + "/bad.json", R"({"materials": {"m": {"type": "diffuse", "color": "nope"}},
+        "nodes": [{"type": "sphere", "radius": 1, "material": "m"}]})");
+    try {
+        loadScene(dir + "/bad.json");
+        FAIL("expected an InputError");
+    } catch (const InputError& e) {
+        CHECK_THAT(std::string(e.what()), Catch::Contains("/materials/m/color: unknown texture \"nope\""));
+    }
+    writeText(dir + "/missing.json", R"({"textures": {"t": {"type": "image", "file": "none.png"}},
+        "nodes": [{"type": "sphere", "radius": 1}]})");
+    CHECK_THROWS_WITH(loadScene(dir + "/missing.json"), Catch::Contains("/textures/t/file"));
 }
