@@ -1,7 +1,9 @@
 #include "accel/embree_scene.h"
 
 #include "core/error.h"
+#include "kernels/random.h"
 #include "kernels/ray_offset.h"
+#include "texture/texture_eval.h"
 
 #include <atomic>
 #include <chrono>
@@ -84,6 +86,48 @@ void EmbreeScene::collectLeaves(const Node& group, std::vector<const Shape*>& ou
     }
 }
 
+namespace {
+
+// Alpha cut-outs (pbrt-v4's shape "alpha"): Embree calls this for every candidate hit of a mesh
+// with alpha; a hit where alpha(uv) is 0 is rejected, below 1 it is kept with probability alpha,
+// decided by a hash of the ray so every packet width and thread makes the same choice.
+void alphaFilter(const RTCFilterFunctionNArguments* args) {
+    const auto* cut = static_cast<const AlphaCutout*>(args->geometryUserPtr);
+    const TriangleMesh& m = *cut->shape->mesh;
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] == 0) continue;
+        unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+        float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+        TextureContext tc;
+        tc.uv = {u, v};
+        if (!m.uvs.empty()) {
+            const Vec2& a = m.uvs[m.indices[3 * prim]];
+            const Vec2& b = m.uvs[m.indices[3 * prim + 1]];
+            const Vec2& c = m.uvs[m.indices[3 * prim + 2]];
+            float w = 1 - u - v;
+            tc.uv = {a.x * w + b.x * u + c.x * v, a.y * w + b.y * u + c.y * v};
+        }
+        float alpha = evalFloat(*cut->scene, cut->shape->alpha, tc);
+        if (alpha >= 1) continue;
+        bool keep = false;
+        if (alpha > 0) {
+            const float ray[6] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                                  RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
+                                  RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
+            std::uint64_t h = prim;
+            for (float f : ray) {
+                std::uint32_t bits;
+                std::memcpy(&bits, &f, sizeof bits);
+                h = kernels::hashCombine(h, bits);
+            }
+            keep = float(h >> 40) * 0x1p-24f < alpha;
+        }
+        if (!keep) args->valid[i] = 0;
+    }
+}
+
+} // namespace
+
 unsigned EmbreeScene::attachShape(RTCScene target, const Shape& shape) {
     RTCGeometry geom = nullptr;
     switch (shape.type) {
@@ -100,6 +144,12 @@ unsigned EmbreeScene::attachShape(RTCScene target, const Shape& shape) {
             geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
             m.triangleCount()));
         std::memcpy(idx, m.indices.data(), m.indices.size() * sizeof(unsigned));
+        if (shape.alpha.textured() || shape.alpha.value < 1.0f) {
+            m_alpha.push_back(std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape}));
+            rtcSetGeometryUserData(geom, m_alpha.back().get());
+            rtcSetGeometryIntersectFilterFunction(geom, alphaFilter);
+            rtcSetGeometryOccludedFilterFunction(geom, alphaFilter);
+        }
         break;
     }
     case ShapeType::Sphere: {

@@ -50,6 +50,12 @@ struct SurfaceHit {
     int instance = -1; // index of the InstanceRecord, -1 for root-level leaves
 };
 
+// What an alpha-tested mesh's Embree filter reads (embree_scene.cpp).
+struct AlphaCutout {
+    const Scene* scene;
+    const Shape* shape;
+};
+
 struct AccelStats {
     std::size_t prototypes = 0;
     std::size_t instances = 0;          // Embree instances in the top-level scene
@@ -103,6 +109,7 @@ private:
     std::vector<InstanceRecord> m_instances;
     std::vector<TopEntry> m_topEntries;
     std::vector<EmitterRecord> m_emitters;
+    std::vector<std::unique_ptr<AlphaCutout>> m_alpha; // filter data of alpha-tested meshes
     AccelStats m_stats;
 };
 

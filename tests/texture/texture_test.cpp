@@ -228,3 +228,46 @@ TEST_CASE("JSON textures: image, checkerboard, scale, mix, and colours that name
         "nodes": [{"type": "sphere", "radius": 1}]})");
     CHECK_THROWS_WITH(loadScene(dir + "/missing.json"), Catch::Contains("/textures/t/file"));
 }
+
+TEST_CASE("Alpha cut-outs: alpha 0 hides a mesh from camera and shadow rays at every packet width, 0.5 hides half", "[texture][alpha]") {
+    // A white occluder quad at z = 1 in front of a red quad at z = 0, lit by a sky; the camera
+    // looks down -z.
+    auto sceneWithAlpha = [](const std::string& alpha) {
+        return loadWorld("AttributeBegin\nMaterial \"diffuse\" \"rgb reflectance\" [1 1 1]\n"
+                         "Shape \"trianglemesh\" \"point3 P\" [-5 -5 1 5 -5 1 5 5 1 -5 5 1] "
+                         "\"integer indices\" [0 1 2 0 2 3] " + alpha + "\nAttributeEnd\n"
+                         "Material \"diffuse\" \"rgb reflectance\" [1 0 0]\n"
+                         "Shape \"trianglemesh\" \"point3 P\" [-5 -5 0 5 -5 0 5 5 0 -5 5 0] "
+                         "\"integer indices\" [0 1 2 0 2 3]\n"
+                         "LightSource \"infinite\" \"rgb L\" [1 1 1]\n",
+                         "alpha.pbrt");
+    };
+    auto hidden = sceneWithAlpha("\"float alpha\" 0");
+    CHECK(hidden.warnings.empty());
+    auto opaque = sceneWithAlpha("");
+    auto half = sceneWithAlpha("\"float alpha\" 0.5");
+    for (int width : {1, 4, 8, 16}) {
+        INFO("packet width " << width);
+        RenderOptions o;
+        o.mode = "path";
+        o.spp = 16;
+        o.packetWidth = width;
+        EmbreeScene ha(*hidden.scene), oa(*opaque.scene), hb(*half.scene);
+        Image h = render(*hidden.scene, ha, o).image;
+        Image op = render(*opaque.scene, oa, o).image;
+        Image hf = render(*half.scene, hb, o).image;
+        // Hidden: the red quad lit by the whole upper sky (the occluder casts no shadow):
+        // L = albedo * L_sky = (1, 0, 0). Opaque: white. Half: about the mean of the two.
+        const float* ph = h.at(16, 16);
+        const float* po = op.at(16, 16);
+        CHECK(ph[0] == Approx(1.0f).margin(0.05f));
+        CHECK(ph[1] == Approx(0.0f).margin(1e-6f));
+        CHECK(po[1] == Approx(1.0f).margin(0.05f));
+        double g = 0;
+        for (int y = 8; y < 24; ++y)
+            for (int x = 8; x < 24; ++x) g += hf.at(x, y)[1];
+        g /= 256;
+        CHECK(g > 0.3);
+        CHECK(g < 0.7);
+    }
+}

@@ -6,6 +6,7 @@
 #include "scene/pbrt/pbrt_materials.h"
 #include "scene/pbrt/pbrt_shapes.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace rayproc::pbrt {
@@ -117,6 +118,8 @@ void SceneBuilder::shape(const std::string& type, const ParamList& params, const
     bool emissive = m_state.area && !isBlack(m_state.area->radiance);
     ShapeContext ctx{placement(), m_state.reverseOrientation, emissive, dir, m_mainDir, loc};
     ShapeResult r = convertShape(type, params, ctx, m_warnings);
+    FloatParam alpha = m_values.floatParam(params, "alpha", 1.0f); // cut-outs
+    if (alpha.value < 0 || alpha.value > 1) failAt(loc, "shape \"alpha\" must lie in [0, 1]");
     reportUnused(params, "Shape \"" + type + "\"");
     if (r.shapes.empty()) return;
     if (!m_state.mediumOutside.empty())
@@ -144,8 +147,13 @@ void SceneBuilder::shape(const std::string& type, const ParamList& params, const
         radiance = areaRadianceForPower(
             *m_state.area,
             shapesArea(r.shapes, r.grouped ? r.groupTransform : Affine::identity()));
+    bool cut = alpha.textured() || alpha.value < 1;
+    if (cut && std::any_of(r.shapes.begin(), r.shapes.end(),
+                           [](const Shape& s) { return s.type != ShapeType::Mesh; }))
+        m_warnings.add(loc, "\"alpha\" cut-outs are supported on triangle meshes only; ignored here");
     for (Shape& s : r.shapes) {
         s.material = pending ? 0 : material;
+        if (s.type == ShapeType::Mesh) s.alpha = alpha;
         if (emissive) {
             s.emission = radiance;
             s.twoSided = m_state.area->twoSided;
