@@ -271,7 +271,7 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
     }
     const Shape& s = *h.shape;
     h.material = s.material;
-    Vec3 pl, ngl, nsl, errl;
+    Vec3 pl, ngl, nsl, errl, dpdul;
     switch (s.type) {
     case ShapeType::Mesh: {
         const TriangleMesh& m = *s.mesh;
@@ -285,9 +285,15 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
         ngl = cross(p1 - p0, p2 - p0);
         nsl = m.normals.empty() ? ngl
                                 : m.normals[i0] * w + m.normals[i1] * u + m.normals[i2] * v;
+        dpdul = p1 - p0; // without uvs: the first edge
         if (!m.uvs.empty()) {
             h.uv = {m.uvs[i0].x * w + m.uvs[i1].x * u + m.uvs[i2].x * v,
                     m.uvs[i0].y * w + m.uvs[i1].y * u + m.uvs[i2].y * v};
+            // dp/du from the triangle's two edges and their uv differences (pbrt-v4's rule).
+            Vec2 d02{m.uvs[i0].x - m.uvs[i2].x, m.uvs[i0].y - m.uvs[i2].y};
+            Vec2 d12{m.uvs[i1].x - m.uvs[i2].x, m.uvs[i1].y - m.uvs[i2].y};
+            float det = d02.x * d12.y - d02.y * d12.x;
+            if (std::abs(det) > 1e-9f) dpdul = ((p0 - p2) * d12.y - (p1 - p2) * d02.y) / det;
         } else {
             h.uv = {u, v};
         }
@@ -313,6 +319,7 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
         pl = s.center + robustNormalize(ngl) * s.radius;
         errl = kernels::roundSurfaceError(pl, s.center, s.radius);
         nsl = ngl;
+        dpdul = {-(pl.y - s.center.y), pl.x - s.center.x, 0.0f}; // along phi about z
         h.uv = {u, v};
         break;
     }
@@ -332,6 +339,7 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
         h.pError = kernels::transformedPointError(*toWorld, pl, errl);
         h.ng = robustNormalize(toLocal->normalByInverse(ngl));
         h.ns = robustNormalize(toLocal->normalByInverse(nsl));
+        h.dpdu = toWorld->vector(dpdul);
         // The inverse transpose keeps the front side the side the winding named in the
         // shape's own space, also under mirroring transforms (as pbrt's handedness flip does).
     } else {
@@ -339,6 +347,7 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
         h.pError = errl;
         h.ng = robustNormalize(ngl);
         h.ns = robustNormalize(nsl);
+        h.dpdu = dpdul;
     }
     // Degenerate input never yields a zero or NaN normal: a triangle without area (Embree can
     // still report a hit on a needle whose cross product underflows) faces the ray, and a zero,

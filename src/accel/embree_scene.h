@@ -45,6 +45,7 @@ struct SurfaceHit {
     Vec3 ng;       // unit geometric normal (front side by the shape's winding/outward rule)
     Vec3 ns;       // unit shading normal, on the same side as ng
     Vec2 uv;
+    Vec3 dpdu;     // world-space dp/du (the tangent of anisotropic roughness), not normalised
     const Shape* shape = nullptr;
     int material = 0;
     int instance = -1; // index of the InstanceRecord, -1 for root-level leaves

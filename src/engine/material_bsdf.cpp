@@ -118,6 +118,7 @@ kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& h
     TextureContext tc = textureContext(hit);
     kernels::BsdfParams b = build(&scene, scene.materials[std::size_t(material)], &tc);
     b.key = key;
+    b.tangent = hit.dpdu; // the kernels make it perpendicular to the shading normal
     return b;
 }
 
