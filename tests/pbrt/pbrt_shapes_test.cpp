@@ -103,8 +103,8 @@ TEST_CASE("Unsupported shapes and parameters warn once, with file and line, and 
     REQUIRE(r.warnings.size() == 3);
     CHECK(r.warnings[0] == dir + "scene.pbrt:5: warning: Shape \"curve\" is not supported; "
                                  "skipped (2 times; the first is shown)");
-    CHECK(r.warnings[1] == dir + "scene.pbrt:6: warning: parameter \"float alpha\" of Shape "
-                                 "\"sphere\" is not supported; ignored");
+    CHECK(r.warnings[1] == dir + "scene.pbrt:6: warning: \"alpha\" cut-outs are supported on "
+                                 "triangle meshes only; ignored here");
     CHECK(r.warnings[2] == dir + "scene.pbrt:8: warning: Shape \"cylinder\" is not supported; "
                                  "skipped");
 }

@@ -40,7 +40,7 @@ TEST_CASE("Missing and unreadable scene files are input errors", "[scene]") {
 
 TEST_CASE("Unknown keys list the allowed ones", "[scene]") {
     checkLoadError("unknown1.json", withSphere(R"("node": [])"), "/node",
-                   "unknown key \"node\" in the scene; allowed keys: camera, render, materials, "
+                   "unknown key \"node\" in the scene; allowed keys: camera, render, textures, materials, "
                    "lights, prototypes, nodes");
     checkLoadError("unknown2.json", withNodes(R"([{"type": "group", "children": [{"type": "sphere",
                        "material": "m", "radius": 1, "radiuss": 2}]}])"),
