@@ -27,12 +27,6 @@ inline kernels::BsdfParams resolveBsdf(const Scene& scene, const SurfaceHit& hit
     return bsdfAt(scene, resolveMix(scene, hit.material, hit, wo), hit, key);
 }
 
-// Whether the BSDF can send light through the surface (light samples on the far side count).
-inline bool bsdfTransmits(const kernels::BsdfParams& b) {
-    return b.kind == kernels::BsdfKind::Dielectric || b.kind == kernels::BsdfKind::ThinDielectric ||
-           b.kind == kernels::BsdfKind::DiffuseTransmission;
-}
-
 // The untextured BSDF of a material (constant parameters only; tests, benchmarks).
 kernels::BsdfParams bsdfOf(const Material& m);
 

@@ -44,7 +44,8 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
 
         if (!b.hit(i)) {
             if (!lights.hasEnvironment()) continue;
-            // The sky is sampled cosine-weighted about the previous facing normal.
+            // A constant sky is sampled cosine-weighted about the previous facing normal, an
+            // image sky by its luminance (lighting/environment.h): MIS with that pdf.
             float envPdf = lights.environment.cosineSampled()
                                ? std::max(0.0f, b.prevCos[i]) * kInvPi
                                : lights.environment.pdf(d, Vec3(0.0f));
@@ -71,7 +72,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                                           kernels::hashCombine(b.rngKey[i], kDimLayered));
         const bool deltaMaterial =
             materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
-        const bool transmissive = bsdfTransmits(bsdf);
+        const bool transmissive = kernels::hasTransmission(bsdf);
         Vec3 fg, fs;
         kernels::facingSide(wo, h.ng, h.ns, fg, fs);
 

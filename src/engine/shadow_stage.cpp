@@ -48,7 +48,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         std::uint64_t key = b.rngKey[i];
         const kernels::BsdfParams bsdf =
             bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(key, kDimLightBase - 2));
-        const bool transmits = bsdfTransmits(bsdf);
+        const bool transmits = kernels::hasTransmission(bsdf);
         // A light sample through a transmitting surface leaves from its other side.
         auto side = [&](const Vec3& wi) { return dot(wi, ng) > 0 ? ng : -ng; };
 
