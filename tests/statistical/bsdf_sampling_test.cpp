@@ -3,7 +3,7 @@
 // each sample's weight and pdf with evalBsdf, and for the delta BSDFs: the dielectric chooses
 // reflection with the Fresnel probability (binomial, 3 sigma) and refracts by Snell's law; the
 // mirror reflects. See docs/testing.md.
-#include "statistical.h"
+#include "statistical/bsdf_test_util.h"
 
 #include "kernels/bsdf_sampling.h"
 
@@ -16,70 +16,8 @@ using namespace rayproc;
 using namespace rayproc::test;
 using namespace rayproc::kernels;
 
-namespace {
-
-const Vec3 kNormal(0.0f, 0.0f, 1.0f);
-
-Vec3 incident(float thetaDegrees, float phiDegrees = 30.0f) {
-    float t = thetaDegrees * kPi / 180.0f, p = phiDegrees * kPi / 180.0f;
-    return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
-
-struct BsdfRun {
-    ChiSquareResult chi;
-    int invalid = 0;
-    int pdfMismatches = 0, weightMismatches = 0;
-};
-
-// Draws kSamples from sampleBsdf(b, wo), bins them around `axis` over cos in [cosMin, 1]
-// (failed samples count as outside), and tests them against `pdf` (by default evalBsdf's).
-BsdfRun runBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& axis, float cosMin,
-                std::uint64_t seed, std::function<double(const Vec3&)> pdf = {}) {
-    const Vec3 ng = kNormal, ns = kNormal;
-    if (!pdf)
-        pdf = [&](const Vec3& wi) {
-            float p;
-            evalBsdf(b, wo, wi, ng, ns, p);
-            return double(p);
-        };
-    DirectionHistogram hist(axis, cosMin, kThetaBins, kPhiBins);
-    TestRng rng(seed);
-    BsdfRun run;
-    for (int i = 0; i < kSamples; ++i) {
-        Vec2 u = rng.uniform2();
-        float uc = rng.uniform();
-        BsdfSample s = sampleBsdf(b, wo, ng, ns, u, uc);
-        if (!s.valid) {
-            ++run.invalid;
-            hist.addOutside();
-            continue;
-        }
-        hist.add(s.wi);
-        // The sample's pdf and weight are evalBsdf's pdf and f |cos| / pdf for its direction.
-        float p;
-        Vec3 f = evalBsdf(b, wo, s.wi, ng, ns, p);
-        if (!(std::abs(s.pdf - p) <= 1e-4f * p)) ++run.pdfMismatches;
-        Vec3 w = p > 0 ? f / p : Vec3(0.0f);
-        for (int c = 0; c < 3; ++c)
-            if (!(std::abs(s.weight[c] - w[c]) <= 1e-4f * std::max(1.0f, w[c]))) {
-                ++run.weightMismatches;
-                break;
-            }
-    }
-    run.chi = chiSquareTest(hist.counts(), hist.expected(pdf, kSamples));
-    return run;
-}
-
-void checkRun(const BsdfRun& run, const std::string& label) {
-    INFO(label << ": chi2 " << run.chi.chi2 << ", dof " << run.chi.dof << " (" << run.chi.bins
-               << " bins, " << run.chi.pooledBins << " pooled), p-value " << run.chi.pValue
-               << ", significance " << testSignificance() << ", failed samples " << run.invalid);
-    CHECK(run.chi.pValue > testSignificance());
-    CHECK(run.pdfMismatches == 0);
-    CHECK(run.weightMismatches == 0);
-}
-
-} // namespace
+// The chi-square run and its checks are shared with the pbrt-v4 kinds' tests
+// (statistical/bsdf_test_util.h): kUp is the normal, direction() an incident direction.
 
 TEST_CASE("Chi-square: diffuse sampling follows its cosine pdf", "[statistical]") {
     BsdfParams b;
@@ -87,12 +25,12 @@ TEST_CASE("Chi-square: diffuse sampling follows its cosine pdf", "[statistical]"
     b.color = Vec3(0.8f, 0.5f, 0.2f);
     // Cosine-weighted about the normal on wo's side; the back side (wo below) mirrors it.
     for (float theta : {10.0f, 75.0f}) {
-        BsdfRun run = runBsdf(b, incident(theta), kNormal, 0.0f, std::uint64_t(theta));
-        checkRun(run, "diffuse, theta_o " + std::to_string(theta));
+        ChiRun run = chiSquareRun(b, direction(theta), kUp, 0.0f, std::uint64_t(theta));
+        checkChiRun(run, "diffuse, theta_o " + std::to_string(theta));
         CHECK(run.invalid == 0);
     }
-    BsdfRun back = runBsdf(b, incident(120.0f), -kNormal, 0.0f, 120);
-    checkRun(back, "diffuse, wo below the surface");
+    ChiRun back = chiSquareRun(b, direction(120.0f), -kUp, 0.0f, 120);
+    checkChiRun(back, "diffuse, wo below the surface");
     CHECK(back.invalid == 0);
 }
 
@@ -107,12 +45,12 @@ TEST_CASE("Chi-square: glossy (GGX) sampling follows its pdf", "[statistical]") 
             b.kind = BsdfKind::Glossy;
             b.color = Vec3(0.9f, 0.6f, 0.3f);
             b.alpha = ggxAlpha(roughness);
-            Vec3 wo = incident(theta);
-            Vec3 mirror = reflect(wo, kNormal);
+            Vec3 wo = direction(theta);
+            Vec3 mirror = reflect(wo, kUp);
             float angle = std::min(kPi, 4.0f * std::atan(3.0f * b.alpha));
-            BsdfRun run = runBsdf(b, wo, mirror, std::cos(angle),
+            ChiRun run = chiSquareRun(b, wo, mirror, std::cos(angle),
                                   std::uint64_t(1000 * roughness + theta));
-            checkRun(run, "glossy, roughness " + std::to_string(roughness) + ", theta_o " +
+            checkChiRun(run, "glossy, roughness " + std::to_string(roughness) + ", theta_o " +
                               std::to_string(theta));
         }
 }
@@ -121,8 +59,8 @@ TEST_CASE("Chi-square: the test rejects a wrong pdf", "[statistical]") {
     // Cosine-distributed samples against the uniform hemisphere pdf 1 / (2 pi).
     BsdfParams diffuse;
     diffuse.kind = BsdfKind::Diffuse;
-    BsdfRun uniform =
-        runBsdf(diffuse, incident(10.0f), kNormal, 0.0f, 1, [](const Vec3& w) {
+    ChiRun uniform =
+        chiSquareRun(diffuse, direction(10.0f), kUp, 0.0f, 1, [](const Vec3& w) {
             return w.z > 0 ? 1.0 / (2.0 * kPi) : 0.0;
         });
     INFO("cosine samples vs uniform pdf: chi2 " << uniform.chi.chi2 << ", dof " << uniform.chi.dof
@@ -133,9 +71,9 @@ TEST_CASE("Chi-square: the test rejects a wrong pdf", "[statistical]") {
     BsdfParams glossy;
     glossy.kind = BsdfKind::Glossy;
     glossy.alpha = ggxAlpha(0.5f);
-    Vec3 wo = incident(45.0f);
-    BsdfRun wider = runBsdf(glossy, wo, reflect(wo, kNormal), -1.0f, 2, [&](const Vec3& wi) {
-        return double(glossyPdf(wo, wi, kNormal, glossy.alpha * 1.05f));
+    Vec3 wo = direction(45.0f);
+    ChiRun wider = chiSquareRun(glossy, wo, reflect(wo, kUp), -1.0f, 2, [&](const Vec3& wi) {
+        return double(glossyPdf(wo, wi, kUp, glossy.alpha * 1.05f));
     });
     INFO("GGX alpha 0.25 samples vs pdf of alpha 0.2625: chi2 " << wider.chi.chi2 << ", dof "
                                                                 << wider.chi.dof << ", p-value "
@@ -152,16 +90,16 @@ TEST_CASE("Dielectric: reflection is chosen with the Fresnel probability", "[sta
     // Entering from outside (ng = +z, wo above) and leaving from inside (wo below): beyond the
     // critical angle asin(1/1.5) = 41.8 degrees every sample must reflect.
     for (float theta : {0.0f, 30.0f, 60.0f, 85.0f, 180.0f, 160.0f, 140.0f, 120.0f}) {
-        Vec3 wo = incident(theta);
+        Vec3 wo = direction(theta);
         bool entering = wo.z > 0;
         float cosI = std::abs(wo.z);
         float eta = entering ? b.ior : 1.0f / b.ior;
         float f = fresnelDielectric(cosI, eta);
-        Vec3 side = entering ? kNormal : -kNormal;
+        Vec3 side = entering ? kUp : -kUp;
         TestRng rng(42);
         int reflected = 0, wrongDirection = 0, wrongWeight = 0, invalid = 0, notDelta = 0;
         for (int i = 0; i < count; ++i) {
-            BsdfSample s = sampleBsdf(b, wo, kNormal, kNormal, rng.uniform2(), rng.uniform());
+            BsdfSample s = sampleBsdf(b, wo, kUp, kUp, rng.uniform2(), rng.uniform());
             if (!s.valid) {
                 ++invalid;
                 continue;
@@ -197,7 +135,7 @@ TEST_CASE("Dielectric: reflection is chosen with the Fresnel probability", "[sta
         CHECK(std::abs(reflected - mean) <= 3.0 * sigma + 1e-9);
         // evalBsdf has no density for a delta BSDF.
         float pdf = 1;
-        Vec3 fv = evalBsdf(b, wo, reflect(wo, side), kNormal, kNormal, pdf);
+        Vec3 fv = evalBsdf(b, wo, reflect(wo, side), kUp, kUp, pdf);
         CHECK(pdf == 0);
         CHECK(isBlack(fv));
     }
@@ -209,12 +147,12 @@ TEST_CASE("Mirror: perfect reflection with the mirror's colour", "[statistical]"
     b.color = Vec3(0.9f, 0.5f, 0.25f);
     TestRng rng(7);
     for (float theta : {0.0f, 40.0f, 89.0f, 130.0f}) {
-        Vec3 wo = incident(theta);
-        BsdfSample s = sampleBsdf(b, wo, kNormal, kNormal, rng.uniform2(), rng.uniform());
+        Vec3 wo = direction(theta);
+        BsdfSample s = sampleBsdf(b, wo, kUp, kUp, rng.uniform2(), rng.uniform());
         INFO("theta_o " << theta);
         REQUIRE(s.valid);
         CHECK(s.delta);
-        CHECK(length(s.wi - reflect(wo, wo.z > 0 ? kNormal : -kNormal)) < 1e-6f);
+        CHECK(length(s.wi - reflect(wo, wo.z > 0 ? kUp : -kUp)) < 1e-6f);
         CHECK(length(s.weight - b.color) == 0);
     }
 }
