@@ -17,12 +17,6 @@ std::uint32_t floatBits(float f) {
     return u;
 }
 
-// pbrt-v4's TrowbridgeReitzDistribution::RoughnessToAlpha when remapping, else the value.
-float toAlpha(float roughness, bool remap) {
-    roughness = std::max(roughness, 0.0f);
-    return remap ? std::sqrt(roughness) : roughness;
-}
-
 // Fills the parameters every kind reads from the material's constants and textures.
 kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureContext* tc) {
     auto color = [&](const ColorParam& p) {
@@ -36,8 +30,8 @@ kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureCo
                                                  : m.color;
     b.ior = m.ior;
     b.alpha = kernels::ggxAlpha(m.roughness);
-    b.alphaX = toAlpha(scalar(m.uRoughness), m.remapRoughness);
-    b.alphaY = toAlpha(scalar(m.vRoughness), m.remapRoughness);
+    b.alphaX = roughnessToAlpha(scalar(m.uRoughness), m.remapRoughness);
+    b.alphaY = roughnessToAlpha(scalar(m.vRoughness), m.remapRoughness);
     switch (m.type) {
     case MaterialType::Diffuse: b.kind = kernels::BsdfKind::Diffuse; break;
     case MaterialType::Mirror: b.kind = kernels::BsdfKind::Mirror; break;

@@ -29,12 +29,15 @@ namespace {
 bool smooth(const Material& m) {
     // Textured roughness may vary: only constant zero-like roughness is delta.
     return !m.uRoughness.textured() && !m.vRoughness.textured() &&
-           (m.remapRoughness ? std::sqrt(std::max(m.uRoughness.value, 0.0f))
-                             : m.uRoughness.value) < 1e-3f &&
-           (m.remapRoughness ? std::sqrt(std::max(m.vRoughness.value, 0.0f))
-                             : m.vRoughness.value) < 1e-3f;
+           roughnessToAlpha(m.uRoughness.value, m.remapRoughness) < 1e-3f &&
+           roughnessToAlpha(m.vRoughness.value, m.remapRoughness) < 1e-3f;
 }
 } // namespace
+
+float roughnessToAlpha(float roughness, bool remap) {
+    roughness = std::max(roughness, 0.0f);
+    return remap ? std::sqrt(roughness) : roughness;
+}
 
 MaterialClass materialClass(const std::vector<Material>& materials, int index) {
     const Material& m = materials[std::size_t(index)];

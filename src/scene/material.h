@@ -97,6 +97,10 @@ namespace rayproc {
 // Diffuse, else Glossy if either is, else Specular.
 MaterialClass materialClass(const std::vector<Material>& materials, int index);
 
+// pbrt-v4's Trowbridge-Reitz alpha of a roughness: sqrt(r) when remapping, else r (negative
+// values count as 0).
+float roughnessToAlpha(float roughness, bool remap);
+
 // Whether the mix materials[index] contains itself through its components (loaders reject it).
 bool mixContainsItself(const std::vector<Material>& materials, int index);
 

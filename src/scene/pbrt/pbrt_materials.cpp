@@ -81,10 +81,6 @@ void conductor(const ParamList& params, const ValueReader& values, const SourceL
 
 } // namespace
 
-double roughnessToAlpha(double roughness, bool remap) {
-    return remap ? std::sqrt(roughness) : roughness;
-}
-
 MaterialResult convertMaterial(const std::string& type, const ParamList& params,
                                const ValueReader& values, Warnings& warnings,
                                const SourceLoc& loc) {

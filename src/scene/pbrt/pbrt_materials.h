@@ -18,10 +18,6 @@ struct MaterialResult {
     std::string mixNames[2]; // mix: the named materials, resolved by the builder
 };
 
-// pbrt's roughness parameter as a Trowbridge-Reitz alpha (pbrt-v4's RoughnessToAlpha is sqrt
-// when "remaproughness" is on).
-double roughnessToAlpha(double roughness, bool remap);
-
 MaterialResult convertMaterial(const std::string& type, const ParamList& params,
                                const ValueReader& values, Warnings& warnings, const SourceLoc& loc);
 
