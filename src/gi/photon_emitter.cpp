@@ -6,6 +6,7 @@
 #include "kernels/sampling.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace rayproc {
 
@@ -21,10 +22,17 @@ Vec3 emittedPower(const LightSource& l, float r) {
 } // namespace
 
 PhotonEmitter::PhotonEmitter(const LightSet& lights, const Bounds3& bounds, std::uint32_t count,
-                             std::uint64_t seed, std::uint64_t tag)
+                             std::uint64_t seed, std::uint64_t tag, const Bounds3& focus,
+                             float focusShare)
     : m_lights(lights), m_count(count), m_key(kernels::hashCombine(kernels::mix64(seed), tag)) {
     m_center = bounds.empty() ? Vec3(0.0f) : bounds.center();
     m_radius = bounds.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(bounds.diagonal()));
+    if (!focus.empty() && focusShare > 0) {
+        m_focusCenter = focus.center();
+        m_focusRadius = 0.5f * length(focus.diagonal());
+        if (m_focusRadius > 0 && std::isfinite(m_focusRadius))
+            m_focusShare = std::min(focusShare, 1.0f);
+    }
     float total = 0;
     auto add = [&](const Vec3& p) {
         m_power.push_back(p);
@@ -36,6 +44,29 @@ PhotonEmitter::PhotonEmitter(const LightSet& lights, const Bounds3& bounds, std:
     if (lights.hasEnvironment()) // radiance L from every direction through a disk of radius r
         add(lights.environment.average() * (4 * kPi * kPi * m_radius * m_radius));
     if (total <= 0) m_cdf.clear();
+}
+
+Vec3 PhotonEmitter::diskPoint(const Vec3& dir, Vec2 u, float uChoice, float& invDensity) const {
+    // The plane lies 2r behind the scene's centre: every photon starts outside the scene.
+    Vec3 planeCenter = m_center - dir * (2 * m_radius);
+    Vec2 d = kernels::concentricDisk(u);
+    if (m_focusShare <= 0) {
+        invDensity = kPi * m_radius * m_radius;
+        return planeCenter + kernels::toWorld({d.x * m_radius, d.y * m_radius, 0}, dir);
+    }
+    // The focus disk: the focus region's bounding sphere projected along dir onto the plane.
+    Vec3 focusCenter = m_focusCenter - dir * dot(m_focusCenter - planeCenter, dir);
+    bool toFocus = uChoice < m_focusShare;
+    float r = toFocus ? m_focusRadius : m_radius;
+    Vec3 p = (toFocus ? focusCenter : planeCenter) + kernels::toWorld({d.x * r, d.y * r, 0}, dir);
+    // The mixture's density at p counts both disks wherever they overlap.
+    float density = 0;
+    if (lengthSquared(p - focusCenter) <= m_focusRadius * m_focusRadius * (1 + 1e-5f))
+        density += m_focusShare / (kPi * m_focusRadius * m_focusRadius);
+    if (lengthSquared(p - planeCenter) <= m_radius * m_radius * (1 + 1e-5f))
+        density += (1 - m_focusShare) / (kPi * m_radius * m_radius);
+    invDensity = density > 0 ? 1.0f / density : 0.0f;
+    return p;
 }
 
 PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
@@ -52,11 +83,10 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
     if (pChoice <= 0) return e;
     Vec3 share = m_power[c] / (pChoice * float(m_count)); // flux per photon of this light
 
-    auto disk = [&](const Vec3& dir, Vec2 u) {
-        Vec2 d = kernels::concentricDisk(u);
-        Vec3 offset = kernels::toWorld({d.x * m_radius, d.y * m_radius, 0}, dir);
-        return m_center - dir * (2 * m_radius) + offset;
-    };
+    // Directional and sky photons start on a disk (uPick.y, unused by them otherwise, picks
+    // the focus or the whole disk); diskArea is the inverse density of the chosen point.
+    float diskArea = 0;
+    auto disk = [&](const Vec3& dir, Vec2 u) { return diskPoint(dir, u, uPick.y, diskArea); };
     // Lambertian emitters: cosine-weighted directions carry the flux exactly. The photon
     // starts off the surface on the side it leaves, like every spawned ray: from the surface
     // point itself it could hit its own emitter at t ~ 0 and be stored there (an inward
@@ -74,8 +104,8 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
         if (m_lights.environment.cosineSampled()) { // constant: uniform directions
             e.direction = kernels::toWorld(kernels::uniformCone(uDir, -1.0f), {0, 0, 1});
             e.origin = disk(e.direction, uPos);
-            e.power = share;
-            e.valid = true;
+            e.power = m_focusShare > 0 ? share * (diskArea / (kPi * m_radius * m_radius)) : share;
+            e.valid = diskArea > 0;
             return e;
         }
         // An image sky: the direction light arrives from is drawn by the sky's density, the
@@ -85,7 +115,7 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
         if (!s.valid) return e;
         e.direction = -s.wi;
         e.origin = disk(e.direction, uPos);
-        e.power = s.weight * (kPi * m_radius * m_radius / (pChoice * float(m_count)));
+        e.power = s.weight * (diskArea / (pChoice * float(m_count)));
         e.valid = isFinite(e.power);
         return e;
     }
@@ -115,8 +145,8 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
     case LightSource::Kind::Directional:
         e.direction = l.direction;
         e.origin = disk(l.direction, uPos);
-        e.power = share;
-        e.valid = true;
+        e.power = m_focusShare > 0 ? share * (diskArea / (kPi * m_radius * m_radius)) : share;
+        e.valid = diskArea > 0;
         break;
     case LightSource::Kind::AreaMesh: {
         float target2 = uPos.x * l.area;

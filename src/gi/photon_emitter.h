@@ -18,9 +18,13 @@ namespace rayproc {
 class PhotonEmitter : public Emitter {
 public:
     // sceneBounds: where directional and environment photons start (a disk covering the
-    // scene's bounding sphere). tag separates the random streams of the two photon passes.
+    // scene's bounding sphere). focus (may be empty): a region the camera sees at which
+    // focusShare of those photons are aimed (gi/focus_region.h); the others still cover the
+    // whole disk and every photon's flux is divided by the mixture's density, so the maps stay
+    // unbiased. tag separates the random streams of the two photon passes.
     PhotonEmitter(const LightSet& lights, const Bounds3& sceneBounds, std::uint32_t count,
-                  std::uint64_t seed, std::uint64_t tag);
+                  std::uint64_t seed, std::uint64_t tag, const Bounds3& focus = {},
+                  float focusShare = 0.0f);
     bool emit(StageContext& ctx) override;
     std::uint64_t unitsEmitted() const { return m_next.load(); }
     Vec3 totalPower() const { return m_totalPower; }
@@ -32,10 +36,16 @@ private:
         bool valid = false;
     };
     Emission emitOne(std::uint32_t index) const;
+    // A photon origin on the emission plane behind the scene, perpendicular to dir, and the
+    // inverse of its area density under the focus mixture.
+    Vec3 diskPoint(const Vec3& dir, Vec2 u, float uChoice, float& invDensity) const;
 
     const LightSet& m_lights;
     Vec3 m_center;
     float m_radius;
+    Vec3 m_focusCenter{0, 0, 0};
+    float m_focusRadius = 0.0f;
+    float m_focusShare = 0.0f; // 0: every photon uniform on the whole disk
     std::uint32_t m_count;
     std::uint64_t m_key;
     std::vector<float> m_cdf;       // over lights (and the sky, last) by luminance of power

@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace rayproc {
 
@@ -38,11 +39,14 @@ Vec3 PhotonMap::irradiance(const Vec3& p, const Vec3& n, int k, float maxDistanc
     if (count == 0 || !(radius2 > 0)) return Vec3(0);
 
     // Sum the filtered power of the photons on this surface (normal test) arriving from above.
-    float invConeRadius = 1.0f / (kConeK * std::sqrt(radius2));
+    float radius = std::sqrt(radius2);
+    float invConeRadius = 1.0f / (kConeK * radius);
+    float slab = kDiscThickness * radius;
     Vec3 sum(0);
     for (int j = 0; j < count; ++j) {
         const StoredPhoton& s = m_photons[photon_heap::keyIndex(keys[j])];
         if (!withinCone(decodeNormalRaw(s.normalAxis), n, kNormalCos)) continue;
+        if (std::abs(dot(Vec3(s.pos[0], s.pos[1], s.pos[2]) - p, n)) > slab) continue;
         if (dot(decodeDirectionRaw(s.direction), n) <= 0) continue;
         float w = 1.0f - std::sqrt(photon_heap::keyDist2(keys[j])) * invConeRadius;
         sum += decodeRgbe(s.power) * w;

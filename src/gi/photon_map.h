@@ -60,6 +60,10 @@ public:
     static constexpr float kNormalCos = 0.5f;
     // irradianceFast() takes precomputed photons whose normal is within 25.8 degrees of it.
     static constexpr float kPrecomputedNormalCos = 0.9f;
+    // Jensen's disc (2001, ch. 7.2): a photon counts only within this fraction of the search
+    // radius of the query's tangent plane. Photons on a parallel surface just behind a wall or
+    // a floor (the sunlit ground under a room's floor) otherwise leak into the estimate.
+    static constexpr float kDiscThickness = 0.25f;
 
     // Builds the kd-tree (parallel; deterministic: the same input, in the same order, gives the
     // same tree whatever the thread count). Discards precomputed irradiance.

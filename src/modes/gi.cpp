@@ -19,6 +19,7 @@
 #include "engine/refraction_stage.h"
 #include "engine/shadow_stage.h"
 #include "engine/surface_stage.h"
+#include "gi/focus_region.h"
 #include "gi/gather_stage.h"
 #include "gi/gi_context.h"
 #include "gi/irradiance_cache.h"
@@ -55,7 +56,8 @@ const char* debugViewName(GiDebugView v) {
 std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& accel,
                                        const LightSet& lights, const GiSettings& s,
                                        const EngineSettings& engine, bool caustic,
-                                       std::uint32_t count, Stats& stats) {
+                                       std::uint32_t count, const FocusRegion& focus,
+                                       Stats& stats) {
     Film film(1, 1);
     ShadingPolicy policy;
     policy.rouletteEnabled = s.roulette;
@@ -64,7 +66,9 @@ std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& ac
     RayProcessor processor(intersector, stats, engine.threads);
     PhotonStage stage(rc, caustic, s.maxPhotonDepth);
     processor.setStage(RayKind::Photon, &stage);
-    PhotonEmitter emitter(lights, scene.worldBounds(), count, engine.seed, caustic ? 2 : 1);
+    PhotonEmitter emitter(lights, scene.worldBounds(), count, engine.seed, caustic ? 2 : 1,
+                          focus.active ? focus.emissionBounds() : Bounds3{},
+                          focus.active ? kFocusPhotonShare : 0.0f);
     processor.run(emitter, [] { return false; });
     return stage.takePhotons();
 }
@@ -219,12 +223,16 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     gatherStrata(s.gatherRays, gi.gatherTheta, gi.gatherPhi);
     // Gradients need the strata layout: independent gather rays (--no-stratification) have none.
     gi.strataWanted = s.irradianceCache && s.icGradients && engine.stratification;
-    float diag = std::max(1e-6f, length(scene.worldBounds().diagonal()));
+    // Lengths scale with the scene, or with the part the camera sees when that is much smaller.
+    FocusRegion focus = cameraFocusRegion(scene, accel, engine.packetWidth);
+    float diag = std::max(1e-6f, length((focus.active ? focus.bounds : scene.worldBounds()).diagonal()));
     gi.globalRadius = s.globalRadius > 0 ? s.globalRadius : 0.05f * diag;
     gi.causticRadius = s.causticRadius > 0 ? s.causticRadius : 0.02f * diag;
     gi.icMinRadius = 0.005f * diag;
     gi.icMaxRadius = 0.15f * diag;
     std::vector<std::pair<std::string, double>> extras;
+    extras.push_back({"gi/focus_active", focus.active ? 1.0 : 0.0});
+    extras.push_back({"gi/focus_diagonal", double(diag)});
 
     // First pass: photons.
     Stats photonStats;
@@ -232,10 +240,10 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     PhotonMap global, caustic;
     if (s.photons > 0 && plan.globalMap)
         global.build(tracePhotons(scene, accel, lights, s, engine, false, std::uint32_t(s.photons),
-                                  photonStats));
+                                  focus, photonStats));
     if (s.caustics && s.causticPhotons > 0 && plan.causticMap)
         caustic.build(tracePhotons(scene, accel, lights, s, engine, true,
-                                   std::uint32_t(s.causticPhotons), photonStats));
+                                   std::uint32_t(s.causticPhotons), focus, photonStats));
     double photonSeconds = secondsSince(t0);
     auto t1 = Clock::now();
     if (s.precomputedIrradiance && global.size() > 0)
