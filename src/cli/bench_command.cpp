@@ -154,7 +154,7 @@ int runBench(BenchArgs& a) {
         if (run.interrupted) {
             std::fprintf(stderr, "rayproc bench: interrupted; kept the %zu rows that completed\n",
                          run.rows.size());
-            return 130;
+            return interruptExitStatus();
         }
         return 0;
     }
@@ -173,7 +173,7 @@ int runBench(BenchArgs& a) {
                      "rayproc bench: interrupted; results.csv and the report hold the %zu "
                      "renders that completed\n",
                      run.rows.size());
-        return 130;
+        return interruptExitStatus();
     }
     return 0;
 }
@@ -234,8 +234,9 @@ std::function<int()> addBenchCommand(CLI::App& app) {
         "with its own seed: the golden image of tests/golden/ where the suite names one at its "
         "resolution (default: 8192 spp), else rendered at the suite's reference spp and cached "
         "in --refs, or --reference FILE. results.csv is written row by row, so "
-        "Ctrl-C keeps every finished render (and still writes the report; exit 130).\n"
-        "Exit status: 0 done, 1 bad input or I/O error, 130 interrupted.");
+        "Ctrl-C, SIGTERM or SIGHUP keeps every finished render (and still writes the report).\n"
+        "Exit status: 0 done, 1 bad input or I/O error, 130 interrupted by Ctrl-C, 143 by "
+        "SIGTERM, 129 by SIGHUP.");
     return [args] { return runBench(*args); };
 }
 

@@ -187,7 +187,7 @@ int runRender(const RenderArgs& a) {
                      "rayproc: interrupted: wrote the partial image (%zu pixels had no sample)\n",
                      result.stats.pixelsWithoutSamples);
         std::printf("%s\n", std::filesystem::absolute(output).c_str());
-        return 130;
+        return interruptExitStatus();
     }
     // stdout carries only the image's location, so scripts can capture it.
     std::printf("%s\n", std::filesystem::absolute(output).c_str());
@@ -296,8 +296,9 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--progressive-interval", args->progressiveSeconds,
                     "Seconds between progressive writes (default 5)")
         ->check(CLI::PositiveNumber);
-    cmd->footer("Exit status: 0 done, 1 bad input or I/O error, 130 interrupted (Ctrl-C writes "
-                "the partial image; a second Ctrl-C exits at once).");
+    cmd->footer("Exit status: 0 done, 1 bad input or I/O error, 130 interrupted by Ctrl-C, 143 by "
+                "SIGTERM, 129 by SIGHUP (each writes the partial image; a second signal exits at "
+                "once).");
     return [args] { return runRender(*args); };
 }
 

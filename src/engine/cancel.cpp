@@ -9,12 +9,15 @@ namespace rayproc {
 
 namespace {
 std::atomic<int> g_interrupts{0};
+std::atomic<int> g_signal{0}; // the first stopping signal, 0 before one arrives
 
-extern "C" void onSigint(int) {
+extern "C" void onStopSignal(int sig) {
+    int expected = 0;
+    g_signal.compare_exchange_strong(expected, sig);
     if (g_interrupts.fetch_add(1) >= 1) {
         const char msg[] = "\nrayproc: interrupted twice, exiting now\n";
         (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
-        _exit(130);
+        _exit(128 + sig);
     }
     const char msg[] = "\nrayproc: interrupted; finishing rays in flight and writing the partial "
                        "image (Ctrl-C again to exit now)\n";
@@ -24,14 +27,23 @@ extern "C" void onSigint(int) {
 
 void installInterruptHandler() {
     struct sigaction sa {};
-    sa.sa_handler = onSigint;
+    sa.sa_handler = onStopSignal;
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_RESTART;
-    sigaction(SIGINT, &sa, nullptr);
+    // SIGTERM is what batch schedulers (Slurm, PBS) and `kill` send, SIGHUP what a closed
+    // terminal sends: both keep the work done so far, like Ctrl-C.
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
 }
 
 bool interruptRequested() { return g_interrupts.load(std::memory_order_relaxed) > 0; }
+int interruptExitStatus() {
+    int sig = g_signal.load();
+    return 128 + (sig > 0 ? sig : SIGINT);
+}
 void requestInterrupt() { g_interrupts.store(1); }
-void clearInterrupt() { g_interrupts.store(0); }
+void clearInterrupt() {
+    g_interrupts.store(0);
+    g_signal.store(0);
+}
 
 } // namespace rayproc

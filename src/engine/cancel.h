@@ -1,11 +1,15 @@
-// Cancel on Ctrl-C: the first SIGINT asks the render to stop emitting and finish what is in
-// flight, so the partial image can be written; a second one exits at once with status 130.
+// Cancel on Ctrl-C, SIGTERM or SIGHUP: the first asks the render to stop emitting and finish
+// what is in flight, so the partial image can be written; a second one exits at once with
+// 128 + the signal's number (130 for Ctrl-C).
 #pragma once
 
 namespace rayproc {
 
 void installInterruptHandler();
 bool interruptRequested();
+// 128 + the first stopping signal's number (SIGINT's when set by requestInterrupt): the shell's
+// convention, which the commands return after writing what they have.
+int interruptExitStatus();
 void requestInterrupt(); // as if SIGINT arrived (tests)
 void clearInterrupt();
 

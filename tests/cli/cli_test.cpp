@@ -225,7 +225,12 @@ TEST_CASE("Progress is printed as plain lines when stderr is not a terminal", "[
     }
 }
 
-TEST_CASE("SIGINT stops a render, writes the partial image and exits with 130", "[cli]") {
+// SIGTERM (batch schedulers, kill) and SIGHUP (a closed terminal) keep the work like Ctrl-C;
+// the status is the shell's 128 + the signal's number.
+TEST_CASE("SIGINT, SIGTERM and SIGHUP stop a render, write the partial image, exit 128 + signal",
+          "[cli]") {
+    int sig = GENERATE(SIGINT, SIGTERM, SIGHUP);
+    INFO("signal " << sig);
     TempDir dir;
     std::string out = dir.file("partial.pfm");
     Child child({"render", scenePath("cornell-box"), "--mode", "raytrace", "--spp", "100000",
@@ -233,11 +238,11 @@ TEST_CASE("SIGINT stops a render, writes the partial image and exits with 130", 
                 dir.file("stdout.txt"), dir.file("stderr.txt"));
     REQUIRE(child.started());
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-    child.signal(SIGINT);
+    child.signal(sig);
     bool finished = child.wait(20.0); // kills the child on timeout
     INFO(child.err());
     REQUIRE(finished);
-    CHECK(child.status() == 130);
+    CHECK(child.status() == 128 + sig);
     CHECK(contains(child.err(), "interrupted"));
     // The last progress line says where the render stopped, not 100%.
     std::vector<std::string> ls = lines(child.err());
