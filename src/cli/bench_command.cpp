@@ -216,6 +216,7 @@ std::function<int()> addBenchCommand(CLI::App& app) {
     cmd->add_option("--time-cap", args->options.timeCapSeconds,
                     "Seconds: a ladder stops before a render predicted to take longer (default: "
                     "the suite's, 24 for default, 4 for quick)")
+        ->check(finiteNumber())
         ->check(CLI::PositiveNumber);
     cmd->add_flag("--ablation", args->ablation,
                   "Instead of the ladders: render each optimisation (packets, irradiance cache, "

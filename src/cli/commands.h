@@ -3,7 +3,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <functional>
+#include <string>
 
 namespace rayproc::cli {
 
@@ -13,6 +15,24 @@ std::function<int()> addInfoCommand(CLI::App& app);
 // Its function catches its own errors: 0 within limits, 1 a limit exceeded, 2 an error.
 std::function<int()> addDiffCommand(CLI::App& app);
 std::function<int()> addBenchCommand(CLI::App& app);
+
+// Refuses NaN and infinities in a floating-point option: CLI11 reads "nan" and "inf" as
+// numbers, and its Range and PositiveNumber checks let NaN through (every comparison with NaN
+// is false). Attached to every float option of every command.
+inline CLI::Validator finiteNumber() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            try {
+                std::size_t used = 0;
+                double v = std::stod(text, &used);
+                if (!std::isfinite(v)) return "must be a finite number, got " + text;
+            } catch (const std::exception&) {
+                return {}; // not a number at all: the option's own conversion says so
+            }
+            return {};
+        },
+        "");
+}
 
 // Prints "rayproc: <message>" to stderr.
 void printError(const std::string& message);

@@ -197,6 +197,7 @@ std::function<int()> addDiffCommand(CLI::App& app) {
                     "(.pfm/.exr/.hdr: linear values; .png: clamped to 1, sRGB-encoded)");
     cmd->add_option("--scale", args->scale,
                     "Multiply the difference image by this factor (default 1)")
+        ->check(finiteNumber())
         ->check(CLI::PositiveNumber);
     cmd->add_option("--heatmap", args->heatmap,
                     "Write a false-colour map of the per-pixel error (inferno: black = none; "
@@ -210,11 +211,13 @@ std::function<int()> addDiffCommand(CLI::App& app) {
                     "Colour scale: log (default; from the largest error down at most 4 decades, "
                     "widened to whole decades) or linear (0 to the largest error, rounded up "
                     "to 1, 2 or 5 x 10^k)")
+        ->check(finiteNumber())
         ->check(CLI::IsMember({"log", "linear"}));
     cmd->add_option("--heatmap-range", args->heatmapRange,
                     "Fixed colour range LO HI (0 <= LO < HI; LO > 0 on the log scale) instead "
                     "of the automatic one, so heatmaps of several renders compare; errors "
                     "outside take the end colours")
+        ->check(finiteNumber())
         ->expected(2)
         ->type_name("FLOAT");
     cmd->add_flag("--no-legend", args->noLegend,
@@ -228,9 +231,11 @@ std::function<int()> addDiffCommand(CLI::App& app) {
     CLI::Option* maxRelmse =
         cmd->add_option("--max-relmse", args->maxRelmse,
                         "Exit with status 1 if relMSE exceeds this (or is NaN)")
+        ->check(finiteNumber())
             ->check(CLI::NonNegativeNumber);
     CLI::Option* maxRmse = cmd->add_option("--max-rmse", args->maxRmse,
                                            "Exit with status 1 if RMSE exceeds this (or is NaN)")
+        ->check(finiteNumber())
                                ->check(CLI::NonNegativeNumber);
     cmd->footer("Metrics (over pixels and R, G, B of the compared region; b = reference): "
                 "rmse = sqrt(mean (a-b)^2); relmse = mean (a-b)^2 / (b^2 + 0.01); "

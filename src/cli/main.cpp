@@ -21,8 +21,10 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         int status = app.exit(e);
-        // diff's status 1 means "a limit was exceeded", so its usage errors are 2, not CLI11's.
-        return status != 0 && app.got_subcommand("diff") ? 2 : status;
+        // --help and --version are 0. Usage errors are 1, as --help says, not CLI11's own codes
+        // (105, 106, ...); diff's status 1 means "a limit was exceeded", so its usage errors are 2.
+        if (status == 0) return 0;
+        return app.got_subcommand("diff") ? 2 : 1;
     }
     // Every error that escapes a command ends here as one clear line and a non-zero status.
     try {

@@ -233,7 +233,8 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "Embree traversal: 1 = single rays (rtcIntersect1), 4/8/16 = packets "
                     "(default 16). Every width gives the same image")
         ->check(CLI::IsMember({1, 4, 8, 16}));
-    cmd->add_option("--exposure", args->exposure, "Exposure in stops for PNG output (default 0)");
+    cmd->add_option("--exposure", args->exposure, "Exposure in stops for PNG output (default 0)")
+        ->check(finiteNumber());
     cmd->add_option("--tonemap", args->tonemap, "PNG tone map: clamp (default), reinhard, aces")
         ->check(CLI::IsMember({"clamp", "reinhard", "aces"}));
     cmd->add_option("--photons", args->photons,
@@ -249,6 +250,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--ic-accuracy", args->icAccuracy,
                     "gi: Ward's accuracy a of the irradiance cache; smaller = more records "
                     "(default 0.25)")
+        ->check(finiteNumber())
         ->check(CLI::Range(0.001, 10.0));
     cmd->add_flag("--no-irradiance-cache", args->noCache,
                   "gi: final gather at every diffuse hit instead of interpolating cached records");
@@ -287,6 +289,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "Stop after the first pass that ends past SECONDS (counted like the error "
                     "log's, gi's pre-passes included); passes are then 1 spp and --spp is the "
                     "upper bound (give a large one). The log reports the spp done")
+        ->check(finiteNumber())
         ->check(CLI::PositiveNumber);
     cmd->add_flag("--quiet,-q", args->quiet, "No progress and no render log on stderr");
     cmd->add_flag("--stats", args->stats, "Print per-stage statistics on stderr at the end");
@@ -295,6 +298,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                   "Rewrite the output image while rendering (atomically, between passes)");
     cmd->add_option("--progressive-interval", args->progressiveSeconds,
                     "Seconds between progressive writes (default 5)")
+        ->check(finiteNumber())
         ->check(CLI::PositiveNumber);
     cmd->footer("Exit status: 0 done, 1 bad input or I/O error, 130 interrupted by Ctrl-C, 143 by "
                 "SIGTERM, 129 by SIGHUP (each writes the partial image; a second signal exits at "

@@ -416,3 +416,35 @@ TEST_CASE("A failed final write is a clear error and leaves nothing behind",
         CHECK(fileNames(dir.path) == std::vector<std::string>{"scene.json"});
     }
 }
+
+// CLI11 reads "nan" and "inf" as numbers and its range checks let NaN through; a NaN exposure
+// or time limit rendered silently. Usage errors exit 1, as --help says (diff: 2), not CLI11's
+// own 105, 106, 109.
+TEST_CASE("Non-finite numbers and usage errors exit with the documented status", "[cli]") {
+    TempDir dir;
+    std::string scene = std::string(RAYPROC_SOURCE_DIR) + "/scenes/cornell-box.json";
+    std::vector<std::string> render = {"render", scene, "--mode", "gi", "--width", "8",
+                                       "--height", "8", "--spp", "1", "--quiet",
+                                       "-o", dir.file("out.pfm")};
+    const std::vector<std::vector<std::string>> nonFinite = {
+        {"--exposure", "nan"}, {"--ic-accuracy", "nan"}, {"--time-limit", "nan"},
+        {"--exposure", "inf"}, {"--progressive-interval", "-nan"}};
+    for (const auto& extra : nonFinite) {
+        auto args = render;
+        args.insert(args.end(), extra.begin(), extra.end());
+        RunResult r = runRayproc(args, dir);
+        INFO(extra[0] << " " << extra[1] << "\nstderr: " << r.err);
+        CHECK(r.status == 1);
+        CHECK(contains(r.err, extra[0] + ": must be a finite number"));
+        CHECK_FALSE(std::filesystem::exists(dir.file("out.pfm")));
+    }
+    RunResult unknown = runRayproc({"render", scene, "--no-such-option"}, dir);
+    CHECK(unknown.status == 1);
+    RunResult missing = runRayproc({"render"}, dir);
+    CHECK(missing.status == 1);
+    RunResult bench = runRayproc({"bench", "--time-cap", "nan"}, dir);
+    CHECK(bench.status == 1);
+    RunResult diff = runRayproc({"diff", scene, scene, "--max-rmse", "nan"}, dir);
+    CHECK(diff.status == 2);
+    CHECK(contains(diff.err, "--max-rmse: must be a finite number"));
+}
