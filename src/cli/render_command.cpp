@@ -2,6 +2,7 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "engine/cancel.h"
+#include "engine/film.h"
 #include "engine/intersect.h"
 #include "image/image.h"
 #include "modes/modes.h"
@@ -179,6 +180,16 @@ int runRender(const RenderArgs& a) {
     if (result.timeLimitReached && !a.quiet)
         std::fprintf(stderr, "rayproc: time limit of %g s reached after %d spp (%.2f s)\n",
                      a.timeLimit, result.samplesDone, result.stats.wallSeconds);
+    // Radiance the film could not hold is said, not silently changed.
+    if (result.stats.totals.clampedSamples > 0)
+        std::fprintf(stderr,
+                     "rayproc: warning: %llu contributions beyond the film's range (|radiance| > "
+                     "%.3g) were clamped to it; the image is darker than the scene there\n",
+                     (unsigned long long)result.stats.totals.clampedSamples, Film::kFixedLimit);
+    if (result.stats.totals.invalidSamples > 0)
+        std::fprintf(stderr,
+                     "rayproc: warning: %llu NaN or infinite contributions were discarded\n",
+                     (unsigned long long)result.stats.totals.invalidSamples);
     writeImage(output, result.image, tm);
     if (a.stats) std::fputs(result.stats.toTable().c_str(), stderr);
     if (!a.statsJson.empty()) writeFileAtomically(a.statsJson, result.stats.toJson() + "\n");

@@ -5,7 +5,8 @@
 namespace rayproc {
 
 Film::Film(int width, int height)
-    : m_width(width), m_height(height), m_pass(std::size_t(width) * height * 3),
+    : m_width(width), m_height(height), m_passLow(std::size_t(width) * height * 3),
+      m_passHigh(std::size_t(width) * height * 3),
       m_passSamples(std::size_t(width) * height), m_sum(std::size_t(width) * height * 3, 0.0),
       m_samples(std::size_t(width) * height, 0) {}
 
@@ -17,12 +18,19 @@ void Film::add(std::uint32_t pixel, const Vec3& radiance, ThreadStats& stats) {
     for (int c = 0; c < 3; ++c) {
         double v = double(radiance[c]);
         if (v == 0.0) continue;
-        if (std::abs(v) >= kFixedLimit) {
+        if (std::abs(v) > kFixedLimit) {
             ++stats.clampedSamples;
-            v = std::copysign(std::nextafter(kFixedLimit, 0.0), v); // 2^63 overflows int64
+            v = std::copysign(kFixedLimit, v);
         }
-        auto fixed = std::int64_t(std::llround(v * kFixedScale));
-        m_pass[std::size_t(pixel) * 3 + c].fetch_add(fixed, std::memory_order_relaxed);
+        // |v| * 2^32 <= 2^96 fits a signed 128-bit integer; beyond 2^53 the double is already
+        // an integer, below it rounding to nearest is the fixed-point quantisation.
+        auto fixed = static_cast<__int128>(std::nearbyint(v * kFixedScale));
+        auto low = static_cast<std::uint64_t>(fixed);
+        auto high = static_cast<std::int64_t>(fixed >> 64);
+        std::size_t i = std::size_t(pixel) * 3 + c;
+        std::uint64_t before = m_passLow[i].fetch_add(low, std::memory_order_relaxed);
+        if (before + low < before) ++high; // the low word wrapped: carry into the high word
+        if (high != 0) m_passHigh[i].fetch_add(high, std::memory_order_relaxed);
     }
 }
 
@@ -31,7 +39,9 @@ void Film::commitPass() {
     for (std::size_t p = 0; p < n; ++p) {
         m_samples[p] += m_passSamples[p].exchange(0, std::memory_order_relaxed);
         for (int c = 0; c < 3; ++c) {
-            std::int64_t v = m_pass[p * 3 + c].exchange(0, std::memory_order_relaxed);
+            std::uint64_t low = m_passLow[p * 3 + c].exchange(0, std::memory_order_relaxed);
+            std::int64_t high = m_passHigh[p * 3 + c].exchange(0, std::memory_order_relaxed);
+            __int128 v = (static_cast<__int128>(high) << 64) | static_cast<__int128>(low);
             m_sum[p * 3 + c] += double(v) / kFixedScale;
         }
     }

@@ -1,7 +1,9 @@
 // Film: per-pixel accumulation that is deterministic whatever the thread count. Contributions
-// of a pass are summed in 64-bit fixed point (integer addition is associative, so the order in
+// of a pass are summed in 128-bit fixed point (integer addition is associative, so the order in
 // which threads add does not change a bit); at the end of each pass the sums are folded into
-// double precision in pixel order.
+// double precision in pixel order. The 128-bit sum is two 64-bit atomics: a low word that
+// wraps and a high word that receives the low word's carries, so a pixel's sum cannot wrap
+// for any count of contributions a pass can make.
 #pragma once
 
 #include "core/math.h"
@@ -16,9 +18,11 @@ namespace rayproc {
 
 class Film {
 public:
-    // 2^32 units per radiance unit: resolution 2.3e-10, range +-2^31 per pixel and pass.
+    // 2^32 units per radiance unit: resolution 2.3e-10. One contribution is clamped to
+    // +-2^64 radiance (1.8e19; the sun's luminance is 1.6e9) and counted; a pixel's pass sum
+    // holds 2^31 such contributions before the 128-bit sum could wrap.
     static constexpr double kFixedScale = 4294967296.0;
-    static constexpr double kFixedLimit = 2147483648.0;
+    static constexpr double kFixedLimit = 18446744073709551616.0;
 
     Film(int width, int height);
     int width() const { return m_width; }
@@ -40,7 +44,8 @@ public:
 
 private:
     int m_width, m_height;
-    std::vector<std::atomic<std::int64_t>> m_pass;        // 3 per pixel, fixed point
+    std::vector<std::atomic<std::uint64_t>> m_passLow;    // 3 per pixel, fixed point, low word
+    std::vector<std::atomic<std::int64_t>> m_passHigh;    // 3 per pixel, high word and carries
     std::vector<std::atomic<std::uint32_t>> m_passSamples; // per pixel
     std::vector<double> m_sum;                             // 3 per pixel
     std::vector<std::uint64_t> m_samples;                  // per pixel

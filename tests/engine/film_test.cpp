@@ -227,3 +227,51 @@ TEST_CASE("Film clamps contributions beyond its fixed-point range and counts the
     CHECK(img.at(1, 0)[2] == 1.0f);
     CHECK(img.at(2, 0)[0] == 0.5f * limit);
 }
+
+TEST_CASE("Film sums of bright contributions do not wrap, whatever their order", "[engine]") {
+    // The sun's luminance, 1.6e9, seen by 64 samples of one pass: 1e11 in all, far beyond the
+    // 2^31 radiance a 64-bit fixed-point sum holds at 2^32 units per radiance unit.
+    const float sun = 1.6e9f;
+    Film film(2, 1);
+    ThreadStats stats;
+    for (int i = 0; i < 64; ++i) {
+        film.addSample(0);
+        film.add(0, Vec3(sun, 0.25f * sun, 1e-3f), stats);
+    }
+    // Pixel 1 mixes signs around the low word's wrap: the carries must cancel exactly.
+    std::vector<float> values;
+    for (int i = 0; i < 40; ++i) values.push_back(i % 2 ? -3.0e9f : 5.0e9f);
+    for (float v : values) {
+        film.addSample(1);
+        film.add(1, Vec3(v, -v, 0.5f), stats);
+    }
+    film.commitPass();
+    CHECK(stats.clampedSamples == 0);
+    Image img = film.resolve();
+    CHECK(img.at(0, 0)[0] == Approx(double(sun)).epsilon(1e-9));
+    CHECK(img.at(0, 0)[1] == Approx(0.25 * double(sun)).epsilon(1e-9));
+    CHECK(img.at(0, 0)[2] == Approx(1e-3).epsilon(1e-6));
+    CHECK(img.at(1, 0)[0] == Approx(1.0e9).epsilon(1e-9)); // (20 * 5e9 - 20 * 3e9) / 40
+    CHECK(img.at(1, 0)[1] == Approx(-1.0e9).epsilon(1e-9));
+    CHECK(img.at(1, 0)[2] == 0.5f);
+
+    // The same contributions in another order and from two threads give the same bits.
+    Film other(2, 1);
+    tbb::task_arena arena(2);
+    tbb::enumerable_thread_specific<ThreadStats> local;
+    arena.execute([&] {
+        tbb::parallel_for(0, 104, [&](int k) {
+            int i = 103 - k;
+            if (i < 64) {
+                other.addSample(0);
+                other.add(0, Vec3(sun, 0.25f * sun, 1e-3f), local.local());
+            } else {
+                float v = values[std::size_t(i - 64)];
+                other.addSample(1);
+                other.add(1, Vec3(v, -v, 0.5f), local.local());
+            }
+        });
+    });
+    other.commitPass();
+    CHECK(sameBits(img, other.resolve()));
+}
