@@ -181,6 +181,10 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
     return e;
 }
 
+std::uint64_t PhotonEmitter::photonsEmitted() const {
+    return std::min<std::uint64_t>(m_next.load() * kBatchSize, m_count);
+}
+
 bool PhotonEmitter::emit(StageContext& ctx) {
     if (m_cdf.empty()) return false;
     std::uint64_t unit = m_next.fetch_add(1);

@@ -26,7 +26,8 @@ public:
                   std::uint64_t seed, std::uint64_t tag, const Bounds3& focus = {},
                   float focusShare = 0.0f);
     bool emit(StageContext& ctx) override;
-    std::uint64_t unitsEmitted() const { return m_next.load(); }
+    // Photons handed to the processor so far (for progress).
+    std::uint64_t photonsEmitted() const;
     Vec3 totalPower() const { return m_totalPower; }
     bool empty() const { return m_cdf.empty(); }
 

@@ -55,15 +55,23 @@ Vec3 PhotonMap::irradiance(const Vec3& p, const Vec3& n, int k, float maxDistanc
     return sum / (kConeNorm * kPi * radius2);
 }
 
-void PhotonMap::precomputeIrradiance(int k, float maxDistance, int stride) {
+bool PhotonMap::precomputeIrradiance(int k, float maxDistance, int stride,
+                                     std::atomic<std::size_t>* done,
+                                     const std::function<bool()>& stop) {
     RAYPROC_CHECK(stride >= 1);
     std::size_t step = std::size_t(stride);
-    std::size_t count = (m_photons.size() + step - 1) / step;
+    std::size_t count = precomputeCount(stride);
+    std::atomic<bool> stopped{false};
 
     // The estimates, in subset order j (photon j * stride); each slot is written by one task.
     std::vector<PrecomputedPhoton> subset(count);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 256),
                       [&](const tbb::blocked_range<std::size_t>& r) {
+                          if (stopped.load(std::memory_order_relaxed)) return;
+                          if (stop && stop()) {
+                              stopped = true;
+                              return;
+                          }
                           for (std::size_t j = r.begin(); j != r.end(); ++j) {
                               const StoredPhoton& s = m_photons[j * step];
                               Vec3 p(s.pos[0], s.pos[1], s.pos[2]);
@@ -73,7 +81,9 @@ void PhotonMap::precomputeIrradiance(int k, float maxDistance, int stride) {
                               out.irradiance = encodeRgbe(e);
                               out.normalAxis = std::uint16_t(s.normalAxis & 0x3fffu);
                           }
+                          if (done) done->fetch_add(r.size(), std::memory_order_relaxed);
                       });
+    if (stopped) return false;
 
     // Their own kd-tree.
     std::vector<kdtree::BuildKey> keys(count);
@@ -90,6 +100,7 @@ void PhotonMap::precomputeIrradiance(int k, float maxDistance, int stride) {
         m_precomputed[i].normalAxis |= std::uint16_t(unsigned(axis[i]) << 14);
     }
     m_hasPrecomputed = true;
+    return true;
 }
 
 Vec3 PhotonMap::irradianceFast(const Vec3& p, const Vec3& n, int k, float maxDistance) const {

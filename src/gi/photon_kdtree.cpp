@@ -8,6 +8,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace rayproc::kdtree {
@@ -18,8 +19,20 @@ constexpr std::size_t kParallelGrain = 8192;
 // Ranges of more than twice this many points choose their split axis from a sample this large.
 constexpr std::size_t kBoundsSample = 256;
 
-void buildRange(BuildKey* keys, std::uint8_t* axis, std::size_t n) {
+// Polled once per subtree of at least kParallelGrain points; set once the build is abandoned.
+struct StopCheck {
+    const std::function<bool()>& stop;
+    std::atomic<bool> stopped{false};
+    bool operator()() {
+        if (stopped.load(std::memory_order_relaxed)) return true;
+        if (stop && stop()) stopped = true;
+        return stopped.load(std::memory_order_relaxed);
+    }
+};
+
+void buildRange(BuildKey* keys, std::uint8_t* axis, std::size_t n, StopCheck& stop) {
     if (n <= kLeafSize) return;
+    if (n >= kParallelGrain && stop()) return;
     // Split the axis along which the range's points spread most (the lowest on ties). The bounds
     // are measured, not inherited from the parent's cut: photons lie on surfaces, and a cut box
     // would keep splitting a wall across its thickness of zero. Large ranges measure a sample of
@@ -44,8 +57,8 @@ void buildRange(BuildKey* keys, std::uint8_t* axis, std::size_t n) {
     });
     axis[half] = std::uint8_t(a);
 
-    auto left = [&] { buildRange(keys, axis, half); };
-    auto right = [&] { buildRange(keys + half + 1, axis + half + 1, n - half - 1); };
+    auto left = [&] { buildRange(keys, axis, half, stop); };
+    auto right = [&] { buildRange(keys + half + 1, axis + half + 1, n - half - 1, stop); };
     if (n >= kParallelGrain) {
         tbb::parallel_invoke(left, right);
     } else {
@@ -56,13 +69,16 @@ void buildRange(BuildKey* keys, std::uint8_t* axis, std::size_t n) {
 
 } // namespace
 
-void build(std::vector<BuildKey>& keys, std::vector<std::uint8_t>& axis) {
+bool build(std::vector<BuildKey>& keys, std::vector<std::uint8_t>& axis,
+           const std::function<bool()>& stop) {
     RAYPROC_CHECK(keys.size() < (std::size_t(1) << 32));
     for (const BuildKey& k : keys) {
         RAYPROC_CHECK(std::isfinite(k.p[0]) && std::isfinite(k.p[1]) && std::isfinite(k.p[2]));
     }
     axis.assign(keys.size(), 0);
-    buildRange(keys.data(), axis.data(), keys.size());
+    StopCheck check{stop};
+    buildRange(keys.data(), axis.data(), keys.size(), check);
+    return !check.stopped.load();
 }
 
 } // namespace rayproc::kdtree

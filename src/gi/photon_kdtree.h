@@ -25,6 +25,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace rayproc::kdtree {
@@ -41,7 +42,10 @@ struct BuildKey {
 // Reorders keys into the tree and sets axis[i] to the split axis (0, 1, 2) of position i when
 // it is a node (0 in leaves). Afterwards keys[i].index says which input point sits at position
 // i. Parallel over subtrees, same result whatever the thread count. Positions must be finite.
-void build(std::vector<BuildKey>& keys, std::vector<std::uint8_t>& axis);
+// When `stop` (optional, polled once per large subtree) turns true the build is abandoned, the
+// tree is not valid and false is returned.
+bool build(std::vector<BuildKey>& keys, std::vector<std::uint8_t>& axis,
+           const std::function<bool()>& stop = {});
 
 // Squared distance, always evaluated as (dx dx + dy dy) + dz dz, so that callers comparing with
 // a brute-force search get bit-identical values.

@@ -13,10 +13,13 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 
 namespace rayproc {
 
-void PhotonMap::build(std::vector<PhotonRecord> photons) {
+bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<bool()>& stop) {
+    m_photons.clear();
+    m_photons.shrink_to_fit();
     m_precomputed.clear();
     m_precomputed.shrink_to_fit();
     m_hasPrecomputed = false;
@@ -29,12 +32,18 @@ void PhotonMap::build(std::vector<PhotonRecord> photons) {
         keys[i] = {{ph.position.x, ph.position.y, ph.position.z}, std::uint32_t(i)};
     }
     std::vector<std::uint8_t> axis;
-    kdtree::build(keys, axis);
+    if (!kdtree::build(keys, axis, stop)) return false;
 
     // Encode each photon into its node.
+    std::atomic<bool> stopped{false};
     std::vector<StoredPhoton> stored(photons.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, photons.size(), 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) {
+                          if (stopped.load(std::memory_order_relaxed)) return;
+                          if (stop && stop()) {
+                              stopped = true;
+                              return;
+                          }
                           // Neighbours in the tree are usually on the same surface: on a flat
                           // one the normal, and so its code, repeats.
                           Vec3 lastNormal(0);
@@ -54,7 +63,9 @@ void PhotonMap::build(std::vector<PhotonRecord> photons) {
                               s.normalAxis = std::uint16_t(lastCode | (unsigned(axis[i]) << 14));
                           }
                       });
+    if (stopped) return false;
     m_photons = std::move(stored);
+    return true;
 }
 
 std::size_t PhotonMap::memoryBytes() const {

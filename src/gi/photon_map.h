@@ -18,8 +18,10 @@
 #include "core/math.h"
 #include "gi/photon_encoding.h"
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace rayproc {
@@ -68,8 +70,9 @@ public:
     // Builds the kd-tree (parallel; deterministic: the same input, in the same order, gives the
     // same tree whatever the thread count). Discards precomputed irradiance.
     // Positions and powers must be finite (checked); negative power channels are stored as 0;
-    // direction and normal are normalised (a zero vector becomes +z).
-    void build(std::vector<PhotonRecord> photons);
+    // direction and normal are normalised (a zero vector becomes +z). When `stop` (optional)
+    // turns true during the build the map is left empty and false is returned.
+    bool build(std::vector<PhotonRecord> photons, const std::function<bool()>& stop = {});
     std::size_t size() const { return m_photons.size(); }
     // Heap bytes held: the stored photons and the precomputed subset.
     std::size_t memoryBytes() const;
@@ -98,8 +101,15 @@ public:
     Vec3 irradiance(const Vec3& p, const Vec3& n, int k, float maxDistance) const;
 
     // Precomputes irradiance(position, normal, k, maxDistance) at photons 0, stride, 2 stride...
-    // (storage order), in parallel; the result does not depend on the thread count.
-    void precomputeIrradiance(int k, float maxDistance, int stride);
+    // (storage order), in parallel; the result does not depend on the thread count. `done`
+    // (optional) counts the estimates made, for progress; when `stop` (optional) turns true the
+    // remaining work is skipped, nothing is precomputed and false is returned.
+    bool precomputeIrradiance(int k, float maxDistance, int stride,
+                              std::atomic<std::size_t>* done = nullptr,
+                              const std::function<bool()>& stop = {});
+    std::size_t precomputeCount(int stride) const {
+        return (m_photons.size() + std::size_t(stride) - 1) / std::size_t(stride);
+    }
     bool hasPrecomputedIrradiance() const { return m_hasPrecomputed; }
     std::size_t precomputedCount() const { return m_precomputed.size(); }
     // The precomputed irradiance of the nearest precomputed photon within maxDistance whose

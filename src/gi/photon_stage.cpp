@@ -4,6 +4,10 @@
 #include "engine/material_bsdf.h"
 #include "kernels/bsdf_sampling.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 
 namespace rayproc {
@@ -64,16 +68,26 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
     stats.stages[int(StageId::Photon)].raysOut += spawned;
 }
 
-std::vector<PhotonRecord> PhotonStage::takePhotons() {
+std::vector<PhotonRecord> PhotonStage::takePhotons(const std::function<bool()>& stop) {
+    std::size_t total = 0;
+    for (auto& v : m_stored) total += v.size();
     std::vector<std::pair<std::uint64_t, PhotonRecord>> all;
+    all.reserve(total);
     for (auto& v : m_stored) {
         all.insert(all.end(), v.begin(), v.end());
         v.clear();
+        v.shrink_to_fit();
     }
-    std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    std::vector<PhotonRecord> out;
-    out.reserve(all.size());
-    for (auto& p : all) out.push_back(p.second);
+    if (stop && stop()) return {};
+    // Keys (photon index, depth) are unique, so the parallel sort's order is the only order.
+    tbb::parallel_sort(all.begin(), all.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (stop && stop()) return {};
+    std::vector<PhotonRecord> out(all.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, all.size(), 65536),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = all[i].second;
+                      });
     return out;
 }
 

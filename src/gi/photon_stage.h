@@ -12,6 +12,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -23,7 +24,8 @@ public:
         : m_rc(rc), m_causticPass(causticPass), m_maxDepth(maxDepth) {}
     void retrace(RayBatch& batch, StageContext& ctx) override;
     // The stored photons, in a fixed order (photon index, then bounce) whatever the threads.
-    std::vector<PhotonRecord> takePhotons();
+    // The stored photons in (photon index, depth) order; nothing when `stop` turns true.
+    std::vector<PhotonRecord> takePhotons(const std::function<bool()>& stop = {});
 
 private:
     const RenderContext& m_rc;

@@ -9,12 +9,15 @@
 //  3. The render: direct light with soft shadows exactly as raytrace mode, specular reflection
 //     and refraction, caustics from the caustic map, indirect diffuse from the cache (or a
 //     final gather where no record is usable).
+// Every phase shows progress and stops at an interrupt (docs/architecture.md).
 #include "modes/modes.h"
 #include "modes/render_plan.h"
 
 #include "engine/camera_emitter.h"
+#include "engine/cancel.h"
 #include "engine/intersect.h"
 #include "engine/processor.h"
+#include "engine/progress.h"
 #include "engine/reflection_stage.h"
 #include "engine/refraction_stage.h"
 #include "engine/shadow_stage.h"
@@ -28,6 +31,7 @@
 #include "gi/photon_stage.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -52,7 +56,8 @@ const char* debugViewName(GiDebugView v) {
     return "?";
 }
 
-// Traces `count` photons through the processor and returns what the photon stage stored.
+// Traces `count` photons through the processor and returns what the photon stage stored;
+// nothing once an interrupt is requested (emission stops, photons in flight finish).
 std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& accel,
                                        const LightSet& lights, const GiSettings& s,
                                        const EngineSettings& engine, bool caustic,
@@ -69,8 +74,28 @@ std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& ac
     PhotonEmitter emitter(lights, scene.worldBounds(), count, engine.seed, caustic ? 2 : 1,
                           focus.active ? focus.emissionBounds() : Bounds3{},
                           focus.active ? kFocusPhotonShare : 0.0f);
-    processor.run(emitter, [] { return false; });
-    return stage.takePhotons();
+    Progress progress(
+        caustic ? "gi caustic photons" : "gi photons", engine.quiet,
+        [&] { return double(emitter.photonsEmitted()) / double(std::max<std::uint32_t>(count, 1)); },
+        [&] { return std::uint64_t(stats.merged().raysTraced); });
+    processor.run(emitter, [] { return interruptRequested(); });
+    progress.finish(!interruptRequested());
+    if (interruptRequested()) return {};
+    return stage.takePhotons([] { return interruptRequested(); });
+}
+
+// Christensen's precomputed irradiance at every fourth photon of the global map; skipped when
+// interrupted.
+void precomputePhotonIrradiance(PhotonMap& global, const GiSettings& s, float radius,
+                                const EngineSettings& engine) {
+    constexpr int kStride = 4;
+    std::atomic<std::size_t> done{0};
+    double total = double(std::max<std::size_t>(global.precomputeCount(kStride), 1));
+    Progress progress("gi precomputed irradiance", engine.quiet,
+                      [&] { return double(done.load()) / total; }, [] { return std::uint64_t(0); });
+    bool complete = global.precomputeIrradiance(s.globalK, radius, kStride, &done,
+                                                [] { return interruptRequested(); });
+    progress.finish(complete);
 }
 
 // Ward's cache, filled coarse to fine; returns the records inserted.
@@ -80,10 +105,33 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
     const Camera& full = scene.camera;
     IcRequests requests;
     std::size_t inserted = 0;
-    for (int scale : {16, 8, 4, 2, 1}) {
+    constexpr int kScales[] = {16, 8, 4, 2, 1};
+    auto levelCamera = [&](int scale) {
         Camera cam = full;
         cam.width = std::max(1, (full.width + scale - 1) / scale);
         cam.height = std::max(1, (full.height + scale - 1) / scale);
+        return cam;
+    };
+    // Progress: the levels weighted by their pixels (the full-resolution level is 3/4 of them).
+    double allPixels = 0;
+    for (int scale : kScales) allPixels += double(levelCamera(scale).width) * levelCamera(scale).height;
+    std::atomic<double> pixelsBefore{0};
+    std::atomic<const CameraEmitter*> current{nullptr};
+    std::atomic<double> currentPixels{0};
+    Progress progress(
+        "gi irradiance cache", engine.quiet,
+        [&] {
+            double f = pixelsBefore.load();
+            // The monitor thread reads the level's emitter only while it is published.
+            if (const CameraEmitter* c = current.load())
+                f += currentPixels.load() * double(c->unitsEmitted()) /
+                     double(std::max<std::uint64_t>(c->unitsPerPass(), 1));
+            return f / allPixels;
+        },
+        [&] { return std::uint64_t(stats.merged().raysTraced); });
+    for (int scale : kScales) {
+        if (interruptRequested()) break;
+        Camera cam = levelCamera(scale);
         std::size_t capacity = std::size_t(cam.width) * cam.height * 2;
         while (requests.slots.size() < capacity) requests.slots.push_back(std::make_unique<IcRequest>());
         for (auto& r : requests.slots) {
@@ -116,7 +164,13 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         processor.setStage(RayKind::Gather, &gather);
         CameraEmitter camera(rc, 1, &cam);
         camera.beginPass(0, 1);
-        processor.run(camera, [] { return false; });
+        currentPixels = double(cam.width) * cam.height;
+        current = &camera;
+        processor.run(camera, [] { return interruptRequested(); });
+        current = nullptr;
+        pixelsBefore = pixelsBefore.load() + double(cam.width) * cam.height;
+        // A level cut short would leave holes in the cache; the render is cancelled anyway.
+        if (interruptRequested()) break;
 
         // New records in a fixed order, then into the cache.
         std::size_t n = std::min<std::size_t>(requests.used.load(), requests.slots.size());
@@ -157,6 +211,7 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         inserted += records.size();
     }
     gi.requests = nullptr;
+    progress.finish(!interruptRequested());
     return inserted;
 }
 
@@ -238,16 +293,18 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     Stats photonStats;
     auto t0 = Clock::now();
     PhotonMap global, caustic;
-    if (s.photons > 0 && plan.globalMap)
+    if (s.photons > 0 && plan.globalMap && !interruptRequested())
         global.build(tracePhotons(scene, accel, lights, s, engine, false, std::uint32_t(s.photons),
-                                  focus, photonStats));
-    if (s.caustics && s.causticPhotons > 0 && plan.causticMap)
+                                  focus, photonStats),
+                     [] { return interruptRequested(); });
+    if (s.caustics && s.causticPhotons > 0 && plan.causticMap && !interruptRequested())
         caustic.build(tracePhotons(scene, accel, lights, s, engine, true,
-                                   std::uint32_t(s.causticPhotons), focus, photonStats));
+                                   std::uint32_t(s.causticPhotons), focus, photonStats),
+                      [] { return interruptRequested(); });
     double photonSeconds = secondsSince(t0);
     auto t1 = Clock::now();
-    if (s.precomputedIrradiance && global.size() > 0)
-        global.precomputeIrradiance(s.globalK, gi.globalRadius, 4);
+    if (s.precomputedIrradiance && global.size() > 0 && !interruptRequested())
+        precomputePhotonIrradiance(global, s, gi.globalRadius, engine);
     double precomputeSeconds = secondsSince(t1);
     gi.global = &global;
     gi.caustic = &caustic;
@@ -264,7 +321,8 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     IrradianceCache cache(scene.worldBounds(), cs);
     Stats cacheStats;
     auto t2 = Clock::now();
-    if (s.irradianceCache && plan.globalMap) fillIrradianceCache(scene, accel, lights, gi, cache, engine, cacheStats);
+    if (s.irradianceCache && plan.globalMap && !interruptRequested())
+        fillIrradianceCache(scene, accel, lights, gi, cache, engine, cacheStats);
     double cacheSeconds = secondsSince(t2);
     gi.cache = s.irradianceCache ? &cache : nullptr;
     gi.requests = nullptr;

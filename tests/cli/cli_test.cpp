@@ -264,6 +264,35 @@ TEST_CASE("SIGINT, SIGTERM and SIGHUP stop a render, write the partial image, ex
     CHECK(files == 1);
 }
 
+TEST_CASE("Ctrl-C during gi's photon pass stops promptly and says where it stopped", "[cli]") {
+    TempDir dir;
+    std::string out = dir.file("partial.pfm");
+    // 20M photons take tens of seconds; the interrupt arrives while they are traced.
+    Child child({"render", scenePath("cornell-box"), "--mode", "gi", "--photons", "20000000",
+                 "--spp", "1", "--width", "32", "--height", "32", "--threads", "2", "-o", out},
+                dir.file("stdout.txt"), dir.file("stderr.txt"));
+    REQUIRE(child.started());
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    child.signal(SIGINT);
+    auto signalled = std::chrono::steady_clock::now();
+    bool finished = child.wait(60.0);
+    double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+    INFO(child.err());
+    REQUIRE(finished);
+    CHECK(seconds < 5.0); // before, the photon pass ran to its end (about 25 s here)
+    CHECK(child.status() == 128 + SIGINT);
+    CHECK(contains(child.err(), "interrupted"));
+    // The photon pass reported its progress, and where it stopped.
+    CHECK(progressLines(child.err(), "gi photons") >= 1);
+    for (const std::string& l : lines(child.err()))
+        if (std::regex_match(l, std::regex("^gi photons: .*"))) CHECK_FALSE(contains(l, "100.0%"));
+    REQUIRE(std::filesystem::exists(out));
+    Image img = readImage(out);
+    CHECK(img.width == 32);
+    CHECK(allFinite(img));
+}
+
 TEST_CASE("rayproc info --json gives the exact figures of the Cornell box", "[cli]") {
     TempDir dir;
     RunResult r = runRayproc({"info", scenePath("cornell-box"), "--json"}, dir);

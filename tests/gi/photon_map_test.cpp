@@ -10,6 +10,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -437,4 +438,33 @@ TEST_CASE("Concurrent queries give the serial results", "[gi]") {
         REQUIRE(parallel[i].irradiance == serial[i].irradiance);
         REQUIRE(parallel[i].fast == serial[i].fast);
     }
+}
+
+TEST_CASE("A stop request abandons building and precomputing and leaves no half-made map", "[gi]") {
+    LitPlane plane;
+    std::vector<PhotonRecord> photons = plane.photons(100000, 12);
+    // The request arrives after some of the work: the build checks again and gives up.
+    std::atomic<int> polls{0};
+    auto stopLater = [&] { return ++polls > 3; };
+    PhotonMap map;
+    CHECK_FALSE(map.build(photons, stopLater));
+    CHECK(polls.load() > 3);
+    CHECK(map.size() == 0);
+    CHECK(isBlack(map.irradiance(plane.at(5, 5), plane.n, 50, 1.0f)));
+
+    // Without a request, the same photons build a whole map; a stop during the precomputation
+    // leaves the map as it was, without precomputed values.
+    REQUIRE(map.build(photons, [] { return false; }));
+    REQUIRE(map.size() == photons.size());
+    std::atomic<std::size_t> done{0};
+    polls = 0;
+    CHECK_FALSE(map.precomputeIrradiance(50, 1.0f, 4, &done, stopLater));
+    CHECK_FALSE(map.hasPrecomputedIrradiance());
+    CHECK(done.load() < map.precomputeCount(4));
+    CHECK(map.size() == photons.size());
+    // And a complete precomputation counts every estimate it made.
+    done = 0;
+    CHECK(map.precomputeIrradiance(50, 1.0f, 4, &done, [] { return false; }));
+    CHECK(map.hasPrecomputedIrradiance());
+    CHECK(done.load() == map.precomputeCount(4));
 }
