@@ -97,3 +97,46 @@ TEST_CASE("The torus of materials.json keeps normals and uvs", "[scene][obj]") {
     CHECK(m.uvs.size() == m.positions.size());
     CHECK(m.positions.size() == 25 * 13); // the seams split
 }
+
+TEST_CASE("OBJ statements are read strictly: bad numbers, missing values and wild indices",
+          "[scene][obj]") {
+    struct Case {
+        const char* body;
+        const char* message; // part of the error, with the line number
+    };
+    const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    const Case cases[] = {
+        {"v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", ":1: 'nan' is not a finite"},
+        {"v 0 0 0\nv abc 0 0\nv 0 1 0\nf 1 2 3\n", ":2: 'abc' is not a number"},
+        {"v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n", ":2: a vertex (v) needs 3 coordinates"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 1e39\nf 1 2 3\n", ":3: '1e39' is not a finite"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0x\nf 1 2 3\n", ":3: '0x' is not a number"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0\nf 1 2 3\n", ":4: a normal (vn) needs 3"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt inf 0\nf 1 2 3\n", ":4: 'inf' is not a finite"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4294967299\n", ":4: vertex index 4294967299 is out"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n", ":4: vertex index"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", ":4: vertex index 0 is out of range"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3.5\n", ":4: '3.5' is not an integer vertex"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", ":4: vertex index -4 reaches before"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", ":4: a face (f) needs at least 3 corners"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 3\n", ":4: 'x' is not an integer texture"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1/ 2 3\n", ":4: the face corner '1//1/'"},
+    };
+    int n = 0;
+    for (const Case& c : cases) {
+        INFO(c.body);
+        std::string path = writeTestFile("meshes/strict" + std::to_string(n++) + ".obj", c.body);
+        CHECK_THROWS_WITH(loadObjMesh(path), Catch::Matchers::Contains(path) &&
+                                                 Catch::Matchers::Contains(c.message));
+    }
+    // What the strict reading still accepts: w, vertex colours, 1- and 3-value uvs, tabs, CRLF,
+    // comments, relative and forward indices, tiny numbers that underflow.
+    std::string fine = writeTestFile("meshes/lenient.obj",
+                                     "# comment\r\nv 0 0 0 1\r\nv\t1 0 0 0.5 0.5 0.5\r\n"
+                                     "v 0 1 1e-50\r\nvt 0.5\nvt 0 1 0\nf 1/1 2/2 -1/1\n"
+                                     "f 1 2 4\nv 1 1 0\n");
+    TriangleMesh m = loadObjMesh(fine);
+    CHECK(m.triangleCount() == 2);
+    CHECK(m.positions.size() == 4);
+    CHECK(m.positions[2].z == 0.0f);
+}
