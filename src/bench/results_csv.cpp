@@ -88,17 +88,21 @@ std::string settingsWithout(const std::string& settings, const std::string& key)
     return out;
 }
 
-ResultsCsvWriter::ResultsCsvWriter(const std::string& path, bool truncate) : m_path(path) {
+ResultsCsvWriter::ResultsCsvWriter(const std::string& path, bool truncate)
+    : m_path(path), m_truncate(truncate) {}
+
+void ResultsCsvWriter::open() {
     std::error_code ec;
-    bool fresh = truncate || !std::filesystem::exists(path, ec) ||
-                 std::filesystem::file_size(path, ec) == 0;
-    m_out.open(path, truncate ? std::ios::trunc : std::ios::app);
-    if (!m_out) throw InputError(path + ": cannot open for writing");
+    bool fresh = m_truncate || !std::filesystem::exists(m_path, ec) ||
+                 std::filesystem::file_size(m_path, ec) == 0;
+    m_out.open(m_path, m_truncate ? std::ios::trunc : std::ios::app);
+    if (!m_out) throw InputError(m_path + ": cannot open for writing");
     if (fresh) m_out << kResultsCsvHeader << "\n" << std::flush;
-    if (!m_out) throw InputError(path + ": cannot write");
+    if (!m_out) throw InputError(m_path + ": cannot write");
 }
 
 void ResultsCsvWriter::append(const BenchRow& row) {
+    if (!m_out.is_open()) open();
     m_out << formatCsvRow(row) << "\n" << std::flush;
     if (!m_out) throw InputError(m_path + ": cannot write");
 }

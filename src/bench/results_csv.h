@@ -43,13 +43,17 @@ std::string settingsWithout(const std::string& settings, const std::string& key)
 
 // Appends rows to a results file; writes the header first if the file is new or empty. Every
 // row is flushed at once. Throws InputError if the file cannot be opened or written.
+// The file is opened (and, with truncate, emptied) at the first row, not before: a run that
+// fails before it has a result leaves an earlier results.csv as it was.
 class ResultsCsvWriter {
 public:
     explicit ResultsCsvWriter(const std::string& path, bool truncate);
     void append(const BenchRow& row);
 
 private:
+    void open();
     std::string m_path;
+    bool m_truncate;
     std::ofstream m_out;
 };
 

@@ -6,6 +6,7 @@
 #include "bench/machine_info.h"
 #include "bench/mode_curves.h"
 #include "bench/results_csv.h"
+#include "cli/output_paths.h"
 #include "bench/runner.h"
 #include "bench/scene_plot.h"
 #include "bench/suite.h"
@@ -112,6 +113,16 @@ int runBench(BenchArgs& a) {
     if (a.reportOnly && !fs::is_regular_file(resultsPath))
         throw InputError(resultsPath + ": no results to report (--report-only reads the "
                                        "results.csv of an earlier run)");
+    for (const std::string& peer : o.peerCsvs) readResultsCsv(peer); // fail before rendering
+    // No output of the run may be one of its inputs.
+    std::vector<NamedPath> files;
+    for (const std::string& peer : o.peerCsvs) files.push_back({"--peer-csv", peer, false});
+    if (!o.referenceImage.empty()) files.push_back({"--reference", o.referenceImage, false});
+    for (const std::string& scene : o.sceneFiles) files.push_back({"--scene", scene, false});
+    for (const char* name : {"results.csv", "summary.md", "ablation.csv", "ablation.md"})
+        files.push_back({"the output " + std::string(name), (fs::path(o.outDir) / name).string(),
+                         !a.reportOnly || std::string(name) == "summary.md"});
+    checkDistinctFiles(files);
     std::error_code ec;
     fs::create_directories(o.outDir, ec);
     if (ec || !fs::is_directory(o.outDir))
@@ -119,7 +130,6 @@ int runBench(BenchArgs& a) {
                          (ec ? " (" + ec.message() + ")" : std::string()));
     if (::access(o.outDir.c_str(), W_OK) != 0)
         throw InputError(o.outDir + ": the output directory is not writable");
-    for (const std::string& peer : o.peerCsvs) readResultsCsv(peer); // fail before rendering
 
     auto log = [&](const std::string& line) {
         if (!o.quiet) std::fprintf(stderr, "rayproc bench: %s\n", line.c_str());

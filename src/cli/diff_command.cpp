@@ -3,6 +3,8 @@
 // can check a render against a reference. Exit status: 0 within limits, 1 a limit exceeded,
 // 2 an error (every error, its usage errors included; see main.cpp).
 #include "cli/commands.h"
+#include "cli/output_paths.h"
+#include "core/error.h"
 #include "image/heatmap.h"
 #include "image/image.h"
 #include "image/metrics.h"
@@ -47,15 +49,6 @@ struct Exceeded {
 };
 
 // Fails before reading or comparing anything: an output that cannot be written is known early.
-void checkOutputPath(const std::string& path) {
-    if (path.empty()) return;
-    imageFormatFromPath(path); // throws for an unknown extension
-    std::filesystem::path dir = std::filesystem::path(path).parent_path();
-    if (dir.empty()) dir = ".";
-    if (!std::filesystem::is_directory(dir))
-        throw ImageIoError(path + ": the directory " + dir.string() + " does not exist");
-}
-
 std::optional<CropRect> cropOf(const DiffArgs& a) {
     if (a.crop.empty()) return std::nullopt;
     return CropRect{a.crop[0], a.crop[1], a.crop[2], a.crop[3]};
@@ -135,8 +128,14 @@ void printJson(const DiffArgs& a, const Image& img, const ImageMetrics& m, int f
 }
 
 int runDiff(const DiffArgs& a) {
-    checkOutputPath(a.output);
-    checkOutputPath(a.heatmap);
+    if (!a.output.empty()) imageFormatFromPath(a.output); // throws for an unknown extension
+    if (!a.heatmap.empty()) imageFormatFromPath(a.heatmap);
+    checkDistinctFiles({{"test", a.test, false},
+                        {"reference", a.reference, false},
+                        {"-o", a.output, true},
+                        {"--heatmap", a.heatmap, true}});
+    checkOutputFile("-o", a.output);
+    checkOutputFile("--heatmap", a.heatmap);
     HeatmapSettings hs = heatmapSettings(a);
 
     Image test = readImage(a.test);
@@ -255,6 +254,8 @@ std::function<int()> addDiffCommand(CLI::App& app) {
         try {
             return runDiff(*args);
         } catch (const ImageIoError& e) {
+            printError(e.what());
+        } catch (const InputError& e) {
             printError(e.what());
         } catch (const std::bad_alloc&) {
             printError("out of memory");

@@ -1,5 +1,6 @@
 #include "accel/embree_scene.h"
 #include "cli/commands.h"
+#include "cli/output_paths.h"
 #include "core/error.h"
 #include "engine/cancel.h"
 #include "engine/film.h"
@@ -50,15 +51,25 @@ std::string joinModes() {
     return s;
 }
 
-// Fails before rendering, not after: an output that cannot be written is known up front.
-void checkOutputDirectory(const std::string& path) {
-    std::filesystem::path dir = std::filesystem::path(path).parent_path();
-    if (dir.empty()) dir = ".";
-    if (!std::filesystem::is_directory(dir))
-        throw ImageIoError(path + ": the directory " + dir.string() + " does not exist");
-}
-
 int runRender(const RenderArgs& a) {
+    // Every file the render will write is checked before the scene loads: an output that
+    // cannot be written, or that would overwrite an input, fails now, not after the render.
+    std::string output = a.output;
+    if (output.empty()) output = std::filesystem::path(a.scene).stem().string() + ".png";
+    imageFormatFromPath(output); // throws for an unknown extension
+    if (!a.reference.empty() && a.errorLog.empty())
+        throw InputError("--reference needs --error-log FILE");
+    if (a.reference.empty() && !a.errorLog.empty())
+        throw InputError("--error-log needs --reference IMAGE");
+    checkDistinctFiles({{"scene", a.scene, false},
+                        {"--reference", a.reference, false},
+                        {a.output.empty() ? "the output (default)" : "-o", output, true},
+                        {"--stats-json", a.statsJson, true},
+                        {"--error-log", a.errorLog, true}});
+    checkOutputFile(a.output.empty() ? "the output (default)" : "-o", output);
+    checkOutputFile("--stats-json", a.statsJson);
+    checkOutputFile("--error-log", a.errorLog);
+
     std::unique_ptr<Scene> scene = loadScene(a.scene);
     if (a.width > 0) scene->camera.width = a.width;
     if (a.height > 0) scene->camera.height = a.height;
@@ -77,11 +88,6 @@ int runRender(const RenderArgs& a) {
     for (auto& m : knownModes()) known |= m == mode;
     if (!known) throw InputError("unknown mode '" + mode + "'; known modes: " + joinModes());
 
-    std::string output = a.output;
-    if (output.empty()) output = std::filesystem::path(a.scene).stem().string() + ".png";
-    imageFormatFromPath(output); // throws for an unknown extension
-    checkOutputDirectory(output);
-    if (!a.statsJson.empty()) checkOutputDirectory(a.statsJson);
 
     EngineSettings engine;
     engine.threads = a.threads;
@@ -120,12 +126,8 @@ int runRender(const RenderArgs& a) {
                              "x" + std::to_string(reference.height) + " but the render is " +
                              std::to_string(scene->camera.width) + "x" +
                              std::to_string(scene->camera.height));
-        if (a.errorLog.empty()) throw InputError("--reference needs --error-log FILE");
-        checkOutputDirectory(a.errorLog);
         engine.reference = &reference;
         engine.errorLogPath = a.errorLog;
-    } else if (!a.errorLog.empty()) {
-        throw InputError("--error-log needs --reference IMAGE");
     }
 
     EmbreeScene accel(*scene);
@@ -193,6 +195,11 @@ int runRender(const RenderArgs& a) {
     writeImage(output, result.image, tm);
     if (a.stats) std::fputs(result.stats.toTable().c_str(), stderr);
     if (!a.statsJson.empty()) writeFileAtomically(a.statsJson, result.stats.toJson() + "\n");
+    if (!result.errorLogFailure.empty()) {
+        printError(result.errorLogFailure + " (the image was written)");
+        std::printf("%s\n", std::filesystem::absolute(output).c_str());
+        return 1;
+    }
     if (result.cancelled) {
         std::fprintf(stderr,
                      "rayproc: interrupted: wrote the partial image (%zu pixels had no sample)\n",

@@ -15,10 +15,12 @@
 #include "image/metrics.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
-#include <chrono>
 #include <sstream>
 
 namespace rayproc {
@@ -62,11 +64,21 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     processor.setStage(RayKind::Shadow, policy.shadowStage ? &shadow : nullptr);
     processor.setStage(RayKind::Gather, gi ? &gather : nullptr);
 
+    RenderResult result;
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> errorLog(nullptr, &std::fclose);
+    // A write that fails (a full disk) ends the log, not the render: the image is still saved.
+    auto logFailed = [&] {
+        int err = errno;
+        result.errorLogFailure = "cannot write the error log " + engine.errorLogPath + ": " +
+                                 std::strerror(err) + "; its rows stop there";
+        if (errorLog) std::fclose(errorLog.release());
+    };
     if (engine.reference && !engine.errorLogPath.empty()) {
         errorLog.reset(std::fopen(engine.errorLogPath.c_str(), "w"));
         if (!errorLog) throw std::runtime_error("cannot write the error log " + engine.errorLogPath);
-        std::fprintf(errorLog.get(), "spp,seconds,relmse,rmse\n");
+        if (std::fprintf(errorLog.get(), "spp,seconds,relmse,rmse\n") < 0 ||
+            std::fflush(errorLog.get()) != 0)
+            logFailed();
     }
 
     // Passes of a few samples per pixel: the film commits between passes, which is where
@@ -85,7 +97,6 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         [&] { return double(unitsBefore.load() + camera.unitsEmitted()) / double(totalUnits); },
         [&] { return std::uint64_t(stats.merged().raysTraced); });
 
-    RenderResult result;
     auto lastProgressive = std::chrono::steady_clock::now();
     for (int pass = 0; pass < passes; ++pass) {
         if (interruptRequested()) break;
@@ -103,9 +114,10 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             // The log's clock stops while the error is measured.
             double seconds = std::chrono::duration<double>(now - start).count();
             ImageMetrics m = compareImages(film.resolve(), *engine.reference);
-            std::fprintf(errorLog.get(), "%d,%.6f,%.9g,%.9g\n", first + count, seconds, m.relmse,
-                         m.rmse);
-            std::fflush(errorLog.get());
+            if (std::fprintf(errorLog.get(), "%d,%.6f,%.9g,%.9g\n", first + count, seconds,
+                             m.relmse, m.rmse) < 0 ||
+                std::fflush(errorLog.get()) != 0)
+                logFailed();
             start += std::chrono::steady_clock::now() - now;
         }
         if (engine.timeLimitSeconds > 0 && pass + 1 < passes &&
@@ -122,6 +134,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     }
     result.cancelled = interruptRequested();
     progress.finish(!result.cancelled);
+    if (errorLog && std::fclose(errorLog.release()) != 0 && result.errorLogFailure.empty())
+        logFailed();
     result.image = film.resolve();
     result.stats.totals = stats.merged();
     result.stats.wallSeconds =

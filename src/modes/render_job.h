@@ -59,6 +59,9 @@ struct RenderResult {
     int passesDone = 0;
     int samplesDone = 0;          // samples per pixel rendered (fewer than asked under a time limit)
     bool timeLimitReached = false;
+    // Set when the error log (--error-log) could not be written (a full disk, say): the log
+    // stopped there, the render went on; the caller reports it and fails.
+    std::string errorLogFailure;
 };
 
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,

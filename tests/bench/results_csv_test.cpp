@@ -68,10 +68,18 @@ TEST_CASE("ResultsCsvWriter writes the header once and flushes every row", "[ben
     CHECK(text.find(kResultsCsvHeader, 1) == std::string::npos);
     CHECK(readResultsCsv(path).size() == 2);
     {
-        ResultsCsvWriter w(path, true); // truncate: a new run
+        // A new run that ends before its first row (a bad option found late, a failed
+        // reference) leaves the earlier results as they were.
+        ResultsCsvWriter w(path, true);
     }
-    CHECK(readResultsCsv(path).empty());
-    CHECK_THROWS_AS(ResultsCsvWriter(dir.file("missing/results.csv"), true), InputError);
+    CHECK(readResultsCsv(path).size() == 2);
+    {
+        ResultsCsvWriter w(path, true); // truncate: a new run, at its first row
+        w.append(r);
+    }
+    CHECK(readResultsCsv(path).size() == 1);
+    ResultsCsvWriter missing(dir.file("missing/results.csv"), true);
+    CHECK_THROWS_AS(missing.append(r), InputError);
 }
 
 TEST_CASE("settingValue and settingsWithout read the settings column", "[bench]") {

@@ -382,7 +382,7 @@ TEST_CASE("A failed final write is a clear error and leaves nothing behind",
         CHECK(contains(r.err, "rayproc: cannot write image \"" + out + "\""));
         CHECK(fileNames(dir.path) == std::vector<std::string>{"scene.json"});
     }
-    SECTION("an unwritable statistics file: a clear error, the image is kept") {
+    SECTION("an unwritable statistics file: refused before the render") {
         std::string out = dir.file("image.pfm");
         std::string stats = "/proc/rayproc-bad-input-test-stats.json";
         auto args = render;
@@ -390,11 +390,11 @@ TEST_CASE("A failed final write is a clear error and leaves nothing behind",
         RunResult r = runRayproc(args, logs);
         INFO(r.err);
         CHECK(r.status == 1);
-        CHECK(contains(r.err, "cannot write \"" + stats + "\""));
-        CHECK(readImage(out).width == 64); // written before the statistics failed
-        CHECK(fileNames(dir.path) == std::vector<std::string>{"image.pfm", "scene.json"});
+        CHECK(contains(r.err, "--stats-json " + stats + ": the directory /proc does not accept "
+                              "new files"));
+        CHECK(fileNames(dir.path) == std::vector<std::string>{"scene.json"});
     }
-    SECTION("a directory that cannot take files") {
+    SECTION("a directory that cannot take files: refused before the render") {
         // /proc refuses new files even to root, so this holds however the tests run.
         std::string out = "/proc/rayproc-bad-input-test.pfm";
         auto args = render;
@@ -402,7 +402,7 @@ TEST_CASE("A failed final write is a clear error and leaves nothing behind",
         RunResult r = runRayproc(args, logs);
         INFO(r.err);
         CHECK(r.status == 1);
-        CHECK(contains(r.err, "cannot write image \"" + out + "\""));
+        CHECK(contains(r.err, "-o " + out + ": the directory /proc does not accept new files"));
         CHECK_FALSE(std::filesystem::exists(out));
     }
     SECTION("an output path under a regular file") {
@@ -447,4 +447,133 @@ TEST_CASE("Non-finite numbers and usage errors exit with the documented status",
     RunResult diff = runRayproc({"diff", scene, scene, "--max-rmse", "nan"}, dir);
     CHECK(diff.status == 2);
     CHECK(contains(diff.err, "--max-rmse: must be a finite number"));
+}
+
+TEST_CASE("No output may overwrite an input or another output; all refused before any work",
+          "[cli][bad-input]") {
+    TempDir dir, logs;
+    std::string scene = dir.file("scene.json");
+    std::string sceneText = sphereScene(R"("camera": {"resolution": [16, 16]},
+                                           "lights": [{"type": "point", "position": [0, 0, 4],
+                                                       "intensity": [1, 1, 1]}])");
+    writeText(scene, sceneText);
+    std::string ref = dir.file("ref.pfm");
+    std::string image = dir.file("image.pfm");
+    RunResult made = runRayproc({"render", scene, "--mode", "preview", "--quiet", "-o", ref}, logs);
+    REQUIRE(made.status == 0);
+    REQUIRE(runRayproc({"render", scene, "--mode", "preview", "--quiet", "-o", image}, logs).status == 0);
+    std::string refBytes = readText(ref), imageBytes = readText(image);
+    // Another spelling of the same file counts too.
+    std::string sceneAgain = (std::filesystem::path(dir.path) / "." / "scene.json").string();
+
+    struct Case {
+        std::vector<std::string> args;
+        std::string message;
+        int status;
+    };
+    const std::vector<Case> cases = {
+        {{"render", scene, "--stats-json", sceneAgain, "-o", dir.file("a.pfm")},
+         "--stats-json " + sceneAgain + " is the same file as scene " + scene + " (an input)", 1},
+        {{"render", scene, "--reference", ref, "--error-log", scene, "-o", dir.file("a.pfm")},
+         "--error-log " + scene + " is the same file as scene", 1},
+        {{"render", scene, "--reference", ref, "--error-log", dir.file("log.csv"), "-o", ref},
+         "-o " + ref + " is the same file as --reference " + ref + " (an input)", 1},
+        {{"render", scene, "--stats-json", dir.file("same.pfm"), "-o", dir.file("same.pfm")},
+         "--stats-json " + dir.file("same.pfm") + " is the same file as -o " +
+             dir.file("same.pfm") + " (another output)",
+         1},
+        {{"render", scene, "-o", scene}, "", 1}, // refused (.json is no image format either)
+        {{"diff", image, ref, "-o", ref}, "-o " + ref + " is the same file as reference", 2},
+        {{"diff", image, ref, "--heatmap", image}, "--heatmap " + image + " is the same file as test", 2},
+        {{"diff", image, ref, "-o", dir.file("d.pfm"), "--heatmap", dir.file("d.pfm")},
+         "(another output)", 2},
+    };
+    for (const Case& c : cases) {
+        std::string shown;
+        for (const std::string& a : c.args) shown += a + " ";
+        INFO(shown);
+        RunResult r = runRayproc(c.args, logs);
+        INFO(r.err);
+        CHECK(r.status == c.status);
+        if (!c.message.empty()) CHECK(contains(r.err, c.message));
+        // Nothing was touched, nothing was added.
+        CHECK(readText(scene) == sceneText);
+        CHECK(readText(ref) == refBytes);
+        CHECK(readText(image) == imageBytes);
+        CHECK(fileNames(dir.path) ==
+              std::vector<std::string>{"image.pfm", "ref.pfm", "scene.json"});
+    }
+}
+
+TEST_CASE("An output path that is a directory or a device is refused before the render",
+          "[cli][bad-input]") {
+    TempDir dir, logs;
+    std::string scene = dir.file("scene.json");
+    writeText(scene, sphereScene(R"("camera": {"resolution": [16, 16]})"));
+    std::filesystem::create_directory(dir.file("folder.pfm"));
+    RunResult r = runRayproc({"render", scene, "-o", dir.file("folder.pfm")}, logs);
+    INFO(r.err);
+    CHECK(r.status == 1);
+    CHECK(contains(r.err, "-o " + dir.file("folder.pfm") + ": is a directory"));
+    CHECK(std::filesystem::is_directory(dir.file("folder.pfm")));
+
+    RunResult s = runRayproc({"render", scene, "-o", dir.file("x.pfm"), "--stats-json", "/dev/full"},
+                             logs);
+    INFO(s.err);
+    CHECK(s.status == 1);
+    CHECK(contains(s.err, "--stats-json /dev/full: is not a regular file"));
+    CHECK_FALSE(std::filesystem::exists(dir.file("x.pfm")));
+}
+
+TEST_CASE("A full disk while writing the error log is an error; the image is still written",
+          "[cli][bad-input]") {
+    TempDir dir, logs;
+    std::string scene = dir.file("scene.json");
+    writeText(scene, sphereScene(R"("camera": {"resolution": [8, 8]},
+                                    "lights": [{"type": "point", "position": [0, 0, 4],
+                                                "intensity": [1, 1, 1]}])"));
+    std::string ref = dir.file("ref.pfm");
+    REQUIRE(runRayproc({"render", scene, "--mode", "raytrace", "--quiet", "-o", ref}, logs).status == 0);
+    // 8 x 8 PFM images are 787 bytes; the log grows by a row per pass (64 passes of 1 spp under
+    // --time-limit: some 2 KiB), so a 1 KiB file cap fills the "disk" in the middle of the log.
+    std::string out = dir.file("out.pfm"), log = dir.file("log.csv");
+    Limits l;
+    l.fileSize = 1024;
+    RunResult r = runLimited({"render", scene, "--mode", "raytrace", "--quiet", "--spp", "64",
+                              "--time-limit", "1000", "--reference", ref, "--error-log", log,
+                              "-o", out},
+                             logs, l);
+    INFO(r.err);
+    CHECK(r.status == 1);
+    CHECK(contains(r.err, "cannot write the error log " + log + ": File too large"));
+    CHECK(contains(r.err, "(the image was written)"));
+    CHECK(readImage(out).width == 8);
+    std::string text = readText(log);
+    CHECK(text.size() <= 1024);
+    CHECK(text.rfind("spp,seconds,relmse,rmse\n", 0) == 0);
+}
+
+TEST_CASE("bench refuses outputs that are inputs and keeps an old results.csv until it has a row",
+          "[cli][bad-input]") {
+    TempDir dir, logs;
+    std::string out = dir.file("results");
+    std::filesystem::create_directory(out);
+    std::string results = out + "/results.csv";
+    const std::string old = "scene,mode,settings,seconds,rays,relmse,rmse\nold,path,spp=1,1,1,1,1\n";
+    writeText(results, old);
+    // The results file named as a peer: it would be emptied, then read.
+    RunResult r = runRayproc({"bench", "--quick", "-q", "-o", out, "--peer-csv", results}, logs);
+    INFO(r.err);
+    CHECK(r.status == 1);
+    CHECK(contains(r.err, "is the same file as --peer-csv"));
+    CHECK(readText(results) == old);
+    // A scene file that does not parse is only found when the ladders load it, after the
+    // options were checked: the old results survive it.
+    std::string scene = dir.file("broken.json");
+    writeText(scene, "{\"materials\": ");
+    RunResult s = runRayproc({"bench", "--quick", "-q", "-o", out, "--scene", scene}, logs);
+    INFO(s.err);
+    CHECK(s.status == 1);
+    CHECK(contains(s.err, scene + ": line 1"));
+    CHECK(readText(results) == old);
 }
