@@ -5,9 +5,19 @@
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <string>
 
 namespace rayproc::cli {
+
+// What each subcommand runs once the command line is parsed.
+struct Commands {
+    std::function<int()> render, info, diff, bench;
+};
+// The whole command line (main() and the command-line fuzzer parse with the same app).
+std::unique_ptr<CLI::App> makeApp(Commands& commands);
+// The process status for a CLI::ParseError whose CLI11 status (app.exit()) is cliStatus.
+int usageStatus(const CLI::App& app, int cliStatus);
 
 // Registers a subcommand on the app; the returned function runs it after parsing.
 std::function<int()> addRenderCommand(CLI::App& app);

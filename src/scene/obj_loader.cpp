@@ -168,6 +168,10 @@ TriangleMesh loadObjMesh(const std::string& path) {
     if (!file) fail(path, "cannot open the OBJ file (missing or unreadable)");
     std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
     if (file.bad()) fail(path, "cannot read the OBJ file");
+    return parseObjMesh(std::move(text), path);
+}
+
+TriangleMesh parseObjMesh(std::string text, const std::string& path) {
     StrictObjCheck check(path);
     std::size_t lineNumber = 0;
     for (std::size_t start = 0; start < text.size();) {

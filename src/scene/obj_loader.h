@@ -15,7 +15,11 @@ namespace rayproc {
 // (mtllib, usemtl) are ignored: the scene file assigns the material.
 //
 // Throws InputError "<path>: <problem>" if the file is missing, unreadable, malformed, refers
-// to vertices it does not have, or has no faces.
+// to vertices it does not have, or has no faces; "<path>:<line>: <problem> in '<statement>'"
+// for a statement that is not strictly valid (a coordinate that is not a finite float, too few
+// coordinates, an index that is zero, not an integer, or beyond the int range).
 TriangleMesh loadObjMesh(const std::string& path);
+// The same for the file's contents; `path` only names it in errors.
+TriangleMesh parseObjMesh(std::string text, const std::string& path);
 
 } // namespace rayproc
