@@ -76,9 +76,64 @@ void writeExr(const std::string& path, const Image& img) {
     out.commit();
 }
 
+namespace {
+// An attribute name as it may be shown: printable ASCII, at most 40 characters.
+std::string printable(const std::string& text) {
+    std::string out;
+    for (char c : text.substr(0, 40)) out += (c >= 32 && c < 127) ? c : '?';
+    return text.size() > 40 ? out + "..." : out;
+}
+} // namespace
+
+void checkExrHeader(const std::string& path) {
+    std::string bytes;
+    {
+        FileReader in(path);
+        char buf[65536];
+        std::size_t n;
+        while ((n = std::fread(buf, 1, sizeof buf, in.get())) > 0) bytes.append(buf, n);
+    }
+    if (bytes.size() < 8 || bytes.compare(0, 4, "\x76\x2f\x31\x01") != 0) return;
+    const std::uint32_t flags = std::uint32_t(std::uint8_t(bytes[5])) |
+                                std::uint32_t(std::uint8_t(bytes[6])) << 8 |
+                                std::uint32_t(std::uint8_t(bytes[7])) << 16;
+    const bool multipart = (flags & 0x1000u) != 0; // bit 12 of the version field
+    std::size_t pos = 8;
+    auto cString = [&]() {
+        std::size_t end = bytes.find('\0', pos);
+        if (end == std::string::npos) throwReadError(path, "truncated EXR header");
+        std::string text = bytes.substr(pos, end - pos);
+        pos = end + 1;
+        return text;
+    };
+    for (;;) { // one header, or with multipart a list of headers closed by an empty one
+        if (multipart && pos < bytes.size() && bytes[pos] == '\0') break;
+        for (;;) {
+            std::string name = cString();
+            if (name.empty()) break;
+            std::string type = cString();
+            if (bytes.size() - pos < 4) throwReadError(path, "truncated EXR header");
+            std::uint32_t size = std::uint32_t(std::uint8_t(bytes[pos])) |
+                                 std::uint32_t(std::uint8_t(bytes[pos + 1])) << 8 |
+                                 std::uint32_t(std::uint8_t(bytes[pos + 2])) << 16 |
+                                 std::uint32_t(std::uint8_t(bytes[pos + 3])) << 24;
+            pos += 4;
+            if (size > bytes.size() - pos)
+                throwReadError(path, "corrupt EXR header: the attribute \"" + printable(name) +
+                                         "\" (" + printable(type) + ") claims " +
+                                         std::to_string(size) +
+                                         " bytes, but the file has " +
+                                         std::to_string(bytes.size() - pos) + " left");
+            pos += size;
+        }
+        if (!multipart) break;
+    }
+}
+
 Image readExr(const std::string& path) {
-    // Open once ourselves so that a missing or unreadable file is reported with its errno text.
-    { FileReader probe(path); }
+    // Open once ourselves so that a missing or unreadable file is reported with its errno text,
+    // and check the header's sizes before OpenEXR allocates them.
+    checkExrHeader(path);
     try {
         Imf::InputFile file(path.c_str());
         const Imf::Header& header = file.header();
@@ -94,6 +149,7 @@ Image readExr(const std::string& path) {
         std::int64_t h = std::int64_t(window.max.y) - window.min.y + 1;
         if (w <= 0 || h <= 0 || w > INT_MAX || h > INT_MAX)
             throwReadError(path, "invalid EXR data window");
+        checkClaimedSize(path, w, h, fileSize(path));
         Image img(static_cast<int>(w), static_cast<int>(h));
 
         // Any stored pixel type (HALF, FLOAT, UINT) is converted to float by the library.

@@ -53,6 +53,21 @@ std::string errnoText(int err) {
     return std::generic_category().message(err);
 }
 
+std::uint64_t fileSize(const std::string& path) {
+    struct stat st {};
+    return ::stat(path.c_str(), &st) == 0 ? std::uint64_t(st.st_size) : 0;
+}
+
+void checkClaimedSize(const std::string& path, std::int64_t width, std::int64_t height,
+                      std::uint64_t fileBytes) {
+    double pixels = double(width) * double(height);
+    if (pixels > kMaxPixelsPerFileByte * double(fileBytes) + 65536.0)
+        throwReadError(path, "the header claims " + std::to_string(width) + "x" +
+                                 std::to_string(height) + " pixels, more than a file of " +
+                                 std::to_string(fileBytes) +
+                                 " bytes can hold (corrupt or truncated file)");
+}
+
 // AtomicFileWriter ----------------------------------------------------------------------------
 
 AtomicFileWriter::AtomicFileWriter(std::string path, std::string what)

@@ -121,6 +121,14 @@ void writeImage(const std::string& path, const Image& img, const ToneMapSettings
     }
 }
 
+void checkImageHeader(const std::string& path) {
+    image_detail::checkExrHeader(path);
+}
+
+void checkImageDimensions(const std::string& path, std::int64_t width, std::int64_t height) {
+    image_detail::checkClaimedSize(path, width, height, image_detail::fileSize(path));
+}
+
 Image readImage(const std::string& path) {
     switch (imageFormatFromPath(path)) {
     case ImageFormat::Png:

@@ -61,6 +61,12 @@ void writeImage(const std::string& path, const Image& img, const ToneMapSettings
 // neither a temporary file nor a changed destination.
 void writeFileAtomically(const std::string& path, const std::string& bytes);
 
+// Checks on an image file for readers outside src/image (the texture loader's OpenImageIO):
+// the EXR header's attribute sizes against the file (OpenEXR allocates what they claim), and a
+// claimed width x height against what a file of its size can hold. Throw ImageIoError.
+void checkImageHeader(const std::string& path);
+void checkImageDimensions(const std::string& path, std::int64_t width, std::int64_t height);
+
 // Reads an image as linear RGB floats, in the format given by the extension of `path`.
 // PNG is decoded from sRGB to linear; greyscale inputs are replicated to RGB.
 Image readImage(const std::string& path);

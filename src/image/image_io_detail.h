@@ -17,6 +17,21 @@ namespace rayproc::image_detail {
 // The text of an errno value, e.g. "No such file or directory".
 std::string errnoText(int err);
 
+// No codec rayproc reads packs more than this many pixels into one byte of the file (deflate's
+// limit of 1032:1 on 1-bit PNG pixels is 8256). A header claiming more is corrupt or hostile.
+constexpr double kMaxPixelsPerFileByte = 8400.0;
+// Throws "cannot read image ...: the header claims WxH pixels, more than a file of N bytes can
+// hold" before the allocation such a header would ask for.
+void checkClaimedSize(const std::string& path, std::int64_t width, std::int64_t height,
+                      std::uint64_t fileBytes);
+std::uint64_t fileSize(const std::string& path);
+
+// Walks an OpenEXR file's header(s) before OpenEXR reads them: OpenEXR allocates whatever an
+// attribute's size field says (1.2 GB from a 160-byte file, found by tests/fuzz/image_fuzzer).
+// Throws a read error when an attribute claims more bytes than the file has left, or the header
+// runs past the end of the file. Returns normally for files without the EXR magic number.
+void checkExrHeader(const std::string& path);
+
 // Writes a file under a temporary name in the destination's directory and renames it onto the
 // destination only once every byte is flushed and fsynced. Until commit() succeeds the
 // destination is untouched; the destructor removes the temporary file if commit() was not

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <mutex>
 
@@ -24,6 +25,9 @@ float decode(float v, const TextureEncoding& e) {
 
 std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
                                                const TextureEncoding& encoding) {
+    // Before OpenImageIO hands an EXR header to OpenEXR; a missing file is OpenImageIO's to say.
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(path, ec)) checkImageHeader(path);
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw ImageIoError("cannot read the texture \"" + path + "\": " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
@@ -31,6 +35,7 @@ std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
     if (w <= 0 || h <= 0 || nch <= 0 || std::int64_t(w) * h > (std::int64_t(1) << 28))
         throw ImageIoError("cannot read the texture \"" + path + "\": unsupported size " +
                            std::to_string(w) + "x" + std::to_string(h));
+    checkImageDimensions(path, w, h);
     std::vector<float> px(std::size_t(w) * h * nch);
     if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, px.data()))
         throw ImageIoError("cannot read the texture \"" + path + "\": " + in->geterror());

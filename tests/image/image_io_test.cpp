@@ -388,3 +388,65 @@ TEST_CASE("Reading an EXR without an RGB channel names the missing channel", "[i
                                                              Catch::Contains("no \"R\" channel") &&
                                                              Catch::Contains("Y"));
 }
+
+TEST_CASE("Headers that claim more than their file holds are refused before allocating",
+          "[image]") {
+    TempDir dir;
+    auto writeBytes = [&](const std::string& name, const std::string& bytes) {
+        std::string path = dir.file(name);
+        std::FILE* f = std::fopen(path.c_str(), "wb");
+        REQUIRE(f);
+        std::fwrite(bytes.data(), 1, bytes.size(), f);
+        std::fclose(f);
+        return path;
+    };
+    auto le32 = [](std::uint32_t v) {
+        std::string s(4, '\0');
+        for (int i = 0; i < 4; ++i) s[i] = char((v >> (8 * i)) & 0xff);
+        return s;
+    };
+    // EXR: an attribute whose size field says 1.2 GB, in a file of a few dozen bytes (OpenEXR
+    // allocated the 1.2 GB before it found the file too short; found by the image fuzzer).
+    std::string exr = std::string("\x76\x2f\x31\x01\x02\x00\x00\x00", 8) +
+                      std::string("channels\0chlist\0", 16) + le32(1212747008u) + "xx";
+    std::string exrPath = writeBytes("huge-attribute.exr", exr);
+    CHECK_THROWS_WITH(readImage(exrPath),
+                      Catch::Matchers::Contains("the attribute \"channels\" (chlist) claims "
+                                                "1212747008 bytes, but the file has 2 left"));
+    CHECK_THROWS_WITH(checkImageHeader(exrPath), Catch::Matchers::Contains("claims"));
+    // A header cut short.
+    std::string cut = writeBytes("cut.exr", std::string("\x76\x2f\x31\x01\x02\x00\x00\x00", 8) +
+                                                "channels");
+    CHECK_THROWS_WITH(readImage(cut), Catch::Matchers::Contains("truncated EXR header"));
+
+    // PNG: an IHDR of 15000 x 15000 pixels (within stb_image's own 2^30-byte limit; it would
+    // allocate 1.35 GB) in a 57-byte file.
+    std::string ihdr = "IHDR";
+    auto be32 = [](std::uint32_t v) {
+        std::string s(4, '\0');
+        for (int i = 0; i < 4; ++i) s[i] = char((v >> (8 * (3 - i))) & 0xff);
+        return s;
+    };
+    ihdr += be32(15000) + be32(15000) + std::string("\x08\x02\x00\x00\x00", 5);
+    std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + ihdr + be32(0) +
+                      be32(0) + "IEND" + be32(0);
+    std::string pngPath = writeBytes("huge.png", png);
+    CHECK_THROWS_WITH(readImage(pngPath),
+                      Catch::Matchers::Contains("claims 15000x15000 pixels, more than a file of"));
+    CHECK_THROWS_AS(checkImageDimensions(pngPath, 15000, 15000), ImageIoError);
+    CHECK_NOTHROW(checkImageDimensions(pngPath, 64, 64)); // small claims always pass
+    // PNG: a 4x3 header, then an IDAT chunk whose length says 1.2 GB (stb_image reallocated
+    // its buffer to that; found by the image fuzzer).
+    std::string small = "IHDR" + be32(4) + be32(3) + std::string("\x08\x02\x00\x00\x00", 5);
+    std::string idat = std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + small + be32(0) +
+                       be32(1229539657u) + "IDAT" + "xyz";
+    CHECK_THROWS_WITH(readImage(writeBytes("huge-idat.png", idat)),
+                      Catch::Matchers::Contains("the IDAT chunk claims 1229539657 bytes, but "
+                                                "the file has 3 left"));
+
+    // A real EXR passes the header walk.
+    std::string good = dir.file("good.exr");
+    writeImage(good, makeTestImage(5, 3));
+    CHECK_NOTHROW(checkImageHeader(good));
+    CHECK(readImage(good).width == 5);
+}
