@@ -444,6 +444,16 @@ TEST_CASE("Headers that claim more than their file holds are refused before allo
                       Catch::Matchers::Contains("the IDAT chunk claims 1229539657 bytes, but "
                                                 "the file has 3 left"));
 
+    // The fuzzer's own findings, as found (tests/image/corrupt/): each refused with a clear
+    // message, without the allocation (the sanitizer build's fuzz run would catch one).
+    const std::string corrupt = std::string(RAYPROC_SOURCE_DIR) + "/tests/image/corrupt/";
+    CHECK_THROWS_WITH(readImage(corrupt + "attribute-claims-1.2gb.exr"),
+                      Catch::Matchers::Contains("claims 1212747008 bytes"));
+    CHECK_THROWS_WITH(readImage(corrupt + "channel-list-then-1.9gb-attribute.exr"),
+                      Catch::Matchers::Contains("corrupt EXR header: Invalid pixel type"));
+    CHECK_THROWS_WITH(readImage(corrupt + "idat-claims-1.2gb.png"),
+                      Catch::Matchers::Contains("the IDAT chunk claims 1229539657 bytes"));
+
     // A real EXR passes the header walk.
     std::string good = dir.file("good.exr");
     writeImage(good, makeTestImage(5, 3));
