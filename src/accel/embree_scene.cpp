@@ -5,9 +5,14 @@
 #include "kernels/ray_offset.h"
 #include "texture/texture_eval.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <functional>
+#include <string>
 
 namespace rayproc {
 
@@ -36,9 +41,103 @@ Vec3 robustNormalize(const Vec3& n) {
     return normalize(n / m);
 }
 
+// Embree 3 asserts (and aborts the process) when a ray's origin or direction has a component
+// beyond 1.844e18 in the space it traverses. World coordinates are kept two orders of magnitude
+// below that (ray offsets, photon emission disks around the scene); in an instance's space a
+// ray's components are at most |inverse transform| (max row sum) times the world's.
+constexpr double kEmbreeRayLimit = 1.844e18;
+constexpr double kMaxWorldCoordinate = 1e16;
+
+double maxAbs(const Vec3& v) {
+    return std::max({std::abs(double(v.x)), std::abs(double(v.y)), std::abs(double(v.z))});
+}
+
+// Max row sum of the linear part: the factor by which the transform can grow a component.
+double linearNorm(const Affine& a) {
+    double n = 0;
+    for (int r = 0; r < 3; ++r)
+        n = std::max(n, std::abs(double(a.m[r][0])) + std::abs(double(a.m[r][1])) +
+                            std::abs(double(a.m[r][2])));
+    return n;
+}
+
+std::string nodeLabel(const Node& n, const std::string& path) {
+    return (n.name.empty() ? std::string("node") : "node '" + n.name + "'") + " (" + path + ")";
+}
+
+// Refuses, before Embree sees it, a scene whose rays would leave Embree's range: geometry, the
+// camera or a light beyond kMaxWorldCoordinate, or a placement (transformed group, instance)
+// whose inverse stretches world rays beyond kEmbreeRayLimit (a scale of 1e-20 on one axis).
+void checkRanges(const Scene& scene) {
+    auto fail = [](const std::string& what) {
+        throw InputError("the scene cannot be rendered: " + what);
+    };
+    char buf[64];
+    auto num = [&](double v) {
+        std::snprintf(buf, sizeof buf, "%.3g", v);
+        return std::string(buf);
+    };
+    Bounds3 world = scene.worldBounds();
+    double reach = maxAbs(scene.camera.position);
+    if (!std::isfinite(reach) || reach > kMaxWorldCoordinate)
+        fail("the camera is at a coordinate of " + num(reach) + "; rayproc handles coordinates up to " +
+             num(kMaxWorldCoordinate) + " (Embree's rays must stay within " + num(kEmbreeRayLimit) +
+             ")");
+    if (!world.empty()) {
+        double extent = std::max(maxAbs(world.lo), maxAbs(world.hi));
+        if (!std::isfinite(extent) || extent > kMaxWorldCoordinate)
+            fail("its geometry reaches a coordinate of " + num(extent) +
+                 "; rayproc handles coordinates up to " + num(kMaxWorldCoordinate) +
+                 " (Embree's rays must stay within " + num(kEmbreeRayLimit) + ")");
+        reach = std::max(reach, extent);
+    }
+    for (const Light& l : scene.lights) {
+        if (l.type != LightType::Point && l.type != LightType::Spot) continue;
+        double at = maxAbs(l.position);
+        if (!std::isfinite(at) || at > kMaxWorldCoordinate)
+            fail("light '" + l.name + "' is at a coordinate of " + num(at) +
+                 "; rayproc handles coordinates up to " + num(kMaxWorldCoordinate));
+    }
+    // A world ray's components: origin up to `reach`, direction up to the world's span; in a
+    // placement's space, origin minus its translation.
+    auto check = [&](const Node& n, const Affine& placed, const std::string& path) {
+        double det = double(placed.determinant());
+        double stretch = linearNorm(placed.inverse());
+        double translation = maxAbs(Vec3(placed.m[0][3], placed.m[1][3], placed.m[2][3]));
+        double span = 2.0 * reach + translation + 1.0;
+        if (!(det != 0) || !std::isfinite(det) || !std::isfinite(stretch) ||
+            stretch * span > kEmbreeRayLimit / 10)
+            fail(nodeLabel(n, path) + ": its transform, composed with its parents', shrinks an "
+                 "axis so far (its inverse grows vectors by up to " + num(stretch) +
+                 ") that rays in its space would leave Embree's range of " +
+                 num(kEmbreeRayLimit) + "; scale the geometry itself, or less");
+    };
+    std::function<void(const Node&, const Affine&, const std::string&)> visit =
+        [&](const Node& group, const Affine& toWorld, const std::string& path) {
+            for (std::size_t i = 0; i < group.children.size(); ++i) {
+                const Node& c = *group.children[i];
+                std::string p = path + "/" + std::to_string(i);
+                if (c.kind == Node::Kind::Shape) continue;
+                if (c.kind == Node::Kind::Group && c.transform.isIdentity()) {
+                    visit(c, toWorld, p);
+                    continue;
+                }
+                Affine placed = c.kind == Node::Kind::Instance
+                                    ? toWorld * c.transform * c.prototype->transform
+                                    : toWorld * c.transform;
+                check(c, placed, p);
+                visit(c.kind == Node::Kind::Instance ? *c.prototype : c, placed, p);
+            }
+        };
+    if (!scene.root) return;
+    if (!scene.root->transform.isIdentity()) check(*scene.root, scene.root->transform, "root");
+    visit(*scene.root, scene.root->transform, "root");
+}
+
 } // namespace
 
 EmbreeScene::EmbreeScene(const Scene& scene) : m_scene(scene) {
+    checkRanges(scene);
     auto start = std::chrono::steady_clock::now();
     long long bytesBefore = g_embreeBytes.load();
     m_device = rtcNewDevice(nullptr);

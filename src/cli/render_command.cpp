@@ -130,7 +130,13 @@ int runRender(const RenderArgs& a) {
         engine.errorLogPath = a.errorLog;
     }
 
-    EmbreeScene accel(*scene);
+    std::unique_ptr<EmbreeScene> built;
+    try {
+        built = std::make_unique<EmbreeScene>(*scene);
+    } catch (const InputError& e) {
+        throw InputError(a.scene + ": " + e.what()); // the range checks name no file
+    }
+    const EmbreeScene& accel = *built;
     if (scene->lights.empty() && accel.emitters().empty())
         std::fprintf(stderr, "rayproc: warning: %s has no lights; the image will be black\n",
                      a.scene.c_str());

@@ -577,3 +577,57 @@ TEST_CASE("bench refuses outputs that are inputs and keeps an old results.csv un
     CHECK(contains(s.err, scene + ": line 1"));
     CHECK(readText(results) == old);
 }
+
+TEST_CASE("Scenes whose rays would leave Embree's range are refused before Embree sees them",
+          "[cli][bad-input]") {
+    // Each of these aborted inside Embree (an assertion on the ray's range, status 134).
+    TempDir dir, logs;
+    auto scene = [](const std::string& scale, const std::string& cameraZ) {
+        return R"({"camera": {"position": [0, 0, )" + cameraZ + R"(], "look_at": [0, 0, 0],
+                              "resolution": [16, 16]},
+                   "materials": {"m": {"type": "diffuse"}},
+                   "lights": [{"type": "point", "position": [0, 0, 4], "intensity": [1, 1, 1]}],
+                   "nodes": [{"type": "group", "name": "thin", "transform": {"scale": )" +
+               scale + R"(}, "children": [{"type": "sphere", "material": "m", "radius": 1}]}]})";
+    };
+    struct Case {
+        const char* name;
+        std::string text;
+        std::string message;
+    };
+    const std::vector<Case> cases = {
+        {"squashed.json", scene("[1, 1e-20, 1]", "5"),
+         "node 'thin' (root/0): its transform, composed with its parents', shrinks an axis"},
+        {"far-camera.json", scene("[1, 1, 1]", "1e19"), "the camera is at a coordinate of 1e+19"},
+        {"pbrt-scale.pbrt",
+         "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"
+         "Film \"rgb\" \"integer xresolution\" [16] \"integer yresolution\" [16]\nWorldBegin\n"
+         "LightSource \"point\" \"point3 from\" [0 0 4]\nAttributeBegin\nScale 1 1e-30 1\n"
+         "Shape \"sphere\"\nAttributeEnd\n",
+         "grows vectors by up to 1e+30"},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name);
+        std::string path = dir.file(c.name);
+        writeText(path, c.text);
+        for (const char* mode : {"preview", "path"}) {
+            INFO(mode);
+            RunResult r = runRayproc({"render", path, "--mode", mode, "--spp", "2", "--quiet",
+                                      "-o", dir.file("out.pfm")},
+                                     logs);
+            INFO(r.err);
+            CHECK(r.status == 1);
+            CHECK(contains(r.err, path + ": the scene cannot be rendered: " ));
+            CHECK(contains(r.err, c.message));
+            CHECK_FALSE(std::filesystem::exists(dir.file("out.pfm")));
+        }
+    }
+    // The control: a thin but sane squash (1e-6) renders.
+    std::string fine = dir.file("thin-but-fine.json");
+    writeText(fine, scene("[1, 1e-6, 1]", "5"));
+    RunResult ok = runRayproc({"render", fine, "--mode", "path", "--spp", "2", "--quiet", "-o",
+                               dir.file("fine.pfm")},
+                              logs);
+    INFO(ok.err);
+    CHECK(ok.status == 0);
+}
