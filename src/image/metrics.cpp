@@ -102,7 +102,8 @@ ImageMetrics compareImages(const Image& a, const Image& b, const std::optional<C
                 se += d * d;
                 rel += d * d / (double(pb[c]) * pb[c] + 0.01);
                 ae += std::abs(d);
-                mx = std::max(mx, std::abs(d));
+                mx = std::isnan(d) || std::isnan(mx) ? std::numeric_limits<double>::quiet_NaN()
+                                                     : std::max(mx, std::abs(d));
             }
             ++n;
         }
@@ -116,7 +117,10 @@ ImageMetrics compareImages(const Image& a, const Image& b, const std::optional<C
     m.relmse = rel / count;
     m.mae = ae / count;
     m.maxAbs = mx;
-    m.psnr = mse > 0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
+    // Equal images: infinite PSNR; a NaN in the test image (or nothing compared): NaN, not inf.
+    m.psnr = mse > 0     ? 10.0 * std::log10(1.0 / mse)
+             : mse == 0 ? std::numeric_limits<double>::infinity()
+                        : std::numeric_limits<double>::quiet_NaN();
     biasMetrics(a, b, r, m);
     return m;
 }

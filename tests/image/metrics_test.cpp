@@ -42,6 +42,22 @@ TEST_CASE("Identical images: every error is zero and PSNR is infinite", "[image]
     CHECK(m.psnr > 0);
 }
 
+TEST_CASE("A NaN in the test image makes every error NaN, PSNR included (not inf)", "[image]") {
+    Image b = gradientImage(7, 5);
+    Image a = b;
+    a.at(3, 2)[1] = std::numeric_limits<float>::quiet_NaN();
+    ImageMetrics m = compareImages(a, b);
+    CHECK(std::isnan(m.rmse));
+    CHECK(std::isnan(m.relmse));
+    CHECK(std::isnan(m.psnr)); // was +inf: NaN > 0 is false, so it read as "equal images"
+    CHECK(std::isnan(m.maxAbs)); // was the largest finite difference, 0 here
+    // A NaN in the reference is left out, as documented: the rest compares as equal.
+    ImageMetrics r = compareImages(b, a);
+    CHECK(r.rmse == 0);
+    CHECK(r.referenceNonFinite == 1);
+    CHECK(std::isinf(r.psnr));
+}
+
 TEST_CASE("A constant offset d on a constant image b gives the closed forms", "[image]") {
     const double b = 0.5, d = 0.125; // exact in float
     Image ref = constantImage(8, 6, float(b));
