@@ -47,6 +47,14 @@ std::string sphereScene(const std::string& sections) {
                "nodes": [{"type": "sphere", "material": "m", "radius": 1}]})";
 }
 
+// A unit sphere lit by a point light, seen at res x res pixels.
+std::string litSphereScene(int res) {
+    std::string r = std::to_string(res);
+    return sphereScene(R"("camera": {"resolution": [)" + r + ", " + r + R"(]},
+                          "lights": [{"type": "point", "position": [0, 0, 4],
+                                      "intensity": [1, 1, 1]}])");
+}
+
 std::string meshScene(const std::string& indices) {
     return R"({"materials": {"m": {"type": "diffuse"}},
                "nodes": [{"type": "mesh", "material": "m",
@@ -104,9 +112,7 @@ TEST_CASE("A valid scene renders under the address-space cap the bad-input tests
     // The control: without it, a test below could pass because the cap itself broke rayproc.
     TempDir dir;
     std::string scene = dir.file("ok.json");
-    writeText(scene, sphereScene(R"("camera": {"resolution": [16, 16]},
-                                    "lights": [{"type": "point", "position": [0, 0, 4],
-                                                "intensity": [1, 1, 1]}])"));
+    writeText(scene, litSphereScene(16));
     std::string out = dir.file("ok.pfm");
     RunResult r = runLimited({"render", scene, "--mode", "preview", "-o", out, "--quiet",
                               "--threads", "2"},
@@ -339,9 +345,7 @@ TEST_CASE("A failed final write is a clear error and leaves nothing behind",
           "[cli][bad-input]") {
     TempDir dir, logs;
     std::string scene = dir.file("scene.json");
-    writeText(scene, sphereScene(R"("camera": {"resolution": [64, 64]},
-                                    "lights": [{"type": "point", "position": [0, 0, 4],
-                                                "intensity": [1, 1, 1]}])"));
+    writeText(scene, litSphereScene(64));
     std::vector<std::string> render = {"render", scene, "--mode", "preview", "--quiet",
                                        "--threads", "2"};
 
@@ -453,9 +457,7 @@ TEST_CASE("No output may overwrite an input or another output; all refused befor
           "[cli][bad-input]") {
     TempDir dir, logs;
     std::string scene = dir.file("scene.json");
-    std::string sceneText = sphereScene(R"("camera": {"resolution": [16, 16]},
-                                           "lights": [{"type": "point", "position": [0, 0, 4],
-                                                       "intensity": [1, 1, 1]}])");
+    std::string sceneText = litSphereScene(16);
     writeText(scene, sceneText);
     std::string ref = dir.file("ref.pfm");
     std::string image = dir.file("image.pfm");
@@ -529,9 +531,7 @@ TEST_CASE("A full disk while writing the error log is an error; the image is sti
           "[cli][bad-input]") {
     TempDir dir, logs;
     std::string scene = dir.file("scene.json");
-    writeText(scene, sphereScene(R"("camera": {"resolution": [8, 8]},
-                                    "lights": [{"type": "point", "position": [0, 0, 4],
-                                                "intensity": [1, 1, 1]}])"));
+    writeText(scene, litSphereScene(8));
     std::string ref = dir.file("ref.pfm");
     REQUIRE(runRayproc({"render", scene, "--mode", "raytrace", "--quiet", "-o", ref}, logs).status == 0);
     // 8 x 8 PFM images are 787 bytes; the log grows by a row per pass (64 passes of 1 spp under
