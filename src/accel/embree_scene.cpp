@@ -48,6 +48,11 @@ Vec3 robustNormalize(const Vec3& n) {
 constexpr double kEmbreeRayLimit = 1.844e18;
 constexpr double kMaxWorldCoordinate = 1e16;
 
+// A triangle hit whose barycentric error bound exceeds this fraction of the magnitude of the
+// point and of the ray's origin is recomputed (EmbreeScene::surface). Ordinary meshes stay near
+// 1e-6 of it, so their hit points, and images, do not change.
+constexpr float kRefineTriangleHit = 1e-4f;
+
 double maxAbs(const Vec3& v) {
     return std::max({std::abs(double(v.x)), std::abs(double(v.y)), std::abs(double(v.z))});
 }
@@ -381,6 +386,38 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
         // The point from barycentrics is more accurate than o + t d far from the origin, and
         // its error bound is known (kernels/ray_offset.h).
         pl = kernels::trianglePoint(p0, p1, p2, u, v, errl);
+        Vec3 ol = toLocal ? toLocal->point(rayOrigin) : rayOrigin;
+        if (maxComponent(errl) > kRefineTriangleHit * std::max(maxComponent(kernels::absVec(pl)),
+                                                               maxComponent(kernels::absVec(ol)))) {
+            // The triangle's vertices are far larger than the hit point and the ray's origin
+            // (a 1e9 ground plane seen from near the origin): the barycentric sum cancels to
+            // errors of ~60 units along the plane. The ray meets the triangle's plane again in
+            // double precision instead. The error bound stays the barycentric one: it is what
+            // Embree's own float arithmetic on these vertices can miss the plane by, so the
+            // spawned rays' offsets still clear it, raised to the refined point's own error
+            // where that is larger (along an axis-aligned plane's normal the barycentric bound
+            // is 0: the vertices agree exactly there, the refined point need not).
+            Vec3 dl = toLocal ? toLocal->vector(rayDir) : rayDir;
+            double ax = p0.x, ay = p0.y, az = p0.z;
+            double ex = double(p1.x) - ax, ey = double(p1.y) - ay, ez = double(p1.z) - az;
+            double fx = double(p2.x) - ax, fy = double(p2.y) - ay, fz = double(p2.z) - az;
+            double nx = ey * fz - ez * fy, ny = ez * fx - ex * fz, nz = ex * fy - ey * fx;
+            double denom = nx * dl.x + ny * dl.y + nz * dl.z;
+            if (denom != 0 && std::isfinite(denom)) {
+                double tl = (nx * (ax - ol.x) + ny * (ay - ol.y) + nz * (az - ol.z)) / denom;
+                Vec3 refined{float(ol.x + tl * dl.x), float(ol.y + tl * dl.y),
+                             float(ol.z + tl * dl.z)};
+                if (isFinite(refined)) {
+                    // Its own error: the double arithmetic (a few roundings of 2^-53 relative
+                    // to the origin and the ray's reach), then the rounding to float.
+                    double reach = maxComponent(kernels::absVec(ol)) +
+                                   std::abs(tl) * maxComponent(kernels::absVec(dl));
+                    Vec3 own = kernels::absVec(refined) * 0x1p-23f + Vec3(float(reach * 0x1p-48));
+                    pl = refined;
+                    errl = vmax(errl, own);
+                }
+            }
+        }
         ngl = cross(p1 - p0, p2 - p0);
         nsl = m.normals.empty() ? ngl
                                 : m.normals[i0] * w + m.normals[i1] * u + m.normals[i2] * v;

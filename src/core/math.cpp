@@ -1,6 +1,16 @@
 #include "core/math.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace rayproc {
+
+Vec3 normalizeScaled(const Vec3& a) {
+    float m = std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)});
+    if (!(m > 0) || !std::isfinite(m)) return Vec3(0, 0, 0); // zero, NaN or infinite input
+    Vec3 s = a / m; // largest component +-1: the squared length is in [1, 3]
+    return s / std::sqrt(dot(s, s));
+}
 
 Affine Affine::translate(const Vec3& t) {
     Affine a;

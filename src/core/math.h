@@ -44,9 +44,23 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
 }
 inline float length(const Vec3& a) { return std::sqrt(dot(a, a)); }
 inline float lengthSquared(const Vec3& a) { return dot(a, a); }
+// Unit vector along a, for any finite a: the squared length of a vector longer than ~1e19 (a
+// cross product of 1e10-long edges) overflows a float and of one shorter than ~1e-19
+// underflows, so those take normalizeScaled (scaled by the largest component first). Zero stays
+// zero.
+Vec3 normalizeScaled(const Vec3& a);
 inline Vec3 normalize(const Vec3& a) {
-    float l = length(a);
-    return l > 0 ? a / l : Vec3(0, 0, 0);
+    float l2 = dot(a, a);
+    if (l2 > 1e-36f && l2 < 1e36f) return a / std::sqrt(l2);
+    return normalizeScaled(a);
+}
+// Area of the triangle abc; the cross product is formed in double, since its squared length
+// overflows a float for edges longer than ~1e9 (a light in a scene scaled by 1e11).
+inline float triangleArea(const Vec3& a, const Vec3& b, const Vec3& c) {
+    double ux = double(b.x) - a.x, uy = double(b.y) - a.y, uz = double(b.z) - a.z;
+    double vx = double(c.x) - a.x, vy = double(c.y) - a.y, vz = double(c.z) - a.z;
+    double x = uy * vz - uz * vy, y = uz * vx - ux * vz, z = ux * vy - uy * vx;
+    return float(0.5 * std::sqrt(x * x + y * y + z * z));
 }
 inline Vec3 vmin(const Vec3& a, const Vec3& b) {
     return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};

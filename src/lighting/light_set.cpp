@@ -78,7 +78,7 @@ LightSource fromEmitter(const EmitterRecord& e) {
             Vec3 b = e.toWorld.point(m.positions[m.indices[3 * t + 1]]);
             Vec3 c = e.toWorld.point(m.positions[m.indices[3 * t + 2]]);
             s.triangles.insert(s.triangles.end(), {a, b, c});
-            total += 0.5f * length(cross(b - a, c - a));
+            total += triangleArea(a, b, c);
             s.areaCdf.push_back(total);
         }
         s.area = total;
@@ -317,7 +317,7 @@ LightSet LightSet::buildPreview(const Scene& scene, const EmbreeScene& accel) {
             for (std::size_t t = 0; t < a.areaCdf.size(); ++t) {
                 const Vec3 *v = &a.triangles[3 * t];
                 Vec3 c = cross(v[1] - v[0], v[2] - v[0]);
-                float area = 0.5f * length(c);
+                float area = triangleArea(v[0], v[1], v[2]);
                 addPoint((v[0] + v[1] + v[2]) / 3.0f, normalize(c), a.radiance * area, a.twoSided, true);
             }
         } else if (a.kind == LightSource::Kind::AreaSphere) {

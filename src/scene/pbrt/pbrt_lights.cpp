@@ -239,7 +239,7 @@ double shapesArea(const std::vector<Shape>& shapes, const Affine& toWorld) {
                 Vec3 a = toWorld.point(m.positions[m.indices[3 * t]]);
                 Vec3 b = toWorld.point(m.positions[m.indices[3 * t + 1]]);
                 Vec3 c = toWorld.point(m.positions[m.indices[3 * t + 2]]);
-                area += 0.5 * double(length(cross(b - a, c - a)));
+                area += double(triangleArea(a, b, c));
             }
             break;
         }
