@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
     } catch (const rayproc::ImageIoError& e) {
         rayproc::cli::printError(e.what());
     } catch (const std::bad_alloc&) {
-        rayproc::cli::printError("out of memory");
+        rayproc::cli::printError("out of memory (lower --width/--height, or --photons and "
+                                 "--caustic-photons in gi mode)");
     } catch (const std::exception& e) {
         rayproc::cli::printError(std::string("error: ") + e.what());
     }

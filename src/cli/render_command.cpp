@@ -5,6 +5,7 @@
 #include "engine/cancel.h"
 #include "engine/film.h"
 #include "engine/intersect.h"
+#include "engine/memory_budget.h"
 #include "image/image.h"
 #include "modes/modes.h"
 #include "scene/scene_loader.h"
@@ -141,6 +142,19 @@ int runRender(const RenderArgs& a) {
         std::fprintf(stderr, "rayproc: warning: %s has no lights; the image will be black\n",
                      a.scene.c_str());
 
+    // Before the long work: a render that cannot fit in memory is refused with the figures,
+    // one that may not fit is warned of.
+    auto checkMemory = [&](long long pixelCount, std::uint64_t photons, std::uint64_t caustic) {
+        MemoryEstimate need = estimateRenderMemory(std::uint64_t(pixelCount), photons, caustic, 0);
+        bool fatal = false;
+        std::string problem = memoryProblem(need, systemMemory(), fatal);
+        if (problem.empty()) return;
+        if (fatal)
+            throw InputError(problem + "; lower --width/--height" +
+                             (photons > 0 ? std::string(" or --photons/--caustic-photons") : "") +
+                             " (docs/robustness.md, \"Memory\")");
+        std::fprintf(stderr, "rayproc: warning: %s\n", problem.c_str());
+    };
     ModeOverrides overrides{a.spp, a.maxDepth, a.lightSamples};
     installInterruptHandler();
     RenderResult result;
@@ -154,6 +168,7 @@ int runRender(const RenderArgs& a) {
     if (mode == "preview") {
         PreviewSettings s = previewSettings(scene->render, overrides);
         logSettings(s.toString());
+        checkMemory(pixels, 0, 0);
         result = renderPreview(*scene, accel, s, engine);
     } else if (mode == "gi") {
         GiSettings s = giSettings(scene->render, overrides);
@@ -172,16 +187,20 @@ int runRender(const RenderArgs& a) {
                       : a.debugView == "indirect"   ? GiDebugView::Indirect
                                                     : GiDebugView::None;
         logSettings(s.toString());
+        checkMemory(pixels, std::uint64_t(std::max(0, s.photons)),
+                    s.caustics ? std::uint64_t(std::max(0, s.causticPhotons)) : 0);
         result = renderGi(*scene, accel, s, engine);
     } else if (mode == "path") {
         PathSettings s = pathSettings(scene->render, overrides);
         s.roulette = !a.noRoulette;
         logSettings(s.toString());
+        checkMemory(pixels, 0, 0);
         result = renderPath(*scene, accel, s, engine);
     } else {
         RaytraceSettings s = raytraceSettings(scene->render, overrides);
         s.roulette = !a.noRoulette;
         logSettings(s.toString());
+        checkMemory(pixels, 0, 0);
         result = renderRaytrace(*scene, accel, s, engine);
     }
 

@@ -4,11 +4,16 @@
 
 #include <tbb/parallel_for.h>
 
+#include <exception>
 #include <thread>
 
 namespace rayproc {
 
-StageContext::~StageContext() { RAYPROC_CHECK(!flush()); }
+// Every batch must have been flushed, except when an exception (out of memory in a stage)
+// unwinds the processor: then the partial batches are simply dropped with the render.
+StageContext::~StageContext() {
+    if (std::uncaught_exceptions() == 0) RAYPROC_CHECK(!flush());
+}
 
 bool StageContext::flush() {
     bool any = false;

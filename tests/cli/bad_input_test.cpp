@@ -631,3 +631,39 @@ TEST_CASE("Scenes whose rays would leave Embree's range are refused before Embre
     INFO(ok.err);
     CHECK(ok.status == 0);
 }
+
+TEST_CASE("Renders that cannot fit in memory are refused up front; running out is a clear error",
+          "[cli][bad-input]") {
+    if (!kAddressSpaceLimitWorks) {
+        WARN("AddressSanitizer build: address-space limits do not apply; not run");
+        return;
+    }
+    TempDir dir, logs;
+    std::string out = dir.file("out.pfm");
+    // 20M photons need an estimated 3.7 GiB; under a 1 GiB cap that is refused before any work
+    // (it used to trace photons until an allocation failed).
+    Limits l = memoryCap();
+    RunResult r = runLimited({"render", scenePath("cornell-box"), "--mode", "gi", "--photons",
+                              "20000000", "--width", "32", "--height", "32", "--quiet", "-o", out},
+                             logs, l);
+    INFO(r.err);
+    CHECK(r.status == 1);
+    CHECK(contains(r.err, "the render needs an estimated 3.7 GiB"));
+    CHECK(contains(r.err, "more than the process may use (ulimit: 1.0 GiB)"));
+    CHECK(r.seconds < 5.0);
+    CHECK_FALSE(std::filesystem::exists(out));
+
+    // 6M photons are estimated within a 1.4 GiB cap but do not fit in it: the allocation that
+    // fails mid-pass ends in "out of memory", status 1 (it was "internal check failed" and an
+    // abort, 134, when the exception unwound the ray processor with batches in flight).
+    Limits tight;
+    tight.addressSpace = rlim_t(1500000) * 1024;
+    RunResult oom = runLimited({"render", scenePath("cornell-box"), "--mode", "gi", "--photons",
+                                "6000000", "--width", "32", "--height", "32", "--quiet", "-o",
+                                out},
+                               logs, tight, 120);
+    INFO(oom.err);
+    CHECK(oom.status == 1);
+    CHECK(contains(oom.err, "rayproc: out of memory"));
+    CHECK_FALSE(contains(oom.err, "internal check failed"));
+}
