@@ -23,6 +23,9 @@ void printError(const std::string& message) {
 
 namespace {
 
+// The samples per pixel a --target-relmse render may take without --spp: the --spp limit.
+constexpr int kTargetSppCap = 1000000;
+
 struct RenderArgs {
     std::string scene;
     std::string output;
@@ -41,6 +44,7 @@ struct RenderArgs {
     float icAccuracy = 0;
     bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
     double timeLimit = 0;
+    double targetRelMse = 0;
     std::string debugView = "none";
     // profiling switches
     bool noSceneAnalysis = false, noStratification = false, noRoulette = false;
@@ -100,6 +104,7 @@ int runRender(const RenderArgs& a) {
     engine.sceneAnalysis = !a.noSceneAnalysis;
     engine.stratification = !a.noStratification;
     engine.timeLimitSeconds = a.timeLimit;
+    engine.targetRelMse = a.targetRelMse;
     ToneMapSettings tm;
     tm.exposure = a.exposure;
     tm.op = a.tonemap == "reinhard" ? ToneMap::Reinhard
@@ -155,7 +160,10 @@ int runRender(const RenderArgs& a) {
                              " (docs/robustness.md, \"Memory\")");
         std::fprintf(stderr, "rayproc: warning: %s\n", problem.c_str());
     };
-    ModeOverrides overrides{a.spp, a.maxDepth, a.lightSamples};
+    // With an error target and no --spp, samples go on until the target (or the time limit,
+    // or Ctrl-C) stops them.
+    int sppCap = a.spp > 0 ? a.spp : a.targetRelMse > 0 ? kTargetSppCap : 0;
+    ModeOverrides overrides{sppCap, a.maxDepth, a.lightSamples};
     installInterruptHandler();
     RenderResult result;
     // The render log: every setting, so the image can be reproduced from it.
@@ -204,6 +212,12 @@ int runRender(const RenderArgs& a) {
         result = renderRaytrace(*scene, accel, s, engine);
     }
 
+    if (a.targetRelMse > 0 && !a.quiet)
+        std::fprintf(stderr,
+                     "rayproc: relMSE estimate %.4g (target %g) %s after %d spp (%.2f s)\n",
+                     result.relMseEstimate, a.targetRelMse,
+                     result.targetReached ? "reached" : "not reached", result.samplesDone,
+                     result.stats.wallSeconds);
     if (result.timeLimitReached && !a.quiet)
         std::fprintf(stderr, "rayproc: time limit of %g s reached after %d spp (%.2f s)\n",
                      a.timeLimit, result.samplesDone, result.stats.wallSeconds);
@@ -328,6 +342,13 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "CSV file (seconds count from the start of the mode's work, gi's photon "
                     "tracing, precomputation and cache prepass included, and exclude the time "
                     "spent measuring the error)");
+    cmd->add_option("--target-relmse", args->targetRelMse,
+                    "Render passes of 1 spp until the relMSE estimated from two half buffers "
+                    "(alternate passes; no reference needed) is at most this, e.g. 0.01; "
+                    "without --spp the samples are not capped. The variance part only: gi's "
+                    "bias is not in the estimate. Stops at --time-limit too")
+        ->check(finiteNumber())
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--time-limit", args->timeLimit,
                     "Stop after the first pass that ends past SECONDS (counted like the error "
                     "log's, gi's pre-passes included); passes are then 1 spp and --spp is the "

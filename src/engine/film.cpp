@@ -1,6 +1,7 @@
 #include "engine/film.h"
 
 #include <cmath>
+#include <limits>
 
 namespace rayproc {
 
@@ -34,15 +35,43 @@ void Film::add(std::uint32_t pixel, const Vec3& radiance, ThreadStats& stats) {
     }
 }
 
-void Film::commitPass() {
+void Film::enableHalfBuffers() {
+    for (int h = 0; h < 2; ++h) {
+        m_halfSum[h].assign(m_sum.size(), 0.0);
+        m_halfSamples[h].assign(m_samples.size(), 0);
+    }
+}
+
+double Film::relMseEstimate() const {
+    if (!hasHalfBuffers()) return std::numeric_limits<double>::quiet_NaN();
+    double sum = 0;
+    std::size_t count = 0;
+    for (std::size_t p = 0; p < m_samples.size(); ++p) {
+        std::uint32_t na = m_halfSamples[0][p], nb = m_halfSamples[1][p];
+        if (na == 0 || nb == 0) continue;
+        for (int c = 0; c < 3; ++c) {
+            double a = m_halfSum[0][p * 3 + c] / na, b = m_halfSum[1][p * 3 + c] / nb;
+            double f = 0.5 * (a + b);
+            sum += 0.25 * (a - b) * (a - b) / (f * f + 0.01);
+            ++count;
+        }
+    }
+    return count > 0 ? sum / double(count) : std::numeric_limits<double>::quiet_NaN();
+}
+
+void Film::commitPass(int half) {
     std::size_t n = m_samples.size();
+    const bool halves = hasHalfBuffers();
     for (std::size_t p = 0; p < n; ++p) {
-        m_samples[p] += m_passSamples[p].exchange(0, std::memory_order_relaxed);
+        std::uint32_t passSamples = m_passSamples[p].exchange(0, std::memory_order_relaxed);
+        m_samples[p] += passSamples;
+        if (halves) m_halfSamples[half][p] += passSamples;
         for (int c = 0; c < 3; ++c) {
             std::uint64_t low = m_passLow[p * 3 + c].exchange(0, std::memory_order_relaxed);
             std::int64_t high = m_passHigh[p * 3 + c].exchange(0, std::memory_order_relaxed);
             __int128 v = (static_cast<__int128>(high) << 64) | static_cast<__int128>(low);
             m_sum[p * 3 + c] += double(v) / kFixedScale;
+            if (halves) m_halfSum[half][p * 3 + c] += double(v) / kFixedScale;
         }
     }
 }

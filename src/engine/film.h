@@ -34,8 +34,20 @@ public:
     void addSample(std::uint32_t pixel) {
         m_passSamples[pixel].fetch_add(1, std::memory_order_relaxed);
     }
-    // Folds the pass into the totals; call when no ray of the pass is in flight.
-    void commitPass();
+    // Folds the pass into the totals; call when no ray of the pass is in flight. With half
+    // buffers enabled, the pass also goes to half `half` (0 or 1).
+    void commitPass(int half = 0);
+
+    // Two half buffers: passes alternate between them, so each holds an independent estimate
+    // made of half the samples. Their difference measures the image's noise without a
+    // reference (relMseEstimate). Costs 32 bytes per pixel; call before the first pass.
+    void enableHalfBuffers();
+    bool hasHalfBuffers() const { return !m_halfSum[0].empty(); }
+    // The variance part of the image's relMSE, estimated from the halves A and B: with
+    // F = (A + B) / 2, mean over pixels and channels of (A - B)^2 / 4 / (F^2 + 0.01) (each half
+    // has twice the variance of F). NaN until both halves hold samples. Bias (gi's photon map
+    // and cache) is not in it.
+    double relMseEstimate() const;
 
     // The image so far: each pixel divided by the samples it received; pixels with none black.
     Image resolve() const;
@@ -49,6 +61,8 @@ private:
     std::vector<std::atomic<std::uint32_t>> m_passSamples; // per pixel
     std::vector<double> m_sum;                             // 3 per pixel
     std::vector<std::uint64_t> m_samples;                  // per pixel
+    std::vector<double> m_halfSum[2];                      // 3 per pixel, when enabled
+    std::vector<std::uint32_t> m_halfSamples[2];           // per pixel, when enabled
 };
 
 } // namespace rayproc

@@ -15,8 +15,10 @@
 #include "image/metrics.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -33,6 +35,10 @@ std::string EngineSettings::toString() const {
       << " stratification=" << (stratification ? "on" : "off");
     return o.str();
 }
+
+namespace {
+constexpr int kMinTargetPasses = 8;
+} // namespace
 
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
@@ -76,14 +82,18 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     if (engine.reference && !engine.errorLogPath.empty()) {
         errorLog.reset(std::fopen(engine.errorLogPath.c_str(), "w"));
         if (!errorLog) throw std::runtime_error("cannot write the error log " + engine.errorLogPath);
-        if (std::fprintf(errorLog.get(), "spp,seconds,relmse,rmse\n") < 0 ||
+        if (std::fprintf(errorLog.get(), "spp,seconds,relmse,rmse,relmse_estimate\n") < 0 ||
             std::fflush(errorLog.get()) != 0)
             logFailed();
     }
 
     // Passes of a few samples per pixel: the film commits between passes, which is where
     // progressive output is written and where a cancel leaves a consistent image.
-    int passSpp = engine.timeLimitSeconds > 0 ? 1 : std::clamp(spp / 32, 1, 16);
+    // Under a time limit or an error target, passes of 1 spp keep the budget closely.
+    const bool stopEarly = engine.timeLimitSeconds > 0 || engine.targetRelMse > 0;
+    int passSpp = stopEarly ? 1 : std::clamp(spp / 32, 1, 16);
+    // Half buffers (alternate passes) give the relMSE estimate the target and the log use.
+    if (engine.targetRelMse > 0 || errorLog) film.enableHalfBuffers();
     int passes = (spp + passSpp - 1) / passSpp;
     std::atomic<int> passIndex{0};
     std::atomic<std::uint64_t> unitsBefore{0};
@@ -92,9 +102,13 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         int tiles = int(((scene.camera.width + 15) / 16) * ((scene.camera.height + 15) / 16));
         totalUnits = std::uint64_t(tiles) * std::uint64_t(spp);
     }
+    std::atomic<double> targetFraction{0.0};
     Progress progress(
         label, engine.quiet,
-        [&] { return double(unitsBefore.load() + camera.unitsEmitted()) / double(totalUnits); },
+        [&] {
+            double f = double(unitsBefore.load() + camera.unitsEmitted()) / double(totalUnits);
+            return engine.targetRelMse > 0 ? std::max(f, targetFraction.load()) : f;
+        },
         [&] { return std::uint64_t(stats.merged().raysTraced); });
 
     auto lastProgressive = std::chrono::steady_clock::now();
@@ -105,7 +119,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         camera.beginPass(first, count);
         processor.run(camera, [] { return interruptRequested(); });
         unitsBefore += std::min<std::uint64_t>(camera.unitsEmitted(), camera.unitsPerPass());
-        film.commitPass();
+        film.commitPass(pass % 2);
+        if (film.hasHalfBuffers()) result.relMseEstimate = film.relMseEstimate();
         passIndex = pass + 1;
         ++result.passesDone;
         result.samplesDone = first + count;
@@ -114,11 +129,22 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             // The log's clock stops while the error is measured.
             double seconds = std::chrono::duration<double>(now - start).count();
             ImageMetrics m = compareImages(film.resolve(), *engine.reference);
-            if (std::fprintf(errorLog.get(), "%d,%.6f,%.9g,%.9g\n", first + count, seconds,
-                             m.relmse, m.rmse) < 0 ||
+            if (std::fprintf(errorLog.get(), "%d,%.6f,%.9g,%.9g,%.9g\n", first + count, seconds,
+                             m.relmse, m.rmse, result.relMseEstimate) < 0 ||
                 std::fflush(errorLog.get()) != 0)
                 logFailed();
             start += std::chrono::steady_clock::now() - now;
+        }
+        if (film.hasHalfBuffers() && std::isfinite(result.relMseEstimate) &&
+            result.relMseEstimate > 0)
+            // The variance part falls as 1/spp: the share of the work done is target/estimate.
+            targetFraction = std::min(1.0, engine.targetRelMse / result.relMseEstimate);
+        // At least kMinTargetPasses passes: with one or two samples per half the estimate is
+        // itself too noisy to stop on (a 3-spp render estimated 0.044 measured 0.066).
+        if (engine.targetRelMse > 0 && pass + 1 >= kMinTargetPasses &&
+            result.relMseEstimate <= engine.targetRelMse) {
+            result.targetReached = true;
+            break;
         }
         if (engine.timeLimitSeconds > 0 && pass + 1 < passes &&
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >=

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -34,8 +35,9 @@ struct EngineSettings {
     // calls it at most once per `progressiveSeconds`.
     std::function<void(const Image&)> onProgress;
     double progressiveSeconds = 5.0;
-    // Convergence log: after each pass, the samples, seconds and error against `reference`
-    // are appended to `errorLogPath` as CSV (spp,seconds,relmse,rmse).
+    // Convergence log: after each pass, the samples, seconds, error against `reference` and
+    // the reference-free estimate (Film::relMseEstimate) are appended to `errorLogPath` as CSV
+    // (spp,seconds,relmse,rmse,relmse_estimate; the estimate is nan after the first pass).
     const Image* reference = nullptr;
     std::string errorLogPath;
     // When the mode's work started (gi sets it before its photon pass): the error log's
@@ -45,6 +47,10 @@ struct EngineSettings {
     // > 0: stop after the first pass that ends past this many seconds (from workStart, the
     // error log's measuring excluded). Passes are then 1 spp, so the budget is kept closely.
     double timeLimitSeconds = 0;
+    // > 0: passes of 1 spp alternate between two half buffers, and the render stops once the
+    // relMSE estimated from their difference (Film::relMseEstimate) is at most this, or at
+    // the mode's spp, the time limit or an interrupt, whichever comes first.
+    double targetRelMse = 0;
     std::string toString() const;
 };
 
@@ -59,6 +65,8 @@ struct RenderResult {
     int passesDone = 0;
     int samplesDone = 0;          // samples per pixel rendered (fewer than asked under a time limit)
     bool timeLimitReached = false;
+    bool targetReached = false;     // --target-relmse: the estimate got there
+    double relMseEstimate = std::numeric_limits<double>::quiet_NaN(); // last one, with halves
     // Set when the error log (--error-log) could not be written (a full disk, say): the log
     // stopped there, the render went on; the caller reports it and fails.
     std::string errorLogFailure;

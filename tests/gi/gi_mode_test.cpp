@@ -116,7 +116,7 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     std::string header, first;
     std::getline(in, header);
     std::getline(in, first);
-    REQUIRE(header == "spp,seconds,relmse,rmse");
+    REQUIRE(header == "spp,seconds,relmse,rmse,relmse_estimate");
     double firstSeconds = std::stod(first.substr(first.find(',') + 1));
     INFO("first pass logged at " << firstSeconds << " s; pre-passes " << prePasses << " s; wall "
                                  << r.stats.wallSeconds);

@@ -2,6 +2,8 @@
 // Lambert), and under a constant sky (the furnace-like a * L). Camera straight down.
 #include "test_util.h"
 
+#include "image/metrics.h"
+
 #include <cmath>
 
 using namespace rayproc;
@@ -107,4 +109,40 @@ TEST_CASE("Constant sky over a diffuse plane: radiance a * L", "[modes]") {
             }
         }
     }
+}
+
+TEST_CASE("A relMSE target stops when the half-buffer estimate reaches it; the estimate is honest",
+          "[modes]") {
+    // The golden path image (8192 spp, 128 x 128) box-downsampled to 32 x 32 is the truth.
+    Image truth = boxDownsample(readImage(goldenPath("cornell-box-path.exr")), 4);
+    auto scene = loadSceneAt("cornell-box", 32, 32);
+    EmbreeScene accel(*scene);
+    for (double target : {0.02, 0.005}) {
+        INFO("target " << target);
+        EngineSettings engine;
+        engine.quiet = true;
+        engine.threads = 2;
+        engine.targetRelMse = target;
+        PathSettings s;
+        s.spp = 100000; // a cap the target stops long before
+        RenderResult r = renderPath(*scene, accel, s, engine);
+        CHECK(r.targetReached);
+        CHECK(r.relMseEstimate <= target);
+        CHECK(r.samplesDone >= 8); // never on fewer than 4 samples per half
+        CHECK(r.samplesDone < 100000);
+        // The estimate is of the variance; path mode has no bias, so it should match the error
+        // against the truth (whose own noise is 1/256 of a 32-spp image's).
+        double actual = compareImages(r.image, truth).relmse;
+        INFO("spp " << r.samplesDone << ", estimate " << r.relMseEstimate << ", actual " << actual);
+        CHECK(actual < 2.0 * target);
+        CHECK(actual > 0.25 * target);
+    }
+    // Without a target the estimate is not made (no half buffers, no cost).
+    EngineSettings plain;
+    plain.quiet = true;
+    PathSettings s;
+    s.spp = 4;
+    RenderResult r = renderPath(*scene, accel, s, plain);
+    CHECK(std::isnan(r.relMseEstimate));
+    CHECK_FALSE(r.targetReached);
 }
