@@ -215,12 +215,13 @@ inline PixelStats pixelStats(const Image& img, int channel, int x0 = 0, int y0 =
 // A rayproc process started with its stdout and stderr redirected to files.
 class Child {
 public:
-    // Starts RAYPROC_BINARY with `args`; SIGINT is unblocked and at its default disposition in
-    // the child whatever the test process (Catch2's signal handlers) has set.
+    // Starts RAYPROC_BINARY (or `program`, a path) with `args`; SIGINT is unblocked and at its
+    // default disposition in the child whatever the test process (Catch2's signal handlers)
+    // has set.
     Child(const std::vector<std::string>& args, const std::string& outFile,
-          const std::string& errFile)
+          const std::string& errFile, const std::string& program = rayprocBinary())
         : m_out(outFile), m_err(errFile) {
-        std::vector<std::string> all{rayprocBinary()};
+        std::vector<std::string> all{program};
         all.insert(all.end(), args.begin(), args.end());
         std::vector<char*> argv;
         for (auto& a : all) argv.push_back(a.data());

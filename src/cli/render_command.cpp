@@ -1,6 +1,7 @@
 #include "accel/embree_scene.h"
 #include "cli/commands.h"
 #include "cli/output_paths.h"
+#include "cluster/cluster.h"
 #include "core/error.h"
 #include "engine/cancel.h"
 #include "engine/film.h"
@@ -18,7 +19,12 @@
 namespace rayproc::cli {
 
 void printError(const std::string& message) {
-    std::fprintf(stderr, "rayproc: %s\n", message.c_str());
+    // In a distributed render the other ranks name themselves: their error may be theirs alone.
+    const Cluster& cluster = Cluster::world();
+    if (cluster.root())
+        std::fprintf(stderr, "rayproc: %s\n", message.c_str());
+    else
+        std::fprintf(stderr, "rayproc (%s): %s\n", cluster.name().c_str(), message.c_str());
 }
 
 namespace {
@@ -57,6 +63,11 @@ std::string joinModes() {
 }
 
 int runRender(const RenderArgs& a) {
+    // Under mpirun every rank runs this with the same arguments; rank 0 writes the files
+    // (docs/distributed.md), the others render their share quietly.
+    const Cluster& cluster = Cluster::world();
+    const bool writer = cluster.root();
+    if (!writer) quietInterruptMessages();
     // Every file the render will write is checked before the scene loads: an output that
     // cannot be written, or that would overwrite an input, fails now, not after the render.
     std::string output = a.output;
@@ -71,9 +82,11 @@ int runRender(const RenderArgs& a) {
                         {a.output.empty() ? "the output (default)" : "-o", output, true},
                         {"--stats-json", a.statsJson, true},
                         {"--error-log", a.errorLog, true}});
-    checkOutputFile(a.output.empty() ? "the output (default)" : "-o", output);
-    checkOutputFile("--stats-json", a.statsJson);
-    checkOutputFile("--error-log", a.errorLog);
+    if (writer) {
+        checkOutputFile(a.output.empty() ? "the output (default)" : "-o", output);
+        checkOutputFile("--stats-json", a.statsJson);
+        checkOutputFile("--error-log", a.errorLog);
+    }
 
     std::unique_ptr<Scene> scene = loadScene(a.scene);
     if (a.width > 0) scene->camera.width = a.width;
@@ -100,7 +113,8 @@ int runRender(const RenderArgs& a) {
     engine.seed = a.seed >= 0 ? std::uint64_t(a.seed)
                   : scene->render.seed >= 0 ? std::uint64_t(scene->render.seed)
                                             : 1;
-    engine.quiet = a.quiet;
+    engine.quiet = a.quiet || !writer;
+    engine.cluster = &cluster;
     engine.sceneAnalysis = !a.noSceneAnalysis;
     engine.stratification = !a.noStratification;
     engine.timeLimitSeconds = a.timeLimit;
@@ -110,7 +124,7 @@ int runRender(const RenderArgs& a) {
     tm.op = a.tonemap == "reinhard" ? ToneMap::Reinhard
             : a.tonemap == "aces"   ? ToneMap::Aces
                                     : ToneMap::Clamp;
-    if (a.progressive) {
+    if (a.progressive && writer) {
         engine.progressiveSeconds = a.progressiveSeconds;
         // A failed progressive write must not end the render: warn once, keep rendering; the
         // final write reports its own failure.
@@ -143,7 +157,7 @@ int runRender(const RenderArgs& a) {
         throw InputError(a.scene + ": " + e.what()); // the range checks name no file
     }
     const EmbreeScene& accel = *built;
-    if (scene->lights.empty() && accel.emitters().empty())
+    if (writer && scene->lights.empty() && accel.emitters().empty())
         std::fprintf(stderr, "rayproc: warning: %s has no lights; the image will be black\n",
                      a.scene.c_str());
 
@@ -158,7 +172,7 @@ int runRender(const RenderArgs& a) {
             throw InputError(problem + "; lower --width/--height" +
                              (photons > 0 ? std::string(" or --photons/--caustic-photons") : "") +
                              " (docs/robustness.md, \"Memory\")");
-        std::fprintf(stderr, "rayproc: warning: %s\n", problem.c_str());
+        if (writer) std::fprintf(stderr, "rayproc: warning: %s\n", problem.c_str());
     };
     // With an error target and no --spp, samples go on until the target (or the time limit,
     // or Ctrl-C) stops them.
@@ -168,10 +182,13 @@ int runRender(const RenderArgs& a) {
     RenderResult result;
     // The render log: every setting, so the image can be reproduced from it.
     auto logSettings = [&](const std::string& settings) {
-        if (!a.quiet)
-            std::fprintf(stderr, "rayproc render %s: %s %s %dx%d\n", a.scene.c_str(),
-                         settings.c_str(), engine.toString().c_str(), scene->camera.width,
-                         scene->camera.height);
+        if (!engine.quiet)
+            std::fprintf(stderr, "rayproc render %s: %s %s%s %dx%d\n", a.scene.c_str(),
+                         settings.c_str(), engine.toString().c_str(),
+                         cluster.distributed()
+                             ? (" ranks=" + std::to_string(cluster.size())).c_str()
+                             : "",
+                         scene->camera.width, scene->camera.height);
     };
     if (mode == "preview") {
         PreviewSettings s = previewSettings(scene->render, overrides);
@@ -212,6 +229,14 @@ int runRender(const RenderArgs& a) {
         result = renderRaytrace(*scene, accel, s, engine);
     }
 
+    // The job's communication, summed over the ranks (a collective; zero for one process).
+    std::vector<std::uint64_t> sent{cluster.bytesSent()};
+    cluster.sumToRoot(sent);
+    if (cluster.distributed()) {
+        result.stats.extras.push_back({"cluster/ranks", double(cluster.size())});
+        result.stats.extras.push_back({"cluster/bytes_sent", double(sent[0])});
+    }
+    if (!writer) return result.cancelled ? interruptExitStatus() : 0;
     if (a.targetRelMse > 0 && !a.quiet)
         std::fprintf(stderr,
                      "rayproc: relMSE estimate %.4g (target %g) %s after %d spp (%.2f s)\n",

@@ -2,6 +2,7 @@
 
 #include "kernels/random.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rayproc {
@@ -50,20 +51,25 @@ CameraEmitter::CameraEmitter(const RenderContext& rc, int totalSpp, const Camera
     m_tilesY = (cam.height + kTile - 1) / kTile;
 }
 
+void CameraEmitter::setShare(int rank, int size) {
+    m_shareSize = std::max(size, 1);
+    m_shareRank = std::clamp(rank, 0, m_shareSize - 1);
+}
+
 void CameraEmitter::beginPass(int firstSample, int count) {
     m_firstSample = firstSample;
     m_passCount = count;
     m_next.store(0);
 }
 
-// Unit u covers tile (u / passCount) for sample (firstSample + u % passCount): all the
+// Unit u covers the share's tile (u / passCount) for sample (firstSample + u % passCount): all the
 // samples of a tile are emitted together, which keeps rays of a region coherent in time.
 bool CameraEmitter::emit(StageContext& ctx) {
     std::uint64_t unit = m_next.fetch_add(1);
     if (unit >= unitsPerPass()) return false;
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, StageId::CameraEmit);
-    int tile = int(unit / m_passCount);
+    int tile = m_shareRank + m_shareSize * int(unit / m_passCount);
     int sample = m_firstSample + int(unit % m_passCount);
     int x0 = (tile % m_tilesX) * kTile, y0 = (tile / m_tilesX) * kTile;
     int width = m_camera.width, height = m_camera.height;

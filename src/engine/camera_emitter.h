@@ -24,11 +24,19 @@ public:
 
     // `camera` overrides the scene's (gi's cache prepass renders at lower resolutions).
     CameraEmitter(const RenderContext& rc, int totalSpp, const Camera* camera = nullptr);
-    // Prepares the emission of samples [first, first + count) of every pixel.
+    // A distributed render's share (cluster/cluster.h): this emitter takes the tiles t with
+    // t % size == rank (interleaved, so every rank gets a like mix of cheap and costly
+    // regions). Each pixel's samples do not depend on which process renders them.
+    void setShare(int rank, int size);
+    // Prepares the emission of samples [first, first + count) of every pixel of the share.
     void beginPass(int firstSample, int count);
     bool emit(StageContext& ctx) override;
     std::uint64_t unitsEmitted() const { return m_next.load(); }
-    std::uint64_t unitsPerPass() const { return std::uint64_t(m_tilesX) * m_tilesY * m_passCount; }
+    std::uint64_t unitsPerPass() const { return std::uint64_t(tilesInShare()) * m_passCount; }
+    int tilesInShare() const {
+        int tiles = m_tilesX * m_tilesY;
+        return tiles / m_shareSize + (m_shareRank < tiles % m_shareSize ? 1 : 0);
+    }
 
 private:
     const RenderContext& m_rc;
@@ -39,6 +47,7 @@ private:
     kernels::FilterSampler m_filter;
     int m_totalSpp;
     int m_tilesX, m_tilesY;
+    int m_shareRank = 0, m_shareSize = 1;
     int m_firstSample = 0, m_passCount = 0;
     std::atomic<std::uint64_t> m_next{0};
 };

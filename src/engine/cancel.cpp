@@ -10,18 +10,19 @@ namespace rayproc {
 namespace {
 std::atomic<int> g_interrupts{0};
 std::atomic<int> g_signal{0}; // the first stopping signal, 0 before one arrives
+std::atomic<bool> g_quiet{false};
 
 extern "C" void onStopSignal(int sig) {
     int expected = 0;
     g_signal.compare_exchange_strong(expected, sig);
     if (g_interrupts.fetch_add(1) >= 1) {
         const char msg[] = "\nrayproc: interrupted twice, exiting now\n";
-        (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
+        if (!g_quiet.load()) (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
         _exit(128 + sig);
     }
     const char msg[] = "\nrayproc: interrupted; finishing rays in flight and writing the partial "
                        "image (Ctrl-C again to exit now)\n";
-    (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
+    if (!g_quiet.load()) (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
 }
 } // namespace
 
@@ -41,6 +42,7 @@ int interruptExitStatus() {
     return 128 + (sig > 0 ? sig : SIGINT);
 }
 void requestInterrupt() { g_interrupts.store(1); }
+void quietInterruptMessages() { g_quiet.store(true); }
 void clearInterrupt() {
     g_interrupts.store(0);
     g_signal.store(0);

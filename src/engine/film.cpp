@@ -1,5 +1,6 @@
 #include "engine/film.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -42,21 +43,42 @@ void Film::enableHalfBuffers() {
     }
 }
 
-double Film::relMseEstimate() const {
-    if (!hasHalfBuffers()) return std::numeric_limits<double>::quiet_NaN();
-    double sum = 0;
-    std::size_t count = 0;
-    for (std::size_t p = 0; p < m_samples.size(); ++p) {
-        std::uint32_t na = m_halfSamples[0][p], nb = m_halfSamples[1][p];
-        if (na == 0 || nb == 0) continue;
-        for (int c = 0; c < 3; ++c) {
-            double a = m_halfSum[0][p * 3 + c] / na, b = m_halfSum[1][p * 3 + c] / nb;
-            double f = 0.5 * (a + b);
-            sum += 0.25 * (a - b) * (a - b) / (f * f + 0.01);
-            ++count;
+double Film::relMseEstimate() const { return relMseFromParts(relMseParts()); }
+
+std::vector<double> Film::relMseParts() const {
+    if (!hasHalfBuffers()) return {};
+    constexpr int kTile = 16;
+    int tilesX = (m_width + kTile - 1) / kTile, tilesY = (m_height + kTile - 1) / kTile;
+    std::vector<double> parts(std::size_t(tilesX) * std::size_t(tilesY) * 2, 0.0);
+    for (int ty = 0; ty < tilesY; ++ty)
+        for (int tx = 0; tx < tilesX; ++tx) {
+            double sum = 0, count = 0;
+            for (int y = ty * kTile; y < std::min((ty + 1) * kTile, m_height); ++y)
+                for (int x = tx * kTile; x < std::min((tx + 1) * kTile, m_width); ++x) {
+                    std::size_t p = std::size_t(y) * std::size_t(m_width) + std::size_t(x);
+                    std::uint32_t na = m_halfSamples[0][p], nb = m_halfSamples[1][p];
+                    if (na == 0 || nb == 0) continue;
+                    for (int c = 0; c < 3; ++c) {
+                        double a = m_halfSum[0][p * 3 + c] / na, b = m_halfSum[1][p * 3 + c] / nb;
+                        double f = 0.5 * (a + b);
+                        sum += 0.25 * (a - b) * (a - b) / (f * f + 0.01);
+                        count += 1;
+                    }
+                }
+            std::size_t t = std::size_t(ty) * std::size_t(tilesX) + std::size_t(tx);
+            parts[2 * t] = sum;
+            parts[2 * t + 1] = count;
         }
+    return parts;
+}
+
+double Film::relMseFromParts(const std::vector<double>& parts) {
+    double sum = 0, count = 0;
+    for (std::size_t t = 0; t + 1 < parts.size(); t += 2) {
+        sum += parts[t];
+        count += parts[t + 1];
     }
-    return count > 0 ? sum / double(count) : std::numeric_limits<double>::quiet_NaN();
+    return count > 0 ? sum / count : std::numeric_limits<double>::quiet_NaN();
 }
 
 void Film::commitPass(int half) {
@@ -76,12 +98,15 @@ void Film::commitPass(int half) {
     }
 }
 
-Image Film::resolve() const {
-    Image img(m_width, m_height);
-    for (std::size_t p = 0; p < m_samples.size(); ++p) {
-        if (m_samples[p] == 0) continue;
-        double inv = 1.0 / double(m_samples[p]);
-        for (int c = 0; c < 3; ++c) img.pixels[p * 3 + c] = float(m_sum[p * 3 + c] * inv);
+Image Film::resolve() const { return resolve(m_width, m_height, m_sum, m_samples); }
+
+Image Film::resolve(int width, int height, const std::vector<double>& sums,
+                    const std::vector<std::uint64_t>& samples) {
+    Image img(width, height);
+    for (std::size_t p = 0; p < samples.size(); ++p) {
+        if (samples[p] == 0) continue;
+        double inv = 1.0 / double(samples[p]);
+        for (int c = 0; c < 3; ++c) img.pixels[p * 3 + c] = float(sums[p * 3 + c] * inv);
     }
     return img;
 }

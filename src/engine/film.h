@@ -48,6 +48,19 @@ public:
     // has twice the variance of F). NaN until both halves hold samples. Bias (gi's photon map
     // and cache) is not in it.
     double relMseEstimate() const;
+    // The estimate in parts: per 16x16 tile (row-major tile order) the sum of the per-pixel
+    // terms at [2 t] and their count at [2 t + 1]. Distributed renders add the parts of every
+    // rank (a tile is one rank's) and take relMseFromParts, which sums them in tile order: the
+    // same additions as one process, so the same estimate to the bit.
+    std::vector<double> relMseParts() const;
+    static double relMseFromParts(const std::vector<double>& parts);
+
+    // The committed totals: 3 sums per pixel and samples per pixel. A distributed render adds
+    // every rank's (each pixel has one owner; the others add exact zeros) and resolves them.
+    const std::vector<double>& sums() const { return m_sum; }
+    const std::vector<std::uint64_t>& sampleCounts() const { return m_samples; }
+    static Image resolve(int width, int height, const std::vector<double>& sums,
+                         const std::vector<std::uint64_t>& samples);
 
     // The image so far: each pixel divided by the samples it received; pixels with none black.
     Image resolve() const;

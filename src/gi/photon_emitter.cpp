@@ -25,6 +25,7 @@ PhotonEmitter::PhotonEmitter(const LightSet& lights, const Bounds3& bounds, std:
                              std::uint64_t seed, std::uint64_t tag, const Bounds3& focus,
                              float focusShare)
     : m_lights(lights), m_count(count), m_key(kernels::hashCombine(kernels::mix64(seed), tag)) {
+    m_last = count;
     m_center = bounds.empty() ? Vec3(0.0f) : bounds.center();
     m_radius = bounds.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(bounds.diagonal()));
     if (!focus.empty() && focusShare > 0) {
@@ -181,21 +182,26 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
     return e;
 }
 
+void PhotonEmitter::setRange(std::uint64_t first, std::uint64_t last) {
+    m_last = std::min<std::uint64_t>(last, m_count);
+    m_first = std::min(first, m_last);
+}
+
 std::uint64_t PhotonEmitter::photonsEmitted() const {
-    return std::min<std::uint64_t>(m_next.load() * kBatchSize, m_count);
+    return std::min<std::uint64_t>(m_next.load() * kBatchSize, m_last - m_first);
 }
 
 bool PhotonEmitter::emit(StageContext& ctx) {
     if (m_cdf.empty()) return false;
     std::uint64_t unit = m_next.fetch_add(1);
-    std::uint64_t first = unit * kBatchSize;
-    if (first >= m_count) return false;
+    std::uint64_t first = m_first + unit * kBatchSize;
+    if (first >= m_last) return false;
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, StageId::Photon);
     ctx.flush(RayKind::Photon); // a fresh batch: emitted photons queue behind bounces
     RayBatch& b = ctx.out(RayKind::Photon);
     b.fresh = true;
-    std::uint64_t last = std::min<std::uint64_t>(first + kBatchSize, m_count);
+    std::uint64_t last = std::min<std::uint64_t>(first + kBatchSize, m_last);
     for (std::uint64_t k = first; k < last; ++k) {
         Emission e = emitOne(std::uint32_t(k));
         if (!e.valid || isBlack(e.power)) continue;

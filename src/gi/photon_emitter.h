@@ -25,9 +25,13 @@ public:
     PhotonEmitter(const LightSet& lights, const Bounds3& sceneBounds, std::uint32_t count,
                   std::uint64_t seed, std::uint64_t tag, const Bounds3& focus = {},
                   float focusShare = 0.0f);
+    // A distributed render's share (cluster/cluster.h): only photons [first, last) of the
+    // `count` are emitted here; each photon is the same whichever process emits it.
+    void setRange(std::uint64_t first, std::uint64_t last);
     bool emit(StageContext& ctx) override;
-    // Photons handed to the processor so far (for progress).
+    // Photons of the range handed to the processor so far, and the range's size (progress).
     std::uint64_t photonsEmitted() const;
+    std::uint64_t photonsInRange() const { return m_last - m_first; }
     Vec3 totalPower() const { return m_totalPower; }
     bool empty() const { return m_cdf.empty(); }
 
@@ -52,6 +56,7 @@ private:
     std::vector<float> m_cdf;       // over lights (and the sky, last) by luminance of power
     std::vector<Vec3> m_power;      // per choice
     Vec3 m_totalPower{0, 0, 0};
+    std::uint64_t m_first = 0, m_last = 0; // the range emitted: all photons by default
     std::atomic<std::uint64_t> m_next{0};
 };
 

@@ -68,10 +68,11 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
     stats.stages[int(StageId::Photon)].raysOut += spawned;
 }
 
-std::vector<PhotonRecord> PhotonStage::takePhotons(const std::function<bool()>& stop) {
+std::vector<PhotonStage::KeyedPhoton> PhotonStage::takeKeyedPhotons(
+    const std::function<bool()>& stop) {
     std::size_t total = 0;
     for (auto& v : m_stored) total += v.size();
-    std::vector<std::pair<std::uint64_t, PhotonRecord>> all;
+    std::vector<KeyedPhoton> all;
     all.reserve(total);
     for (auto& v : m_stored) {
         all.insert(all.end(), v.begin(), v.end());
@@ -83,12 +84,28 @@ std::vector<PhotonRecord> PhotonStage::takePhotons(const std::function<bool()>& 
     tbb::parallel_sort(all.begin(), all.end(),
                        [](const auto& a, const auto& b) { return a.first < b.first; });
     if (stop && stop()) return {};
+    return all;
+}
+
+std::vector<PhotonRecord> PhotonStage::photonsInKeyOrder(std::vector<KeyedPhoton> all,
+                                                         const std::function<bool()>& stop) {
+    // Shares of contiguous index ranges arrive in order; anything else is sorted here.
+    auto byKey = [](const auto& a, const auto& b) { return a.first < b.first; };
+    if (!std::is_sorted(all.begin(), all.end(), byKey))
+        tbb::parallel_sort(all.begin(), all.end(), byKey);
+    if (stop && stop()) return {};
     std::vector<PhotonRecord> out(all.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, all.size(), 65536),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = all[i].second;
                       });
     return out;
+}
+
+std::vector<PhotonRecord> PhotonStage::takePhotons(const std::function<bool()>& stop) {
+    std::vector<KeyedPhoton> all = takeKeyedPhotons(stop);
+    if (stop && stop()) return {};
+    return photonsInKeyOrder(std::move(all), stop);
 }
 
 } // namespace rayproc

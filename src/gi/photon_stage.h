@@ -23,9 +23,16 @@ public:
     PhotonStage(const RenderContext& rc, bool causticPass, int maxDepth)
         : m_rc(rc), m_causticPass(causticPass), m_maxDepth(maxDepth) {}
     void retrace(RayBatch& batch, StageContext& ctx) override;
-    // The stored photons, in a fixed order (photon index, then bounce) whatever the threads.
-    // The stored photons in (photon index, depth) order; nothing when `stop` turns true.
+    // A photon's key: its index and bounce, (index << 8) | depth, unique in a pass.
+    using KeyedPhoton = std::pair<std::uint64_t, PhotonRecord>;
+    // The stored photons in key order (photon index, then bounce), whatever the threads;
+    // nothing when `stop` turns true.
+    std::vector<KeyedPhoton> takeKeyedPhotons(const std::function<bool()>& stop = {});
+    // The same without keys.
     std::vector<PhotonRecord> takePhotons(const std::function<bool()>& stop = {});
+    // Records of keyed, sorted lists (the shares of a distributed photon pass) in key order.
+    static std::vector<PhotonRecord> photonsInKeyOrder(std::vector<KeyedPhoton> keyed,
+                                                       const std::function<bool()>& stop = {});
 
 private:
     const RenderContext& m_rc;

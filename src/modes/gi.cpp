@@ -13,6 +13,7 @@
 #include "modes/modes.h"
 #include "modes/render_plan.h"
 
+#include "cluster/cluster.h"
 #include "engine/camera_emitter.h"
 #include "engine/cancel.h"
 #include "engine/intersect.h"
@@ -34,6 +35,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 namespace rayproc {
@@ -56,13 +58,15 @@ const char* debugViewName(GiDebugView v) {
     return "?";
 }
 
-// Traces `count` photons through the processor and returns what the photon stage stored;
-// nothing once an interrupt is requested (emission stops, photons in flight finish).
-std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& accel,
-                                       const LightSet& lights, const GiSettings& s,
-                                       const EngineSettings& engine, bool caustic,
-                                       std::uint32_t count, const FocusRegion& focus,
-                                       Stats& stats) {
+// Traces this rank's share of `count` photons through the processor and returns what the
+// photon stage stored, keyed; nothing once an interrupt is requested (emission stops, photons
+// in flight finish).
+std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const EmbreeScene& accel,
+                                                   const LightSet& lights, const GiSettings& s,
+                                                   const EngineSettings& engine,
+                                                   const Cluster& cluster, bool caustic,
+                                                   std::uint32_t count, const FocusRegion& focus,
+                                                   Stats& stats) {
     Film film(1, 1);
     ShadingPolicy policy;
     policy.rouletteEnabled = s.roulette;
@@ -74,14 +78,49 @@ std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& ac
     PhotonEmitter emitter(lights, scene.worldBounds(), count, engine.seed, caustic ? 2 : 1,
                           focus.active ? focus.emissionBounds() : Bounds3{},
                           focus.active ? kFocusPhotonShare : 0.0f);
+    std::uint64_t first = 0, last = 0;
+    shareOf(count, cluster.rank(), cluster.size(), first, last);
+    emitter.setRange(first, last);
     Progress progress(
         caustic ? "gi caustic photons" : "gi photons", engine.quiet,
-        [&] { return double(emitter.photonsEmitted()) / double(std::max<std::uint32_t>(count, 1)); },
+        [&] {
+            return double(emitter.photonsEmitted()) /
+                   double(std::max<std::uint64_t>(emitter.photonsInRange(), 1));
+        },
         [&] { return std::uint64_t(stats.merged().raysTraced); });
     processor.run(emitter, [] { return interruptRequested(); });
     progress.finish(!interruptRequested());
     if (interruptRequested()) return {};
-    return stage.takePhotons([] { return interruptRequested(); });
+    return stage.takeKeyedPhotons([] { return interruptRequested(); });
+}
+
+// Every rank's photons in key order, on every rank: the map one process would have traced.
+// A collective.
+std::vector<PhotonRecord> mergePhotonShares(const Cluster& cluster,
+                                            std::vector<PhotonStage::KeyedPhoton> mine) {
+    auto stop = [] { return interruptRequested(); };
+    if (!cluster.distributed()) return PhotonStage::photonsInKeyOrder(std::move(mine), stop);
+    constexpr std::size_t kKey = sizeof(std::uint64_t), kItem = kKey + sizeof(PhotonRecord);
+    std::vector<std::uint8_t> bytes(mine.size() * kItem);
+    for (std::size_t i = 0; i < mine.size(); ++i) {
+        std::memcpy(&bytes[i * kItem], &mine[i].first, kKey);
+        std::memcpy(&bytes[i * kItem + kKey], &mine[i].second, sizeof(PhotonRecord));
+    }
+    mine = {};
+    std::vector<std::uint8_t> all = cluster.gatherAll(bytes);
+    bytes = {};
+    std::vector<PhotonStage::KeyedPhoton> keyed(all.size() / kItem);
+    for (std::size_t i = 0; i < keyed.size(); ++i) {
+        std::memcpy(&keyed[i].first, &all[i * kItem], kKey);
+        std::memcpy(&keyed[i].second, &all[i * kItem + kKey], sizeof(PhotonRecord));
+    }
+    all = {};
+    return PhotonStage::photonsInKeyOrder(std::move(keyed), stop);
+}
+
+// Whether any rank was interrupted (one process: whether this one was). A collective.
+bool stopped(const Cluster& cluster) {
+    return cluster.distributed() ? agreeInterrupted(cluster) : interruptRequested();
 }
 
 // Christensen's precomputed irradiance at every fourth photon of the global map; skipped when
@@ -98,10 +137,71 @@ void precomputePhotonIrradiance(PhotonMap& global, const GiSettings& s, float ra
     progress.finish(complete);
 }
 
+// A gather the prepass made, as plain values: what a record is made of.
+struct MadeGather {
+    std::uint64_t key = 0;
+    Vec3 position, normal, u, v;
+    std::int64_t radiance[3] = {0, 0, 0};
+    std::int64_t inverseDistance = 0;
+    std::int32_t rays = 0;
+    std::vector<Vec3> strataRadiance;
+    std::vector<float> strataDistance;
+};
+
+template <typename T>
+void putValue(std::vector<std::uint8_t>& out, const T& v) {
+    const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+    out.insert(out.end(), p, p + sizeof(T));
+}
+
+template <typename T>
+T getValue(const std::vector<std::uint8_t>& in, std::size_t& at) {
+    T v;
+    std::memcpy(&v, &in[at], sizeof(T));
+    at += sizeof(T);
+    return v;
+}
+
+// Every rank's gathers of a prepass level, on every rank (a collective). The order does not
+// matter: the caller sorts them.
+std::vector<MadeGather> mergeGatherShares(const Cluster& cluster, std::vector<MadeGather> mine) {
+    if (!cluster.distributed()) return mine;
+    std::vector<std::uint8_t> bytes;
+    for (const MadeGather& g : mine) {
+        putValue(bytes, g.key);
+        for (const Vec3* w : {&g.position, &g.normal, &g.u, &g.v}) putValue(bytes, *w);
+        for (std::int64_t r : g.radiance) putValue(bytes, r);
+        putValue(bytes, g.inverseDistance);
+        putValue(bytes, g.rays);
+        putValue(bytes, std::uint32_t(g.strataRadiance.size()));
+        for (const Vec3& r : g.strataRadiance) putValue(bytes, r);
+        putValue(bytes, std::uint32_t(g.strataDistance.size()));
+        for (float d : g.strataDistance) putValue(bytes, d);
+    }
+    mine = {};
+    std::vector<std::uint8_t> all = cluster.gatherAll(bytes);
+    std::vector<MadeGather> out;
+    for (std::size_t at = 0; at < all.size();) {
+        MadeGather g;
+        g.key = getValue<std::uint64_t>(all, at);
+        for (Vec3* w : {&g.position, &g.normal, &g.u, &g.v}) *w = getValue<Vec3>(all, at);
+        for (std::int64_t& r : g.radiance) r = getValue<std::int64_t>(all, at);
+        g.inverseDistance = getValue<std::int64_t>(all, at);
+        g.rays = getValue<std::int32_t>(all, at);
+        g.strataRadiance.resize(getValue<std::uint32_t>(all, at));
+        for (Vec3& r : g.strataRadiance) r = getValue<Vec3>(all, at);
+        g.strataDistance.resize(getValue<std::uint32_t>(all, at));
+        for (float& d : g.strataDistance) d = getValue<float>(all, at);
+        out.push_back(std::move(g));
+    }
+    return out;
+}
+
 // Ward's cache, filled coarse to fine; returns the records inserted.
 std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
                                 const LightSet& lights, GiData& gi, IrradianceCache& cache,
-                                const EngineSettings& engine, Stats& stats) {
+                                const EngineSettings& engine, const Cluster& cluster,
+                                Stats& stats) {
     const Camera& full = scene.camera;
     IcRequests requests;
     std::size_t inserted = 0;
@@ -130,7 +230,7 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         },
         [&] { return std::uint64_t(stats.merged().raysTraced); });
     for (int scale : kScales) {
-        if (interruptRequested()) break;
+        if (stopped(cluster)) break;
         Camera cam = levelCamera(scale);
         std::size_t capacity = std::size_t(cam.width) * cam.height * 2;
         while (requests.slots.size() < capacity) requests.slots.push_back(std::make_unique<IcRequest>());
@@ -163,47 +263,63 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         processor.setStage(RayKind::Shadow, &shadow);
         processor.setStage(RayKind::Gather, &gather);
         CameraEmitter camera(rc, 1, &cam);
+        camera.setShare(cluster.rank(), cluster.size()); // each rank gathers for its tiles
         camera.beginPass(0, 1);
         currentPixels = double(cam.width) * cam.height;
         current = &camera;
         processor.run(camera, [] { return interruptRequested(); });
         current = nullptr;
         pixelsBefore = pixelsBefore.load() + double(cam.width) * cam.height;
-        // A level cut short would leave holes in the cache; the render is cancelled anyway.
-        if (interruptRequested()) break;
 
-        // New records in a fixed order, then into the cache.
+        // New records (every rank's) in a fixed order, then into the cache.
         std::size_t n = std::min<std::size_t>(requests.used.load(), requests.slots.size());
-        std::vector<IcRequest*> made;
-        for (std::size_t i = 0; i < n; ++i)
-            if (requests.slots[i]->rays.load() > 0) made.push_back(requests.slots[i].get());
-        std::sort(made.begin(), made.end(), [](const IcRequest* a, const IcRequest* b) {
-            if (a->key != b->key) return a->key < b->key;
-            return std::tie(a->position.x, a->position.y, a->position.z) <
-                   std::tie(b->position.x, b->position.y, b->position.z);
+        std::vector<MadeGather> made;
+        for (std::size_t i = 0; i < n; ++i) {
+            const IcRequest& r = *requests.slots[i];
+            if (r.rays.load() <= 0) continue;
+            MadeGather g;
+            g.key = r.key;
+            g.position = r.position;
+            g.normal = r.normal;
+            g.u = r.u;
+            g.v = r.v;
+            for (int c = 0; c < 3; ++c) g.radiance[c] = r.radiance[c].load();
+            g.inverseDistance = r.inverseDistance.load();
+            g.rays = r.rays.load();
+            g.strataRadiance = r.strataRadiance;
+            g.strataDistance = r.strataDistance;
+            made.push_back(std::move(g));
+        }
+        made = mergeGatherShares(cluster, std::move(made));
+        // A level cut short would leave holes in the cache; the render is cancelled anyway.
+        if (stopped(cluster)) break;
+        std::sort(made.begin(), made.end(), [](const MadeGather& a, const MadeGather& b) {
+            if (a.key != b.key) return a.key < b.key;
+            return std::tie(a.position.x, a.position.y, a.position.z) <
+                   std::tie(b.position.x, b.position.y, b.position.z);
         });
         std::vector<IrradianceRecord> records;
-        for (IcRequest* r : made) {
-            double rays = r->rays.load();
+        for (const MadeGather& r : made) {
+            double rays = r.rays;
             IrradianceRecord rec;
-            rec.position = r->position;
-            rec.normal = r->normal;
+            rec.position = r.position;
+            rec.normal = r.normal;
             // Cosine-weighted gather: E = pi / N * sum L.
             for (int c = 0; c < 3; ++c)
-                rec.irradiance[c] = float(kPi * double(r->radiance[c].load()) / IcRequests::kScale / rays);
-            double inv = double(r->inverseDistance.load()) / IcRequests::kScale;
+                rec.irradiance[c] = float(kPi * double(r.radiance[c]) / IcRequests::kScale / rays);
+            double inv = double(r.inverseDistance) / IcRequests::kScale;
             float harmonic = inv > 0 ? float(rays / inv) : gi.icMaxRadius;
             rec.radius = std::clamp(harmonic, gi.icMinRadius, gi.icMaxRadius);
             if (gi.strataWanted &&
-                r->strataRadiance.size() == std::size_t(gi.gatherTheta) * std::size_t(gi.gatherPhi)) {
+                r.strataRadiance.size() == std::size_t(gi.gatherTheta) * std::size_t(gi.gatherPhi)) {
                 // Ward & Heckbert's gradients from the same strata (the irradiance above is
                 // pi / (M N) times their sum).
                 GatherStrata strata;
                 strata.thetaCount = gi.gatherTheta;
                 strata.phiCount = gi.gatherPhi;
-                strata.radiance = r->strataRadiance;
-                strata.distance = r->strataDistance;
-                IrradianceCache::estimateGradients(strata, r->u, r->v, r->normal, rec.gradT, rec.gradR);
+                strata.radiance = r.strataRadiance;
+                strata.distance = r.strataDistance;
+                IrradianceCache::estimateGradients(strata, r.u, r.v, r.normal, rec.gradT, rec.gradR);
             }
             records.push_back(rec);
         }
@@ -268,6 +384,8 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     // photon passes, the precomputation and the cache's prepass too.
     EngineSettings engine = engineIn;
     if (!engine.workStart) engine.workStart = Clock::now();
+    static const Cluster alone;
+    const Cluster& cluster = engine.cluster ? *engine.cluster : alone;
     // Scene analysis: maps, cache and stages the scene cannot use are skipped.
     LightSet all = LightSet::build(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanGi);
@@ -293,17 +411,22 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     Stats photonStats;
     auto t0 = Clock::now();
     PhotonMap global, caustic;
-    if (s.photons > 0 && plan.globalMap && !interruptRequested())
-        global.build(tracePhotons(scene, accel, lights, s, engine, false, std::uint32_t(s.photons),
-                                  focus, photonStats),
-                     [] { return interruptRequested(); });
-    if (s.caustics && s.causticPhotons > 0 && plan.causticMap && !interruptRequested())
-        caustic.build(tracePhotons(scene, accel, lights, s, engine, true,
-                                   std::uint32_t(s.causticPhotons), focus, photonStats),
-                      [] { return interruptRequested(); });
+    // Each rank traces a range of the photon indices; every rank builds the merged maps.
+    if (s.photons > 0 && plan.globalMap && !stopped(cluster)) {
+        std::vector<PhotonRecord> photons = mergePhotonShares(
+            cluster, tracePhotons(scene, accel, lights, s, engine, cluster, false,
+                                  std::uint32_t(s.photons), focus, photonStats));
+        if (!stopped(cluster)) global.build(std::move(photons), [] { return interruptRequested(); });
+    }
+    if (s.caustics && s.causticPhotons > 0 && plan.causticMap && !stopped(cluster)) {
+        std::vector<PhotonRecord> photons = mergePhotonShares(
+            cluster, tracePhotons(scene, accel, lights, s, engine, cluster, true,
+                                  std::uint32_t(s.causticPhotons), focus, photonStats));
+        if (!stopped(cluster)) caustic.build(std::move(photons), [] { return interruptRequested(); });
+    }
     double photonSeconds = secondsSince(t0);
     auto t1 = Clock::now();
-    if (s.precomputedIrradiance && global.size() > 0 && !interruptRequested())
+    if (s.precomputedIrradiance && global.size() > 0 && !stopped(cluster))
         precomputePhotonIrradiance(global, s, gi.globalRadius, engine);
     double precomputeSeconds = secondsSince(t1);
     gi.global = &global;
@@ -321,12 +444,13 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     IrradianceCache cache(scene.worldBounds(), cs);
     Stats cacheStats;
     auto t2 = Clock::now();
-    if (s.irradianceCache && plan.globalMap && !interruptRequested())
-        fillIrradianceCache(scene, accel, lights, gi, cache, engine, cacheStats);
+    if (s.irradianceCache && plan.globalMap && !stopped(cluster))
+        fillIrradianceCache(scene, accel, lights, gi, cache, engine, cluster, cacheStats);
     double cacheSeconds = secondsSince(t2);
     gi.cache = s.irradianceCache ? &cache : nullptr;
     gi.requests = nullptr;
     ThreadStats cacheTotals = cacheStats.merged();
+    sumToRoot(cluster, cacheTotals); // every rank's share of the prepass
     extras.push_back({"gi/cache_seconds", cacheSeconds});
     extras.push_back({"gi/cache_records", double(cache.size())});
     extras.push_back({"gi/cache_prepass_gather_rays", double(cacheTotals.stages[int(StageId::Gather)].raysOut)});
@@ -353,7 +477,9 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
         extras.push_back({"gi/ic_marked_pixels", double(markIcRecords(r.image, scene.camera, cache))});
     }
     // runRenderJob measured its wall time from engine.workStart: the pre-passes are in it.
-    r.stats.totals.raysTraced += photonStats.merged().raysTraced + cacheTotals.raysTraced;
+    ThreadStats photonTotals = photonStats.merged();
+    sumToRoot(cluster, photonTotals);
+    r.stats.totals.raysTraced += photonTotals.raysTraced + cacheTotals.raysTraced;
     r.stats.extras = extras;
     return r;
 }

@@ -12,6 +12,7 @@
 #include "engine/surface_stage.h"
 #include "gi/gather_stage.h"
 
+#include "cluster/cluster.h"
 #include "image/metrics.h"
 
 #include <algorithm>
@@ -38,6 +39,13 @@ std::string EngineSettings::toString() const {
 
 namespace {
 constexpr int kMinTargetPasses = 8;
+
+// What the ranks of a distributed render decide together after each pass.
+enum PassDecision : std::uint32_t {
+    kDecideInterrupted = 1, // some rank was interrupted: all stop
+    kDecideTimeUp = 2,      // rank 0's clock passed the time limit
+    kDecideProgressive = 4, // rank 0 writes the progressive image now
+};
 } // namespace
 
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
@@ -45,6 +53,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
                           const EngineSettings& engine, RadianceStage radiance,
                           const GiData* gi) {
     auto start = engine.workStart ? *engine.workStart : std::chrono::steady_clock::now();
+    static const Cluster alone;
+    const Cluster& cluster = engine.cluster ? *engine.cluster : alone;
     Film film(scene.camera.width, scene.camera.height);
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
     rc.gi = gi;
@@ -54,6 +64,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     Intersector intersector(accel.root(), engine.packetWidth);
     RayProcessor processor(intersector, stats, engine.threads);
     CameraEmitter camera(rc, spp);
+    camera.setShare(cluster.rank(), cluster.size());
     ShadowStage shadow(rc);
     ReflectionStage reflection(rc);
     RefractionStage refraction(rc);
@@ -79,7 +90,9 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
                                  std::strerror(err) + "; its rows stop there";
         if (errorLog) std::fclose(errorLog.release());
     };
-    if (engine.reference && !engine.errorLogPath.empty()) {
+    // Every rank takes part in the log's image merge; rank 0 writes it.
+    const bool logging = engine.reference && !engine.errorLogPath.empty();
+    if (logging && cluster.root()) {
         errorLog.reset(std::fopen(engine.errorLogPath.c_str(), "w"));
         if (!errorLog) throw std::runtime_error("cannot write the error log " + engine.errorLogPath);
         if (std::fprintf(errorLog.get(), "spp,seconds,relmse,rmse,relmse_estimate\n") < 0 ||
@@ -93,14 +106,23 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     const bool stopEarly = engine.timeLimitSeconds > 0 || engine.targetRelMse > 0;
     int passSpp = stopEarly ? 1 : std::clamp(spp / 32, 1, 16);
     // Half buffers (alternate passes) give the relMSE estimate the target and the log use.
-    if (engine.targetRelMse > 0 || errorLog) film.enableHalfBuffers();
+    if (engine.targetRelMse > 0 || logging) film.enableHalfBuffers();
+    // The image of the whole job (every rank's tiles), on rank 0; a collective.
+    auto wholeImage = [&] {
+        if (!cluster.distributed()) return film.resolve();
+        std::vector<double> sums = film.sums();
+        std::vector<std::uint64_t> samples = film.sampleCounts();
+        cluster.sumToRoot(sums);
+        cluster.sumToRoot(samples);
+        return Film::resolve(film.width(), film.height(), sums, samples);
+    };
     int passes = (spp + passSpp - 1) / passSpp;
     std::atomic<int> passIndex{0};
     std::atomic<std::uint64_t> unitsBefore{0};
     std::uint64_t totalUnits = 0;
     {
-        int tiles = int(((scene.camera.width + 15) / 16) * ((scene.camera.height + 15) / 16));
-        totalUnits = std::uint64_t(tiles) * std::uint64_t(spp);
+        // This rank's share: progress is rank 0's, which the others keep pace with.
+        totalUnits = std::uint64_t(std::max(camera.tilesInShare(), 1)) * std::uint64_t(spp);
     }
     std::atomic<double> targetFraction{0.0};
     Progress progress(
@@ -112,33 +134,54 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         [&] { return std::uint64_t(stats.merged().raysTraced); });
 
     auto lastProgressive = std::chrono::steady_clock::now();
-    for (int pass = 0; pass < passes; ++pass) {
-        if (interruptRequested()) break;
+    bool stop = cluster.distributed() ? agreeInterrupted(cluster) : interruptRequested();
+    for (int pass = 0; pass < passes && !stop; ++pass) {
         int first = pass * passSpp;
         int count = std::min(passSpp, spp - first);
         camera.beginPass(first, count);
         processor.run(camera, [] { return interruptRequested(); });
         unitsBefore += std::min<std::uint64_t>(camera.unitsEmitted(), camera.unitsPerPass());
         film.commitPass(pass % 2);
-        if (film.hasHalfBuffers()) result.relMseEstimate = film.relMseEstimate();
+        if (film.hasHalfBuffers()) {
+            std::vector<double> parts = film.relMseParts();
+            cluster.sumAll(parts);
+            result.relMseEstimate = Film::relMseFromParts(parts);
+        }
         passIndex = pass + 1;
         ++result.passesDone;
         result.samplesDone = first + count;
         auto now = std::chrono::steady_clock::now();
-        if (errorLog) {
+        if (logging) {
             // The log's clock stops while the error is measured.
             double seconds = std::chrono::duration<double>(now - start).count();
-            ImageMetrics m = compareImages(film.resolve(), *engine.reference);
-            if (std::fprintf(errorLog.get(), "%d,%.6f,%.9g,%.9g,%.9g\n", first + count, seconds,
-                             m.relmse, m.rmse, result.relMseEstimate) < 0 ||
-                std::fflush(errorLog.get()) != 0)
-                logFailed();
+            Image whole = wholeImage();
+            if (errorLog) {
+                ImageMetrics m = compareImages(whole, *engine.reference);
+                if (std::fprintf(errorLog.get(), "%d,%.6f,%.9g,%.9g,%.9g\n", first + count,
+                                 seconds, m.relmse, m.rmse, result.relMseEstimate) < 0 ||
+                    std::fflush(errorLog.get()) != 0)
+                    logFailed();
+            }
             start += std::chrono::steady_clock::now() - now;
         }
         if (film.hasHalfBuffers() && std::isfinite(result.relMseEstimate) &&
             result.relMseEstimate > 0)
             // The variance part falls as 1/spp: the share of the work done is target/estimate.
             targetFraction = std::min(1.0, engine.targetRelMse / result.relMseEstimate);
+        // Rank 0's clock and progressive schedule rule; an interrupt anywhere stops every rank.
+        std::uint32_t decision = interruptRequested() ? kDecideInterrupted : 0u;
+        if (cluster.root() && engine.timeLimitSeconds > 0 && pass + 1 < passes &&
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >=
+                engine.timeLimitSeconds)
+            decision |= kDecideTimeUp;
+        if (cluster.root() && engine.onProgress && pass + 1 < passes &&
+            std::chrono::duration<double>(now - lastProgressive).count() >= engine.progressiveSeconds)
+            decision |= kDecideProgressive;
+        if (cluster.distributed()) decision = cluster.orAll(decision);
+        if (decision & kDecideInterrupted) {
+            if (!interruptRequested()) requestInterrupt();
+            stop = true;
+        }
         // At least kMinTargetPasses passes: with one or two samples per half the estimate is
         // itself too noisy to stop on (a 3-spp render estimated 0.044 measured 0.066).
         if (engine.targetRelMse > 0 && pass + 1 >= kMinTargetPasses &&
@@ -146,15 +189,13 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             result.targetReached = true;
             break;
         }
-        if (engine.timeLimitSeconds > 0 && pass + 1 < passes &&
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >=
-                engine.timeLimitSeconds) {
+        if (decision & kDecideTimeUp) {
             result.timeLimitReached = true;
             break;
         }
-        if (engine.onProgress && pass + 1 < passes &&
-            std::chrono::duration<double>(now - lastProgressive).count() >= engine.progressiveSeconds) {
-            engine.onProgress(film.resolve());
+        if (decision & kDecideProgressive) {
+            Image whole = wholeImage();
+            if (engine.onProgress && cluster.root()) engine.onProgress(whole);
             lastProgressive = now;
         }
     }
@@ -162,13 +203,19 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     progress.finish(!result.cancelled);
     if (errorLog && std::fclose(errorLog.release()) != 0 && result.errorLogFailure.empty())
         logFailed();
-    result.image = film.resolve();
+    // The whole job's film on rank 0: each pixel is one rank's, the others add exact zeros.
+    std::vector<double> sums = film.sums();
+    std::vector<std::uint64_t> samples = film.sampleCounts();
+    cluster.sumToRoot(sums);
+    cluster.sumToRoot(samples);
+    result.image = Film::resolve(film.width(), film.height(), sums, samples);
     result.stats.totals = stats.merged();
+    sumToRoot(cluster, result.stats.totals);
     result.stats.wallSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.stats.peakMemoryBytes = peakResidentBytes();
     result.stats.batchesAllocated = processor.batchesAllocated();
-    result.stats.pixelsWithoutSamples = film.pixelsWithoutSamples();
+    result.stats.pixelsWithoutSamples = std::size_t(std::count(samples.begin(), samples.end(), 0));
     return result;
 }
 

@@ -19,8 +19,10 @@
 
 namespace rayproc {
 
-// Settings of the engine itself, common to every mode.
 struct GiData;
+class Cluster;
+
+// Settings of the engine itself, common to every mode.
 
 struct EngineSettings {
     int threads = 0;      // 0: all cores
@@ -51,6 +53,11 @@ struct EngineSettings {
     // relMSE estimated from their difference (Film::relMseEstimate) is at most this, or at
     // the mode's spp, the time limit or an interrupt, whichever comes first.
     double targetRelMse = 0;
+    // The processes sharing the render (cluster/cluster.h); null: this process alone. Each
+    // takes a share of the tiles (and of gi's photons and cache prepass); the image, the
+    // statistics and the stop decisions are combined so the result is one process's, to the
+    // bit. Only rank 0's result holds the whole image.
+    const Cluster* cluster = nullptr;
     std::string toString() const;
 };
 
