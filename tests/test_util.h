@@ -307,14 +307,16 @@ struct RunResult {
     double seconds = 0;
 };
 
-// Runs rayproc to completion (at most `timeoutSeconds`) with its output captured under `dir`.
+// Runs rayproc (or `program`, e.g. mpirun) to completion (at most `timeoutSeconds`) with its
+// output captured under `dir`.
 inline RunResult runRayproc(const std::vector<std::string>& args, const TempDir& dir,
-                            double timeoutSeconds = 60) {
+                            double timeoutSeconds = 60,
+                            const std::string& program = rayprocBinary()) {
     static std::atomic<int> counter{0};
     int n = counter++;
     auto start = std::chrono::steady_clock::now();
     Child child(args, dir.file("stdout" + std::to_string(n) + ".txt"),
-                dir.file("stderr" + std::to_string(n) + ".txt"));
+                dir.file("stderr" + std::to_string(n) + ".txt"), program);
     RunResult r;
     if (!child.started()) return r;
     child.wait(timeoutSeconds);

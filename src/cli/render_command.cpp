@@ -11,10 +11,13 @@
 #include "modes/modes.h"
 #include "scene/scene_loader.h"
 
+#include <tbb/global_control.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 
 namespace rayproc::cli {
 
@@ -88,6 +91,11 @@ int runRender(const RenderArgs& a) {
         checkOutputFile("--error-log", a.errorLog);
     }
 
+    // --threads bounds every phase, not only the ray processor's: the BVH build, photon map
+    // builds, precomputation and sorts run in TBB's global arena (and so do, under mpirun,
+    // the ranks that share a machine).
+    std::optional<tbb::global_control> threadLimit;
+    if (a.threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(a.threads));
     std::unique_ptr<Scene> scene = loadScene(a.scene);
     if (a.width > 0) scene->camera.width = a.width;
     if (a.height > 0) scene->camera.height = a.height;
@@ -296,7 +304,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "path");
     cmd->add_option("--spp", args->spp, "Samples per pixel (default: the mode's, or the scene's)")
         ->check(CLI::Range(1, 1000000));
-    cmd->add_option("--threads", args->threads, "Worker threads (default: all cores)")
+    cmd->add_option("--threads", args->threads, "Worker threads, for every phase (default: all cores; under mpirun: per rank)")
         ->check(CLI::Range(1, 1024));
     cmd->add_option("--seed", args->seed,
                     "Random seed; the same seed, scene and options give the same image whatever "

@@ -15,6 +15,7 @@
 #include "gi/photon_kdtree.h"
 #include "gi/photon_map.h"
 
+#include "cluster/cluster.h"
 #include "core/error.h"
 
 #include <tbb/blocked_range.h>
@@ -23,6 +24,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <type_traits>
 
 namespace rayproc {
 
@@ -57,15 +60,18 @@ Vec3 PhotonMap::irradiance(const Vec3& p, const Vec3& n, int k, float maxDistanc
 
 bool PhotonMap::precomputeIrradiance(int k, float maxDistance, int stride,
                                      std::atomic<std::size_t>* done,
-                                     const std::function<bool()>& stop) {
+                                     const std::function<bool()>& stop,
+                                     const Cluster* cluster) {
     RAYPROC_CHECK(stride >= 1);
     std::size_t step = std::size_t(stride);
     std::size_t count = precomputeCount(stride);
     std::atomic<bool> stopped{false};
+    std::uint64_t first = 0, last = count;
+    if (cluster) shareOf(count, cluster->rank(), cluster->size(), first, last);
 
     // The estimates, in subset order j (photon j * stride); each slot is written by one task.
     std::vector<PrecomputedPhoton> subset(count);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 256),
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 256),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           if (stopped.load(std::memory_order_relaxed)) return;
                           if (stop && stop()) {
@@ -83,6 +89,15 @@ bool PhotonMap::precomputeIrradiance(int k, float maxDistance, int stride,
                           }
                           if (done) done->fetch_add(r.size(), std::memory_order_relaxed);
                       });
+    if (cluster && cluster->distributed()) {
+        // The shares are contiguous in rank order: their concatenation is the whole subset.
+        static_assert(std::is_trivially_copyable_v<PrecomputedPhoton>);
+        std::vector<std::uint8_t> mine((last - first) * sizeof(PrecomputedPhoton));
+        if (!mine.empty()) std::memcpy(mine.data(), &subset[first], mine.size());
+        std::vector<std::uint8_t> all = cluster->gatherAll(mine);
+        RAYPROC_CHECK(all.size() == count * sizeof(PrecomputedPhoton));
+        if (!all.empty()) std::memcpy(subset.data(), all.data(), all.size());
+    }
     if (stopped) return false;
 
     // Their own kd-tree.

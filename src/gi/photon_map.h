@@ -26,6 +26,8 @@
 
 namespace rayproc {
 
+class Cluster;
+
 // What the photon tracer hands over: one stored photon.
 struct PhotonRecord {
     Vec3 position;
@@ -103,10 +105,13 @@ public:
     // Precomputes irradiance(position, normal, k, maxDistance) at photons 0, stride, 2 stride...
     // (storage order), in parallel; the result does not depend on the thread count. `done`
     // (optional) counts the estimates made, for progress; when `stop` (optional) turns true the
-    // remaining work is skipped, nothing is precomputed and false is returned.
+    // remaining work is skipped, nothing is precomputed and false is returned. With a
+    // distributed cluster, each rank estimates a contiguous share of the photons and every
+    // rank receives all the estimates (a collective: every rank calls it, stopped or not).
     bool precomputeIrradiance(int k, float maxDistance, int stride,
                               std::atomic<std::size_t>* done = nullptr,
-                              const std::function<bool()>& stop = {});
+                              const std::function<bool()>& stop = {},
+                              const Cluster* cluster = nullptr);
     std::size_t precomputeCount(int stride) const {
         return (m_photons.size() + std::size_t(stride) - 1) / std::size_t(stride);
     }

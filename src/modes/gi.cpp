@@ -9,7 +9,10 @@
 //  3. The render: direct light with soft shadows exactly as raytrace mode, specular reflection
 //     and refraction, caustics from the caustic map, indirect diffuse from the cache (or a
 //     final gather where no record is usable).
-// Every phase shows progress and stops at an interrupt (docs/architecture.md).
+// Every phase shows progress and stops at an interrupt (docs/architecture.md). Under MPI each
+// rank traces a range of photon indices, gathers for its tiles of each cache level and renders
+// its tiles; the merges keep the fixed orders above, so the image is one process's
+// (docs/distributed.md).
 #include "modes/modes.h"
 #include "modes/render_plan.h"
 
@@ -123,17 +126,19 @@ bool stopped(const Cluster& cluster) {
     return cluster.distributed() ? agreeInterrupted(cluster) : interruptRequested();
 }
 
-// Christensen's precomputed irradiance at every fourth photon of the global map; skipped when
-// interrupted.
+// Christensen's precomputed irradiance at every fourth photon of the global map (each rank
+// estimates a share, every rank gets all); skipped when interrupted.
 void precomputePhotonIrradiance(PhotonMap& global, const GiSettings& s, float radius,
-                                const EngineSettings& engine) {
+                                const EngineSettings& engine, const Cluster& cluster) {
     constexpr int kStride = 4;
     std::atomic<std::size_t> done{0};
-    double total = double(std::max<std::size_t>(global.precomputeCount(kStride), 1));
+    std::uint64_t first = 0, last = 0; // this rank's share, for progress
+    shareOf(global.precomputeCount(kStride), cluster.rank(), cluster.size(), first, last);
+    double total = double(std::max<std::uint64_t>(last - first, 1));
     Progress progress("gi precomputed irradiance", engine.quiet,
                       [&] { return double(done.load()) / total; }, [] { return std::uint64_t(0); });
     bool complete = global.precomputeIrradiance(s.globalK, radius, kStride, &done,
-                                                [] { return interruptRequested(); });
+                                                [] { return interruptRequested(); }, &cluster);
     progress.finish(complete);
 }
 
@@ -427,7 +432,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     double photonSeconds = secondsSince(t0);
     auto t1 = Clock::now();
     if (s.precomputedIrradiance && global.size() > 0 && !stopped(cluster))
-        precomputePhotonIrradiance(global, s, gi.globalRadius, engine);
+        precomputePhotonIrradiance(global, s, gi.globalRadius, engine, cluster);
     double precomputeSeconds = secondsSince(t1);
     gi.global = &global;
     gi.caustic = &caustic;

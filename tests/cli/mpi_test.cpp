@@ -30,21 +30,8 @@ std::vector<std::string> mpirunArgs(int ranks, const std::vector<std::string>& r
     return a;
 }
 
-RunResult runMpi(int ranks, const std::vector<std::string>& rayprocArgs, const TempDir& dir,
-                 double timeoutSeconds = 120) {
-    static int counter = 0;
-    int n = counter++;
-    auto start = std::chrono::steady_clock::now();
-    Child child(mpirunArgs(ranks, rayprocArgs), dir.file("mpi-out" + std::to_string(n) + ".txt"),
-                dir.file("mpi-err" + std::to_string(n) + ".txt"), RAYPROC_MPIEXEC);
-    RunResult r;
-    if (!child.started()) return r;
-    child.wait(timeoutSeconds);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    r.status = child.status();
-    r.out = child.out();
-    r.err = child.err();
-    return r;
+RunResult runMpi(int ranks, const std::vector<std::string>& rayprocArgs, const TempDir& dir) {
+    return runRayproc(mpirunArgs(ranks, rayprocArgs), dir, 120, RAYPROC_MPIEXEC);
 }
 
 bool contains(const std::string& text, const std::string& what) {
