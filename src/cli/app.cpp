@@ -14,6 +14,7 @@ std::unique_ptr<CLI::App> makeApp(Commands& commands) {
     commands.info = addInfoCommand(*app);
     commands.diff = addDiffCommand(*app);
     commands.bench = addBenchCommand(*app);
+    commands.serve = addServeCommand(*app);
     return app;
 }
 

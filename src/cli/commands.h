@@ -12,7 +12,7 @@ namespace rayproc::cli {
 
 // What each subcommand runs once the command line is parsed.
 struct Commands {
-    std::function<int()> render, info, diff, bench;
+    std::function<int()> render, info, diff, bench, serve;
 };
 // The whole command line (main() and the command-line fuzzer parse with the same app).
 std::unique_ptr<CLI::App> makeApp(Commands& commands);
@@ -25,6 +25,7 @@ std::function<int()> addInfoCommand(CLI::App& app);
 // Its function catches its own errors: 0 within limits, 1 a limit exceeded, 2 an error.
 std::function<int()> addDiffCommand(CLI::App& app);
 std::function<int()> addBenchCommand(CLI::App& app);
+std::function<int()> addServeCommand(CLI::App& app);
 
 // Refuses NaN and infinities in a floating-point option: CLI11 reads "nan" and "inf" as
 // numbers, and its Range and PositiveNumber checks let NaN through (every comparison with NaN

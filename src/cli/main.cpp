@@ -25,6 +25,7 @@ int runCommand(CLI::App& app, rayproc::cli::Commands& commands) {
         if (app.got_subcommand("info")) return commands.info();
         if (app.got_subcommand("diff")) return commands.diff();
         if (app.got_subcommand("bench")) return commands.bench();
+        if (app.got_subcommand("serve")) return commands.serve();
     } catch (const rayproc::InputError& e) {
         rayproc::cli::printError(e.what());
     } catch (const rayproc::ImageIoError& e) {

@@ -41,6 +41,7 @@ int interruptExitStatus() {
     int sig = g_signal.load();
     return 128 + (sig > 0 ? sig : SIGINT);
 }
+int interruptSignal() { return g_signal.load(); }
 void requestInterrupt() { g_interrupts.store(1); }
 void quietInterruptMessages() { g_quiet.store(true); }
 void clearInterrupt() {

@@ -10,6 +10,9 @@ bool interruptRequested();
 // 128 + the first stopping signal's number (SIGINT's when set by requestInterrupt): the shell's
 // convention, which the commands return after writing what they have.
 int interruptExitStatus();
+// The first stopping signal that arrived (SIGINT, SIGTERM, SIGHUP), 0 when none did, even if
+// requestInterrupt() stopped a render (rayproc serve's cancel is not a signal).
+int interruptSignal();
 void requestInterrupt(); // as if SIGINT arrived (tests, and a distributed render's agreement)
 // The handler's messages off: the other ranks of a distributed render leave them to rank 0.
 void quietInterruptMessages();

@@ -151,6 +151,10 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         ++result.passesDone;
         result.samplesDone = first + count;
         auto now = std::chrono::steady_clock::now();
+        if (engine.onPass)
+            engine.onPass(std::max(double(pass + 1) / double(passes), targetFraction.load()),
+                          std::uint64_t(stats.merged().raysTraced),
+                          std::chrono::duration<double>(now - start).count());
         if (logging) {
             // The log's clock stops while the error is measured.
             double seconds = std::chrono::duration<double>(now - start).count();

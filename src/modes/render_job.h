@@ -37,6 +37,9 @@ struct EngineSettings {
     // calls it at most once per `progressiveSeconds`.
     std::function<void(const Image&)> onProgress;
     double progressiveSeconds = 5.0;
+    // Called after each pass when set (rayproc serve's progress): the share of the passes
+    // done, the rays traced so far and the seconds since the passes began.
+    std::function<void(double fraction, std::uint64_t rays, double seconds)> onPass;
     // Convergence log: after each pass, the samples, seconds, error against `reference` and
     // the reference-free estimate (Film::relMseEstimate) are appended to `errorLogPath` as CSV
     // (spp,seconds,relmse,rmse,relmse_estimate; the estimate is nan after the first pass).

@@ -1,0 +1,278 @@
+// The page rayproc serve sends (docs/serve.md): one HTML document with its style and script,
+// no framework and nothing fetched from elsewhere. The script speaks Session's messages over
+// the WebSocket /ws and draws the binary frames (encodeFrame) into a canvas.
+#include "serve/server.h"
+
+namespace rayproc::serve {
+
+const char* const kPage = R"PAGE(<!doctype html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>rayproc serve</title>
+<style>
+  body { margin: 0; font: 13px system-ui, sans-serif; display: flex; background: #1e1e1e; color: #ddd; }
+  #view { flex: 1; display: flex; flex-direction: column; align-items: center; padding: 8px; }
+  canvas { background: #000; image-rendering: auto; cursor: crosshair; max-width: 100%; }
+  #side { width: 330px; padding: 8px; overflow-y: auto; height: 100vh; box-sizing: border-box; background: #262626; }
+  h3 { margin: 10px 0 4px; font-size: 13px; color: #fff; }
+  button { margin: 2px; }
+  input[type=number] { width: 64px; }
+  #status, #error { min-height: 1.2em; }
+  #error { color: #ff8080; }
+  pre { white-space: pre-wrap; font-size: 11px; background: #1a1a1a; padding: 4px; max-height: 220px; overflow: auto; }
+  .row { display: flex; align-items: center; gap: 4px; flex-wrap: wrap; }
+  #progress { width: 100%; }
+</style>
+</head>
+<body>
+<div id="view">
+  <canvas id="canvas" width="512" height="512" tabindex="0"></canvas>
+  <div id="status">connecting...</div>
+  <div id="error"></div>
+  <div class="help">drag: orbit - shift+drag or right drag: pan - wheel: zoom - W A S D Q E: fly - click: pick</div>
+</div>
+<div id="side">
+  <h3>Mode</h3>
+  <div class="row">
+    <button id="mode-raytrace">raytrace</button><button id="mode-gi">gi</button><button id="mode-path">path</button>
+    spp <input id="spp" type="number" min="1" max="65536" placeholder="default">
+  </div>
+  <div class="row"><button id="cancel" disabled>Cancel</button>
+    <a href="/image.png" download="render.png">PNG</a> <a href="/image.exr" download="render.exr">EXR</a></div>
+  <progress id="progress" max="1" value="0"></progress>
+  <div id="render-info"></div>
+  <h3>Selection</h3>
+  <div id="selection">none (click the image)</div>
+  <div class="row">move <button data-move="-1,0,0">-x</button><button data-move="1,0,0">+x</button>
+    <button data-move="0,-1,0">-y</button><button data-move="0,1,0">+y</button>
+    <button data-move="0,0,-1">-z</button><button data-move="0,0,1">+z</button>
+    step <input id="step" type="number" value="0.1" step="0.05"></div>
+  <div class="row">rotate y <button id="rot-minus">-15&deg;</button><button id="rot-plus">+15&deg;</button>
+    scale <button id="scale-down">&divide;1.1</button><button id="scale-up">&times;1.1</button></div>
+  <h3>Material</h3>
+  <div class="row">type <select id="mat-type">
+    <option>diffuse</option><option>mirror</option><option>dielectric</option><option>glossy</option></select></div>
+  <div class="row">colour <input id="mat-color" type="color" value="#b9b5ad">
+    roughness <input id="mat-roughness" type="number" min="0" max="1" step="0.05" value="0.2">
+    ior <input id="mat-ior" type="number" min="1" max="3" step="0.05" value="1.5"></div>
+  <div class="row"><button id="mat-apply">Apply material</button></div>
+  <div class="row">emission <input id="emission" type="number" min="0" step="1" value="0">
+    <button id="emission-apply">Apply emission</button></div>
+  <h3>Scene</h3>
+  <div class="row"><button id="undo">Undo</button> <span id="undo-depth"></span></div>
+  <div class="row"><input id="save-path" value="edited.json"> <button id="save">Save JSON</button></div>
+  <h3>Lights</h3>
+  <div id="lights"></div>
+  <h3>Scene analysis</h3>
+  <pre id="analysis"></pre>
+  <h3>Statistics of the last render</h3>
+  <pre id="stats"></pre>
+</div>
+<script>
+"use strict";
+const canvas = document.getElementById("canvas");
+const ctx2d = canvas.getContext("2d");
+const $ = (id) => document.getElementById(id);
+let ws, state = null, camera = null, selected = null, rendering = false;
+let framesShown = 0;
+window.rayproc = { get state() { return state; }, get selected() { return selected; },
+                   get framesShown() { return framesShown; }, get rendering() { return rendering; },
+                   send: (m) => send(m), lastReply: null, lastError: null };
+
+function send(m) { ws.send(JSON.stringify(m)); }
+function sub(a, b) { return [a[0]-b[0], a[1]-b[1], a[2]-b[2]]; }
+function add(a, b) { return [a[0]+b[0], a[1]+b[1], a[2]+b[2]]; }
+function mul(a, s) { return [a[0]*s, a[1]*s, a[2]*s]; }
+function len(a) { return Math.hypot(a[0], a[1], a[2]); }
+function norm(a) { const l = len(a) || 1; return mul(a, 1/l); }
+function cross(a, b) { return [a[1]*b[2]-a[2]*b[1], a[2]*b[0]-a[0]*b[2], a[0]*b[1]-a[1]*b[0]]; }
+
+function sendCamera() {
+  send({type: "camera", position: camera.position, look_at: camera.look_at, up: camera.up, fov: camera.fov});
+}
+
+function connect() {
+  ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws");
+  ws.binaryType = "arraybuffer";
+  ws.onopen = () => { $("status").textContent = "connected"; };
+  ws.onclose = () => { $("status").textContent = "disconnected (reload to reconnect)"; };
+  ws.onmessage = (ev) => {
+    if (typeof ev.data !== "string") return drawFrame(ev.data);
+    const m = JSON.parse(ev.data);
+    window.rayproc.lastReply = m;
+    if (m.type === "error") { window.rayproc.lastError = m.message; $("error").textContent = m.message; return; }
+    $("error").textContent = "";
+    if (m.type === "state") showState(m);
+    else if (m.type === "picked") showPick(m);
+    else if (m.type === "render_begin") { rendering = true; $("cancel").disabled = false; $("progress").value = 0;
+      $("render-info").textContent = m.mode + ": starting"; }
+    else if (m.type === "progress") { $("progress").value = m.fraction;
+      $("render-info").textContent = m.mode + ": " + (100*m.fraction).toFixed(1) + "% - " + m.seconds.toFixed(1) +
+        " s - ETA " + (m.eta_seconds >= 0 ? m.eta_seconds.toFixed(1) + " s" : "?") + " - " +
+        (m.rays_per_second/1e6).toFixed(2) + " Mrays/s"; }
+    else if (m.type === "render_end") { rendering = false; $("cancel").disabled = true;
+      $("render-info").textContent = m.mode + (m.cancelled ? ": cancelled" : ": done") + " after " +
+        m.spp + " spp, " + m.seconds.toFixed(2) + " s";
+      $("stats").textContent = JSON.stringify(m.stats, null, 1); }
+    else if (m.type === "saved") $("status").textContent = "saved " + m.path;
+  };
+}
+
+function drawFrame(buffer) {
+  const head = new DataView(buffer, 0, 16);
+  const w = head.getUint32(4, true), h = head.getUint32(8, true);
+  const pixels = new Uint8ClampedArray(buffer, 16, w * h * 4);
+  const img = new ImageData(pixels, w, h);
+  if (canvas.width !== (camera ? previewWidth() : w)) { canvas.width = previewWidth(); canvas.height = previewHeight(); }
+  if (w === canvas.width && h === canvas.height) ctx2d.putImageData(img, 0, 0);
+  else createImageBitmap(img).then((bmp) => ctx2d.drawImage(bmp, 0, 0, canvas.width, canvas.height));
+  framesShown++;
+}
+
+function previewWidth() { const r = state.camera.resolution; const s = Math.min(1, 512 / Math.max(r[0], r[1])); return Math.round(r[0]*s); }
+function previewHeight() { const r = state.camera.resolution; const s = Math.min(1, 512 / Math.max(r[0], r[1])); return Math.round(r[1]*s); }
+
+function showState(s) {
+  state = s;
+  camera = JSON.parse(JSON.stringify(s.camera));
+  $("undo-depth").textContent = s.undo_depth + " change(s)";
+  $("analysis").textContent = s.analysis.map((a) => a.modes.join(",") + ": skipped " + a.what + ": " + a.why).join("\n") || "nothing skipped";
+  const lights = $("lights"); lights.innerHTML = "";
+  s.lights.forEach((l, i) => {
+    const row = document.createElement("div"); row.className = "row";
+    row.textContent = (l.name || l.type) + " ";
+    if (l.intensity || l.radiance) {
+      const key = l.intensity ? "intensity" : "radiance";
+      const input = document.createElement("input"); input.type = "number"; input.step = "0.5";
+      input.value = Array.isArray(l[key]) ? l[key][0] : l[key];
+      const b = document.createElement("button"); b.textContent = "set " + key;
+      b.onclick = () => { const v = parseFloat(input.value); send({type: "light", index: i, set: {[key]: [v, v, v]}}); };
+      row.append(input, b);
+    }
+    lights.append(row);
+  });
+  rendering = s.rendering; $("cancel").disabled = !rendering;
+  if (selected !== null) showSelection();
+}
+
+function showPick(m) {
+  selected = m.object === null ? null : m.object;
+  showSelection(m);
+}
+
+function showSelection(m) {
+  if (selected === null) { $("selection").textContent = "none"; return; }
+  const o = state.objects[selected];
+  $("selection").textContent = "#" + selected + " " + (o.name || o.type) + (o.material ? " (material " + o.material + ")" : "");
+  const mat = o.material && state.materials[o.material];
+  if (mat) {
+    $("mat-type").value = mat.type;
+    if (mat.color) $("mat-color").value = "#" + mat.color.map((c) => Math.round(Math.min(1, c) * 255).toString(16).padStart(2, "0")).join("");
+    if (mat.roughness !== undefined) $("mat-roughness").value = mat.roughness;
+    if (mat.ior !== undefined) $("mat-ior").value = mat.ior;
+  }
+  $("emission").value = o.emission ? o.emission[0] : 0;
+}
+
+// Orbit, pan, zoom and fly.
+let drag = null;
+canvas.addEventListener("contextmenu", (e) => e.preventDefault());
+canvas.addEventListener("mousedown", (e) => { drag = {x: e.clientX, y: e.clientY, moved: false, pan: e.shiftKey || e.button === 2}; canvas.focus(); });
+window.addEventListener("mouseup", (e) => {
+  if (drag && !drag.moved && e.target === canvas) {
+    const r = canvas.getBoundingClientRect();
+    send({type: "pick", x: (e.clientX - r.left) / r.width, y: (e.clientY - r.top) / r.height});
+  }
+  drag = null;
+});
+window.addEventListener("mousemove", (e) => {
+  if (!drag || !camera || rendering) return;
+  const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
+  if (Math.abs(dx) + Math.abs(dy) < 2) return;
+  drag.moved = true; drag.x = e.clientX; drag.y = e.clientY;
+  const offset = sub(camera.position, camera.look_at);
+  const dist = len(offset);
+  const forward = norm(mul(offset, -1));
+  const right = norm(cross(forward, camera.up));
+  const up = cross(right, forward);
+  if (drag.pan) {
+    const s = dist * 0.002;
+    const move = add(mul(right, -dx * s), mul(up, dy * s));
+    camera.position = add(camera.position, move); camera.look_at = add(camera.look_at, move);
+  } else {
+    // Orbit about look_at: yaw about up, pitch about right (kept away from the poles).
+    const yaw = -dx * 0.008, pitch = -dy * 0.008;
+    let o = rotate(offset, camera.up, yaw);
+    const o2 = rotate(o, norm(cross(camera.up, o)), pitch);
+    if (Math.abs(dotp(norm(o2), norm(camera.up))) < 0.98) o = o2;
+    camera.position = add(camera.look_at, o);
+  }
+  sendCamera();
+});
+canvas.addEventListener("wheel", (e) => {
+  e.preventDefault();
+  if (!camera || rendering) return;
+  const offset = sub(camera.position, camera.look_at);
+  camera.position = add(camera.look_at, mul(offset, Math.exp(e.deltaY * 0.001)));
+  sendCamera();
+}, {passive: false});
+canvas.addEventListener("keydown", (e) => {
+  if (!camera || rendering) return;
+  const forward = norm(sub(camera.look_at, camera.position));
+  const right = norm(cross(forward, camera.up));
+  const step = len(sub(camera.look_at, camera.position)) * 0.05;
+  const keys = {w: mul(forward, step), s: mul(forward, -step), d: mul(right, step), a: mul(right, -step),
+                e: mul(camera.up, step), q: mul(camera.up, -step)};
+  const move = keys[e.key.toLowerCase()];
+  if (!move) return;
+  camera.position = add(camera.position, move); camera.look_at = add(camera.look_at, move);
+  sendCamera();
+});
+function dotp(a, b) { return a[0]*b[0] + a[1]*b[1] + a[2]*b[2]; }
+function rotate(v, axis, angle) { // Rodrigues
+  const k = norm(axis), c = Math.cos(angle), s = Math.sin(angle);
+  return add(add(mul(v, c), mul(cross(k, v), s)), mul(k, dotp(k, v) * (1 - c)));
+}
+
+document.querySelectorAll("[data-move]").forEach((b) => b.onclick = () => {
+  if (selected === null) return;
+  const step = parseFloat($("step").value) || 0.1;
+  send({type: "transform", object: selected, translate: b.dataset.move.split(",").map((v) => parseFloat(v) * step)});
+});
+$("rot-minus").onclick = () => selected !== null && send({type: "transform", object: selected, rotate: {angle: -15, axis: [0, 1, 0]}});
+$("rot-plus").onclick = () => selected !== null && send({type: "transform", object: selected, rotate: {angle: 15, axis: [0, 1, 0]}});
+$("scale-down").onclick = () => selected !== null && send({type: "transform", object: selected, scale: 1 / 1.1});
+$("scale-up").onclick = () => selected !== null && send({type: "transform", object: selected, scale: 1.1});
+$("mat-apply").onclick = () => {
+  if (selected === null || !state.objects[selected].material) return;
+  const hex = $("mat-color").value;
+  const color = [1, 3, 5].map((i) => parseInt(hex.substr(i, 2), 16) / 255);
+  const type = $("mat-type").value;
+  const m = {type};
+  if (type === "diffuse") m.color = color;
+  if (type === "mirror") m.color = color;
+  if (type === "dielectric") m.ior = parseFloat($("mat-ior").value);
+  if (type === "glossy") { m.color = color; m.roughness = parseFloat($("mat-roughness").value); }
+  send({type: "material", name: state.objects[selected].material, material: m});
+};
+$("emission-apply").onclick = () => {
+  if (selected === null) return;
+  const v = parseFloat($("emission").value) || 0;
+  send({type: "emission", object: selected, emission: [v, v, v]});
+};
+$("undo").onclick = () => send({type: "undo"});
+$("save").onclick = () => send({type: "save", path: $("save-path").value});
+for (const mode of ["raytrace", "gi", "path"])
+  $("mode-" + mode).onclick = () => {
+    const spp = parseInt($("spp").value);
+    send(Number.isFinite(spp) ? {type: "render", mode, spp} : {type: "render", mode});
+  };
+$("cancel").onclick = () => send({type: "cancel"});
+connect();
+</script>
+</body>
+</html>
+)PAGE";
+
+} // namespace rayproc::serve

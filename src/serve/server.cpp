@@ -1,0 +1,186 @@
+#include "serve/server.h"
+
+#include "core/error.h"
+#include "image/image.h"
+
+#include <civetweb.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+#include <vector>
+
+namespace rayproc::serve {
+
+namespace {
+
+Server* serverOf(const mg_connection* conn) {
+    return static_cast<Server*>(mg_get_user_data(mg_get_context(conn)));
+}
+
+int onRequestTrampoline(mg_connection* conn, void*) {
+    const mg_request_info* info = mg_get_request_info(conn);
+    return serverOf(conn)->onRequest(conn, info->local_uri ? info->local_uri : "");
+}
+int onConnectTrampoline(const mg_connection*, void*) { return 0; } // accept
+void onReadyTrampoline(mg_connection* conn, void*) { serverOf(conn)->onReady(conn); }
+int onDataTrampoline(mg_connection* conn, int flags, char* data, size_t length, void*) {
+    return serverOf(conn)->onData(conn, flags, data, length);
+}
+void onCloseTrampoline(const mg_connection* conn, void*) { serverOf(conn)->onClose(conn); }
+
+// The image as a file's bytes, through the writers `rayproc render` uses.
+std::string imageBytes(const Image& img, const std::string& extension) {
+    std::string dir = std::filesystem::temp_directory_path().string();
+    std::string path = dir + "/rayproc-serve-" + std::to_string(::getpid()) + "-" +
+                       std::to_string(reinterpret_cast<std::uintptr_t>(&img)) + extension;
+    writeImage(path, img);
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream bytes;
+    bytes << in.rdbuf();
+    std::filesystem::remove(path);
+    return bytes.str();
+}
+
+} // namespace
+
+Server::Server(Session& session, int port) : m_session(session) {
+    mg_init_library(0);
+    mg_callbacks callbacks;
+    std::memset(&callbacks, 0, sizeof callbacks);
+    int first = port > 0 ? port : 8080, last = port > 0 ? port : 8180;
+    for (int p = first; p <= last && !m_context; ++p) {
+        std::string listen = "127.0.0.1:" + std::to_string(p);
+        const char* options[] = {"listening_ports", listen.c_str(), "num_threads", "16",
+                                 "enable_keep_alive", "yes", nullptr};
+        m_context = mg_start(&callbacks, this, options);
+        if (m_context) m_port = p;
+    }
+    if (!m_context)
+        throw InputError(port > 0 ? "cannot listen on 127.0.0.1:" + std::to_string(port) +
+                                        " (in use?); choose another --port"
+                                  : std::string("no free port in 127.0.0.1:8080-8180"));
+    mg_set_request_handler(m_context, "/", onRequestTrampoline, nullptr);
+    mg_set_websocket_handler(m_context, "/ws", onConnectTrampoline, onReadyTrampoline,
+                             onDataTrampoline, onCloseTrampoline, nullptr);
+    session.start({[this](const std::string& text) {
+                       broadcast(MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
+                   },
+                   [this](const std::vector<std::uint8_t>& frame) {
+                       broadcast(MG_WEBSOCKET_OPCODE_BINARY, frame.data(), frame.size());
+                   }});
+}
+
+Server::~Server() {
+    if (m_context) mg_stop(m_context);
+    mg_exit_library();
+}
+
+std::size_t Server::clients() const {
+    std::lock_guard<std::mutex> lk(m_mutex);
+    return m_clients.size();
+}
+
+int Server::onRequest(mg_connection* conn, const std::string& uri) {
+    auto send = [&](int status, const char* type, const std::string& body,
+                    const char* extra = "") {
+        mg_printf(conn,
+                  "HTTP/1.1 %d %s\r\nContent-Type: %s\r\nContent-Length: %zu\r\n"
+                  "Cache-Control: no-store\r\n%sConnection: close\r\n\r\n",
+                  status, status == 200 ? "OK" : status == 404 ? "Not Found" : "Error", type,
+                  body.size(), extra);
+        mg_write(conn, body.data(), body.size());
+        return status;
+    };
+    if (uri == "/" || uri == "/index.html") return send(200, "text/html; charset=utf-8", kPage);
+    if (uri == "/image.png" || uri == "/image.exr") {
+        Image img;
+        if (!m_session.lastImage(img)) return send(404, "text/plain", "no image yet\n");
+        bool png = uri == "/image.png";
+        try {
+            return send(200, png ? "image/png" : "image/x-exr",
+                        imageBytes(img, png ? ".png" : ".exr"),
+                        png ? "Content-Disposition: attachment; filename=\"render.png\"\r\n"
+                            : "Content-Disposition: attachment; filename=\"render.exr\"\r\n");
+        } catch (const std::exception& e) {
+            return send(500, "text/plain", std::string(e.what()) + "\n");
+        }
+    }
+    return send(404, "text/plain", "not found: " + uri + "\n");
+}
+
+void Server::onReady(mg_connection* conn) {
+    {
+        std::lock_guard<std::mutex> lk(m_mutex);
+        m_clients[conn] = m_nextClient++;
+    }
+    Json s = m_session.state();
+    s["type"] = "state";
+    sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, s.dump());
+    // The image so far, so a new tab does not start blank.
+    Image img;
+    if (m_session.lastImage(img)) {
+        std::vector<std::uint8_t> frame = encodeFrame(img, 0);
+        mg_lock_connection(conn);
+        mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_BINARY, reinterpret_cast<const char*>(frame.data()), frame.size());
+        mg_unlock_connection(conn);
+    }
+}
+
+int Server::onData(mg_connection* conn, int flags, const char* data, std::size_t length) {
+    int opcode = flags & 0xf;
+    if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return 0;
+    if (opcode != MG_WEBSOCKET_OPCODE_TEXT) return 1; // pings are answered by civetweb
+    int client;
+    {
+        std::lock_guard<std::mutex> lk(m_mutex);
+        auto it = m_clients.find(conn);
+        if (it == m_clients.end()) return 0;
+        client = it->second;
+    }
+    std::string reply = m_session.handle(std::string(data, length), client);
+    sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, reply);
+    // Every page shows the same scene: a change reaches them all.
+    Json r = Json::parse(reply);
+    if (r["type"] == "edited" || r["type"] == "camera") {
+        Json s = m_session.state();
+        s["type"] = "state";
+        std::string text = s.dump();
+        broadcast(MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
+    }
+    return 1;
+}
+
+void Server::onClose(const mg_connection* conn) {
+    int client = -1;
+    {
+        std::lock_guard<std::mutex> lk(m_mutex);
+        auto it = m_clients.find(conn);
+        if (it != m_clients.end()) {
+            client = it->second;
+            m_clients.erase(it);
+        }
+    }
+    if (client >= 0) m_session.clientClosed(client);
+}
+
+void Server::sendTo(mg_connection* conn, int opcode, const std::string& text) {
+    mg_lock_connection(conn);
+    mg_websocket_write(conn, opcode, text.data(), text.size());
+    mg_unlock_connection(conn);
+}
+
+void Server::broadcast(int opcode, const void* data, std::size_t length) {
+    std::lock_guard<std::mutex> lk(m_mutex);
+    for (auto& [conn, id] : m_clients) {
+        auto* c = const_cast<mg_connection*>(conn);
+        mg_lock_connection(c);
+        mg_websocket_write(c, opcode, static_cast<const char*>(data), length);
+        mg_unlock_connection(c);
+    }
+}
+
+} // namespace rayproc::serve

@@ -1,0 +1,51 @@
+// rayproc serve's web server (docs/serve.md): HTTP and WebSocket on 127.0.0.1 with civetweb.
+//   GET /            the page (embedded in the binary: src/serve/page.cpp)
+//   GET /image.png   the last image shown (a partial render after a cancel), PNG
+//   GET /image.exr   the same, linear EXR
+//   WS  /ws          JSON messages from the page (Session::handle), replies and events as
+//                    JSON text, frames as binary messages (encodeFrame)
+#pragma once
+
+#include "serve/session.h"
+
+#include <map>
+#include <mutex>
+#include <string>
+
+struct mg_context;
+struct mg_connection;
+
+namespace rayproc::serve {
+
+extern const char* const kPage; // the page's HTML, CSS and JavaScript
+
+class Server {
+public:
+    // Listens on 127.0.0.1:port (0: the first free port from 8080 up); throws InputError when
+    // the port is taken.
+    Server(Session& session, int port);
+    ~Server();
+    Server(const Server&) = delete;
+    Server& operator=(const Server&) = delete;
+    int port() const { return m_port; }
+    std::size_t clients() const;
+
+    // civetweb's callbacks (public for the C trampolines in server.cpp).
+    int onRequest(mg_connection* conn, const std::string& uri);
+    void onReady(mg_connection* conn);
+    int onData(mg_connection* conn, int flags, const char* data, std::size_t length);
+    void onClose(const mg_connection* conn);
+
+private:
+    void broadcast(int opcode, const void* data, std::size_t length);
+    void sendTo(mg_connection* conn, int opcode, const std::string& text);
+
+    Session& m_session;
+    mg_context* m_context = nullptr;
+    int m_port = 0;
+    mutable std::mutex m_mutex;
+    std::map<const mg_connection*, int> m_clients; // connection -> client id
+    int m_nextClient = 1;
+};
+
+} // namespace rayproc::serve

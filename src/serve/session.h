@@ -1,0 +1,115 @@
+// rayproc serve's model (docs/serve.md): one scene shared by every connected page. The scene's
+// JSON document is the truth: each edit changes the document, the scene is loaded again from
+// it by the same loader `rayproc render` uses (so a malformed edit is refused with the loader's
+// message and changes nothing, and a saved scene renders exactly as shown), and the previous
+// document goes on the undo stack.
+//
+// A worker thread renders: the live preview (preview mode at 1/4 resolution within a frame of
+// any change, then at full resolution while idle), or one render in raytrace, gi or path mode
+// whose passes stream in with progress until it ends or is cancelled, after which the live
+// preview resumes. Frames and events go to every page through Events.
+#pragma once
+
+#include "image/image.h"
+#include "scene/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace rayproc {
+
+class EmbreeScene;
+
+namespace serve {
+
+using Json = nlohmann::ordered_json;
+
+// A frame message: "RPF1", width, height, frame number (little-endian u32 each), then
+// width * height RGBA bytes (8-bit sRGB, the PNG tone map).
+std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number);
+
+class Session {
+public:
+    struct Events {
+        std::function<void(const std::string& json)> text; // to every page
+        std::function<void(const std::vector<std::uint8_t>& frame)> frame;
+    };
+    struct Options {
+        int threads = 0;
+        int previewMaxSide = 512; // the live preview's longer side (the aspect is the scene's)
+    };
+
+    // Loads the scene (JSON scenes are editable; pbrt scenes can be viewed and rendered).
+    Session(const std::string& scenePath, const Options& options);
+    ~Session();
+    Session(const Session&) = delete;
+    Session& operator=(const Session&) = delete;
+
+    // Starts the worker; the first preview follows at once.
+    void start(Events events);
+    // One message from page `client` (JSON text, docs/serve.md); returns the reply (JSON text:
+    // {"type": "error", "message": ...} for anything refused, which changes nothing).
+    std::string handle(const std::string& message, int client);
+    // A page closed: its render, if one runs, is cancelled.
+    void clientClosed(int client);
+    // What a page shows: objects, materials, lights, camera, mode, analysis, undo depth.
+    Json state() const;
+    // The last image rendered (live preview or render, partial when cancelled); false before
+    // the first.
+    bool lastImage(Image& out) const;
+    // Blocks until the worker has nothing to do (tests).
+    void waitIdle();
+
+private:
+    struct Loaded; // a scene, its Embree scene and what the page lists
+    struct RenderRequest {
+        std::string mode;
+        int spp = 0;
+        int client = -1;
+    };
+
+    Json reply(const Json& message, int client);
+    Json applyEdit(const Json& message, const std::function<void(Json& doc)>& edit);
+    void load(const Json& doc); // throws InputError; replaces m_loaded on success
+    Json pick(const Json& message) const;
+    void worker();
+    void renderPreview(const std::shared_ptr<Loaded>& loaded);
+    void renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequest& request);
+    void sendText(const Json& json) const;
+    void sendFrame(const Image& image);
+
+    std::string m_path;
+    bool m_editable = false; // JSON scenes
+    Options m_options;
+    Events m_events;
+
+    mutable std::mutex m_mutex;
+    std::condition_variable m_wake;
+    Json m_doc;
+    std::vector<Json> m_undo;
+    std::shared_ptr<Loaded> m_loaded;
+    Camera m_camera; // the page's view; the worker copies it into the scene it renders
+    std::uint64_t m_version = 0;          // bumps at every change the preview must show
+    std::uint64_t m_previewedVersion = 0; // what the worker has shown
+    std::optional<RenderRequest> m_request;
+    bool m_rendering = false;
+    int m_renderClient = -1;
+    bool m_quit = false;
+    bool m_busy = false;
+    std::uint32_t m_frameNumber = 0;
+    Image m_lastImage;
+    std::condition_variable m_idle;
+    std::thread m_thread;
+};
+
+} // namespace serve
+} // namespace rayproc

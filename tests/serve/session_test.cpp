@@ -1,0 +1,293 @@
+// rayproc serve's model: every message type, valid and malformed (docs/serve.md).
+#include "test_util.h"
+
+#include "accel/embree_scene.h"
+#include "modes/modes.h"
+#include "scene/scene_loader.h"
+#include "serve/session.h"
+
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+using namespace rayproc;
+using namespace rayproc::test;
+using rayproc::serve::Json;
+using rayproc::serve::Session;
+
+namespace {
+
+// A session on a scene with the events it sent.
+struct Harness {
+    std::mutex mutex;
+    std::vector<Json> texts;
+    std::atomic<int> frames{0};
+    Session session;
+
+    Harness(const std::string& scene, int previewMaxSide = 64)
+        : session(scene, Session::Options{2, previewMaxSide}) {
+        session.start({[this](const std::string& t) {
+                           std::lock_guard<std::mutex> lk(mutex);
+                           texts.push_back(Json::parse(t));
+                       },
+                       [this](const std::vector<std::uint8_t>&) { ++frames; }});
+    }
+    Json send(const Json& m, int client = 1) { return Json::parse(session.handle(m.dump(), client)); }
+    Json sendText(const std::string& text) { return Json::parse(session.handle(text, 1)); }
+    bool sawText(const std::string& type, const std::function<bool(const Json&)>& also = {}) {
+        std::lock_guard<std::mutex> lk(mutex);
+        for (const Json& t : texts)
+            if (t["type"] == type && (!also || also(t))) return true;
+        return false;
+    }
+};
+
+std::string messageOf(const Json& reply) {
+    return reply["type"] == "error" ? reply["message"].get<std::string>() : "";
+}
+
+// A JSON scene with a point light, in a temporary directory (lights are not in the Cornell box).
+std::string sceneWithLight(const TempDir& dir) {
+    std::string path = dir.file("lit.json");
+    std::ofstream(path) << R"({
+  "camera": {"position": [0, 1, 4], "look_at": [0, 0.5, 0], "resolution": [48, 32]},
+  "materials": {"white": {"type": "diffuse", "color": [0.8, 0.8, 0.8]}},
+  "lights": [{"type": "point", "name": "bulb", "position": [0, 2, 1], "intensity": [5, 5, 5]}],
+  "nodes": [
+    {"type": "quad", "name": "floor", "material": "white",
+     "corners": [[-2, 0, -2], [-2, 0, 2], [2, 0, 2], [2, 0, -2]]},
+    {"type": "sphere", "name": "ball", "material": "white", "center": [0, 0.5, 0], "radius": 0.5}
+  ]
+})";
+    return path;
+}
+
+} // namespace
+
+TEST_CASE("serve: the state lists objects, materials, lights, the camera and the analysis", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    Json s = h.send({{"type", "state"}});
+    REQUIRE(s["type"] == "state");
+    CHECK(s["editable"] == true);
+    CHECK(s["objects"].size() == 8);
+    CHECK(s["objects"][6]["name"] == "TallBox");
+    CHECK(s["materials"].contains("TallBox"));
+    CHECK(s["camera"]["resolution"] == Json::array({512, 512}));
+    CHECK(s["analysis"].size() >= 1); // no glass: the caustic map and refraction are skipped
+    CHECK(s["undo_depth"] == 0);
+    // The first preview frames arrive without being asked for.
+    h.session.waitIdle();
+    CHECK(h.frames.load() >= 1);
+    Image img;
+    REQUIRE(h.session.lastImage(img));
+    CHECK(img.width == 64);
+    CHECK(meanValue(img) > 0.01);
+}
+
+TEST_CASE("serve: camera moves re-render the preview; bad cameras are refused", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    h.session.waitIdle();
+    Image before;
+    REQUIRE(h.session.lastImage(before));
+    int frames = h.frames.load();
+    Json r = h.send({{"type", "camera"}, {"position", {0.5, 1, 6}}, {"look_at", {0, 1, 0}}});
+    CHECK(r["type"] == "camera");
+    h.session.waitIdle();
+    CHECK(h.frames.load() >= frames + 2); // coarse, then full
+    Image after;
+    h.session.lastImage(after);
+    CHECK(after.pixels != before.pixels);
+    CHECK(h.send({{"type", "state"}})["camera"]["position"] == Json::array({0.5, 1.0, 6.0}));
+
+    CHECK_THAT(messageOf(h.send({{"type", "camera"}, {"fov", 0}})), Catch::Contains("camera.fov"));
+    CHECK_THAT(messageOf(h.send({{"type", "camera"}, {"position", {0, 1, 0}}, {"look_at", {0, 1, 0}}})),
+               Catch::Contains("must differ"));
+    CHECK_THAT(messageOf(h.send({{"type", "camera"}, {"up", {0, 0, 1}}, {"position", {0, 0, 5}}, {"look_at", {0, 0, 0}}})),
+               Catch::Contains("parallel"));
+    CHECK_THAT(messageOf(h.send({{"type", "camera"}, {"position", {0, 1}}})),
+               Catch::Contains("array of 3 numbers"));
+    CHECK_THAT(messageOf(h.send({{"type", "camera"}, {"position", {1e39, 0, 0}}})),
+               Catch::Contains("finite"));
+    CHECK_THAT(messageOf(h.send({{"type", "camera"}, {"zoom", 2}})), Catch::Contains("unknown key \"zoom\""));
+    // None of them changed the view.
+    CHECK(h.send({{"type", "state"}})["camera"]["position"] == Json::array({0.5, 1.0, 6.0}));
+}
+
+TEST_CASE("serve: pick names the object under a point of the image", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    // The tall box stands left of centre, the short box right, both in front of the back wall.
+    Json tall = h.send({{"type", "pick"}, {"x", 0.38}, {"y", 0.5}});
+    REQUIRE(tall["type"] == "picked");
+    CHECK(tall["name"] == "TallBox");
+    CHECK(tall["material"] == "TallBox");
+    Json wall = h.send({{"type", "pick"}, {"x", 0.5}, {"y", 0.2}});
+    CHECK(wall["name"] == "BackWall");
+    // Outside the box: nothing.
+    h.send({{"type", "camera"}, {"position", {0, 1, 6.8}}, {"look_at", {0, 1, 20}}});
+    CHECK(h.send({{"type", "pick"}, {"x", 0.5}, {"y", 0.5}})["object"].is_null());
+    CHECK_THAT(messageOf(h.send({{"type", "pick"}, {"x", 1.5}, {"y", 0.5}})), Catch::Contains("[0, 1]"));
+    CHECK_THAT(messageOf(h.send({{"type", "pick"}, {"x", 0.5}})), Catch::Contains("missing \"y\""));
+}
+
+TEST_CASE("serve: transforms move, turn and scale an object about its centre; undo restores it", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    // Up through the ceiling: the pick finds the back wall where the box stood.
+    Json r = h.send({{"type", "transform"}, {"object", 6}, {"translate", {0, 3, 0}}});
+    REQUIRE(r["type"] == "edited");
+    CHECK(r["undo_depth"] == 1);
+    CHECK(h.send({{"type", "pick"}, {"x", 0.38}, {"y", 0.5}})["name"] == "BackWall");
+    CHECK(h.send({{"type", "transform"}, {"object", 6}, {"rotate", {{"angle", 30}, {"axis", {0, 1, 0}}}}})["type"] == "edited");
+    CHECK(h.send({{"type", "transform"}, {"object", 6}, {"scale", 0.5}})["type"] == "edited");
+
+    CHECK_THAT(messageOf(h.send({{"type", "transform"}, {"object", 99}, {"translate", {1, 0, 0}}})),
+               Catch::Contains("no object 99"));
+    CHECK_THAT(messageOf(h.send({{"type", "transform"}, {"object", 6}, {"rotate", {{"angle", 30}, {"axis", {0, 0, 0}}}}})),
+               Catch::Contains("must not be zero"));
+    CHECK_THAT(messageOf(h.send({{"type", "transform"}, {"object", 6}, {"scale", 0}})),
+               Catch::Contains("transform.scale"));
+    CHECK_THAT(messageOf(h.send({{"type", "transform"}, {"object", "TallBox"}})),
+               Catch::Contains("object index"));
+    CHECK(h.send({{"type", "state"}})["undo_depth"] == 3);
+
+    for (int i = 0; i < 3; ++i) CHECK(h.send({{"type", "undo"}})["type"] == "edited");
+    CHECK(h.send({{"type", "pick"}, {"x", 0.38}, {"y", 0.5}})["name"] == "TallBox");
+    CHECK_THAT(messageOf(h.send({{"type", "undo"}})), Catch::Contains("nothing to undo"));
+}
+
+TEST_CASE("serve: material and emission edits go through the scene loader's checks", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    h.session.waitIdle();
+    Image before;
+    h.session.lastImage(before);
+    Json r = h.send({{"type", "material"}, {"name", "TallBox"}, {"material", {{"type", "mirror"}, {"color", {0.9, 0.9, 0.9}}}}});
+    REQUIRE(r["type"] == "edited");
+    CHECK(h.send({{"type", "state"}})["materials"]["TallBox"]["type"] == "mirror");
+    h.session.waitIdle();
+    Image after;
+    h.session.lastImage(after);
+    CHECK(after.pixels != before.pixels);
+
+    // The loader's own messages, with the JSON pointer; nothing changes.
+    CHECK_THAT(messageOf(h.send({{"type", "material"}, {"name", "TallBox"}, {"material", {{"type", "plastic"}}}})),
+               Catch::Contains("/materials/TallBox"));
+    CHECK_THAT(messageOf(h.send({{"type", "material"}, {"name", "TallBox"}, {"material", {{"type", "diffuse"}, {"ior", 1.5}}}})),
+               Catch::Contains("unknown key \"ior\""));
+    CHECK_THAT(messageOf(h.send({{"type", "material"}, {"name", "TallBox"}, {"material", {{"type", "diffuse"}, {"color", {2, 0, 0}}}}})),
+               Catch::Contains("/materials/TallBox/color"));
+    CHECK_THAT(messageOf(h.send({{"type", "material"}, {"name", "Nope"}, {"material", {{"type", "diffuse"}}}})),
+               Catch::Contains("no material \"Nope\""));
+    CHECK(h.send({{"type", "state"}})["materials"]["TallBox"]["type"] == "mirror");
+    CHECK(h.send({{"type", "state"}})["undo_depth"] == 1);
+
+    CHECK(h.send({{"type", "emission"}, {"object", 5}, {"emission", {2, 2, 2}}})["type"] == "edited");
+    CHECK(h.send({{"type", "state"}})["objects"][5]["emission"] == Json::array({2.0, 2.0, 2.0}));
+    CHECK_THAT(messageOf(h.send({{"type", "emission"}, {"object", 5}, {"emission", {-1, 0, 0}}})),
+               Catch::Contains("/nodes/5/emission"));
+}
+
+TEST_CASE("serve: light edits, checked by the loader", "[serve]") {
+    TempDir dir;
+    Harness h(sceneWithLight(dir));
+    Json s = h.send({{"type", "state"}});
+    REQUIRE(s["lights"].size() == 1);
+    CHECK(h.send({{"type", "light"}, {"index", 0}, {"set", {{"intensity", {20, 20, 20}}}}})["type"] == "edited");
+    CHECK(h.send({{"type", "state"}})["lights"][0]["intensity"] == Json::array({20, 20, 20}));
+    CHECK_THAT(messageOf(h.send({{"type", "light"}, {"index", 0}, {"set", {{"wattage", 3}}}})),
+               Catch::Contains("/lights/0"));
+    CHECK_THAT(messageOf(h.send({{"type", "light"}, {"index", 3}, {"set", {{"intensity", {1, 1, 1}}}}})),
+               Catch::Contains("no light 3"));
+}
+
+TEST_CASE("serve: a saved scene renders exactly as the page shows it", "[serve]") {
+    TempDir dir;
+    Harness h(sceneWithLight(dir), 48); // the preview at the scene's own resolution
+    REQUIRE(h.send({{"type", "transform"}, {"object", 1}, {"translate", {0.3, 0, 0.1}}, {"rotate", {{"angle", 20}, {"axis", {0, 1, 0}}}}})["type"] == "edited");
+    REQUIRE(h.send({{"type", "camera"}, {"position", {0.5, 1.2, 3.5}}})["type"] == "camera");
+    std::string saved = dir.file("saved.json");
+    Json r = h.send({{"type", "save"}, {"path", saved}});
+    REQUIRE(r["type"] == "saved");
+    h.session.waitIdle();
+    Image shown;
+    REQUIRE(h.session.lastImage(shown));
+
+    std::unique_ptr<Scene> scene = loadScene(saved);
+    EmbreeScene accel(*scene);
+    EngineSettings engine;
+    engine.quiet = true;
+    RenderResult again = renderPreview(*scene, accel, previewSettings(scene->render, {}), engine);
+    CHECK(again.image.width == shown.width);
+    CHECK(again.image.pixels == shown.pixels);
+
+    CHECK_THAT(messageOf(h.send({{"type", "save"}, {"path", dir.file("saved.png")}})), Catch::Contains(".json"));
+    CHECK_THAT(messageOf(h.send({{"type", "save"}, {"path", dir.file("missing/dir/x.json")}})), Catch::Contains("save"));
+}
+
+TEST_CASE("serve: a render streams progress and frames; cancel returns to the preview", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    h.session.waitIdle();
+    Json r = h.send({{"type", "render"}, {"mode", "path"}, {"spp", 4}});
+    REQUIRE(r["type"] == "render_started");
+    h.session.waitIdle();
+    CHECK(h.sawText("render_begin"));
+    CHECK(h.sawText("progress"));
+    CHECK(h.sawText("render_end", [](const Json& t) {
+        return t["cancelled"] == false && t["spp"] == 4 && t["stats"]["samples"] == 512 * 512 * 4;
+    }));
+    Image done;
+    REQUIRE(h.session.lastImage(done));
+    CHECK(done.width == 512);
+
+    // A long render, cancelled: edits are refused meanwhile, the partial image stays, and the
+    // live preview comes back.
+    REQUIRE(h.send({{"type", "render"}, {"mode", "gi"}, {"spp", 10000}})["type"] == "render_started");
+    for (int i = 0; i < 200 && !h.sawText("progress", [](const Json& t) { return t["mode"] == "gi"; }); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "path"}})), Catch::Contains("already running"));
+    CHECK_THAT(messageOf(h.send({{"type", "transform"}, {"object", 6}, {"translate", {1, 0, 0}}})),
+               Catch::Contains("cancel it first"));
+    CHECK(h.send({{"type", "cancel"}})["type"] == "cancelling");
+    h.session.waitIdle();
+    CHECK(h.sawText("render_end", [](const Json& t) { return t["mode"] == "gi" && t["cancelled"] == true; }));
+    Image preview;
+    REQUIRE(h.session.lastImage(preview));
+    CHECK(preview.width == 64); // the live preview again
+    CHECK_THAT(messageOf(h.send({{"type", "cancel"}})), Catch::Contains("no render"));
+    CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "fast"}})), Catch::Contains("render.mode"));
+    CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "path"}, {"spp", 0}})), Catch::Contains("render.spp"));
+}
+
+TEST_CASE("serve: a closed page cancels its own render, not another page's", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    REQUIRE(h.send({{"type", "render"}, {"mode", "path"}, {"spp", 60000}}, 7)["type"] == "render_started");
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    h.session.clientClosed(8); // another page
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    CHECK(h.send({{"type", "state"}})["rendering"] == true);
+    h.session.clientClosed(7);
+    h.session.waitIdle();
+    CHECK(h.sawText("render_end", [](const Json& t) { return t["cancelled"] == true; }));
+}
+
+TEST_CASE("serve: malformed messages are refused and change nothing", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    CHECK_THAT(messageOf(h.sendText("not json")), Catch::Contains("not JSON"));
+    CHECK_THAT(messageOf(h.sendText("[1, 2]")), Catch::Contains("\"type\""));
+    CHECK_THAT(messageOf(h.sendText("{\"type\": 5}")), Catch::Contains("\"type\""));
+    CHECK_THAT(messageOf(h.send({{"type", "explode"}})), Catch::Contains("known types"));
+    CHECK_THAT(messageOf(h.send({{"type", "undo"}, {"extra", 1}})), Catch::Contains("unknown key"));
+    CHECK_THAT(messageOf(h.send({{"type", "material"}, {"name", 3}, {"material", {}}})), Catch::Contains("material.name"));
+    CHECK_THAT(messageOf(h.send({{"type", "light"}, {"index", 0}, {"set", 3}})), Catch::Contains("light.set"));
+    CHECK(h.send({{"type", "state"}})["undo_depth"] == 0);
+}
+
+TEST_CASE("serve: pbrt scenes can be viewed and rendered, not edited", "[serve]") {
+    Harness h((sourceDir() / "scenes" / "cornell-box.pbrt").string());
+    CHECK(h.send({{"type", "state"}})["editable"] == false);
+    CHECK(h.send({{"type", "camera"}, {"position", {0, 1, 7}}})["type"] == "camera");
+    CHECK_THAT(messageOf(h.send({{"type", "transform"}, {"object", 0}, {"translate", {1, 0, 0}}})),
+               Catch::Contains("only JSON scenes can be edited"));
+    CHECK_THAT(messageOf(h.send({{"type", "save"}, {"path", "x.json"}})), Catch::Contains("only JSON scenes"));
+}
