@@ -124,14 +124,18 @@ function drawFrame(buffer) {
   const w = head.getUint32(4, true), h = head.getUint32(8, true);
   const pixels = new Uint8ClampedArray(buffer, 16, w * h * 4);
   const img = new ImageData(pixels, w, h);
-  if (canvas.width !== (camera ? previewWidth() : w)) { canvas.width = previewWidth(); canvas.height = previewHeight(); }
+  if (state && (canvas.width !== previewWidth() || canvas.height !== previewHeight())) {
+    canvas.width = previewWidth(); canvas.height = previewHeight();
+  }
   if (w === canvas.width && h === canvas.height) ctx2d.putImageData(img, 0, 0);
   else createImageBitmap(img).then((bmp) => ctx2d.drawImage(bmp, 0, 0, canvas.width, canvas.height));
   framesShown++;
 }
 
-function previewWidth() { const r = state.camera.resolution; const s = Math.min(1, 512 / Math.max(r[0], r[1])); return Math.round(r[0]*s); }
-function previewHeight() { const r = state.camera.resolution; const s = Math.min(1, 512 / Math.max(r[0], r[1])); return Math.round(r[1]*s); }
+// The canvas keeps the live preview's size; renders at the scene's resolution are scaled to it.
+function previewScale() { const r = state.camera.resolution; return Math.min(1, state.preview_max_side / Math.max(r[0], r[1])); }
+function previewWidth() { return Math.max(1, Math.round(state.camera.resolution[0] * previewScale())); }
+function previewHeight() { return Math.max(1, Math.round(state.camera.resolution[1] * previewScale())); }
 
 function showState(s) {
   state = s;

@@ -97,8 +97,10 @@ int Server::onRequest(mg_connection* conn, const std::string& uri) {
     };
     if (uri == "/" || uri == "/index.html") return send(200, "text/html; charset=utf-8", kPage);
     if (uri == "/image.png" || uri == "/image.exr") {
+        // The last render (partial after a cancel), else the live preview.
         Image img;
-        if (!m_session.lastImage(img)) return send(404, "text/plain", "no image yet\n");
+        if (!m_session.lastRender(img) && !m_session.lastFrame(img))
+            return send(404, "text/plain", "no image yet\n");
         bool png = uri == "/image.png";
         try {
             return send(200, png ? "image/png" : "image/x-exr",
@@ -122,7 +124,7 @@ void Server::onReady(mg_connection* conn) {
     sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, s.dump());
     // The image so far, so a new tab does not start blank.
     Image img;
-    if (m_session.lastImage(img)) {
+    if (m_session.lastFrame(img)) {
         std::vector<std::uint8_t> frame = encodeFrame(img, 0);
         mg_lock_connection(conn);
         mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_BINARY, reinterpret_cast<const char*>(frame.data()), frame.size());

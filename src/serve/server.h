@@ -1,6 +1,7 @@
 // rayproc serve's web server (docs/serve.md): HTTP and WebSocket on 127.0.0.1 with civetweb.
 //   GET /            the page (embedded in the binary: src/serve/page.cpp)
-//   GET /image.png   the last image shown (a partial render after a cancel), PNG
+//   GET /image.png   the last render in raytrace, gi or path (partial after a cancel), else
+//                    the live preview, PNG
 //   GET /image.exr   the same, linear EXR
 //   WS  /ws          JSON messages from the page (Session::handle), replies and events as
 //                    JSON text, frames as binary messages (encodeFrame)

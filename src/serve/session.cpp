@@ -452,6 +452,7 @@ Json Session::state() const {
     Json s;
     s["scene"] = m_path;
     s["editable"] = m_editable;
+    s["preview_max_side"] = m_options.previewMaxSide;
     s["camera"] = {{"position", vec3Json(m_camera.position)},
                    {"look_at", vec3Json(m_camera.lookAt)},
                    {"up", vec3Json(m_camera.up)},
@@ -476,10 +477,17 @@ Json Session::state() const {
     return s;
 }
 
-bool Session::lastImage(Image& out) const {
+bool Session::lastFrame(Image& out) const {
     std::lock_guard<std::mutex> lk(m_mutex);
     if (m_lastImage.width == 0) return false;
     out = m_lastImage;
+    return true;
+}
+
+bool Session::lastRender(Image& out) const {
+    std::lock_guard<std::mutex> lk(m_mutex);
+    if (m_lastRender.width == 0) return false;
+    out = m_lastRender;
     return true;
 }
 
@@ -607,6 +615,10 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
         return;
     }
     sendFrame(r.image);
+    {
+        std::lock_guard<std::mutex> lk(m_mutex);
+        m_lastRender = r.image;
+    }
     Json stats = Json::parse(r.stats.toJson());
     sendText({{"type", "render_end"}, {"mode", request.mode}, {"cancelled", r.cancelled},
               {"spp", r.samplesDone}, {"seconds", r.stats.wallSeconds}, {"stats", stats}});

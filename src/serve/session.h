@@ -63,9 +63,11 @@ public:
     void clientClosed(int client);
     // What a page shows: objects, materials, lights, camera, mode, analysis, undo depth.
     Json state() const;
-    // The last image rendered (live preview or render, partial when cancelled); false before
-    // the first.
-    bool lastImage(Image& out) const;
+    // The image shown last (a preview or a render's frame); false before the first.
+    bool lastFrame(Image& out) const;
+    // The last render in raytrace, gi or path mode, partial when it was cancelled (it stays
+    // downloadable after the live preview resumes); false before the first.
+    bool lastRender(Image& out) const;
     // Blocks until the worker has nothing to do (tests).
     void waitIdle();
 
@@ -107,6 +109,7 @@ private:
     bool m_busy = false;
     std::uint32_t m_frameNumber = 0;
     Image m_lastImage;
+    Image m_lastRender;
     std::condition_variable m_idle;
     std::thread m_thread;
 };

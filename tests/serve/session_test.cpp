@@ -82,7 +82,7 @@ TEST_CASE("serve: the state lists objects, materials, lights, the camera and the
     h.session.waitIdle();
     CHECK(h.frames.load() >= 1);
     Image img;
-    REQUIRE(h.session.lastImage(img));
+    REQUIRE(h.session.lastFrame(img));
     CHECK(img.width == 64);
     CHECK(meanValue(img) > 0.01);
 }
@@ -91,14 +91,14 @@ TEST_CASE("serve: camera moves re-render the preview; bad cameras are refused", 
     Harness h(scenePath("cornell-box"));
     h.session.waitIdle();
     Image before;
-    REQUIRE(h.session.lastImage(before));
+    REQUIRE(h.session.lastFrame(before));
     int frames = h.frames.load();
     Json r = h.send({{"type", "camera"}, {"position", {0.5, 1, 6}}, {"look_at", {0, 1, 0}}});
     CHECK(r["type"] == "camera");
     h.session.waitIdle();
     CHECK(h.frames.load() >= frames + 2); // coarse, then full
     Image after;
-    h.session.lastImage(after);
+    h.session.lastFrame(after);
     CHECK(after.pixels != before.pixels);
     CHECK(h.send({{"type", "state"}})["camera"]["position"] == Json::array({0.5, 1.0, 6.0}));
 
@@ -161,13 +161,13 @@ TEST_CASE("serve: material and emission edits go through the scene loader's chec
     Harness h(scenePath("cornell-box"));
     h.session.waitIdle();
     Image before;
-    h.session.lastImage(before);
+    h.session.lastFrame(before);
     Json r = h.send({{"type", "material"}, {"name", "TallBox"}, {"material", {{"type", "mirror"}, {"color", {0.9, 0.9, 0.9}}}}});
     REQUIRE(r["type"] == "edited");
     CHECK(h.send({{"type", "state"}})["materials"]["TallBox"]["type"] == "mirror");
     h.session.waitIdle();
     Image after;
-    h.session.lastImage(after);
+    h.session.lastFrame(after);
     CHECK(after.pixels != before.pixels);
 
     // The loader's own messages, with the JSON pointer; nothing changes.
@@ -211,7 +211,7 @@ TEST_CASE("serve: a saved scene renders exactly as the page shows it", "[serve]"
     REQUIRE(r["type"] == "saved");
     h.session.waitIdle();
     Image shown;
-    REQUIRE(h.session.lastImage(shown));
+    REQUIRE(h.session.lastFrame(shown));
 
     std::unique_ptr<Scene> scene = loadScene(saved);
     EmbreeScene accel(*scene);
@@ -237,7 +237,7 @@ TEST_CASE("serve: a render streams progress and frames; cancel returns to the pr
         return t["cancelled"] == false && t["spp"] == 4 && t["stats"]["samples"] == 512 * 512 * 4;
     }));
     Image done;
-    REQUIRE(h.session.lastImage(done));
+    REQUIRE(h.session.lastFrame(done));
     CHECK(done.width == 512);
 
     // A long render, cancelled: edits are refused meanwhile, the partial image stays, and the
@@ -252,8 +252,12 @@ TEST_CASE("serve: a render streams progress and frames; cancel returns to the pr
     h.session.waitIdle();
     CHECK(h.sawText("render_end", [](const Json& t) { return t["mode"] == "gi" && t["cancelled"] == true; }));
     Image preview;
-    REQUIRE(h.session.lastImage(preview));
+    REQUIRE(h.session.lastFrame(preview));
     CHECK(preview.width == 64); // the live preview again
+    Image partial;
+    REQUIRE(h.session.lastRender(partial)); // and the cancelled render stays downloadable
+    CHECK(partial.width == 512);
+    CHECK(meanValue(partial) > 0.01);
     CHECK_THAT(messageOf(h.send({{"type", "cancel"}})), Catch::Contains("no render"));
     CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "fast"}})), Catch::Contains("render.mode"));
     CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "path"}, {"spp", 0}})), Catch::Contains("render.spp"));

@@ -1,0 +1,150 @@
+// End-to-end test of rayproc serve in headless Chromium (docs/serve.md, docs/testing.md):
+// loads the page, picks and moves an object, drags the camera, starts gi, cancels, downloads
+// the partial image, saves the scene, and checks the saved file and the screenshots.
+//   node tests/e2e/serve_e2e.mjs --rayproc build/rayproc --scene scenes/cornell-box.json --out DIR
+import { spawn } from "node:child_process";
+import fs from "node:fs";
+import path from "node:path";
+import puppeteer from "puppeteer-core";
+
+const args = Object.fromEntries(
+  process.argv.slice(2).reduce((pairs, a, i, all) => (a.startsWith("--") ? [...pairs, [a.slice(2), all[i + 1]]] : pairs), []));
+const rayproc = path.resolve(args.rayproc), scene = path.resolve(args.scene), out = path.resolve(args.out);
+const browserPath = args.browser || "/usr/bin/chromium";
+fs.mkdirSync(out, { recursive: true });
+const work = fs.mkdtempSync(path.join(out, "work-"));
+const sceneCopy = path.join(work, "scene.json");
+fs.copyFileSync(scene, sceneCopy);
+
+let failures = 0;
+function check(ok, what) {
+  console.log((ok ? "ok   " : "FAIL ") + what);
+  if (!ok) failures++;
+}
+
+// The server, on the first free port from 18200.
+const server = spawn(rayproc, ["serve", sceneCopy, "--port", "0", "--threads", "2", "--preview-size", "256"], { cwd: work });
+let serverErr = "";
+server.stderr.on("data", (d) => { serverErr += d; });
+const url = await new Promise((resolve, reject) => {
+  let text = "";
+  server.stdout.on("data", (d) => { text += d; const m = text.match(/http:\/\/127\.0\.0\.1:\d+\//); if (m) resolve(m[0]); });
+  server.on("exit", (code) => reject(new Error("rayproc serve exited " + code + ": " + serverErr)));
+  setTimeout(() => reject(new Error("rayproc serve did not start: " + serverErr)), 20000);
+});
+console.log("serving " + url);
+
+const browser = await puppeteer.launch({
+  executablePath: browserPath, headless: true,
+  args: ["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"],
+});
+try {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1000, height: 700 });
+  const pageErrors = [];
+  page.on("pageerror", (e) => pageErrors.push(String(e)));
+  await page.goto(url);
+  const waitFor = (fn, arg, timeout = 30000) => page.waitForFunction(fn, { timeout, polling: 50 }, arg);
+  await waitFor(() => window.rayproc.state !== null && window.rayproc.framesShown > 0);
+  check(true, "the page loaded, got the state and a first frame");
+  const canvasBox = await (await page.$("#canvas")).boundingBox();
+  const shot = async (name) => {
+    const file = path.join(out, name + ".png");
+    await page.screenshot({ path: file, clip: canvasBox });
+    return fs.readFileSync(file);
+  };
+  const settle = async () => { // frames stop arriving: the preview is complete
+    let last = -1;
+    for (let i = 0; i < 100; i++) {
+      const n = await page.evaluate(() => window.rayproc.framesShown);
+      if (n === last) return;
+      last = n;
+      await new Promise((r) => setTimeout(r, 150));
+    }
+  };
+  await settle();
+  const first = await shot("1-loaded");
+
+  // Pick the tall box (left of centre) and move it up by 3 steps of 0.1.
+  await page.mouse.click(canvasBox.x + 0.38 * canvasBox.width, canvasBox.y + 0.5 * canvasBox.height);
+  await waitFor(() => window.rayproc.selected !== null);
+  const picked = await page.evaluate(() => window.rayproc.state.objects[window.rayproc.selected].name);
+  check(picked === "TallBox", "clicking the tall box selects it (got " + picked + ")");
+  for (let i = 0; i < 3; i++) {
+    await page.click('[data-move="0,1,0"]');
+    await waitFor((n) => window.rayproc.state.undo_depth === n, i + 1);
+  }
+  await settle();
+  const moved = await shot("2-moved");
+  check(!moved.equals(first), "moving the box changes the image");
+
+  // Drag the camera: an orbit to the right.
+  const before = await page.evaluate(() => JSON.stringify(window.rayproc.state.camera.position));
+  const cx = canvasBox.x + canvasBox.width / 2, cy = canvasBox.y + canvasBox.height / 2;
+  await page.mouse.move(cx, cy);
+  await page.mouse.down();
+  for (let i = 1; i <= 10; i++) await page.mouse.move(cx + 8 * i, cy + 2 * i);
+  await page.mouse.up();
+  await waitFor((b) => JSON.stringify(window.rayproc.state.camera.position) !== b, before);
+  await settle();
+  const orbited = await shot("3-orbited");
+  check(!orbited.equals(moved), "dragging the camera changes the image");
+
+  // gi: streams in with progress; Cancel returns to the live preview.
+  await page.type("#spp", "10000");
+  await page.click("#mode-gi");
+  await waitFor(() => window.rayproc.rendering === true);
+  await waitFor(() => /gi: [0-9.]+%/.test(document.getElementById("render-info").textContent), null, 60000);
+  const info = await page.$eval("#render-info", (e) => e.textContent);
+  check(/ETA/.test(info) && /Mrays\/s/.test(info), "gi shows progress, ETA and rays/s (" + info + ")");
+  await shot("4-gi-running");
+  await page.click("#cancel");
+  await waitFor(() => window.rayproc.rendering === false, null, 60000);
+  const ended = await page.$eval("#render-info", (e) => e.textContent);
+  check(/cancelled/.test(ended), "Cancel stops the render (" + ended + ")");
+  const stats = await page.$eval("#stats", (e) => e.textContent);
+  check(/rays/.test(stats), "the render's statistics are shown");
+  const analysis = await page.$eval("#analysis", (e) => e.textContent);
+  check(/skipped/.test(analysis), "the scene analysis is shown (" + analysis.split("\n")[0] + ")");
+  const png = await page.evaluate(async () => {
+    const r = await fetch("/image.png");
+    return { status: r.status, type: r.headers.get("content-type"), size: (await r.arrayBuffer()).byteLength };
+  });
+  check(png.status === 200 && png.type === "image/png" && png.size > 1000, "the partial image downloads as PNG (" + png.size + " bytes)");
+  const exrSize = await page.evaluate(async () => (await (await fetch("/image.exr")).arrayBuffer()).byteLength);
+  check(exrSize > 512 * 512 * 3, "the download is the 512x512 render, not the 256x256 preview (" + exrSize + " bytes of EXR)");
+  const exr = await page.evaluate(async () => (await fetch("/image.exr")).status);
+  check(exr === 200, "and as EXR");
+  await settle();
+  await shot("5-after-cancel");
+
+  // A malformed edit is refused and changes nothing.
+  const depth = await page.evaluate(() => window.rayproc.state.undo_depth);
+  await page.evaluate(() => window.rayproc.send({ type: "material", name: "TallBox", material: { type: "plastic" } }));
+  await waitFor(() => window.rayproc.lastError !== null);
+  const error = await page.$eval("#error", (e) => e.textContent);
+  check(/TallBox/.test(error), "a bad material is refused with the loader's message (" + error + ")");
+  check(await page.evaluate(() => window.rayproc.state.undo_depth) === depth, "and changes nothing");
+
+  // Save; the file is the edited scene.
+  const saved = path.join(work, "saved.json");
+  await page.$eval("#save-path", (e, v) => { e.value = v; }, saved);
+  await page.click("#save");
+  await waitFor(() => /saved/.test(document.getElementById("status").textContent));
+  const doc = JSON.parse(fs.readFileSync(saved, "utf8"));
+  const tall = doc.nodes[6];
+  check(Array.isArray(tall.transform) && Math.abs(tall.transform[7] - 0.3) < 1e-5,
+        "the saved tall box is moved up by 0.3 (" + JSON.stringify(tall.transform) + ")");
+  const cam = await page.evaluate(() => window.rayproc.state.camera.position);
+  check(JSON.stringify(doc.camera.position) === JSON.stringify(cam), "the saved camera is the page's");
+  check(pageErrors.length === 0, "no script errors on the page (" + pageErrors.join("; ") + ")");
+} catch (e) {
+  console.log("FAIL " + e.stack);
+  failures++;
+} finally {
+  await browser.close();
+  server.kill("SIGINT");
+}
+await new Promise((r) => server.on("exit", r));
+console.log(failures === 0 ? "serve e2e: all checks passed" : "serve e2e: " + failures + " failure(s)");
+process.exit(failures === 0 ? 0 : 1);
