@@ -82,6 +82,7 @@ double Film::relMseFromParts(const std::vector<double>& parts) {
 }
 
 void Film::commitPass(int half) {
+    std::lock_guard<std::mutex> lk(m_commitMutex);
     std::size_t n = m_samples.size();
     const bool halves = hasHalfBuffers();
     for (std::size_t p = 0; p < n; ++p) {
@@ -99,6 +100,22 @@ void Film::commitPass(int half) {
 }
 
 Image Film::resolve() const { return resolve(m_width, m_height, m_sum, m_samples); }
+
+Image Film::resolveInProgress() const {
+    std::lock_guard<std::mutex> lk(m_commitMutex);
+    Image img(m_width, m_height);
+    for (std::size_t p = 0; p < m_samples.size(); ++p) {
+        std::uint64_t n = m_samples[p] + m_passSamples[p].load(std::memory_order_relaxed);
+        if (n == 0) continue;
+        for (int c = 0; c < 3; ++c) {
+            std::size_t i = p * 3 + std::size_t(c);
+            __int128 pass = (static_cast<__int128>(m_passHigh[i].load(std::memory_order_relaxed)) << 64) |
+                            static_cast<__int128>(m_passLow[i].load(std::memory_order_relaxed));
+            img.pixels[i] = float((m_sum[i] + double(pass) / kFixedScale) / double(n));
+        }
+    }
+    return img;
+}
 
 Image Film::resolve(int width, int height, const std::vector<double>& sums,
                     const std::vector<std::uint64_t>& samples) {

@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <vector>
 
 namespace rayproc {
@@ -64,6 +65,10 @@ public:
 
     // The image so far: each pixel divided by the samples it received; pixels with none black.
     Image resolve() const;
+    // The same with the current pass's contributions so far, for display while the pass runs
+    // (another thread may call it; tiles appear as they finish). Not for results: a pixel may
+    // hold some of its samples' paths and not others'.
+    Image resolveInProgress() const;
     std::size_t pixelsWithoutSamples() const;
     std::uint64_t samplesOf(std::uint32_t pixel) const { return m_samples[pixel]; }
 
@@ -76,6 +81,7 @@ private:
     std::vector<std::uint64_t> m_samples;                  // per pixel
     std::vector<double> m_halfSum[2];                      // 3 per pixel, when enabled
     std::vector<std::uint32_t> m_halfSamples[2];           // per pixel, when enabled
+    mutable std::mutex m_commitMutex; // commitPass against resolveInProgress
 };
 
 } // namespace rayproc

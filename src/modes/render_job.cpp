@@ -125,13 +125,20 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         totalUnits = std::uint64_t(std::max(camera.tilesInShare(), 1)) * std::uint64_t(spp);
     }
     std::atomic<double> targetFraction{0.0};
-    Progress progress(
-        label, engine.quiet,
-        [&] {
-            double f = double(unitsBefore.load() + camera.unitsEmitted()) / double(totalUnits);
-            return engine.targetRelMse > 0 ? std::max(f, targetFraction.load()) : f;
-        },
-        [&] { return std::uint64_t(stats.merged().raysTraced); });
+    auto fraction = [&] {
+        double f = double(unitsBefore.load() + camera.unitsEmitted()) / double(totalUnits);
+        return engine.targetRelMse > 0 ? std::max(f, targetFraction.load()) : f;
+    };
+    auto raysSoFar = [&] { return std::uint64_t(stats.merged().raysTraced); };
+    Progress progress(label, engine.quiet, fraction, raysSoFar);
+    // The watcher stops watching before the film goes away, whatever ends the render.
+    struct WatchScope {
+        const EngineSettings::Watcher* w;
+        ~WatchScope() {
+            if (w && w->end) w->end();
+        }
+    } watch{engine.watcher};
+    if (engine.watcher && engine.watcher->begin) engine.watcher->begin(film, fraction, raysSoFar);
 
     auto lastProgressive = std::chrono::steady_clock::now();
     bool stop = cluster.distributed() ? agreeInterrupted(cluster) : interruptRequested();
@@ -151,10 +158,6 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         ++result.passesDone;
         result.samplesDone = first + count;
         auto now = std::chrono::steady_clock::now();
-        if (engine.onPass)
-            engine.onPass(std::max(double(pass + 1) / double(passes), targetFraction.load()),
-                          std::uint64_t(stats.merged().raysTraced),
-                          std::chrono::duration<double>(now - start).count());
         if (logging) {
             // The log's clock stops while the error is measured.
             double seconds = std::chrono::duration<double>(now - start).count();

@@ -21,6 +21,7 @@ namespace rayproc {
 
 struct GiData;
 class Cluster;
+class Film;
 
 // Settings of the engine itself, common to every mode.
 
@@ -37,9 +38,16 @@ struct EngineSettings {
     // calls it at most once per `progressiveSeconds`.
     std::function<void(const Image&)> onProgress;
     double progressiveSeconds = 5.0;
-    // Called after each pass when set (rayproc serve's progress): the share of the passes
-    // done, the rays traced so far and the seconds since the passes began.
-    std::function<void(double fraction, std::uint64_t rays, double seconds)> onPass;
+    // A watcher of the render while it runs (rayproc serve): `begin` gets the film (its
+    // resolveInProgress() may be called from another thread), the fraction of the work done
+    // and the rays traced so far, both callable at any time; `end` is called before the film
+    // goes away.
+    struct Watcher {
+        std::function<void(const Film& film, std::function<double()> fraction,
+                           std::function<std::uint64_t()> rays)> begin;
+        std::function<void()> end;
+    };
+    const Watcher* watcher = nullptr;
     // Convergence log: after each pass, the samples, seconds, error against `reference` and
     // the reference-free estimate (Film::relMseEstimate) are appended to `errorLogPath` as CSV
     // (spp,seconds,relmse,rmse,relmse_estimate; the estimate is nan after the first pass).

@@ -78,7 +78,7 @@ let ws, state = null, camera = null, selected = null, rendering = false;
 let framesShown = 0;
 window.rayproc = { get state() { return state; }, get selected() { return selected; },
                    get framesShown() { return framesShown; }, get rendering() { return rendering; },
-                   send: (m) => send(m), lastReply: null, lastError: null };
+                   send: (m) => send(m), lastReply: null, lastError: null, lastProgress: null };
 
 function send(m) { ws.send(JSON.stringify(m)); }
 function sub(a, b) { return [a[0]-b[0], a[1]-b[1], a[2]-b[2]]; }
@@ -107,7 +107,7 @@ function connect() {
     else if (m.type === "picked") showPick(m);
     else if (m.type === "render_begin") { rendering = true; $("cancel").disabled = false; $("progress").value = 0;
       $("render-info").textContent = m.mode + ": starting"; }
-    else if (m.type === "progress") { $("progress").value = m.fraction;
+    else if (m.type === "progress") { window.rayproc.lastProgress = m; $("progress").value = m.fraction;
       $("render-info").textContent = m.mode + ": " + (100*m.fraction).toFixed(1) + "% - " + m.seconds.toFixed(1) +
         " s - ETA " + (m.eta_seconds >= 0 ? m.eta_seconds.toFixed(1) + " s" : "?") + " - " +
         (m.rays_per_second/1e6).toFixed(2) + " Mrays/s"; }

@@ -3,6 +3,7 @@
 #include "accel/embree_scene.h"
 #include "core/error.h"
 #include "engine/camera_emitter.h"
+#include "engine/film.h"
 #include "engine/cancel.h"
 #include "engine/intersect.h"
 #include "engine/ray_batch.h"
@@ -590,14 +591,52 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     EngineSettings engine;
     engine.threads = m_options.threads;
     engine.quiet = true;
-    engine.progressiveSeconds = 0.25;
-    engine.onProgress = [this](const Image& img) { sendFrame(img); };
-    engine.onPass = [this, &request](double fraction, std::uint64_t rays, double seconds) {
-        double eta = fraction > 0 ? seconds * (1 - fraction) / fraction : -1;
-        sendText({{"type", "progress"}, {"mode", request.mode}, {"fraction", fraction},
-                  {"seconds", seconds}, {"eta_seconds", eta},
-                  {"rays_per_second", seconds > 0 ? double(rays) / seconds : 0.0}});
+    // While the passes run, four times a second: the image with the tiles done so far, and
+    // the progress. The watcher thread stops before the film goes away.
+    std::mutex watchMutex;
+    std::condition_variable watchWake;
+    bool watching = false;
+    std::thread watchThread;
+    auto started = std::chrono::steady_clock::now();
+    std::function<double()> doneFraction;
+    std::function<std::uint64_t()> raysTraced;
+    // What the watcher sends: the image with the tiles done so far, and the progress.
+    auto report = [&](const Film& film) {
+        double f = doneFraction();
+        double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        sendFrame(film.resolveInProgress());
+        sendText({{"type", "progress"}, {"mode", request.mode}, {"fraction", f},
+                  {"seconds", seconds}, {"eta_seconds", f > 0 ? seconds * (1 - f) / f : -1.0},
+                  {"rays_per_second", seconds > 0 ? double(raysTraced()) / seconds : 0.0}});
     };
+    const Film* watched = nullptr;
+    EngineSettings::Watcher watcher;
+    watcher.begin = [&](const Film& film, std::function<double()> fraction,
+                        std::function<std::uint64_t()> rays) {
+        watching = true;
+        started = std::chrono::steady_clock::now();
+        doneFraction = std::move(fraction);
+        raysTraced = std::move(rays);
+        watched = &film;
+        watchThread = std::thread([&] {
+            std::unique_lock<std::mutex> lk(watchMutex);
+            while (!watchWake.wait_for(lk, std::chrono::milliseconds(250), [&] { return !watching; })) {
+                lk.unlock();
+                report(*watched);
+                lk.lock();
+            }
+        });
+    };
+    watcher.end = [&] {
+        {
+            std::lock_guard<std::mutex> lk(watchMutex);
+            watching = false;
+        }
+        watchWake.notify_all();
+        if (watchThread.joinable()) watchThread.join();
+        if (watched) report(*watched); // the last word: where the render ended
+    };
+    engine.watcher = &watcher;
     ModeOverrides overrides{request.spp, 0, 0};
     sendText({{"type", "render_begin"}, {"mode", request.mode}});
     RenderResult r;

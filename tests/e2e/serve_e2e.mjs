@@ -91,13 +91,16 @@ try {
   check(!orbited.equals(moved), "dragging the camera changes the image");
 
   // gi: streams in with progress; Cancel returns to the live preview.
-  await page.type("#spp", "10000");
+  // 1000 spp: passes of 16 spp, each 1.6% of the render; the image fills in tile by tile.
+  await page.type("#spp", "1000");
   await page.click("#mode-gi");
   await waitFor(() => window.rayproc.rendering === true);
-  await waitFor(() => /gi: [0-9.]+%/.test(document.getElementById("render-info").textContent), null, 60000);
+  await waitFor(() => window.rayproc.lastProgress && window.rayproc.lastProgress.fraction > 0.008, null, 60000);
+  await shot("4a-gi-filling-in");
+  await waitFor(() => window.rayproc.lastProgress.fraction > 0.02, null, 60000);
   const info = await page.$eval("#render-info", (e) => e.textContent);
   check(/ETA/.test(info) && /Mrays\/s/.test(info), "gi shows progress, ETA and rays/s (" + info + ")");
-  await shot("4-gi-running");
+  await shot("4b-gi-running");
   await page.click("#cancel");
   await waitFor(() => window.rayproc.rendering === false, null, 60000);
   const ended = await page.$eval("#render-info", (e) => e.textContent);

@@ -275,3 +275,27 @@ TEST_CASE("Film sums of bright contributions do not wrap, whatever their order",
     other.commitPass();
     CHECK(sameBits(img, other.resolve()));
 }
+
+// rayproc serve shows a render's tiles as they finish: the pass so far is visible in
+// resolveInProgress, not in resolve, and after the commit both agree.
+TEST_CASE("Film shows the current pass while it runs, for display only", "[engine]") {
+    Film film(4, 1);
+    ThreadStats stats;
+    film.addSample(0);
+    film.add(0, Vec3(2.0f, 1.0f, 0.5f), stats);
+    film.addSample(0);
+    film.add(0, Vec3(4.0f, 1.0f, 0.5f), stats);
+    Image committed = film.resolve();
+    Image running = film.resolveInProgress();
+    CHECK(committed.pixels[0] == 0.0f);
+    CHECK(running.pixels[0] == 3.0f);
+    CHECK(running.pixels[1] == 1.0f);
+    CHECK(running.pixels[3] == 0.0f); // pixel 1: no sample yet
+    film.commitPass();
+    CHECK(film.resolve().pixels == film.resolveInProgress().pixels);
+    // A second pass in flight averages with the first.
+    film.addSample(0);
+    film.add(0, Vec3(6.0f, 1.0f, 0.5f), stats);
+    CHECK(film.resolveInProgress().pixels[0] == 4.0f);
+    CHECK(film.resolve().pixels[0] == 3.0f);
+}
