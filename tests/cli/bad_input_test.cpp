@@ -453,7 +453,7 @@ TEST_CASE("Non-finite numbers and usage errors exit with the documented status",
     CHECK(contains(diff.err, "--max-rmse: must be a finite number"));
 }
 
-TEST_CASE("No output may overwrite an input or another output; all refused before any work",
+TEST_CASE("No output may overwrite an input or another output - all refused before any work",
           "[cli][bad-input]") {
     TempDir dir, logs;
     std::string scene = dir.file("scene.json");
@@ -527,7 +527,7 @@ TEST_CASE("An output path that is a directory or a device is refused before the 
     CHECK_FALSE(std::filesystem::exists(dir.file("x.pfm")));
 }
 
-TEST_CASE("A full disk while writing the error log is an error; the image is still written",
+TEST_CASE("A full disk while writing the error log is an error - the image is still written",
           "[cli][bad-input]") {
     TempDir dir, logs;
     std::string scene = dir.file("scene.json");
@@ -632,7 +632,7 @@ TEST_CASE("Scenes whose rays would leave Embree's range are refused before Embre
     CHECK(ok.status == 0);
 }
 
-TEST_CASE("Renders that cannot fit in memory are refused up front; running out is a clear error",
+TEST_CASE("Renders that cannot fit in memory are refused up front - running out is a clear error",
           "[cli][bad-input]") {
     if (!kAddressSpaceLimitWorks) {
         WARN("AddressSanitizer build: address-space limits do not apply; not run");

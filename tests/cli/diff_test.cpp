@@ -63,7 +63,7 @@ TEST_CASE("diff prints the metrics of PFM and EXR images", "[cli]") {
     }
 }
 
-TEST_CASE("diff --json has every key; identical images give psnr null", "[cli]") {
+TEST_CASE("diff --json has every key - identical images give psnr null", "[cli]") {
     TempDir dir;
     Pair p = writePair(dir, "pfm", 6, 4, 0.25f, 0.5f);
     RunResult r = runRayproc({"diff", p.test, p.reference, "--json"}, dir);
@@ -162,7 +162,7 @@ TEST_CASE("diff --crop compares only the region", "[cli]") {
     CHECK(nlohmann::json::parse(whole.out)["max_abs"].get<double>() == Approx(2.5));
 }
 
-TEST_CASE("diff limits: exit 1 when exceeded, naming the limit; 0 otherwise", "[cli]") {
+TEST_CASE("diff limits: exit 1 when exceeded, naming the limit - 0 otherwise", "[cli]") {
     TempDir dir;
     // rmse = 0.1, relmse = 0.01 / (0.25 + 0.01) = 0.03846.
     Pair p = writePair(dir, "pfm", 8, 8, 0.5f, 0.1f);

@@ -330,7 +330,7 @@ TEST_CASE("Non-finite reference pixels are left out of every metric", "[image]")
     CHECK(m.blockRel == Approx(0.5));
 }
 
-TEST_CASE("Box downsampling averages finite pixels; the factor must divide both sizes", "[image]") {
+TEST_CASE("Box downsampling averages finite pixels - the factor must divide both sizes", "[image]") {
     Image img(4, 2);
     for (int x = 0; x < 4; ++x)
         for (int y = 0; y < 2; ++y)

@@ -111,7 +111,7 @@ TEST_CASE("Constant sky over a diffuse plane: radiance a * L", "[modes]") {
     }
 }
 
-TEST_CASE("A relMSE target stops when the half-buffer estimate reaches it; the estimate is honest",
+TEST_CASE("A relMSE target stops when the half-buffer estimate reaches it - the estimate is honest",
           "[modes]") {
     // The golden path image (8192 spp, 128 x 128) box-downsampled to 32 x 32 is the truth.
     Image truth = boxDownsample(readImage(goldenPath("cornell-box-path.exr")), 4);

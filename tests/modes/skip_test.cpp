@@ -142,7 +142,7 @@ const std::vector<std::string> kModes{"preview", "raytrace", "path", "gi"};
 
 } // namespace
 
-TEST_CASE("Scene analysis: no mirror or glass skips the caustic map and the specular stages; "
+TEST_CASE("Scene analysis: no mirror or glass skips the caustic map and the specular stages - "
           "images bit-identical", "[skip]") {
     auto scene = sceneFromJson(boxScene(kDiffuse,
                                         ceilingLight("black") + R"(,
@@ -197,7 +197,7 @@ TEST_CASE("Scene analysis: glass makes the caustic map and the refraction stage 
 }
 
 TEST_CASE("Scene analysis: no diffuse surface skips the global map, final gather and "
-          "irradiance cache; images bit-identical", "[skip]") {
+          "irradiance cache - images bit-identical", "[skip]") {
     auto scene = sceneFromJson(boxScene(kGlossyWall,
                                         ceilingLight("glossy") + R"(,
         {"type": "sphere", "material": "mirror", "center": [0.4, 0.4, 0.1], "radius": 0.3},
@@ -227,7 +227,7 @@ TEST_CASE("Scene analysis: no diffuse surface skips the global map, final gather
     }
 }
 
-TEST_CASE("Scene analysis: only point and spot lights take one unstratified sample each; "
+TEST_CASE("Scene analysis: only point and spot lights take one unstratified sample each - "
           "images bit-identical", "[skip]") {
     auto scene = sceneFromJson(boxScene(kDiffuse, "", R"([
         {"type": "point", "position": [0.2, 1.7, 0.3], "intensity": [2, 2, 2]},

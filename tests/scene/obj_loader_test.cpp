@@ -22,7 +22,7 @@ TEST_CASE("An OBJ quad becomes two triangles over four positions", "[scene][obj]
     CHECK(b.hi.z == 0.0f);
 }
 
-TEST_CASE("OBJ shapes merge; negative indices resolve", "[scene][obj]") {
+TEST_CASE("OBJ shapes merge - negative indices resolve", "[scene][obj]") {
     std::string path = writeTestFile("meshes/two.obj", "o first\n"
                                                        "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
                                                        "f -3 -2 -1\n"

@@ -87,7 +87,7 @@ TEST_CASE("serve: the state lists objects, materials, lights, the camera and the
     CHECK(meanValue(img) > 0.01);
 }
 
-TEST_CASE("serve: camera moves re-render the preview; bad cameras are refused", "[serve]") {
+TEST_CASE("serve: camera moves re-render the preview - bad cameras are refused", "[serve]") {
     Harness h(scenePath("cornell-box"));
     h.session.waitIdle();
     Image before;
@@ -132,7 +132,7 @@ TEST_CASE("serve: pick names the object under a point of the image", "[serve]") 
     CHECK_THAT(messageOf(h.send({{"type", "pick"}, {"x", 0.5}})), Catch::Contains("missing \"y\""));
 }
 
-TEST_CASE("serve: transforms move, turn and scale an object about its centre; undo restores it", "[serve]") {
+TEST_CASE("serve: transforms move, turn and scale an object about its centre - undo restores it", "[serve]") {
     Harness h(scenePath("cornell-box"));
     // Up through the ceiling: the pick finds the back wall where the box stood.
     Json r = h.send({{"type", "transform"}, {"object", 6}, {"translate", {0, 3, 0}}});
@@ -225,7 +225,7 @@ TEST_CASE("serve: a saved scene renders exactly as the page shows it", "[serve]"
     CHECK_THAT(messageOf(h.send({{"type", "save"}, {"path", dir.file("missing/dir/x.json")}})), Catch::Contains("save"));
 }
 
-TEST_CASE("serve: a render streams progress and frames; cancel returns to the preview", "[serve]") {
+TEST_CASE("serve: a render streams progress and frames - cancel returns to the preview", "[serve]") {
     Harness h(scenePath("cornell-box"));
     h.session.waitIdle();
     Json r = h.send({{"type", "render"}, {"mode", "path"}, {"spp", 4}});

@@ -130,7 +130,7 @@ TEST_CASE("The positive-part sampler follows max(f, 0) with weight 1", "[filter]
     }
 }
 
-TEST_CASE("Filter sample weights carry f's sign; their mean is integral f / integral |f|",
+TEST_CASE("Filter sample weights carry f's sign - their mean is integral f / integral |f|",
           "[filter]") {
     for (const NamedShape& n : shapes()) {
         INFO(n.name);

@@ -80,7 +80,7 @@ TEST_CASE("Image textures: texel centres, the t flip, bilinear filtering and wra
     CHECK(near(at(s, 0.5f, 0.75f), {-1, 1, 1}));
 }
 
-TEST_CASE("8-bit files decode from sRGB, float files are linear; MIP levels average", "[texture]") {
+TEST_CASE("8-bit files decode from sRGB, float files are linear - MIP levels average", "[texture]") {
     Image img(4, 2);
     for (float& p : img.pixels) p = 0.5f;
     std::string png = (pbrtTestDir() / "half.png").string();
