@@ -7,8 +7,10 @@
 #include "engine/film.h"
 #include "engine/intersect.h"
 #include "engine/memory_budget.h"
+#include "image/display_client.h"
 #include "image/image.h"
 #include "modes/modes.h"
+#include "modes/render_watch.h"
 #include "scene/scene_loader.h"
 
 #include <tbb/global_control.h>
@@ -48,6 +50,7 @@ struct RenderArgs {
     float exposure = 0;
     std::string tonemap = "clamp";
     std::string reference, errorLog;
+    std::string displayServer;
     // gi
     int photons = -1, causticPhotons = -1, gatherRays = 0;
     float icAccuracy = 0;
@@ -80,6 +83,7 @@ int runRender(const RenderArgs& a) {
         throw InputError("--reference needs --error-log FILE");
     if (a.reference.empty() && !a.errorLog.empty())
         throw InputError("--error-log needs --reference IMAGE");
+    if (!a.displayServer.empty()) checkDisplayServer(a.displayServer);
     checkDistinctFiles({{"scene", a.scene, false},
                         {"--reference", a.reference, false},
                         {a.output.empty() ? "the output (default)" : "-o", output, true},
@@ -168,6 +172,26 @@ int runRender(const RenderArgs& a) {
     if (writer && scene->lights.empty() && accel.emitters().empty())
         std::fprintf(stderr, "rayproc: warning: %s has no lights; the image will be black\n",
                      a.scene.c_str());
+
+    // --display-server: the image in the tev viewer, refreshed every second while the passes
+    // run and once at the end. A viewer that is not there is a warning, not a failed render.
+    std::unique_ptr<DisplayClient> display;
+    std::unique_ptr<PeriodicReport> displayReport;
+    if (writer && !a.displayServer.empty()) {
+        display = std::make_unique<DisplayClient>(a.displayServer,
+                                                  std::filesystem::path(output).filename().string());
+        if (!display->connected()) {
+            std::fprintf(stderr, "rayproc: warning: --display-server: %s; rendering goes on\n",
+                         display->error().c_str());
+            display.reset();
+        } else {
+            displayReport = std::make_unique<PeriodicReport>(
+                1.0, [&display](const Film& film, const PeriodicReport::Progress&) {
+                    display->show(film.resolveInProgress());
+                });
+            engine.watcher = displayReport->watcher();
+        }
+    }
 
     // Before the long work: a render that cannot fit in memory is refused with the figures,
     // one that may not fit is warned of.
@@ -264,6 +288,11 @@ int runRender(const RenderArgs& a) {
         std::fprintf(stderr,
                      "rayproc: warning: %llu NaN or infinite contributions were discarded\n",
                      (unsigned long long)result.stats.totals.invalidSamples);
+    if (display) {
+        display->show(result.image); // the final image, every rank's tiles
+        if (!display->connected())
+            std::fprintf(stderr, "rayproc: warning: --display-server: %s\n", display->error().c_str());
+    }
     writeImage(output, result.image, tm);
     if (a.stats) std::fputs(result.stats.toTable().c_str(), stderr);
     if (!a.statsJson.empty()) writeFileAtomically(a.statsJson, result.stats.toJson() + "\n");
@@ -388,6 +417,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "upper bound (give a large one). The log reports the spp done")
         ->check(finiteNumber())
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--display-server", args->displayServer,
+                    "Show the image in the tev HDR viewer while rendering: HOST:PORT of its "
+                    "display server (tev listens on 127.0.0.1:14158 by default), refreshed every "
+                    "second and at the end; an unreachable viewer is a warning");
     cmd->add_flag("--quiet,-q", args->quiet, "No progress and no render log on stderr");
     cmd->add_flag("--stats", args->stats, "Print per-stage statistics on stderr at the end");
     cmd->add_option("--stats-json", args->statsJson, "Write the statistics as JSON to this file");

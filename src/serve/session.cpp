@@ -10,6 +10,7 @@
 #include "kernels/camera_rays.h"
 #include "modes/modes.h"
 #include "modes/render_plan.h"
+#include "modes/render_watch.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_loader_detail.h"
 
@@ -592,51 +593,15 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     engine.threads = m_options.threads;
     engine.quiet = true;
     // While the passes run, four times a second: the image with the tiles done so far, and
-    // the progress. The watcher thread stops before the film goes away.
-    std::mutex watchMutex;
-    std::condition_variable watchWake;
-    bool watching = false;
-    std::thread watchThread;
-    auto started = std::chrono::steady_clock::now();
-    std::function<double()> doneFraction;
-    std::function<std::uint64_t()> raysTraced;
-    // What the watcher sends: the image with the tiles done so far, and the progress.
-    auto report = [&](const Film& film) {
-        double f = doneFraction();
-        double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    // the progress.
+    PeriodicReport watch(0.25, [&](const Film& film, const PeriodicReport::Progress& p) {
         sendFrame(film.resolveInProgress());
-        sendText({{"type", "progress"}, {"mode", request.mode}, {"fraction", f},
-                  {"seconds", seconds}, {"eta_seconds", f > 0 ? seconds * (1 - f) / f : -1.0},
-                  {"rays_per_second", seconds > 0 ? double(raysTraced()) / seconds : 0.0}});
-    };
-    const Film* watched = nullptr;
-    EngineSettings::Watcher watcher;
-    watcher.begin = [&](const Film& film, std::function<double()> fraction,
-                        std::function<std::uint64_t()> rays) {
-        watching = true;
-        started = std::chrono::steady_clock::now();
-        doneFraction = std::move(fraction);
-        raysTraced = std::move(rays);
-        watched = &film;
-        watchThread = std::thread([&] {
-            std::unique_lock<std::mutex> lk(watchMutex);
-            while (!watchWake.wait_for(lk, std::chrono::milliseconds(250), [&] { return !watching; })) {
-                lk.unlock();
-                report(*watched);
-                lk.lock();
-            }
-        });
-    };
-    watcher.end = [&] {
-        {
-            std::lock_guard<std::mutex> lk(watchMutex);
-            watching = false;
-        }
-        watchWake.notify_all();
-        if (watchThread.joinable()) watchThread.join();
-        if (watched) report(*watched); // the last word: where the render ended
-    };
-    engine.watcher = &watcher;
+        sendText({{"type", "progress"}, {"mode", request.mode}, {"fraction", p.fraction},
+                  {"seconds", p.seconds},
+                  {"eta_seconds", p.fraction > 0 ? p.seconds * (1 - p.fraction) / p.fraction : -1.0},
+                  {"rays_per_second", p.seconds > 0 ? double(p.rays) / p.seconds : 0.0}});
+    });
+    engine.watcher = watch.watcher();
     ModeOverrides overrides{request.spp, 0, 0};
     sendText({{"type", "render_begin"}, {"mode", request.mode}});
     RenderResult r;
