@@ -69,6 +69,12 @@ try {
   await settle();
   const first = await shot("1-loaded");
 
+  // A second tab on the same server: it sees the first tab's edits.
+  const other = await browser.newPage();
+  await other.goto(url);
+  await other.waitForFunction(() => window.rayproc.state !== null, { timeout: 120000, polling: 50 });
+  await page.bringToFront(); // a background tab gets no animation frames: clicks would wait
+
   // Pick the tall box (left of centre) and move it up by 3 steps of 0.1.
   await page.mouse.click(canvasBox.x + 0.38 * canvasBox.width, canvasBox.y + 0.5 * canvasBox.height);
   await waitFor(() => window.rayproc.selected !== null);
@@ -78,6 +84,9 @@ try {
     await page.click('[data-move="0,1,0"]');
     await waitFor((n) => window.rayproc.state.undo_depth === n, i + 1);
   }
+  await other.waitForFunction(() => window.rayproc.state.undo_depth === 3, { timeout: 120000, polling: 50 });
+  check(true, "a second tab sees the three edits of the first");
+  await other.close();
   await settle();
   const moved = await shot("2-moved");
   check(!moved.equals(first), "moving the box changes the image");
