@@ -243,8 +243,11 @@ TEST_CASE("serve: a render streams progress and frames - cancel returns to the p
     // A long render, cancelled: edits are refused meanwhile, the partial image stays, and the
     // live preview comes back.
     REQUIRE(h.send({{"type", "render"}, {"mode", "gi"}, {"spp", 10000}})["type"] == "render_started");
-    for (int i = 0; i < 200 && !h.sawText("progress", [](const Json& t) { return t["mode"] == "gi"; }); ++i)
+    // Passes of 16 spp: one pass done is 16 / 10000 of the work (slow in sanitizer builds).
+    auto onePassDone = [](const Json& t) { return t["mode"] == "gi" && t["fraction"].get<double>() >= 0.0016; };
+    for (int i = 0; i < 2400 && !h.sawText("progress", onePassDone); ++i)
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    REQUIRE(h.sawText("progress", onePassDone));
     CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "path"}})), Catch::Contains("already running"));
     CHECK_THAT(messageOf(h.send({{"type", "transform"}, {"object", 6}, {"translate", {1, 0, 0}}})),
                Catch::Contains("cancel it first"));
