@@ -24,8 +24,10 @@ int runServe(const ServeArgs& a) {
     options.threads = a.threads;
     options.previewMaxSide = a.previewSize;
     serve::Session session(a.scene, options);
-    // Ctrl-C (or SIGTERM, SIGHUP) stops the server; a render's cancel is not a signal.
+    // Ctrl-C (or SIGTERM, SIGHUP) stops the server; a render's cancel is not a signal. The
+    // handler's own words are about partial images, which serve does not write.
     installInterruptHandler();
+    quietInterruptMessages();
     serve::Server server(session, a.port);
     std::fprintf(stderr, "rayproc serve %s: open http://127.0.0.1:%d/ (Ctrl-C stops)\n",
                  a.scene.c_str(), server.port());
@@ -33,6 +35,9 @@ int runServe(const ServeArgs& a) {
     std::fflush(stdout);
     while (interruptSignal() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
     std::fprintf(stderr, "rayproc serve: stopping\n");
+    // The worker first (a render in progress is cancelled; it sends nothing more), then the
+    // server (declared last, destroyed first) while the session still exists for its threads.
+    session.stop();
     return 0;
 }
 

@@ -44,6 +44,10 @@ int interruptExitStatus() {
 int interruptSignal() { return g_signal.load(); }
 void requestInterrupt() { g_interrupts.store(1); }
 void quietInterruptMessages() { g_quiet.store(true); }
+void clearRequestedInterrupt() {
+    if (g_signal.load() == 0) g_interrupts.store(0);
+}
+
 void clearInterrupt() {
     g_interrupts.store(0);
     g_signal.store(0);

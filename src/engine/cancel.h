@@ -17,5 +17,8 @@ void requestInterrupt(); // as if SIGINT arrived (tests, and a distributed rende
 // The handler's messages off: the other ranks of a distributed render leave them to rank 0.
 void quietInterruptMessages();
 void clearInterrupt();
+// Withdraws a requestInterrupt() (rayproc serve's cancel) unless a stopping signal arrived,
+// which stays in force.
+void clearRequestedInterrupt();
 
 } // namespace rayproc

@@ -75,6 +75,18 @@ Server::Server(Session& session, int port) : m_session(session) {
 }
 
 Server::~Server() {
+    // Pages are told the server is going: civetweb's stop waits for open WebSockets, which a
+    // browser would otherwise hold for minutes.
+    {
+        std::lock_guard<std::mutex> lk(m_mutex);
+        static const char bye[] = "\x03\xe9server stopping"; // status 1001 "going away"
+        for (auto& [conn, id] : m_clients) {
+            auto* c = const_cast<mg_connection*>(conn);
+            mg_lock_connection(c);
+            mg_websocket_write(c, MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE, bye, sizeof bye - 1);
+            mg_unlock_connection(c);
+        }
+    }
     if (m_context) mg_stop(m_context);
     mg_exit_library();
 }

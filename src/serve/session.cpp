@@ -122,15 +122,20 @@ Session::Session(const std::string& scenePath, const Options& options)
     m_version = 1;
 }
 
-Session::~Session() {
+Session::~Session() { stop(); }
+
+void Session::stop() {
     {
         std::lock_guard<std::mutex> lk(m_mutex);
         m_quit = true;
         if (m_rendering) requestInterrupt();
     }
     m_wake.notify_all();
-    if (m_thread.joinable()) m_thread.join();
-    clearInterrupt();
+    m_idle.notify_all();
+    if (m_thread.joinable()) {
+        m_thread.join();
+        clearRequestedInterrupt();
+    }
 }
 
 void Session::start(Events events) {
@@ -544,7 +549,7 @@ void Session::worker() {
             // A finished render stays on screen until the next change; a cancelled one
             // returns to the live preview at once.
             bool cancelled = interruptRequested();
-            clearInterrupt();
+            clearRequestedInterrupt(); // a Ctrl-C to the server stays: it is shutting down
             m_previewedVersion = cancelled ? 0 : m_version;
             continue;
         }

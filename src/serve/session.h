@@ -56,6 +56,9 @@ public:
 
     // Starts the worker; the first preview follows at once.
     void start(Events events);
+    // Cancels a running render and ends the worker: no event is sent after it returns (the
+    // server stops its page traffic next). The destructor calls it too.
+    void stop();
     // One message from page `client` (JSON text, docs/serve.md); returns the reply (JSON text:
     // {"type": "error", "message": ...} for anything refused, which changes nothing).
     std::string handle(const std::string& message, int client);

@@ -160,13 +160,24 @@ try {
   const cam = await page.evaluate(() => window.rayproc.state.camera.position);
   check(JSON.stringify(doc.camera.position) === JSON.stringify(cam), "the saved camera is the page's");
   check(pageErrors.length === 0, "no script errors on the page (" + pageErrors.join("; ") + ")");
+
+  // Ctrl-C to the server while a render runs: it stops promptly and cleanly.
+  await page.evaluate(() => { window.rayproc.lastProgress = null; window.rayproc.send({ type: "render", mode: "path", spp: 60000 }); });
+  await waitFor(() => window.rayproc.lastProgress !== null);
+  const stopStart = Date.now();
+  server.kill("SIGINT");
+  const [code, signal] = await new Promise((r) => server.on("exit", (c, s) => r([c, s])));
+  const stopSeconds = (Date.now() - stopStart) / 1000;
+  check(code === 0 && stopSeconds < 15, "Ctrl-C during a render stops the server with status 0 in " + stopSeconds.toFixed(1) + " s (" + code + ", " + signal + ")");
 } catch (e) {
   console.log("FAIL " + e.stack);
   failures++;
 } finally {
   await browser.close();
-  server.kill("SIGINT");
+  if (server.exitCode === null && server.signalCode === null) {
+    server.kill("SIGINT");
+    await new Promise((r) => server.on("exit", r));
+  }
 }
-await new Promise((r) => server.on("exit", r));
 console.log(failures === 0 ? "serve e2e: all checks passed" : "serve e2e: " + failures + " failure(s)");
 process.exit(failures === 0 ? 0 : 1);

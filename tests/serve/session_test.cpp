@@ -298,3 +298,25 @@ TEST_CASE("serve: pbrt scenes can be viewed and rendered, not edited", "[serve]"
                Catch::Contains("only JSON scenes can be edited"));
     CHECK_THAT(messageOf(h.send({{"type", "save"}, {"path", "x.json"}})), Catch::Contains("only JSON scenes"));
 }
+
+TEST_CASE("serve: stop cancels a running render and nothing is sent after it", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    REQUIRE(h.send({{"type", "render"}, {"mode", "path"}, {"spp", 60000}})["type"] == "render_started");
+    for (int i = 0; i < 2400 && !h.sawText("progress"); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    auto start = std::chrono::steady_clock::now();
+    h.session.stop();
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    CHECK(seconds < 10);
+    CHECK(h.sawText("render_end", [](const Json& t) { return t["cancelled"] == true; }));
+    std::size_t texts;
+    {
+        std::lock_guard<std::mutex> lk(h.mutex);
+        texts = h.texts.size();
+    }
+    int frames = h.frames.load();
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    std::lock_guard<std::mutex> lk(h.mutex);
+    CHECK(h.texts.size() == texts);
+    CHECK(h.frames.load() == frames);
+}
