@@ -49,7 +49,9 @@ void biasMetrics(const Image& a, const Image& b, const CropRect& r, ImageMetrics
     for (int c = 0; c < 3; ++c) {
         double ma = all.a[c] / double(all.n), mb = all.b[c] / double(all.n);
         double rel = std::abs(ma - mb) / mb; // inf or NaN for a black channel: no silent pass
-        m.meanRel = std::isnan(rel) || std::isnan(m.meanRel) ? rel : std::max(m.meanRel, rel);
+        // A NaN, once seen in any channel, stays (std::max would drop it for a later channel).
+        m.meanRel = std::isnan(m.meanRel) || std::isnan(rel) ? std::numeric_limits<double>::quiet_NaN()
+                                                             : std::max(m.meanRel, rel);
         refMean += mb / 3.0;
     }
     double sum = 0;

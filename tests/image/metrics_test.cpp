@@ -51,6 +51,14 @@ TEST_CASE("A NaN in the test image makes every error NaN, PSNR included (not inf
     CHECK(std::isnan(m.relmse));
     CHECK(std::isnan(m.psnr)); // was +inf: NaN > 0 is false, so it read as "equal images"
     CHECK(std::isnan(m.maxAbs)); // was the largest finite difference, 0 here
+    CHECK(std::isnan(m.meanRel));
+    // In whichever channel the NaN is: a later channel's finite error must not replace it.
+    for (int c = 0; c < 3; ++c) {
+        Image one = b;
+        one.at(1, 1)[c] = std::numeric_limits<float>::quiet_NaN();
+        INFO("NaN in channel " << c);
+        CHECK(std::isnan(compareImages(one, b).meanRel)); // red and green read 0 before
+    }
     // A NaN in the reference is left out, as documented: the rest compares as equal.
     ImageMetrics r = compareImages(b, a);
     CHECK(r.rmse == 0);
