@@ -272,7 +272,13 @@ TEST_CASE("Ctrl-C during gi's photon pass stops promptly and says where it stopp
                  "--spp", "1", "--width", "32", "--height", "32", "--threads", "2", "-o", out},
                 dir.file("stdout.txt"), dir.file("stderr.txt"));
     REQUIRE(child.started());
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    // The settings line comes once the scene is loaded, right before the photon pass: on a
+    // loaded machine a fixed delay from the start could signal before the pass began.
+    auto launched = std::chrono::steady_clock::now();
+    while (!contains(child.err(), "mode=gi") &&
+           std::chrono::steady_clock::now() - launched < std::chrono::seconds(30))
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
     child.signal(SIGINT);
     auto signalled = std::chrono::steady_clock::now();
     bool finished = child.wait(60.0);
