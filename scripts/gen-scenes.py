@@ -6,6 +6,9 @@
                              rotations and non-uniform scales at both levels
     scenes/meshes/torus.obj  a low-poly torus with normals and uvs, written as quads, for
                              scenes/materials.json
+    scenes/caustic-pool.json a small square light above a slab of water with a wavy top over
+                             a white floor: a caustic (light -> refraction -> diffuse) test
+    scenes/meshes/wavy-water.obj  that slab: a smooth-shaded wavy height field, closed
 
 The output is deterministic (fixed random seed), so re-running the script reproduces the
 committed files exactly. Usage: scripts/gen-scenes.py [--out-dir scenes]
@@ -143,6 +146,94 @@ def dump_compact(obj, indent=0):
     return "{\n" + ",\n".join(items) + "\n" + "  " * indent + "}"
 
 
+WAVES = [(0.022, 9.0, 4.1, 0.0), (0.016, -5.3, 10.2, 1.0), (0.010, 13.7, 11.3, 2.0)]
+
+
+def wave_height(x, z):
+    """Height of the water's top above its mean level, and the two slopes."""
+    h = dx = dz = 0.0
+    for amp, kx, kz, phase in WAVES:
+        arg = kx * x + kz * z + phase
+        h += amp * math.sin(arg)
+        dx += amp * kx * math.cos(arg)
+        dz += amp * kz * math.cos(arg)
+    return h, dx, dz
+
+
+def wavy_water_obj(half=1.0, bottom=0.9, level=1.0, n=64):
+    """A closed slab over [-half, half]^2: a flat bottom at y = bottom, a wavy top around
+    y = level with analytic vertex normals (smooth refraction, hence sharp caustics), and
+    four flat sides whose top edges follow the waves."""
+    lines = ["# Wavy water slab written by scripts/gen-scenes.py",
+             f"# [-{half}, {half}]^2, bottom y = {bottom}, top y = {level} + waves, "
+             f"{n} x {n} top quads", "o water"]
+    coords = [-half + 2 * half * i / n for i in range(n + 1)]
+    # Top grid: positions 1 .. (n+1)^2 with their normals; then the bottom grid.
+    for z in coords:
+        for x in coords:
+            h, _, _ = wave_height(x, z)
+            lines.append(f"v {x:.5f} {level + h:.5f} {z:.5f}")
+    for z in coords:
+        for x in coords:
+            lines.append(f"v {x:.5f} {bottom:.5f} {z:.5f}")
+    for z in coords:
+        for x in coords:
+            _, dx, dz = wave_height(x, z)
+            ln = math.sqrt(dx * dx + 1 + dz * dz)
+            lines.append(f"vn {-dx / ln:.5f} {1 / ln:.5f} {-dz / ln:.5f}")
+    flat = {"down": (0, -1, 0), "-x": (-1, 0, 0), "+x": (1, 0, 0), "-z": (0, 0, -1),
+            "+z": (0, 0, 1)}
+    first_flat = (n + 1) ** 2 + 1
+    for i, v in enumerate(flat.values()):
+        lines.append(f"vn {v[0]} {v[1]} {v[2]}")
+    normal = {k: first_flat + i for i, k in enumerate(flat)}
+
+    def top(i, j):  # column i (x), row j (z), 1-based
+        return j * (n + 1) + i + 1
+
+    def bot(i, j):
+        return (n + 1) ** 2 + top(i, j)
+
+    for j in range(n):  # top faces wind counter-clockwise seen from above (+y)
+        for i in range(n):
+            a, b, c, d = top(i, j), top(i, j + 1), top(i + 1, j + 1), top(i + 1, j)
+            lines.append(f"f {a}//{a} {b}//{b} {c}//{c} {d}//{d}")
+    nd = normal["down"]
+    for j in range(n):
+        for i in range(n):
+            a, b, c, d = bot(i, j), bot(i + 1, j), bot(i + 1, j + 1), bot(i, j + 1)
+            lines.append(f"f {a}//{nd} {b}//{nd} {c}//{nd} {d}//{nd}")
+    for k in range(n):  # sides, outward
+        for side, (t0, t1) in {"-z": ((k, 0), (k + 1, 0)), "+z": ((k + 1, n), (k, n)),
+                               "-x": ((0, k + 1), (0, k)), "+x": ((n, k), (n, k + 1))}.items():
+            a, b = top(*t0), top(*t1)
+            c, d = bot(*t1), bot(*t0)
+            m = normal[side]
+            lines.append(f"f {a}//{m} {d}//{m} {c}//{m} {b}//{m}")
+    return "\n".join(lines) + "\n"
+
+
+def caustic_pool_scene():
+    return {
+        "camera": {"position": [0, 3.0, 2.6], "look_at": [0, 0.3, 0], "up": [0, 1, 0],
+                   "fov": 42, "resolution": [256, 256]},
+        "materials": {
+            "floor": {"type": "diffuse", "color": [0.8, 0.8, 0.8]},
+            "water": {"type": "dielectric", "ior": 1.33, "color": [1, 1, 1]},
+            "lamp": {"type": "diffuse", "color": [0, 0, 0]},
+        },
+        "nodes": [
+            {"type": "quad", "name": "floor", "material": "floor",
+             "corners": [[-2, 0, -2], [-2, 0, 2], [2, 0, 2], [2, 0, -2]]},
+            {"type": "obj", "name": "water", "file": "meshes/wavy-water.obj",
+             "material": "water"},
+            {"type": "quad", "name": "lamp", "material": "lamp", "emission": [30, 30, 30],
+             "corners": [[-0.2, 2.6, -0.2], [0.2, 2.6, -0.2], [0.2, 2.6, 0.2],
+                         [-0.2, 2.6, 0.2]]},
+        ],
+    }
+
+
 def torus_obj(major=0.5, minor=0.2, nu=24, nv=12):
     """A torus around the y axis as quads, with per-vertex normals and seam-split uvs."""
     lines = ["# Low-poly torus written by scripts/gen-scenes.py",
@@ -186,7 +277,9 @@ def main():
     (out / "meshes").mkdir(parents=True, exist_ok=True)
     (out / "instances.json").write_text(dump_compact(instances_scene(random.Random(1))) + "\n")
     (out / "meshes" / "torus.obj").write_text(torus_obj())
-    for name in ("instances.json", "meshes/torus.obj"):
+    (out / "caustic-pool.json").write_text(dump_compact(caustic_pool_scene()) + "\n")
+    (out / "meshes" / "wavy-water.obj").write_text(wavy_water_obj())
+    for name in ("instances.json", "meshes/torus.obj", "caustic-pool.json", "meshes/wavy-water.obj"):
         print(f"wrote {out / name} ({(out / name).stat().st_size} bytes)")
 
 

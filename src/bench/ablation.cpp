@@ -23,6 +23,8 @@ const std::vector<AblationSwitch>& ablationSwitches() {
         {"precomputed irradiance", "gi", "--no-precomputed-irradiance",
          [](RenderConfig& c) { c.gi.precomputedIrradiance = false; }},
         {"caustic map", "gi", "--no-caustics", [](RenderConfig& c) { c.gi.caustics = false; }},
+        {"progressive caustics", "gi", "--no-progressive-caustics",
+         [](RenderConfig& c) { c.gi.progressiveCaustics = false; }},
         {"Russian roulette", "path", "--no-russian-roulette",
          [](RenderConfig& c) { c.path.roulette = false; }},
         {"Russian roulette", "gi", "--no-russian-roulette",

@@ -40,6 +40,7 @@ std::string RenderConfig::settingsString() const {
         if (!gi.irradianceCache) o << " no-irradiance-cache";
         if (!gi.precomputedIrradiance) o << " no-precomputed-irradiance";
         if (!gi.caustics) o << " no-caustics";
+        if (!gi.progressiveCaustics) o << " no-progressive-caustics";
     }
     if ((mode == "path" && !path.roulette) || (mode == "raytrace" && !raytrace.roulette) ||
         (mode == "gi" && !gi.roulette))

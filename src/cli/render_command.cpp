@@ -55,6 +55,8 @@ struct RenderArgs {
     int photons = -1, causticPhotons = -1, gatherRays = 0;
     float icAccuracy = 0;
     bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
+    bool noProgressiveCaustics = false;
+    float causticAlpha = 0;
     double timeLimit = 0;
     double targetRelMse = 0;
     std::string debugView = "none";
@@ -235,6 +237,8 @@ int runRender(const RenderArgs& a) {
         if (a.icAccuracy > 0) s.icAccuracy = a.icAccuracy;
         s.irradianceCache = !a.noCache;
         s.caustics = !a.noCaustics;
+        s.progressiveCaustics = !a.noProgressiveCaustics;
+        if (a.causticAlpha > 0) s.causticAlpha = a.causticAlpha;
         s.precomputedIrradiance = !a.noPrecomputed;
         s.roulette = !a.noRoulette;
         s.icGradients = !a.noIcGradients;
@@ -360,8 +364,9 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "gi: photons emitted for the global map (default 200000)")
         ->check(CLI::Range(0, 100000000));
     cmd->add_option("--caustic-photons", args->causticPhotons,
-                    "gi: photons emitted for the caustic map (default 200000; only light -> "
-                    "specular+ -> diffuse paths are stored)")
+                    "gi: photons emitted for the caustic map, each pass's with progressive "
+                    "caustics (default 200000; only light -> specular+ -> diffuse paths are "
+                    "stored)")
         ->check(CLI::Range(0, 100000000));
     cmd->add_option("--gather-rays", args->gatherRays,
                     "gi: stratified cosine-weighted rays per final gather (default 64)")
@@ -374,6 +379,16 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_flag("--no-irradiance-cache", args->noCache,
                   "gi: final gather at every diffuse hit instead of interpolating cached records");
     cmd->add_flag("--no-caustics", args->noCaustics, "gi: no caustic photon map");
+    cmd->add_flag("--no-progressive-caustics", args->noProgressiveCaustics,
+                  "gi: one caustic map for the whole render with k-nearest estimates, instead of "
+                  "a new map of --caustic-photons every pass with a shrinking radius (progressive "
+                  "photon mapping: caustics converge as passes accumulate)");
+    cmd->add_option("--caustic-alpha", args->causticAlpha,
+                    "gi: progressive caustics' radius reduction alpha: each pass's squared radius "
+                    "is the last one's times (i + alpha) / (i + 1) (default 0.667; smaller "
+                    "shrinks faster: less bias, more noise)")
+        ->check(finiteNumber())
+        ->check(CLI::Range(0.01, 1.0));
     cmd->add_flag("--no-precomputed-irradiance", args->noPrecomputed,
                   "gi: gather rays estimate the global map's irradiance from scratch instead of "
                   "Christensen's precomputed values");

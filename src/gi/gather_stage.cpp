@@ -20,6 +20,13 @@ Vec3 GatherStage::globalIrradiance(const Vec3& p, const Vec3& n) const {
     return gi.global->irradiance(p, n, gi.settings.globalK, gi.globalRadius);
 }
 
+Vec3 GatherStage::causticIrradiance(const Vec3& p, const Vec3& n) const {
+    const GiData& gi = *m_rc.gi;
+    if (!gi.caustic || gi.caustic->size() == 0) return Vec3(0.0f);
+    if (gi.causticFixedRadius) return gi.caustic->irradianceWithin(p, n, gi.causticRadius);
+    return gi.caustic->irradiance(p, n, gi.settings.causticK, gi.causticRadius);
+}
+
 void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, StageId::Gather);
@@ -54,8 +61,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             Vec3 e = gi.global && gi.global->size() > 0
                          ? gi.global->irradiance(h.p, ns, s.globalK, gi.globalRadius)
                          : Vec3(0.0f);
-            if (gi.caustic && gi.caustic->size() > 0)
-                e += gi.caustic->irradiance(h.p, ns, s.causticK, gi.causticRadius);
+            e += causticIrradiance(h.p, ns);
             m_rc.film.add(b.pixel[i], reflect * e, stats);
             continue;
         }
@@ -63,7 +69,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             (s.debugView == GiDebugView::None || s.debugView == GiDebugView::Caustics ||
              s.debugView == GiDebugView::IcRecords)) {
             ++stats.causticLookups;
-            Vec3 e = gi.caustic->irradiance(h.p, ns, s.causticK, gi.causticRadius);
+            Vec3 e = causticIrradiance(h.p, ns);
             m_rc.film.add(b.pixel[i], reflect * e, stats);
         }
         if (s.debugView == GiDebugView::Caustics) continue;

@@ -31,6 +31,8 @@ public:
 
 private:
     Vec3 globalIrradiance(const Vec3& p, const Vec3& n) const;
+    // The caustic map's irradiance: k-nearest, or within the pass's radius when progressive.
+    Vec3 causticIrradiance(const Vec3& p, const Vec3& n) const;
     const RenderContext& m_rc;
 };
 

@@ -45,6 +45,10 @@ struct GiSettings {
     bool irradianceCache = true;
     bool icGradients = true;     // Ward & Heckbert's gradients in the cache's interpolation
     bool caustics = true;
+    // The caustic map traced anew every render pass with a shrinking radius, so caustics
+    // converge (gi/progressive_caustics.h); off: one map, k-nearest estimates.
+    bool progressiveCaustics = true;
+    float causticAlpha = 2.0f / 3.0f; // the radius reduction (Hachisuka & Jensen's alpha)
     bool precomputedIrradiance = true;
     bool roulette = true;        // Russian roulette of photons and of specular paths
     GiDebugView debugView = GiDebugView::None;
@@ -81,6 +85,9 @@ struct GiData {
     const IrradianceCache* cache = nullptr; // frozen during a pass
     IcRequests* requests = nullptr;         // set only in the cache's prepass
     float globalRadius = 0, causticRadius = 0;
+    // Caustic estimates from every photon within causticRadius (progressive caustics), not
+    // from the causticK nearest within it.
+    bool causticFixedRadius = false;
     float icMinRadius = 0, icMaxRadius = 0;
     // The final gather's strata: M rings of equal sin^2(theta) by N azimuth sectors, one ray
     // each (M N ~ gatherRays, N ~ pi M as Ward & Heckbert suggest); see gatherStrata().

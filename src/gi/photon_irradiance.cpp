@@ -29,6 +29,34 @@
 
 namespace rayproc {
 
+namespace {
+
+// The cone-filtered flux of the photons within `radius` of p that lie on the query's surface
+// (stored normal within kNormalCos of n, inside Jensen's disc) and arrive from above.
+class ConeSum {
+public:
+    ConeSum(const Vec3& p, const Vec3& n, float radius, float radius2)
+        : m_p(p), m_n(n), m_radius2(radius2), m_invConeRadius(1.0f / (PhotonMap::kConeK * radius)),
+          m_slab(PhotonMap::kDiscThickness * radius) {}
+    void add(const PhotonMap::StoredPhoton& s, float dist2) {
+        if (!withinCone(decodeNormalRaw(s.normalAxis), m_n, PhotonMap::kNormalCos)) return;
+        if (std::abs(dot(Vec3(s.pos[0], s.pos[1], s.pos[2]) - m_p, m_n)) > m_slab) return;
+        if (dot(decodeDirectionRaw(s.direction), m_n) <= 0) return;
+        m_sum += decodeRgbe(s.power) * (1.0f - std::sqrt(dist2) * m_invConeRadius);
+    }
+    Vec3 irradiance() const {
+        constexpr float kConeNorm = 1.0f - 2.0f / (3.0f * PhotonMap::kConeK);
+        return m_sum / (kConeNorm * kPi * m_radius2);
+    }
+
+private:
+    Vec3 m_p, m_n;
+    float m_radius2, m_invConeRadius, m_slab;
+    Vec3 m_sum{0.0f};
+};
+
+} // namespace
+
 Vec3 PhotonMap::irradiance(const Vec3& p, const Vec3& n, int k, float maxDistance) const {
     std::array<std::uint64_t, kStackCandidates> stackKeys;
     std::vector<std::uint64_t> heapKeys;
@@ -41,21 +69,40 @@ Vec3 PhotonMap::irradiance(const Vec3& p, const Vec3& n, int k, float maxDistanc
     int count = gather(p, k, maxDistance, keys, radius2);
     if (count == 0 || !(radius2 > 0)) return Vec3(0);
 
-    // Sum the filtered power of the photons on this surface (normal test) arriving from above.
-    float radius = std::sqrt(radius2);
-    float invConeRadius = 1.0f / (kConeK * radius);
-    float slab = kDiscThickness * radius;
-    Vec3 sum(0);
-    for (int j = 0; j < count; ++j) {
-        const StoredPhoton& s = m_photons[photon_heap::keyIndex(keys[j])];
-        if (!withinCone(decodeNormalRaw(s.normalAxis), n, kNormalCos)) continue;
-        if (std::abs(dot(Vec3(s.pos[0], s.pos[1], s.pos[2]) - p, n)) > slab) continue;
-        if (dot(decodeDirectionRaw(s.direction), n) <= 0) continue;
-        float w = 1.0f - std::sqrt(photon_heap::keyDist2(keys[j])) * invConeRadius;
-        sum += decodeRgbe(s.power) * w;
+    ConeSum sum(p, n, std::sqrt(radius2), radius2);
+    for (int j = 0; j < count; ++j)
+        sum.add(m_photons[photon_heap::keyIndex(keys[j])], photon_heap::keyDist2(keys[j]));
+    return sum.irradiance();
+}
+
+Vec3 PhotonMap::irradianceWithin(const Vec3& p, const Vec3& n, float radius) const {
+    if (m_photons.empty() || !(radius > 0)) return Vec3(0);
+    float radius2 = radius * radius;
+    ConeSum sum(p, n, radius, radius2);
+    kdtree::search(m_photons.data(), m_photons.size(), p, radius2,
+                   [&](std::size_t i, float d2) { sum.add(m_photons[i], d2); });
+    return sum.irradiance();
+}
+
+float PhotonMap::medianNeighbourRadius(int k, float maxDistance, int samples) const {
+    if (m_photons.empty() || samples <= 0) return 0.0f;
+    std::size_t n = std::min(m_photons.size(), std::size_t(samples));
+    std::vector<float> radii(n);
+    std::array<std::uint64_t, kStackCandidates> stackKeys;
+    std::vector<std::uint64_t> heapKeys;
+    std::uint64_t* keys = stackKeys.data();
+    if (k > kStackCandidates) {
+        heapKeys.resize(std::min<std::size_t>(std::size_t(k), m_photons.size()));
+        keys = heapKeys.data();
     }
-    constexpr float kConeNorm = 1.0f - 2.0f / (3.0f * kConeK);
-    return sum / (kConeNorm * kPi * radius2);
+    for (std::size_t j = 0; j < n; ++j) {
+        const StoredPhoton& s = m_photons[j * m_photons.size() / n];
+        float radius2 = 0;
+        gather(Vec3(s.pos[0], s.pos[1], s.pos[2]), k, maxDistance, keys, radius2);
+        radii[j] = std::sqrt(radius2);
+    }
+    std::nth_element(radii.begin(), radii.begin() + n / 2, radii.end());
+    return radii[n / 2];
 }
 
 bool PhotonMap::precomputeIrradiance(int k, float maxDistance, int stride,

@@ -102,6 +102,16 @@ public:
     // photon counts (or r = 0: k photons all exactly at p).
     Vec3 irradiance(const Vec3& p, const Vec3& n, int k, float maxDistance) const;
 
+    // Irradiance at p from every photon within `radius` that irradiance() would count, with
+    // the same cone filter over that radius: the fixed-radius estimate of progressive photon
+    // mapping, whose radius the caller shrinks from pass to pass (gi/progressive_caustics.h).
+    Vec3 irradianceWithin(const Vec3& p, const Vec3& n, float radius) const;
+
+    // The median, over up to `samples` stored photons spaced evenly in storage order, of the
+    // distance from each to its k-th nearest photon (at most maxDistance): a radius matched to
+    // the map's own density where its photons are. 0 for an empty map.
+    float medianNeighbourRadius(int k, float maxDistance, int samples) const;
+
     // Precomputes irradiance(position, normal, k, maxDistance) at photons 0, stride, 2 stride...
     // (storage order), in parallel; the result does not depend on the thread count. `done`
     // (optional) counts the estimates made, for progress; when `stop` (optional) turns true the

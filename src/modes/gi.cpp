@@ -32,13 +32,16 @@
 #include "gi/irradiance_cache.h"
 #include "gi/photon_emitter.h"
 #include "gi/photon_map.h"
-#include "gi/photon_stage.h"
+#include "gi/photon_pass.h"
+#include "gi/progressive_caustics.h"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <functional>
+#include <optional>
 #include <sstream>
 
 namespace rayproc {
@@ -59,71 +62,6 @@ const char* debugViewName(GiDebugView v) {
     case GiDebugView::Indirect: return "indirect";
     }
     return "?";
-}
-
-// Traces this rank's share of `count` photons through the processor and returns what the
-// photon stage stored, keyed; nothing once an interrupt is requested (emission stops, photons
-// in flight finish).
-std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const EmbreeScene& accel,
-                                                   const LightSet& lights, const GiSettings& s,
-                                                   const EngineSettings& engine,
-                                                   const Cluster& cluster, bool caustic,
-                                                   std::uint32_t count, const FocusRegion& focus,
-                                                   Stats& stats) {
-    Film film(1, 1);
-    ShadingPolicy policy;
-    policy.rouletteEnabled = s.roulette;
-    RenderContext rc{scene, accel, lights, policy, film, engine.seed};
-    Intersector intersector(accel.root(), engine.packetWidth);
-    RayProcessor processor(intersector, stats, engine.threads);
-    PhotonStage stage(rc, caustic, s.maxPhotonDepth);
-    processor.setStage(RayKind::Photon, &stage);
-    PhotonEmitter emitter(lights, scene.worldBounds(), count, engine.seed, caustic ? 2 : 1,
-                          focus.active ? focus.emissionBounds() : Bounds3{},
-                          focus.active ? kFocusPhotonShare : 0.0f);
-    std::uint64_t first = 0, last = 0;
-    shareOf(count, cluster.rank(), cluster.size(), first, last);
-    emitter.setRange(first, last);
-    Progress progress(
-        caustic ? "gi caustic photons" : "gi photons", engine.quiet,
-        [&] {
-            return double(emitter.photonsEmitted()) /
-                   double(std::max<std::uint64_t>(emitter.photonsInRange(), 1));
-        },
-        [&] { return std::uint64_t(stats.merged().raysTraced); });
-    processor.run(emitter, [] { return interruptRequested(); });
-    progress.finish(!interruptRequested());
-    if (interruptRequested()) return {};
-    return stage.takeKeyedPhotons([] { return interruptRequested(); });
-}
-
-// Every rank's photons in key order, on every rank: the map one process would have traced.
-// A collective.
-std::vector<PhotonRecord> mergePhotonShares(const Cluster& cluster,
-                                            std::vector<PhotonStage::KeyedPhoton> mine) {
-    auto stop = [] { return interruptRequested(); };
-    if (!cluster.distributed()) return PhotonStage::photonsInKeyOrder(std::move(mine), stop);
-    constexpr std::size_t kKey = sizeof(std::uint64_t), kItem = kKey + sizeof(PhotonRecord);
-    std::vector<std::uint8_t> bytes(mine.size() * kItem);
-    for (std::size_t i = 0; i < mine.size(); ++i) {
-        std::memcpy(&bytes[i * kItem], &mine[i].first, kKey);
-        std::memcpy(&bytes[i * kItem + kKey], &mine[i].second, sizeof(PhotonRecord));
-    }
-    mine = {};
-    std::vector<std::uint8_t> all = cluster.gatherAll(bytes);
-    bytes = {};
-    std::vector<PhotonStage::KeyedPhoton> keyed(all.size() / kItem);
-    for (std::size_t i = 0; i < keyed.size(); ++i) {
-        std::memcpy(&keyed[i].first, &all[i * kItem], kKey);
-        std::memcpy(&keyed[i].second, &all[i * kItem + kKey], sizeof(PhotonRecord));
-    }
-    all = {};
-    return PhotonStage::photonsInKeyOrder(std::move(keyed), stop);
-}
-
-// Whether any rank was interrupted (one process: whether this one was). A collective.
-bool stopped(const Cluster& cluster) {
-    return cluster.distributed() ? agreeInterrupted(cluster) : interruptRequested();
 }
 
 // Christensen's precomputed irradiance at every fourth photon of the global map (each rank
@@ -377,6 +315,8 @@ std::string GiSettings::toString() const {
       << " ic_accuracy=" << icAccuracy << " irradiance_cache=" << (irradianceCache ? "on" : "off")
       << " ic_gradients=" << (icGradients ? "on" : "off")
       << " caustics=" << (caustics ? "on" : "off")
+      << " progressive_caustics=" << (progressiveCaustics ? "on" : "off")
+      << " caustic_alpha=" << causticAlpha
       << " precomputed_irradiance=" << (precomputedIrradiance ? "on" : "off")
       << " roulette=" << (roulette ? "on" : "off")
       << " debug_view=" << debugViewName(debugView);
@@ -412,22 +352,24 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     extras.push_back({"gi/focus_active", focus.active ? 1.0 : 0.0});
     extras.push_back({"gi/focus_diagonal", double(diag)});
 
-    // First pass: photons.
+    // First pass: photons. Each rank traces a range of the photon indices; every rank builds
+    // the merged maps. Progressive caustics trace the first pass's caustic map here and a new
+    // one before every later render pass.
     Stats photonStats;
     auto t0 = Clock::now();
     PhotonMap global, caustic;
-    // Each rank traces a range of the photon indices; every rank builds the merged maps.
-    if (s.photons > 0 && plan.globalMap && !stopped(cluster)) {
-        std::vector<PhotonRecord> photons = mergePhotonShares(
-            cluster, tracePhotons(scene, accel, lights, s, engine, cluster, false,
-                                  std::uint32_t(s.photons), focus, photonStats));
-        if (!stopped(cluster)) global.build(std::move(photons), [] { return interruptRequested(); });
-    }
-    if (s.caustics && s.causticPhotons > 0 && plan.causticMap && !stopped(cluster)) {
-        std::vector<PhotonRecord> photons = mergePhotonShares(
-            cluster, tracePhotons(scene, accel, lights, s, engine, cluster, true,
-                                  std::uint32_t(s.causticPhotons), focus, photonStats));
-        if (!stopped(cluster)) caustic.build(std::move(photons), [] { return interruptRequested(); });
+    if (s.photons > 0 && plan.globalMap)
+        buildPhotonMap(global, scene, accel, lights, s, engine, cluster,
+                       {false, std::uint32_t(s.photons), 1, "gi photons"}, focus, photonStats);
+    const bool causticPass = s.caustics && s.causticPhotons > 0 && plan.causticMap;
+    std::optional<ProgressiveCaustics> progressive;
+    if (causticPass && s.progressiveCaustics) {
+        progressive.emplace(scene, accel, lights, gi, engine, cluster, focus, photonStats);
+        gi.causticFixedRadius = true;
+    } else if (causticPass) {
+        buildPhotonMap(caustic, scene, accel, lights, s, engine, cluster,
+                       {true, std::uint32_t(s.causticPhotons), 2, "gi caustic photons"}, focus,
+                       photonStats);
     }
     double photonSeconds = secondsSince(t0);
     auto t1 = Clock::now();
@@ -435,11 +377,12 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
         precomputePhotonIrradiance(global, s, gi.globalRadius, engine, cluster);
     double precomputeSeconds = secondsSince(t1);
     gi.global = &global;
-    gi.caustic = &caustic;
+    if (!progressive) gi.caustic = &caustic;
     extras.push_back({"gi/photon_seconds", photonSeconds});
     extras.push_back({"gi/photons_global", double(global.size())});
-    extras.push_back({"gi/photons_caustic", double(caustic.size())});
-    extras.push_back({"gi/photon_map_bytes", double(global.memoryBytes() + caustic.memoryBytes())});
+    extras.push_back({"gi/photons_caustic", double(gi.caustic ? gi.caustic->size() : 0)});
+    extras.push_back({"gi/photon_map_bytes",
+                      double(global.memoryBytes() + (gi.caustic ? gi.caustic->memoryBytes() : 0))});
     extras.push_back({"gi/precompute_seconds", precomputeSeconds});
 
     // Cache prepass.
@@ -469,8 +412,16 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     policy.stratify = engine.stratification;
     plan.apply(policy);
     // Without diffuse surfaces the gather stage would never get work: not registered.
+    std::function<void(int)> beforePass;
+    if (progressive && plan.globalMap) beforePass = [&](int pass) { progressive->beginPass(pass); };
     RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine,
-                                  RadianceStage::Surface, plan.globalMap ? &gi : nullptr);
+                                  RadianceStage::Surface, plan.globalMap ? &gi : nullptr,
+                                  beforePass);
+    if (progressive) {
+        extras.push_back({"gi/caustic_passes", double(progressive->passesTraced())});
+        extras.push_back({"gi/caustic_first_radius", double(progressive->firstRadius())});
+        extras.push_back({"gi/caustic_last_radius", double(gi.causticRadius)});
+    }
     const ThreadStats& t = r.stats.totals;
     extras.push_back({"gi/gather_rays", double(t.stages[int(StageId::Gather)].raysOut)});
     extras.push_back({"gi/cache_lookups", double(t.cacheLookups)});

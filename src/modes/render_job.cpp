@@ -51,7 +51,7 @@ enum PassDecision : std::uint32_t {
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
                           const EngineSettings& engine, RadianceStage radiance,
-                          const GiData* gi) {
+                          const GiData* gi, const std::function<void(int pass)>& beforePass) {
     auto start = engine.workStart ? *engine.workStart : std::chrono::steady_clock::now();
     static const Cluster alone;
     const Cluster& cluster = engine.cluster ? *engine.cluster : alone;
@@ -145,6 +145,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     for (int pass = 0; pass < passes && !stop; ++pass) {
         int first = pass * passSpp;
         int count = std::min(passSpp, spp - first);
+        if (beforePass) beforePass(pass);
         camera.beginPass(first, count);
         processor.run(camera, [] { return interruptRequested(); });
         unitsBefore += std::min<std::uint64_t>(camera.unitsEmitted(), camera.unitsPerPass());

@@ -90,10 +90,13 @@ struct RenderResult {
     std::string errorLogFailure;
 };
 
+// beforePass (optional) runs before each pass with its index, on every rank (gi's progressive
+// caustics trace the pass's photon map there); its time counts in the render's.
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
                           const EngineSettings& engine,
                           RadianceStage radiance = RadianceStage::Surface,
-                          const GiData* gi = nullptr);
+                          const GiData* gi = nullptr,
+                          const std::function<void(int pass)>& beforePass = {});
 
 } // namespace rayproc

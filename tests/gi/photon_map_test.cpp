@@ -314,6 +314,41 @@ TEST_CASE("Density estimates of a uniformly lit plane equal flux over area", "[g
         // Seen from the other side no photon faces the query normal.
         CHECK(isBlack(map.irradiance(points[0], -plane.n, 50, 1.0f)));
     }
+    SECTION("the fixed-radius estimate sums exactly the photons within its radius") {
+        // Mean over the query points of every photon within r (progressive photon mapping's
+        // estimate): unbiased for a uniform density; and each estimate equals the brute-force
+        // cone-filtered sum over the photons within r.
+        const float r = 0.4f;
+        constexpr float kConeNorm = 1.0f - 2.0f / (3.0f * PhotonMap::kConeK);
+        Vec3 mean(0);
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            Vec3 e = map.irradianceWithin(points[i], plane.n, r);
+            mean += e / float(points.size());
+            if (i >= 8) continue;
+            Vec3 brute(0);
+            for (std::uint32_t j = 0; j < map.size(); ++j) {
+                PhotonRecord ph = map.photon(j);
+                float d = length(ph.position - points[i]);
+                if (d <= r) brute += ph.power * (1.0f - d / (PhotonMap::kConeK * r));
+            }
+            brute = brute / (kConeNorm * kPi * r * r);
+            INFO("point " << i << ": " << e.x << " brute force " << brute.x);
+            CHECK(maxComponent(relativeError(e, brute)) < 1e-4f);
+        }
+        INFO("fixed radius " << mean.x / expected.x);
+        CHECK(maxComponent(relativeError(mean, expected)) < 0.02f);
+        CHECK(isBlack(map.irradianceWithin(points[0], plane.n, 0.0f)));
+        CHECK(isBlack(PhotonMap().irradianceWithin(points[0], plane.n, 1.0f)));
+    }
+    SECTION("the median k-th neighbour distance matches the density: k = pi r^2 density") {
+        // 200000 photons on 100 units^2: k = 100 neighbours lie within sqrt(100 / (2000 pi)).
+        float r = map.medianNeighbourRadius(100, 10.0f, 512);
+        float expectedR = std::sqrt(100.0f / (float(kPhotons) / (plane.side * plane.side) * kPi));
+        INFO("median radius " << r << " expected " << expectedR);
+        CHECK(std::abs(r / expectedR - 1) < 0.1f);
+        CHECK(map.medianNeighbourRadius(100, 0.01f, 512) == 0.01f); // the cap
+        CHECK(PhotonMap().medianNeighbourRadius(100, 1.0f, 512) == 0.0f);
+    }
     SECTION("no photons within maxDistance gives zero") {
         CHECK(isBlack(map.irradiance(plane.at(5, 5) + plane.n * 3.0f, plane.n, 50, 1.0f)));
         CHECK(isBlack(map.irradiance(points[0], plane.n, 0, 1.0f)));

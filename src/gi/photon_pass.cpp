@@ -1,0 +1,86 @@
+#include "gi/photon_pass.h"
+
+#include "cluster/cluster.h"
+#include "engine/cancel.h"
+#include "engine/intersect.h"
+#include "engine/processor.h"
+#include "engine/progress.h"
+#include "gi/photon_emitter.h"
+#include "modes/render_job.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace rayproc {
+
+std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const EmbreeScene& accel,
+                                                   const LightSet& lights, const GiSettings& s,
+                                                   const EngineSettings& engine,
+                                                   const Cluster& cluster,
+                                                   const PhotonPassSpec& pass,
+                                                   const FocusRegion& focus, Stats& stats) {
+    Film film(1, 1);
+    ShadingPolicy policy;
+    policy.rouletteEnabled = s.roulette;
+    RenderContext rc{scene, accel, lights, policy, film, engine.seed};
+    Intersector intersector(accel.root(), engine.packetWidth);
+    RayProcessor processor(intersector, stats, engine.threads);
+    PhotonStage stage(rc, pass.caustic, s.maxPhotonDepth);
+    processor.setStage(RayKind::Photon, &stage);
+    PhotonEmitter emitter(lights, scene.worldBounds(), pass.count, engine.seed, pass.tag,
+                          focus.active ? focus.emissionBounds() : Bounds3{},
+                          focus.active ? kFocusPhotonShare : 0.0f);
+    std::uint64_t first = 0, last = 0;
+    shareOf(pass.count, cluster.rank(), cluster.size(), first, last);
+    emitter.setRange(first, last);
+    Progress progress(
+        pass.label, engine.quiet,
+        [&] {
+            return double(emitter.photonsEmitted()) /
+                   double(std::max<std::uint64_t>(emitter.photonsInRange(), 1));
+        },
+        [&] { return std::uint64_t(stats.merged().raysTraced); });
+    processor.run(emitter, [] { return interruptRequested(); });
+    progress.finish(!interruptRequested());
+    if (interruptRequested()) return {};
+    return stage.takeKeyedPhotons([] { return interruptRequested(); });
+}
+
+std::vector<PhotonRecord> mergePhotonShares(const Cluster& cluster,
+                                            std::vector<PhotonStage::KeyedPhoton> mine) {
+    auto stop = [] { return interruptRequested(); };
+    if (!cluster.distributed()) return PhotonStage::photonsInKeyOrder(std::move(mine), stop);
+    constexpr std::size_t kKey = sizeof(std::uint64_t), kItem = kKey + sizeof(PhotonRecord);
+    std::vector<std::uint8_t> bytes(mine.size() * kItem);
+    for (std::size_t i = 0; i < mine.size(); ++i) {
+        std::memcpy(&bytes[i * kItem], &mine[i].first, kKey);
+        std::memcpy(&bytes[i * kItem + kKey], &mine[i].second, sizeof(PhotonRecord));
+    }
+    mine = {};
+    std::vector<std::uint8_t> all = cluster.gatherAll(bytes);
+    bytes = {};
+    std::vector<PhotonStage::KeyedPhoton> keyed(all.size() / kItem);
+    for (std::size_t i = 0; i < keyed.size(); ++i) {
+        std::memcpy(&keyed[i].first, &all[i * kItem], kKey);
+        std::memcpy(&keyed[i].second, &all[i * kItem + kKey], sizeof(PhotonRecord));
+    }
+    all = {};
+    return PhotonStage::photonsInKeyOrder(std::move(keyed), stop);
+}
+
+bool stopped(const Cluster& cluster) {
+    return cluster.distributed() ? agreeInterrupted(cluster) : interruptRequested();
+}
+
+void buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScene& accel,
+                    const LightSet& lights, const GiSettings& s, const EngineSettings& engine,
+                    const Cluster& cluster, const PhotonPassSpec& pass, const FocusRegion& focus,
+                    Stats& stats) {
+    map.build({});
+    if (pass.count == 0 || stopped(cluster)) return;
+    std::vector<PhotonRecord> photons = mergePhotonShares(
+        cluster, tracePhotons(scene, accel, lights, s, engine, cluster, pass, focus, stats));
+    if (!stopped(cluster)) map.build(std::move(photons), [] { return interruptRequested(); });
+}
+
+} // namespace rayproc

@@ -1,0 +1,57 @@
+// One photon pass of gi mode: this rank's share of a pass's photons traced through the ray
+// processor (photon emitter -> queue -> intersect -> photon stage), then every rank's photons
+// merged in key order, so the map is the one a single process would have built. Used for the
+// global map, the caustic map, and each pass of the progressive caustic map.
+#pragma once
+
+#include "accel/embree_scene.h"
+#include "engine/stats.h"
+#include "gi/focus_region.h"
+#include "gi/gi_context.h"
+#include "gi/photon_map.h"
+#include "gi/photon_stage.h"
+#include "lighting/light_set.h"
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace rayproc {
+
+class Cluster;
+struct EngineSettings;
+
+// What to trace: which map, how many photons are emitted (over all ranks), and the random
+// stream (tag) they draw from; passes of the progressive caustic map differ only in the tag.
+struct PhotonPassSpec {
+    bool caustic = false;
+    std::uint32_t count = 0;
+    std::uint64_t tag = 1;
+    const char* label = "gi photons";
+};
+
+// Traces this rank's share of the pass and returns what the photon stage stored, keyed;
+// nothing once an interrupt is requested (emission stops, photons in flight finish).
+std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const EmbreeScene& accel,
+                                                   const LightSet& lights, const GiSettings& s,
+                                                   const EngineSettings& engine,
+                                                   const Cluster& cluster,
+                                                   const PhotonPassSpec& pass,
+                                                   const FocusRegion& focus, Stats& stats);
+
+// Every rank's photons in key order, on every rank: the map one process would have traced.
+// A collective.
+std::vector<PhotonRecord> mergePhotonShares(const Cluster& cluster,
+                                            std::vector<PhotonStage::KeyedPhoton> mine);
+
+// Whether any rank was interrupted (one process: whether this one was). A collective.
+bool stopped(const Cluster& cluster);
+
+// tracePhotons, mergePhotonShares and PhotonMap::build in one: the pass's map, left empty
+// when interrupted. A collective.
+void buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScene& accel,
+                    const LightSet& lights, const GiSettings& s, const EngineSettings& engine,
+                    const Cluster& cluster, const PhotonPassSpec& pass, const FocusRegion& focus,
+                    Stats& stats);
+
+} // namespace rayproc

@@ -1,0 +1,51 @@
+#include "gi/progressive_caustics.h"
+
+#include "gi/photon_pass.h"
+#include "kernels/random.h"
+
+#include <cmath>
+
+namespace rayproc {
+
+namespace {
+// The caustic photons' random stream of pass i: the single map's tag for the first pass.
+std::uint64_t passTag(int pass) {
+    return pass == 0 ? 2 : kernels::hashCombine(2, std::uint64_t(pass));
+}
+// Photons sampled for the first radius (their k-th neighbours searched once).
+constexpr int kRadiusSamples = 1024;
+} // namespace
+
+ProgressiveCaustics::ProgressiveCaustics(const Scene& scene, const EmbreeScene& accel,
+                                         const LightSet& lights, GiData& gi,
+                                         const EngineSettings& engine, const Cluster& cluster,
+                                         const FocusRegion& focus, Stats& stats)
+    : m_scene(scene), m_accel(accel), m_lights(lights), m_gi(gi), m_engine(engine),
+      m_cluster(cluster), m_focus(focus), m_stats(stats) {
+    const GiSettings& s = gi.settings;
+    PhotonPassSpec spec{true, std::uint32_t(s.causticPhotons), passTag(0), "gi caustic photons"};
+    buildPhotonMap(m_map, scene, accel, lights, s, m_engine, cluster, spec, focus, stats);
+    m_passesTraced = 1;
+    float median = m_map.medianNeighbourRadius(s.causticK, gi.causticRadius, kRadiusSamples);
+    m_firstRadius = median > 0 ? median : gi.causticRadius;
+    // Later passes trace while the render's progress bar runs: theirs would interleave.
+    m_engine.quiet = true;
+    m_gi.caustic = &m_map;
+    m_gi.causticRadius = m_firstRadius;
+}
+
+void ProgressiveCaustics::beginPass(int pass) {
+    if (pass != m_mapPass) {
+        const GiSettings& s = m_gi.settings;
+        PhotonPassSpec spec{true, std::uint32_t(s.causticPhotons), passTag(pass), "gi caustic photons"};
+        buildPhotonMap(m_map, m_scene, m_accel, m_lights, s, m_engine, m_cluster, spec, m_focus,
+                       m_stats);
+        m_mapPass = pass;
+        ++m_passesTraced;
+    }
+    m_gi.caustic = &m_map;
+    m_gi.causticRadius =
+        float(double(m_firstRadius) * progressiveRadiusRatio(pass + 1, double(m_gi.settings.causticAlpha)));
+}
+
+} // namespace rayproc
