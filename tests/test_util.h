@@ -293,6 +293,19 @@ public:
     int status() const { return m_status; }
     std::string out() const { return readText(m_out); }
     std::string err() const { return readText(m_err); }
+    // Waits up to `timeoutSeconds` until the child's stderr holds `text`; false if it does not.
+    // Tests that signal a render wait for its settings line (printed once the scene is loaded
+    // and the signal handlers are in place) rather than a fixed time, which a loaded machine
+    // can outlast.
+    bool waitForErr(const std::string& text, double timeoutSeconds) const {
+        auto deadline =
+            std::chrono::steady_clock::now() + std::chrono::duration<double>(timeoutSeconds);
+        while (err().find(text) == std::string::npos) {
+            if (std::chrono::steady_clock::now() > deadline) return false;
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        return true;
+    }
 
 private:
     std::string m_out, m_err;

@@ -237,7 +237,8 @@ TEST_CASE("SIGINT, SIGTERM and SIGHUP stop a render, write the partial image, ex
                  "--width", "128", "--height", "128", "--threads", "2", "-o", out},
                 dir.file("stdout.txt"), dir.file("stderr.txt"));
     REQUIRE(child.started());
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    REQUIRE(child.waitForErr("mode=raytrace", 30.0));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
     child.signal(sig);
     bool finished = child.wait(20.0); // kills the child on timeout
     INFO(child.err());
@@ -272,12 +273,8 @@ TEST_CASE("Ctrl-C during gi's photon pass stops promptly and says where it stopp
                  "--spp", "1", "--width", "32", "--height", "32", "--threads", "2", "-o", out},
                 dir.file("stdout.txt"), dir.file("stderr.txt"));
     REQUIRE(child.started());
-    // The settings line comes once the scene is loaded, right before the photon pass: on a
-    // loaded machine a fixed delay from the start could signal before the pass began.
-    auto launched = std::chrono::steady_clock::now();
-    while (!contains(child.err(), "mode=gi") &&
-           std::chrono::steady_clock::now() - launched < std::chrono::seconds(30))
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    // The settings line comes right before the photon pass.
+    REQUIRE(child.waitForErr("mode=gi", 30.0));
     std::this_thread::sleep_for(std::chrono::milliseconds(1000));
     child.signal(SIGINT);
     auto signalled = std::chrono::steady_clock::now();

@@ -135,7 +135,8 @@ TEST_CASE("SIGTERM to mpirun writes the partial image gathered from every rank",
                                "-o", out}),
                 dir.file("stdout.txt"), dir.file("stderr.txt"), RAYPROC_MPIEXEC);
     REQUIRE(child.started());
-    std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+    REQUIRE(child.waitForErr("mode=path", 60.0));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
     child.signal(SIGTERM);
     bool finished = child.wait(30.0);
     INFO(child.err());
