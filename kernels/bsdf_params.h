@@ -59,6 +59,9 @@ struct BsdfSample {
     bool delta = false;
     bool transmitted = false;
     bool valid = false;
+    // Drawn from a coated surface's coat reflection (mirror or rough), not from its base: gi's
+    // caustic photons follow it (light the coat focuses onto other surfaces).
+    bool coat = false;
 };
 
 // Opaque BSDFs shade the side wo is on; returns the normals turned to that side.

@@ -210,6 +210,52 @@ inline Vec3 evalCoatedDiffuse(const BsdfParams& b, const Vec3& wo, const Vec3& w
     return c.f(lo, li, b.key) * std::abs(li.z);
 }
 
+// The reflectance gi's photon-map estimates give a diffuse-like surface seen from wo, which
+// gi treats as Lambertian (L = albedo E / pi): a coated diffuse surface's is its diffuse
+// lobe's directional albedo (the coat's Fresnel and absorption in and out, the
+// interreflections under it; the walk model is taken as its closed-form limit); otherwise the
+// base colour. The coat's own reflection is not in it: gi traces that separately.
+inline Vec3 lambertianAlbedo(const BsdfParams& b, const Vec3& wo, const Vec3& ng, const Vec3& ns) {
+    if (b.kind != BsdfKind::CoatedDiffuse) return b.color;
+    Vec3 fg, fs;
+    facingSide(wo, ng, ns, fg, fs);
+    return coatedAnalyticOf(b).diffuseAlbedo(std::clamp(std::abs(dot(wo, fs)), 0.0f, 1.0f));
+}
+
+// The coat's reflection alone, sampled for a coated diffuse surface whose base the caller
+// lights otherwise (raytrace's shadow rays, gi's gather): a smooth coat's mirror direction
+// with weight F (delta), a rough coat's visible-normal sample with weight
+// f_spec |cos_i| / pdf_spec. Its expectation is the coat's reflection of the incident light,
+// without the base's.
+inline BsdfSample sampleCoatReflection(const BsdfParams& b, const Vec3& wo, const Vec3& ng,
+                                       const Vec3& ns, Vec2 u) {
+    BsdfSample s;
+    Vec3 fg, fs;
+    facingSide(wo, ng, ns, fg, fs);
+    ShadingFrame frame(fs, b.tangent);
+    Vec3 lo = frame.toLocal(wo);
+    if (lo.z <= 0) return s;
+    CoatedAnalytic c = coatedAnalyticOf(b);
+    s.coat = true;
+    if (c.smooth()) {
+        s.wi = normalize(frame.toWorld(Vec3(-lo.x, -lo.y, lo.z)));
+        if (dot(s.wi, fg) <= 0) return s;
+        s.weight = Vec3(fresnelDielectricSigned(lo.z, c.eta));
+        s.delta = true;
+        s.valid = isFinite(s.weight);
+        return s;
+    }
+    Vec3 li = reflectAbout(lo, c.mf.sampleVisible(lo, u));
+    if (li.z <= 0) return s;
+    s.pdf = c.specularPdf(lo, li);
+    if (!(s.pdf > 0)) return s;
+    s.wi = normalize(frame.toWorld(li));
+    if (dot(s.wi, fg) <= 0) return s;
+    s.weight = Vec3(c.specular(lo, li) * li.z / s.pdf);
+    s.valid = isFinite(s.weight);
+    return s;
+}
+
 // The weight is the walk's f |cos| / pdf (unbiased for f |cos| / p), the pdf evalBsdf's estimate
 // (what MIS needs); a smooth coat's mirror reflection is a delta sample.
 inline BsdfSample sampleCoatedDiffuse(const BsdfParams& b, const Vec3& wo, const Vec3& ng,
@@ -226,7 +272,8 @@ inline BsdfSample sampleCoatedDiffuse(const BsdfParams& b, const Vec3& wo, const
         if (lo.z <= 0) return s;
         float ps = c.specularProbability(lo);
         Vec3 li;
-        if (uc < ps) {
+        s.coat = uc < ps;
+        if (s.coat) {
             if (c.smooth()) {
                 s.wi = normalize(frame.toWorld(Vec3(-lo.x, -lo.y, lo.z)));
                 if (dot(s.wi, fg) <= 0) return s;

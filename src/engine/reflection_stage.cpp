@@ -28,18 +28,25 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             w = w * mat.color;
         } else if (mat.type != MaterialType::Glossy) {
             // pbrt-v4's materials: one sample of the whole BSDF. A delta lobe continues as a
-            // mirror does; a glossy lobe's ray sees only the sky (emitters are light sampled);
+            // mirror does; a glossy lobe's ray (a rough coat's too) sees only the sky and the
+            // surfaces it meets (emitters are light sampled);
             // a diffuse-like sample (a coated base, diffuse transmission) ends here: the
             // shadow stage gave its direct light and gi's gather its indirect light.
             kernels::BsdfParams bsdf =
                 bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], kDimReflect));
             Vec2 u{kernels::uniform(b.rngKey[i], kDimReflect),
                    kernels::uniform(b.rngKey[i], kDimReflect + 1)};
+            // A coated surface: its coat's reflection alone, mirror or rough; the shadow
+            // stage and gi's gather light its base.
             kernels::BsdfSample s =
-                kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u, kernels::uniform(b.rngKey[i], kDimRefract));
+                mat.type == MaterialType::CoatedDiffuse
+                    ? kernels::sampleCoatReflection(bsdf, wo, h.ng, h.ns, u)
+                    : kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u,
+                                          kernels::uniform(b.rngKey[i], kDimRefract));
             if (!s.valid) continue;
             if (!s.delta) {
-                if (materialClass(m_rc.scene.materials, h.material) != MaterialClass::Glossy) continue;
+                if (!s.coat && materialClass(m_rc.scene.materials, h.material) != MaterialClass::Glossy)
+                    continue;
                 flags = std::uint8_t((flags & ~kFlagCountEmission) | kFlagCountEnvironment);
             }
             wi = s.wi;

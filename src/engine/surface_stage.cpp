@@ -49,8 +49,8 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
                 // gi: past a glossy bounce the global map gives all reflected light, direct too.
                 if (addDirect && (!gi || countEmission)) direct.add(i, h);
                 if (gi) indirect.add(i, h);
-                // The coat's mirror-like reflection of the scene (its delta lobe; its glossy
-                // lobe sees the sky), traced by the reflection stage's sampled BSDF.
+                // The coat's reflection of the scene, mirror or rough, traced by the
+                // reflection stage (kernels::sampleCoatReflection).
                 if (type == MaterialType::CoatedDiffuse && !prepass) reflect.add(i, h);
                 break;
             case MaterialType::Glossy:

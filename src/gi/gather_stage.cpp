@@ -5,6 +5,7 @@
 #include "gi/gi_context.h"
 #include "gi/irradiance_cache.h"
 #include "gi/photon_map.h"
+#include "kernels/pbrt_bsdfs.h"
 #include "kernels/sampling.h"
 
 #include <algorithm>
@@ -40,8 +41,9 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         const SurfaceHit& h = hits.hit[k];
         Vec3 wo = -laneDirection(b, i);
         // The diffuse albedo (textured); pbrt-v4's diffuse-like materials count as Lambertian
-        // with their base reflectance here.
-        const Vec3 albedo = bsdfAt(m_rc.scene, h.material, h, 0).color;
+        // here, a coated one with its diffuse lobe's albedo seen from wo.
+        const Vec3 albedo =
+            kernels::lambertianAlbedo(bsdfAt(m_rc.scene, h.material, h, 0), wo, h.ng, h.ns);
         Vec3 ng, ns;
         facingNormals(h, wo, ng, ns);
         Vec3 w = laneThroughput(b, i);
@@ -173,7 +175,8 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
                 Vec3 ng, ns;
                 facingNormals(h, -d, ng, ns);
                 ++stats.globalLookups;
-                radiance = bsdfAt(m_rc.scene, h.material, h, 0).color * kInvPi *
+                radiance = kernels::lambertianAlbedo(bsdfAt(m_rc.scene, h.material, h, 0), -d,
+                                                     h.ng, h.ns) * kInvPi *
                            globalIrradiance(h.p, ns);
             } else if (b.specularDepth[i] < maxSpecular) {
                 kernels::BsdfParams bsdf =

@@ -43,7 +43,10 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
                 stored.push_back({key, PhotonRecord{h.p, power, wo, fg}});
                 ++stats.photonsStored;
             }
-            if (m_causticPass) continue; // a caustic path ends at its first diffuse surface
+            // A caustic path ends at its first diffuse surface, unless a coat over it
+            // reflects the photon on (below).
+            if (m_causticPass && m_rc.scene.materials[h.material].type != MaterialType::CoatedDiffuse)
+                continue;
         }
         int depth = b.depth[i] + 1;
         if (depth >= m_maxDepth) continue;
@@ -53,6 +56,8 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         kernels::BsdfSample s = kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u,
                                                     kernels::uniform(b.rngKey[i], kDimLobe));
         if (!s.valid) continue;
+        // Caustic photons go on only by specular scattering: at a coated surface, its coat's.
+        if (m_causticPass && !specularSurface && !s.coat) continue;
         // Russian roulette keeps the photon's power; without it (--no-russian-roulette) the
         // power scales by the weight and the photon runs to the maximum depth.
         float q = m_rc.policy.rouletteEnabled ? std::min(1.0f, maxComponent(s.weight)) : 1.0f;
@@ -60,7 +65,8 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
             (q < 1.0f && kernels::uniform(b.rngKey[i], kDimSurvive) >= q))
             continue;
         Vec3 next = power * s.weight / q;
-        std::uint8_t nextFlags = std::uint8_t(flags | (s.delta ? kPhotonSpecular : kPhotonDiffuse));
+        std::uint8_t nextFlags =
+            std::uint8_t(flags | (s.delta || s.coat ? kPhotonSpecular : kPhotonDiffuse));
         Vec3 no = offsetRayOrigin(h, h.ng, s.wi);
         spawnRay(ctx.out(RayKind::Photon), b, i, no, s.wi, next, std::uint8_t(depth), 0, nextFlags, 4);
         ++spawned;

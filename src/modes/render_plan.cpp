@@ -165,6 +165,7 @@ void countMaterial(const std::vector<Material>& materials, int m, RenderPlan& p,
     case MaterialType::CoatedDiffuse:
         ++p.diffuseLeaves;
         ++p.glossyLeaves; // the coat's reflection
+        ++p.coatLeaves;
         break;
     case MaterialType::DiffuseTransmission:
         ++p.diffuseLeaves;
@@ -199,7 +200,8 @@ RenderPlan analyseScene(const Scene& scene, const EmbreeScene& accel, const Ligh
         countMaterial(scene.materials, m, p, 0);
     }
     const bool diffuse = p.diffuseLeaves > 0, glossy = p.glossyLeaves > 0;
-    const bool specular = p.mirrorLeaves + p.dielectricLeaves > 0;
+    // Coats reflect light onto other surfaces too (gi's caustic photons follow them).
+    const bool specular = p.mirrorLeaves + p.dielectricLeaves + p.coatLeaves > 0;
 
     // Lights. Tolerances are relative to the scene's extent: a plane test must not be fooled
     // by the rounding of world-space vertices.
@@ -270,7 +272,7 @@ RenderPlan analyseScene(const Scene& scene, const EmbreeScene& accel, const Ligh
     if (!(specular && diffuse)) {
         p.causticMap = false;
         skip("caustic photon map",
-             !specular ? "no mirror or glass surface to focus light" : "no diffuse surface to receive caustics",
+             !specular ? "no mirror, glass or coated surface to focus light" : "no diffuse surface to receive caustics",
              kPlanGi);
     }
     // gi: the gather stage (final gather, cache lookups, global-map estimates) only runs at

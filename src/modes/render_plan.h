@@ -43,6 +43,7 @@ struct RenderPlan {
 
     // What the scene holds: placed leaves by material type, and lights.
     std::size_t diffuseLeaves = 0, glossyLeaves = 0, mirrorLeaves = 0, dielectricLeaves = 0;
+    std::size_t coatLeaves = 0; // coated diffuse: their coats reflect light onto other surfaces
     std::size_t radiatingLights = 0; // sampled lights (non-zero power, can reach something) + sky
     bool environment = false;
     bool deltaLightsOnly = false;    // point, spot and directional lights only (no area, no sky)

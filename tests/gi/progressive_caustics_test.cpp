@@ -56,7 +56,7 @@ double extra(const RenderResult& r, const std::string& name) {
 
 } // namespace
 
-TEST_CASE("Progressive caustics converge on the caustic pool; one k-nearest map does not",
+TEST_CASE("Progressive caustics converge on the caustic pool, where one k-nearest map stalls",
           "[gi][progressive][golden]") {
     Image ref = readImage(goldenPath("caustic-pool-path.exr"));
     REQUIRE(ref.width == kSize);

@@ -401,7 +401,7 @@ TEST_CASE("Scene analysis: the render log and rayproc info say what is skipped a
     CHECK(j["plan"]["lights"][0]["sampled"] == false);
     CHECK(j["plan"]["lights"][0]["reason"] == "zero power");
     RunResult text = runRayproc({"info", scene}, dir);
-    CHECK(text.out.find("caustic photon map: no mirror or glass surface") != std::string::npos);
+    CHECK(text.out.find("caustic photon map: no mirror, glass or coated surface") != std::string::npos);
 
     RunResult on = runRayproc({"render", scene, "--mode", "raytrace", "--spp", "1", "-o",
                                dir.file("on.pfm")}, dir);

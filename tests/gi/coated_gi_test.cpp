@@ -1,0 +1,53 @@
+// gi at coated diffuse surfaces (pbrt-v4's coateddiffuse, the closed-form coat): its photon-map
+// estimates take the diffuse lobe's directional albedo, not the base colour; the coat's own
+// reflection of the scene, mirror or rough, is traced by the reflection stage; caustic photons
+// follow the coat's reflection. The Cornell box with every wall coated must then agree with
+// path mode in its mean radiance, per channel.
+#include "../analytic/analytic.h"
+
+using namespace rayproc;
+using namespace rayproc::test;
+
+namespace {
+
+// The Cornell box with every reflecting diffuse material turned into a coat of the given
+// roughness (pbrt's remapped roughness: alpha = sqrt(r)) over the same base.
+std::unique_ptr<Scene> coatedCornellBox(float roughness) {
+    auto scene = loadSceneAt("cornell-box", 32, 32);
+    for (Material& m : scene->materials) {
+        if (m.type != MaterialType::Diffuse || maxComponent(m.color) <= 0) continue;
+        m.type = MaterialType::CoatedDiffuse;
+        m.uRoughness = m.vRoughness = FloatParam{roughness};
+    }
+    return scene;
+}
+
+Vec3 meanRadiance(const Image& img) {
+    Vec3 sum(0.0f);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) sum += Vec3(img.at(x, y)[0], img.at(x, y)[1], img.at(x, y)[2]);
+    return sum / float(img.width * img.height);
+}
+
+} // namespace
+
+TEST_CASE("gi agrees with path on a coated Cornell box, smooth and rough coats", "[gi][coated]") {
+    // Measured here (red channel, gi / path): before, 1.27 for the smooth coat and 1.17 for
+    // the rough one (the base colour taken as the Lambertian albedo, the rough coat's
+    // reflection dropped); now 1.002 and 1.002. At 64x64 with a coat of alpha 0.001 the coat's
+    // albedo alone, without its reflections, gave 0.91.
+    for (float roughness : {0.0f, 0.01f}) {
+        auto scene = coatedCornellBox(roughness);
+        EmbreeScene accel(*scene);
+        RenderOptions o;
+        o.mode = "path";
+        o.spp = 1024;
+        Vec3 path = meanRadiance(render(*scene, accel, o).image);
+        Vec3 gi = meanRadiance(renderGiMode(*scene, accel, 16).image);
+        for (int c = 0; c < 3; ++c) {
+            INFO("roughness " << roughness << " channel " << c << ": gi " << gi[c] << " path "
+                              << path[c]);
+            CHECK(gi[c] == Approx(path[c]).epsilon(0.03));
+        }
+    }
+}
