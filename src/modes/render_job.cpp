@@ -45,6 +45,7 @@ enum PassDecision : std::uint32_t {
     kDecideInterrupted = 1, // some rank was interrupted: all stop
     kDecideTimeUp = 2,      // rank 0's clock passed the time limit
     kDecideProgressive = 4, // rank 0 writes the progressive image now
+    kDecideStopped = 8,     // some rank's EngineSettings::stop said so: all stop
 };
 } // namespace
 
@@ -141,13 +142,17 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     if (engine.watcher && engine.watcher->begin) engine.watcher->begin(film, fraction, raysSoFar);
 
     auto lastProgressive = std::chrono::steady_clock::now();
+    // The caller's stop, when it has one, is a cancel that leaves the interrupt alone.
+    bool stopped = false;
+    auto stopRequested = [&engine] { return engine.stop && engine.stop(); };
     bool stop = cluster.distributed() ? agreeInterrupted(cluster) : interruptRequested();
+    if (!cluster.distributed() && stopRequested()) stop = stopped = true;
     for (int pass = 0; pass < passes && !stop; ++pass) {
         int first = pass * passSpp;
         int count = std::min(passSpp, spp - first);
         if (beforePass) beforePass(pass);
         camera.beginPass(first, count);
-        processor.run(camera, [] { return interruptRequested(); });
+        processor.run(camera, [&] { return interruptRequested() || stopRequested(); });
         unitsBefore += std::min<std::uint64_t>(camera.unitsEmitted(), camera.unitsPerPass());
         film.commitPass(pass % 2);
         if (film.hasHalfBuffers()) {
@@ -178,6 +183,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             targetFraction = std::min(1.0, engine.targetRelMse / result.relMseEstimate);
         // Rank 0's clock and progressive schedule rule; an interrupt anywhere stops every rank.
         std::uint32_t decision = interruptRequested() ? kDecideInterrupted : 0u;
+        if (stopRequested()) decision |= kDecideStopped;
         if (cluster.root() && engine.timeLimitSeconds > 0 && pass + 1 < passes &&
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >=
                 engine.timeLimitSeconds)
@@ -190,6 +196,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             if (!interruptRequested()) requestInterrupt();
             stop = true;
         }
+        if (decision & kDecideStopped) stop = stopped = true;
         // At least kMinTargetPasses passes: with one or two samples per half the estimate is
         // itself too noisy to stop on (a 3-spp render estimated 0.044 measured 0.066).
         if (engine.targetRelMse > 0 && pass + 1 >= kMinTargetPasses &&
@@ -207,7 +214,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             lastProgressive = now;
         }
     }
-    result.cancelled = interruptRequested();
+    result.cancelled = interruptRequested() || stopped;
     progress.finish(!result.cancelled);
     if (errorLog && std::fclose(errorLog.release()) != 0 && result.errorLogFailure.empty())
         logFailed();

@@ -48,6 +48,12 @@ struct EngineSettings {
         std::function<void()> end;
     };
     const Watcher* watcher = nullptr;
+    // A stop besides the interrupt, when set: polled with it before each emission (from the
+    // render's threads at once) and after each pass, and true stops the render as a cancel
+    // does (the result is cancelled), without the process-wide interrupt that Ctrl-C sets.
+    // rayproc serve stops a preview that a newer edit has made stale. Only the camera passes
+    // poll it (not gi's photon passes). The ranks of a distributed render stop together.
+    std::function<bool()> stop;
     // Convergence log: after each pass, the samples, seconds, error against `reference` and
     // the reference-free estimate (Film::relMseEstimate) are appended to `errorLogPath` as CSV
     // (spp,seconds,relmse,rmse,relmse_estimate; the estimate is nan after the first pass).

@@ -2,8 +2,10 @@
 // Lambert), and under a constant sky (the furnace-like a * L). Camera straight down.
 #include "test_util.h"
 
+#include "engine/cancel.h"
 #include "image/metrics.h"
 
+#include <atomic>
 #include <cmath>
 
 using namespace rayproc;
@@ -145,4 +147,38 @@ TEST_CASE("A relMSE target stops when the half-buffer estimate reaches it - the 
     RenderResult r = renderPath(*scene, accel, s, plain);
     CHECK(std::isnan(r.relMseEstimate));
     CHECK_FALSE(r.targetReached);
+}
+
+TEST_CASE("EngineSettings::stop cancels a render without the process-wide interrupt", "[modes]") {
+    auto scene = loadSceneAt("cornell-box", 128, 128); // 64 tiles of 16 x 16
+    EmbreeScene accel(*scene);
+    EngineSettings engine;
+    engine.quiet = true;
+    engine.threads = 2;
+    PathSettings s;
+    s.spp = 2;
+
+    // Polled before each emission: after a few tiles, the rest are never emitted.
+    std::atomic<int> polls{0};
+    engine.stop = [&] { return ++polls > 4; };
+    RenderResult r = renderPath(*scene, accel, s, engine);
+    CHECK(r.cancelled);
+    CHECK(r.stats.pixelsWithoutSamples > 0);
+    CHECK(r.stats.pixelsWithoutSamples < std::size_t(128 * 128));
+    CHECK_FALSE(interruptRequested()); // Ctrl-C's flag is untouched
+    CHECK(allFinite(r.image));
+
+    // Stopped from the start: nothing is rendered.
+    engine.stop = [] { return true; };
+    r = renderPath(*scene, accel, s, engine);
+    CHECK(r.cancelled);
+    CHECK(r.passesDone == 0);
+    CHECK(r.stats.pixelsWithoutSamples == std::size_t(128 * 128));
+
+    // Never true: the whole render.
+    engine.stop = [] { return false; };
+    r = renderPath(*scene, accel, s, engine);
+    CHECK_FALSE(r.cancelled);
+    CHECK(r.samplesDone == 2);
+    CHECK(r.stats.pixelsWithoutSamples == 0);
 }
