@@ -5,6 +5,7 @@
 
 #include <civetweb.h>
 
+#include <cctype>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -25,7 +26,9 @@ int onRequestTrampoline(mg_connection* conn, void*) {
     const mg_request_info* info = mg_get_request_info(conn);
     return serverOf(conn)->onRequest(conn, info->local_uri ? info->local_uri : "");
 }
-int onConnectTrampoline(const mg_connection*, void*) { return 0; } // accept
+int onConnectTrampoline(const mg_connection* conn, void*) {
+    return serverOf(conn)->onConnect(conn);
+}
 void onReadyTrampoline(mg_connection* conn, void*) { serverOf(conn)->onReady(conn); }
 int onDataTrampoline(mg_connection* conn, int flags, char* data, size_t length, void*) {
     return serverOf(conn)->onData(conn, flags, data, length);
@@ -43,6 +46,16 @@ std::string imageBytes(const Image& img, const std::string& extension) {
     bytes << in.rdbuf();
     std::filesystem::remove(path);
     return bytes.str();
+}
+
+// "name:port" (or "name" for port 80) with name 127.0.0.1, localhost or [::1], any case.
+bool namesLoopback(std::string authority, int port) {
+    for (char& c : authority) c = char(std::tolower(static_cast<unsigned char>(c)));
+    for (const char* name : {"127.0.0.1", "localhost", "[::1]"}) {
+        if (authority == std::string(name) + ":" + std::to_string(port)) return true;
+        if (port == 80 && authority == name) return true;
+    }
+    return false;
 }
 
 } // namespace
@@ -96,17 +109,62 @@ std::size_t Server::clients() const {
     return m_clients.size();
 }
 
+std::string Server::refusal(const mg_connection* conn, bool websocket) const {
+    // DNS rebinding: a page of another site whose name now resolves to 127.0.0.1 is
+    // same-origin with this server as far as the browser knows, but it names its own host.
+    // No Host (an HTTP/1.0 client) is no browser.
+    const char* host = mg_get_header(conn, "Host");
+    if (host && !namesLoopback(host, m_port))
+        return std::string("Host \"") + host + "\" is not this server (127.0.0.1:" +
+               std::to_string(m_port) + ")";
+    // A WebSocket is not bound by the same-origin policy: any page the browser shows could
+    // open one to 127.0.0.1 and send "save". Browsers always name the page's origin; other
+    // clients (scripts, tests) send none.
+    const char* origin = mg_get_header(conn, "Origin");
+    if (websocket && origin) {
+        std::string o = origin;
+        const std::string scheme = "http://";
+        bool own = o.size() > scheme.size() && o.compare(0, scheme.size(), scheme) == 0 &&
+                   namesLoopback(o.substr(scheme.size()), m_port);
+        if (!own)
+            return "a WebSocket from the page of " + o +
+                   " is refused: only this server's own page (http://127.0.0.1:" +
+                   std::to_string(m_port) + "/) may connect";
+    }
+    return {};
+}
+
+int Server::onConnect(const mg_connection* conn) {
+    std::string why = refusal(conn, true);
+    if (why.empty()) return 0; // civetweb goes on with the handshake
+    // civetweb sends nothing when the handshake is refused: the client is told why.
+    why += "\n";
+    auto* c = const_cast<mg_connection*>(conn);
+    mg_printf(c,
+              "HTTP/1.1 403 Forbidden\r\nContent-Type: text/plain\r\nContent-Length: %zu\r\n"
+              "Connection: close\r\n\r\n",
+              why.size());
+    mg_write(c, why.data(), why.size());
+    return 1;
+}
+
 int Server::onRequest(mg_connection* conn, const std::string& uri) {
     auto send = [&](int status, const char* type, const std::string& body,
                     const char* extra = "") {
         mg_printf(conn,
                   "HTTP/1.1 %d %s\r\nContent-Type: %s\r\nContent-Length: %zu\r\n"
                   "Cache-Control: no-store\r\n%sConnection: close\r\n\r\n",
-                  status, status == 200 ? "OK" : status == 404 ? "Not Found" : "Error", type,
-                  body.size(), extra);
+                  status,
+                  status == 200   ? "OK"
+                  : status == 403 ? "Forbidden"
+                  : status == 404 ? "Not Found"
+                                  : "Error",
+                  type, body.size(), extra);
         mg_write(conn, body.data(), body.size());
         return status;
     };
+    std::string why = refusal(conn, false);
+    if (!why.empty()) return send(403, "text/plain", why + "\n");
     if (uri == "/" || uri == "/index.html") return send(200, "text/html; charset=utf-8", kPage);
     if (uri == "/image.png" || uri == "/image.exr") {
         // The last render (partial after a cancel), else the live preview.

@@ -5,6 +5,9 @@
 //   GET /image.exr   the same, linear EXR
 //   WS  /ws          JSON messages from the page (Session::handle), replies and events as
 //                    JSON text, frames as binary messages (encodeFrame)
+// Every request must name this server in Host, and a WebSocket may come only from this
+// server's own page (Origin) or from a client that is not a browser (no Origin); anything else
+// is refused with 403 (docs/serve.md, "Who may connect").
 #pragma once
 
 #include "serve/session.h"
@@ -32,12 +35,17 @@ public:
     std::size_t clients() const;
 
     // civetweb's callbacks (public for the C trampolines in server.cpp).
+    int onConnect(const mg_connection* conn); // 0: go on with the WebSocket handshake
     int onRequest(mg_connection* conn, const std::string& uri);
     void onReady(mg_connection* conn);
     int onData(mg_connection* conn, int flags, const char* data, std::size_t length);
     void onClose(const mg_connection* conn);
 
 private:
+    // Why a request is refused, empty when it is not: its Host must name this server
+    // (127.0.0.1, localhost or [::1] at its port), and a WebSocket's Origin, when there is one,
+    // must be this server's own page.
+    std::string refusal(const mg_connection* conn, bool websocket) const;
     void broadcast(int opcode, const void* data, std::size_t length);
     void sendTo(mg_connection* conn, int opcode, const std::string& text);
 
