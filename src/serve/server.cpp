@@ -204,14 +204,31 @@ void Server::onReady(mg_connection* conn) {
 
 int Server::onData(mg_connection* conn, int flags, const char* data, std::size_t length) {
     int opcode = flags & 0xf;
+    bool final = (flags & 0x80) != 0; // FIN: the message's last (here: only) frame
     if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return 0;
-    if (opcode != MG_WEBSOCKET_OPCODE_TEXT) return 1; // pings are answered by civetweb
     int client;
     {
         std::lock_guard<std::mutex> lk(m_mutex);
         auto it = m_clients.find(conn);
         if (it == m_clients.end()) return 0;
         client = it->second;
+    }
+    // Every message is JSON text in one frame. Anything else is refused like any malformed
+    // message, so the client learns why nothing happened; the rest of a refused fragmented
+    // message (continuation frames) is dropped without a second reply.
+    std::string refused;
+    if (opcode == MG_WEBSOCKET_OPCODE_BINARY)
+        refused = "a binary WebSocket message is refused: every message is a JSON object sent "
+                  "as text (docs/serve.md)";
+    else if (opcode == MG_WEBSOCKET_OPCODE_TEXT && !final)
+        refused = "a fragmented WebSocket message is refused: send each JSON message as one "
+                  "text frame";
+    else if (opcode != MG_WEBSOCKET_OPCODE_TEXT)
+        return 1; // continuation frames, pings, pongs
+    if (!refused.empty()) {
+        Json error = {{"type", "error"}, {"message", refused}};
+        sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, error.dump());
+        return 1;
     }
     std::string reply = m_session.handle(std::string(data, length), client);
     sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, reply);

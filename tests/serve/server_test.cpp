@@ -229,3 +229,26 @@ TEST_CASE("serve: HTTP requests must name the server in Host (DNS rebinding)", "
         CHECK(statusLine(c.request("/image.png", {hostLine})) == "HTTP/1.1 403 Forbidden");
     }
 }
+
+TEST_CASE("serve: a binary WebSocket message is refused with a message - the socket still works",
+          "[serve]") {
+    Served s;
+    RawClient c(s.server.port());
+    REQUIRE(statusLine(c.handshake({"Host: 127.0.0.1:" + std::to_string(s.server.port())})) ==
+            "HTTP/1.1 101 Switching Protocols");
+    REQUIRE(c.readText("state")["type"] == "state");
+    c.sendFrame(2, std::string("{\"type\": \"state\"}"));
+    Json error = c.readText("error");
+    REQUIRE(error.is_object());
+    CHECK_THAT(error["message"].get<std::string>(), Catch::Contains("binary"));
+    // A text message split into fragments: refused once, its continuation dropped.
+    c.sendFrame(1, "{\"type\": ", false);
+    c.sendFrame(0, "\"state\"}");
+    error = c.readText("error");
+    REQUIRE(error.is_object());
+    CHECK_THAT(error["message"].get<std::string>(), Catch::Contains("fragmented"));
+    c.sendFrame(1, "{\"type\": \"state\"}");
+    std::vector<std::string> before;
+    CHECK(c.readText("state", &before)["type"] == "state");
+    CHECK(before.empty()); // no reply to the continuation
+}
