@@ -75,9 +75,10 @@ const canvas = document.getElementById("canvas");
 const ctx2d = canvas.getContext("2d");
 const $ = (id) => document.getElementById(id);
 let ws, state = null, camera = null, selected = null, rendering = false;
-let framesShown = 0;
+let framesShown = 0, lastFrameVersion = -1;
 window.rayproc = { get state() { return state; }, get selected() { return selected; },
                    get framesShown() { return framesShown; }, get rendering() { return rendering; },
+                   get lastFrameVersion() { return lastFrameVersion; },
                    send: (m) => send(m), lastReply: null, lastError: null, lastProgress: null };
 
 function send(m) { ws.send(JSON.stringify(m)); }
@@ -119,10 +120,14 @@ function connect() {
   };
 }
 
+// A frame: "RPF2", width, height, frame number, version (u32 each), then RGBA (encodeFrame).
 function drawFrame(buffer) {
-  const head = new DataView(buffer, 0, 16);
-  const w = head.getUint32(4, true), h = head.getUint32(8, true);
-  const pixels = new Uint8ClampedArray(buffer, 16, w * h * 4);
+  const head = new DataView(buffer, 0, 20);
+  if (String.fromCharCode(head.getUint8(0), head.getUint8(1), head.getUint8(2), head.getUint8(3)) !== "RPF2") return;
+  const w = head.getUint32(4, true), h = head.getUint32(8, true), version = head.getUint32(16, true);
+  // A frame of a scene or view older than the state shown is stale: never drawn.
+  if (state && version < state.version) return;
+  const pixels = new Uint8ClampedArray(buffer, 20, w * h * 4);
   const img = new ImageData(pixels, w, h);
   if (state && (canvas.width !== previewWidth() || canvas.height !== previewHeight())) {
     canvas.width = previewWidth(); canvas.height = previewHeight();
@@ -130,6 +135,7 @@ function drawFrame(buffer) {
   if (w === canvas.width && h === canvas.height) ctx2d.putImageData(img, 0, 0);
   else createImageBitmap(img).then((bmp) => ctx2d.drawImage(bmp, 0, 0, canvas.width, canvas.height));
   framesShown++;
+  lastFrameVersion = version;
 }
 
 // The canvas keeps the live preview's size; renders at the scene's resolution are scaled to it.

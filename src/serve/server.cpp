@@ -194,8 +194,9 @@ void Server::onReady(mg_connection* conn) {
     sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, s.dump());
     // The image so far, so a new tab does not start blank.
     Image img;
-    if (m_session.lastFrame(img)) {
-        std::vector<std::uint8_t> frame = encodeFrame(img, 0);
+    std::uint64_t version = 0;
+    if (m_session.lastFrame(img, &version)) {
+        std::vector<std::uint8_t> frame = encodeFrame(img, 0, version);
         mg_lock_connection(conn);
         mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_BINARY, reinterpret_cast<const char*>(frame.data()), frame.size());
         mg_unlock_connection(conn);

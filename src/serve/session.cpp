@@ -72,20 +72,23 @@ bool holdsShape(const Node& node, const Shape* shape) {
 
 } // namespace
 
-std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number) {
-    std::vector<std::uint8_t> out(16 + std::size_t(image.width) * std::size_t(image.height) * 4);
+std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
+                                      std::uint64_t version) {
+    constexpr std::size_t h = kFrameHeaderBytes;
+    std::vector<std::uint8_t> out(h + std::size_t(image.width) * std::size_t(image.height) * 4);
     auto put = [&](std::size_t at, std::uint32_t v) {
         for (int b = 0; b < 4; ++b) out[at + std::size_t(b)] = std::uint8_t(v >> (8 * b));
     };
-    out[0] = 'R', out[1] = 'P', out[2] = 'F', out[3] = '1';
+    out[0] = 'R', out[1] = 'P', out[2] = 'F', out[3] = '2';
     put(4, std::uint32_t(image.width));
     put(8, std::uint32_t(image.height));
     put(12, number);
+    put(16, std::uint32_t(version));
     ToneMapSettings tm;
     std::size_t n = std::size_t(image.width) * std::size_t(image.height);
     for (std::size_t p = 0; p < n; ++p) {
-        for (int c = 0; c < 3; ++c) out[16 + p * 4 + std::size_t(c)] = toSrgb8(image.pixels[p * 3 + std::size_t(c)], tm);
-        out[16 + p * 4 + 3] = 255;
+        for (int c = 0; c < 3; ++c) out[h + p * 4 + std::size_t(c)] = toSrgb8(image.pixels[p * 3 + std::size_t(c)], tm);
+        out[h + p * 4 + 3] = 255;
     }
     return out;
 }
@@ -481,13 +484,15 @@ Json Session::state() const {
     s["analysis"] = m_loaded->analysis;
     s["undo_depth"] = m_undo.size();
     s["rendering"] = m_rendering || m_request.has_value();
+    s["version"] = std::uint32_t(m_version); // as in the frames' header
     return s;
 }
 
-bool Session::lastFrame(Image& out) const {
+bool Session::lastFrame(Image& out, std::uint64_t* version) const {
     std::lock_guard<std::mutex> lk(m_mutex);
     if (m_lastImage.width == 0) return false;
     out = m_lastImage;
+    if (version) *version = m_lastImageVersion;
     return true;
 }
 
@@ -515,14 +520,15 @@ void Session::sendText(const Json& json) const {
     if (m_events.text) m_events.text(json.dump());
 }
 
-void Session::sendFrame(const Image& image) {
+void Session::sendFrame(Image image, std::uint64_t version) {
     std::uint32_t number;
     {
         std::lock_guard<std::mutex> lk(m_mutex);
         m_lastImage = image;
+        m_lastImageVersion = version;
         number = ++m_frameNumber;
     }
-    if (m_events.frame) m_events.frame(encodeFrame(image, number));
+    if (m_events.frame) m_events.frame(encodeFrame(image, number, version));
 }
 
 void Session::worker() {
@@ -535,6 +541,7 @@ void Session::worker() {
         m_busy = true;
         std::shared_ptr<Loaded> loaded = m_loaded;
         Camera view = m_camera;
+        std::uint64_t version = m_version;
         if (m_request) {
             RenderRequest request = *m_request;
             m_request.reset();
@@ -542,7 +549,7 @@ void Session::worker() {
             m_renderClient = request.client;
             lk.unlock();
             loaded->scene->camera = view; // only this thread touches the scene's camera
-            renderMode(loaded, request);
+            renderMode(loaded, request, version);
             lk.lock();
             m_rendering = false;
             m_renderClient = -1;
@@ -553,17 +560,16 @@ void Session::worker() {
             m_previewedVersion = cancelled ? 0 : m_version;
             continue;
         }
-        std::uint64_t version = m_version;
         lk.unlock();
         loaded->scene->camera = view;
-        renderPreview(loaded);
+        renderPreview(loaded, version);
         lk.lock();
         // A change during the render is shown by the next round.
         m_previewedVersion = version;
     }
 }
 
-void Session::renderPreview(const std::shared_ptr<Loaded>& loaded) {
+void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version) {
     Scene& scene = *loaded->scene;
     Camera full = scene.camera;
     // The live view's size: the scene's aspect, the longer side at most previewMaxSide.
@@ -575,24 +581,20 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded) {
     engine.threads = m_options.threads;
     engine.quiet = true;
     PreviewSettings settings = previewSettings(scene.render, {});
-    std::uint64_t version;
-    {
-        std::lock_guard<std::mutex> lk(m_mutex);
-        version = m_version;
-    }
     // Coarse first (a quarter of each side), then full while nothing changed.
     for (int step : {4, 1}) {
         scene.camera.width = std::max(1, w / step);
         scene.camera.height = std::max(1, h / step);
         RenderResult r = rayproc::renderPreview(scene, *loaded->accel, settings, engine);
-        sendFrame(r.image);
+        sendFrame(std::move(r.image), version);
         std::lock_guard<std::mutex> lk(m_mutex);
         if (m_version != version || m_request || m_quit) break;
     }
     scene.camera = full;
 }
 
-void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequest& request) {
+void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequest& request,
+                         std::uint64_t version) {
     const Scene& scene = *loaded->scene;
     EngineSettings engine;
     engine.threads = m_options.threads;
@@ -600,7 +602,7 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     // While the passes run, four times a second: the image with the tiles done so far, and
     // the progress.
     PeriodicReport watch(0.25, [&](const Film& film, const PeriodicReport::Progress& p) {
-        sendFrame(film.resolveInProgress());
+        sendFrame(film.resolveInProgress(), version);
         sendText({{"type", "progress"}, {"mode", request.mode}, {"fraction", p.fraction},
                   {"seconds", p.seconds},
                   {"eta_seconds", p.fraction > 0 ? p.seconds * (1 - p.fraction) / p.fraction : -1.0},
@@ -623,7 +625,7 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
         sendText({{"type", "error"}, {"message", std::string("render: ") + e.what()}});
         return;
     }
-    sendFrame(r.image);
+    sendFrame(r.image, version);
     {
         std::lock_guard<std::mutex> lk(m_mutex);
         m_lastRender = r.image;

@@ -33,9 +33,12 @@ namespace serve {
 
 using Json = nlohmann::ordered_json;
 
-// A frame message: "RPF1", width, height, frame number (little-endian u32 each), then
-// width * height RGBA bytes (8-bit sRGB, the PNG tone map).
-std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number);
+// A frame message: "RPF2", width, height, frame number, version (little-endian u32 each),
+// then width * height RGBA bytes (8-bit sRGB, the PNG tone map). The version is that of the
+// scene and view the frame shows (the low 32 bits of Session's, as in the state's "version").
+constexpr std::size_t kFrameHeaderBytes = 20;
+std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
+                                      std::uint64_t version);
 
 class Session {
 public:
@@ -66,8 +69,9 @@ public:
     void clientClosed(int client);
     // What a page shows: objects, materials, lights, camera, mode, analysis, undo depth.
     Json state() const;
-    // The image shown last (a preview or a render's frame); false before the first.
-    bool lastFrame(Image& out) const;
+    // The image shown last (a preview or a render's frame) and the version it shows; false
+    // before the first.
+    bool lastFrame(Image& out, std::uint64_t* version = nullptr) const;
     // The last render in raytrace, gi or path mode, partial when it was cancelled (it stays
     // downloadable after the live preview resumes); false before the first.
     bool lastRender(Image& out) const;
@@ -87,10 +91,12 @@ private:
     void load(const Json& doc); // throws InputError; replaces m_loaded on success
     Json pick(const Json& message) const;
     void worker();
-    void renderPreview(const std::shared_ptr<Loaded>& loaded);
-    void renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequest& request);
+    // `version`: the m_version the scene and view are of (the frames carry it).
+    void renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version);
+    void renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequest& request,
+                    std::uint64_t version);
     void sendText(const Json& json) const;
-    void sendFrame(const Image& image);
+    void sendFrame(Image image, std::uint64_t version);
 
     std::string m_path;
     bool m_editable = false; // JSON scenes
@@ -112,6 +118,7 @@ private:
     bool m_busy = false;
     std::uint32_t m_frameNumber = 0;
     Image m_lastImage;
+    std::uint64_t m_lastImageVersion = 0;
     Image m_lastRender;
     std::condition_variable m_idle;
     std::thread m_thread;

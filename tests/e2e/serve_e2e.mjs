@@ -102,6 +102,10 @@ try {
   await settle();
   const orbited = await shot("3-orbited");
   check(!orbited.equals(moved), "dragging the camera changes the image");
+  const [frameVersion, viewVersion] =
+    await page.evaluate(() => [window.rayproc.lastFrameVersion, window.rayproc.state.version]);
+  check(frameVersion === viewVersion,
+    "the last frame drawn is of the view shown (frame version " + frameVersion + ", state " + viewVersion + ")");
 
   // gi: streams in with progress; Cancel returns to the live preview.
   // 1000 spp: passes of 16 spp, each 1.6% of the render; the image fills in tile by tile.
