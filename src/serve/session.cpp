@@ -87,7 +87,8 @@ std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
     ToneMapSettings tm;
     std::size_t n = std::size_t(image.width) * std::size_t(image.height);
     for (std::size_t p = 0; p < n; ++p) {
-        for (int c = 0; c < 3; ++c) out[h + p * 4 + std::size_t(c)] = toSrgb8(image.pixels[p * 3 + std::size_t(c)], tm);
+        for (int c = 0; c < 3; ++c)
+            out[h + p * 4 + std::size_t(c)] = toSrgb8(image.pixels[p * 3 + std::size_t(c)], tm);
         out[h + p * 4 + 3] = 255;
     }
     return out;
@@ -207,8 +208,7 @@ Json Session::applyEdit(const Json& m, const std::function<void(Json& doc)>& edi
     m_undo.push_back(std::move(m_doc));
     if (m_undo.size() > 256) m_undo.erase(m_undo.begin());
     m_doc = std::move(doc);
-    ++m_version;
-    m_wake.notify_all();
+    changed();
     return {{"type", "edited"}, {"undo_depth", m_undo.size()}};
 }
 
@@ -245,8 +245,7 @@ Json Session::reply(const Json& m, int client) {
             cam["up"] = vec3Json(c.up);
             cam["fov"] = double(c.fovY);
         }
-        ++m_version;
-        m_wake.notify_all();
+        changed();
         return {{"type", "camera"}};
     }
     if (type == "pick") {
@@ -350,8 +349,7 @@ Json Session::reply(const Json& m, int client) {
         m_camera = view;
         m_doc = std::move(m_undo.back());
         m_undo.pop_back();
-        ++m_version;
-        m_wake.notify_all();
+        changed();
         return {{"type", "edited"}, {"undo_depth", m_undo.size()}};
     }
     if (type == "save") {
@@ -489,7 +487,7 @@ Json Session::state() const {
 }
 
 bool Session::lastFrame(Image& out, std::uint64_t* version) const {
-    std::lock_guard<std::mutex> lk(m_mutex);
+    std::lock_guard<std::mutex> lk(m_frameMutex);
     if (m_lastImage.width == 0) return false;
     out = m_lastImage;
     if (version) *version = m_lastImageVersion;
@@ -520,15 +518,24 @@ void Session::sendText(const Json& json) const {
     if (m_events.text) m_events.text(json.dump());
 }
 
-void Session::sendFrame(Image image, std::uint64_t version) {
-    std::uint32_t number;
+void Session::changed() {
     {
-        std::lock_guard<std::mutex> lk(m_mutex);
-        m_lastImage = image;
-        m_lastImageVersion = version;
-        number = ++m_frameNumber;
+        std::lock_guard<std::mutex> frames(m_frameMutex);
+        ++m_version;
     }
-    if (m_events.frame) m_events.frame(encodeFrame(image, number, version));
+    m_wake.notify_all();
+}
+
+bool Session::sendFrame(Image image, std::uint64_t version) {
+    std::vector<std::uint8_t> frame = encodeFrame(image, ++m_frameNumber, version);
+    // Checked and sent under the lock a change takes: a page that has the reply to its camera
+    // move (or the state after it) gets no frame of the view before it.
+    std::lock_guard<std::mutex> lk(m_frameMutex);
+    if (m_version != version) return false;
+    m_lastImage = std::move(image);
+    m_lastImageVersion = version;
+    if (m_events.frame) m_events.frame(frame);
+    return true;
 }
 
 void Session::worker() {
@@ -557,7 +564,7 @@ void Session::worker() {
             // returns to the live preview at once.
             bool cancelled = interruptRequested();
             clearRequestedInterrupt(); // a Ctrl-C to the server stays: it is shutting down
-            m_previewedVersion = cancelled ? 0 : m_version;
+            m_previewedVersion = cancelled ? 0 : m_version.load();
             continue;
         }
         lk.unlock();
@@ -581,14 +588,23 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     engine.threads = m_options.threads;
     engine.quiet = true;
     PreviewSettings settings = previewSettings(scene.render, {});
+    // A newer change (a camera drag sends one per mouse move) makes this preview stale: it
+    // stops emitting at once, through the engine's own stop rather than the interrupt, which
+    // is Ctrl-C's and a render's Cancel.
+    engine.stop = [this, version] {
+        return m_version.load(std::memory_order_relaxed) != version ||
+               m_quit.load(std::memory_order_relaxed);
+    };
     // Coarse first (a quarter of each side), then full while nothing changed.
     for (int step : {4, 1}) {
+        {
+            std::lock_guard<std::mutex> lk(m_mutex);
+            if (m_version != version || m_request || m_quit) break;
+        }
         scene.camera.width = std::max(1, w / step);
         scene.camera.height = std::max(1, h / step);
         RenderResult r = rayproc::renderPreview(scene, *loaded->accel, settings, engine);
-        sendFrame(std::move(r.image), version);
-        std::lock_guard<std::mutex> lk(m_mutex);
-        if (m_version != version || m_request || m_quit) break;
+        if (r.cancelled || !sendFrame(std::move(r.image), version)) break;
     }
     scene.camera = full;
 }

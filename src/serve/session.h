@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -33,9 +34,10 @@ namespace serve {
 
 using Json = nlohmann::ordered_json;
 
-// A frame message: "RPF2", width, height, frame number, version (little-endian u32 each),
-// then width * height RGBA bytes (8-bit sRGB, the PNG tone map). The version is that of the
-// scene and view the frame shows (the low 32 bits of Session's, as in the state's "version").
+// A frame message: "RPF2", width, height, frame number (increasing, with gaps where stale
+// frames were dropped), version (little-endian u32 each), then width * height RGBA bytes
+// (8-bit sRGB, the PNG tone map). The version is that of the scene and view the frame shows
+// (the low 32 bits of Session's, as in the state's "version").
 constexpr std::size_t kFrameHeaderBytes = 20;
 std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
                                       std::uint64_t version);
@@ -91,12 +93,15 @@ private:
     void load(const Json& doc); // throws InputError; replaces m_loaded on success
     Json pick(const Json& message) const;
     void worker();
-    // `version`: the m_version the scene and view are of (the frames carry it).
+    // `version`: the m_version the scene and view are of (the frames carry it). A newer change
+    // stops the preview in progress, and its frame is not sent.
     void renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version);
     void renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequest& request,
                     std::uint64_t version);
     void sendText(const Json& json) const;
-    void sendFrame(Image image, std::uint64_t version);
+    // Sends the frame unless a change made it stale (false then).
+    bool sendFrame(Image image, std::uint64_t version);
+    void changed(); // a change the preview must show (m_mutex held)
 
     std::string m_path;
     bool m_editable = false; // JSON scenes
@@ -109,14 +114,20 @@ private:
     std::vector<Json> m_undo;
     std::shared_ptr<Loaded> m_loaded;
     Camera m_camera; // the page's view; the worker copies it into the scene it renders
-    std::uint64_t m_version = 0;          // bumps at every change the preview must show
+    // Bumps at every change the preview must show, under m_mutex and m_frameMutex; the
+    // preview's stop reads it without a lock.
+    std::atomic<std::uint64_t> m_version{0};
     std::uint64_t m_previewedVersion = 0; // what the worker has shown
     std::optional<RenderRequest> m_request;
     bool m_rendering = false;
     int m_renderClient = -1;
-    bool m_quit = false;
+    std::atomic<bool> m_quit{false};
     bool m_busy = false;
-    std::uint32_t m_frameNumber = 0;
+    std::atomic<std::uint32_t> m_frameNumber{0};
+    // Held while a frame is checked against m_version and sent, and while m_version changes:
+    // once a change is accepted, no frame of an older version goes out. Guards the last image.
+    // Taken after m_mutex, never before.
+    mutable std::mutex m_frameMutex;
     Image m_lastImage;
     std::uint64_t m_lastImageVersion = 0;
     Image m_lastRender;
