@@ -1,6 +1,8 @@
 #include "accel/embree_scene.h"
 
+#include "accel/exact_triangles.h"
 #include "core/error.h"
+#include "kernels/exact_triangle.h"
 #include "kernels/random.h"
 #include "kernels/ray_offset.h"
 #include "texture/texture_eval.h"
@@ -153,6 +155,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) : m_scene(scene) {
     rtcSetSceneBuildQuality(m_top, RTC_BUILD_QUALITY_MEDIUM);
 
     RAYPROC_CHECK(scene.root && scene.root->kind == Node::Kind::Group);
+    m_huge = findHugeTriangles(scene);
     place(*scene.root, scene.root->transform, true);
     for (auto& p : m_prototypes) rtcCommitScene(p.scene);
     rtcCommitScene(m_top);
@@ -169,7 +172,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) : m_scene(scene) {
     };
     for (auto& p : m_prototypes)
         for (const Shape* s : p.leaves) countMesh(s);
-    for (const TopEntry& e : m_topEntries) countMesh(e.leaf);
+    for (const GeomEntry& e : m_topEntries) countMesh(e.leaf);
     m_stats.memoryBytes = std::size_t(std::max(0LL, g_embreeBytes.load() - bytesBefore));
     m_stats.buildSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -193,68 +196,118 @@ void EmbreeScene::collectLeaves(const Node& group, std::vector<const Shape*>& ou
 namespace {
 
 // Alpha cut-outs (pbrt-v4's shape "alpha"): Embree calls this for every candidate hit of a mesh
-// with alpha; a hit where alpha(uv) is 0 is rejected, below 1 it is kept with probability alpha,
-// decided by a hash of the ray so every packet width and thread makes the same choice.
+// with alpha (alphaKeeps decides).
 void alphaFilter(const RTCFilterFunctionNArguments* args) {
     const auto* cut = static_cast<const AlphaCutout*>(args->geometryUserPtr);
-    const TriangleMesh& m = *cut->shape->mesh;
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] == 0) continue;
         unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+        if (cut->triangles) prim = (*cut->triangles)[prim];
         float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
-        TextureContext tc;
-        tc.uv = {u, v};
-        if (!m.uvs.empty()) {
-            const Vec2& a = m.uvs[m.indices[3 * prim]];
-            const Vec2& b = m.uvs[m.indices[3 * prim + 1]];
-            const Vec2& c = m.uvs[m.indices[3 * prim + 2]];
-            float w = 1 - u - v;
-            tc.uv = {a.x * w + b.x * u + c.x * v, a.y * w + b.y * u + c.y * v};
-        }
-        float alpha = evalFloat(*cut->scene, cut->shape->alpha, tc);
-        if (alpha >= 1) continue;
-        bool keep = false;
-        if (alpha > 0) {
-            const float ray[6] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
-                                  RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
-                                  RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
-            std::uint64_t h = prim;
-            for (float f : ray) {
-                std::uint32_t bits;
-                std::memcpy(&bits, &f, sizeof bits);
-                h = kernels::hashCombine(h, bits);
-            }
-            keep = float(h >> 40) * 0x1p-24f < alpha;
-        }
-        if (!keep) args->valid[i] = 0;
+        const float ray[6] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                              RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
+                              RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
+        if (!alphaKeeps(*cut, prim, u, v, ray)) args->valid[i] = 0;
     }
 }
 
 } // namespace
 
-unsigned EmbreeScene::attachShape(RTCScene target, const Shape& shape) {
+bool alphaKeeps(const AlphaCutout& cut, unsigned prim, float u, float v, const float ray[6]) {
+    const TriangleMesh& m = *cut.shape->mesh;
+    TextureContext tc;
+    tc.uv = {u, v};
+    if (!m.uvs.empty()) {
+        const Vec2& a = m.uvs[m.indices[3 * prim]];
+        const Vec2& b = m.uvs[m.indices[3 * prim + 1]];
+        const Vec2& c = m.uvs[m.indices[3 * prim + 2]];
+        float w = 1 - u - v;
+        tc.uv = {a.x * w + b.x * u + c.x * v, a.y * w + b.y * u + c.y * v};
+    }
+    float alpha = evalFloat(*cut.scene, cut.shape->alpha, tc);
+    if (alpha >= 1) return true;
+    if (!(alpha > 0)) return false;
+    std::uint64_t h = prim;
+    for (int k = 0; k < 6; ++k) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &ray[k], sizeof bits);
+        h = kernels::hashCombine(h, bits);
+    }
+    return float(h >> 40) * 0x1p-24f < alpha;
+}
+
+void EmbreeScene::attachGeometry(RTCScene target, RTCGeometry geom, const GeomEntry& entry,
+                                 std::vector<GeomEntry>& geoms) {
+    rtcCommitGeometry(geom);
+    unsigned id = rtcAttachGeometry(target, geom);
+    rtcReleaseGeometry(geom);
+    RAYPROC_CHECK(id == geoms.size());
+    geoms.push_back(entry);
+}
+
+void EmbreeScene::attachShape(RTCScene target, const Shape& shape, std::vector<GeomEntry>& geoms) {
     RTCGeometry geom = nullptr;
     switch (shape.type) {
     case ShapeType::Mesh: {
         const TriangleMesh& m = *shape.mesh;
-        geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        // Copies (not shared buffers): Embree reads vertex buffers with 16-byte loads and
-        // needs padding past the last vertex that a std::vector<Vec3> does not guarantee.
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-            m.positions.size()));
-        std::memcpy(v, m.positions.data(), m.positions.size() * sizeof(Vec3));
-        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-            m.triangleCount()));
-        std::memcpy(idx, m.indices.data(), m.indices.size() * sizeof(unsigned));
-        if (shape.alpha.textured() || shape.alpha.value < 1.0f) {
-            m_alpha.push_back(std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape}));
-            rtcSetGeometryUserData(geom, m_alpha.back().get());
-            rtcSetGeometryIntersectFilterFunction(geom, alphaFilter);
-            rtcSetGeometryOccludedFilterFunction(geom, alphaFilter);
+        bool alpha = shape.alpha.textured() || shape.alpha.value < 1.0f;
+        // Huge triangles (accel/huge_triangles.h) are intersected in double precision by a
+        // user geometry; the mesh's other triangles stay Embree's, their primIDs mapped back.
+        auto hugeIt = m_huge.find(&shape);
+        const std::vector<unsigned>* embreePart = nullptr;
+        std::size_t embreeCount = m.triangleCount();
+        if (hugeIt != m_huge.end()) {
+            auto exact = std::make_unique<ExactTriangles>();
+            exact->mesh = &m;
+            exact->triangles = hugeIt->second;
+            auto rest = std::make_unique<std::vector<unsigned>>();
+            for (unsigned t = 0, k = 0; t < m.triangleCount(); ++t) {
+                if (k < exact->triangles.size() && exact->triangles[k] == t) ++k;
+                else rest->push_back(t);
+            }
+            embreeCount = rest->size();
+            embreePart = rest.get();
+            m_embreeParts.push_back(std::move(rest));
+            if (alpha) {
+                m_alpha.push_back(std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, nullptr}));
+                exact->alpha = m_alpha.back().get();
+            }
+            m_stats.exactTriangles += exact->triangles.size();
+            m_exact.push_back(std::move(exact));
         }
-        break;
+        if (embreeCount > 0) {
+            geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
+            // Copies (not shared buffers): Embree reads vertex buffers with 16-byte loads and
+            // needs padding past the last vertex that a std::vector<Vec3> does not guarantee.
+            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+                geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                m.positions.size()));
+            std::memcpy(v, m.positions.data(), m.positions.size() * sizeof(Vec3));
+            auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+                geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                embreeCount));
+            if (!embreePart) {
+                std::memcpy(idx, m.indices.data(), m.indices.size() * sizeof(unsigned));
+            } else {
+                for (std::size_t k = 0; k < embreeCount; ++k)
+                    std::memcpy(idx + 3 * k, &m.indices[3 * std::size_t((*embreePart)[k])],
+                                3 * sizeof(unsigned));
+            }
+            if (alpha) {
+                m_alpha.push_back(
+                    std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, embreePart}));
+                rtcSetGeometryUserData(geom, m_alpha.back().get());
+                rtcSetGeometryIntersectFilterFunction(geom, alphaFilter);
+                rtcSetGeometryOccludedFilterFunction(geom, alphaFilter);
+            }
+            attachGeometry(target, geom, {&shape, embreePart, false}, geoms);
+        }
+        if (hugeIt != m_huge.end()) {
+            const ExactTriangles& exact = *m_exact.back();
+            attachGeometry(target, newExactTriangleGeometry(m_device, exact),
+                           {&shape, &exact.triangles, true}, geoms);
+        }
+        return;
     }
     case ShapeType::Sphere: {
         geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
@@ -275,10 +328,7 @@ unsigned EmbreeScene::attachShape(RTCScene target, const Shape& shape) {
         break;
     }
     }
-    rtcCommitGeometry(geom);
-    unsigned id = rtcAttachGeometry(target, geom);
-    rtcReleaseGeometry(geom);
-    return id;
+    attachGeometry(target, geom, {&shape, nullptr, false}, geoms);
 }
 
 int EmbreeScene::prototypeFor(const Node& group) {
@@ -288,10 +338,7 @@ int EmbreeScene::prototypeFor(const Node& group) {
     p.scene = rtcNewScene(m_device);
     rtcSetSceneBuildQuality(p.scene, RTC_BUILD_QUALITY_MEDIUM);
     collectLeaves(group, p.leaves);
-    for (std::size_t i = 0; i < p.leaves.size(); ++i) {
-        unsigned id = attachShape(p.scene, *p.leaves[i]);
-        RAYPROC_CHECK(id == i);
-    }
+    for (const Shape* s : p.leaves) attachShape(p.scene, *s, p.geoms);
     int index = int(m_prototypes.size());
     m_prototypes.push_back(std::move(p));
     m_prototypeOf[&group] = index;
@@ -326,9 +373,7 @@ void EmbreeScene::place(const Node& group, const Affine& toWorld, bool isRoot) {
     if (!leaves.empty()) {
         if (isRoot && toWorld.isIdentity()) {
             for (const Shape* s : leaves) {
-                unsigned id = attachShape(m_top, *s);
-                RAYPROC_CHECK(id == m_topEntries.size());
-                m_topEntries.push_back({s, -1});
+                attachShape(m_top, *s, m_topEntries);
                 countPlaced(s, toWorld, -1);
             }
         } else {
@@ -338,11 +383,9 @@ void EmbreeScene::place(const Node& group, const Affine& toWorld, bool isRoot) {
             float m[12];
             toWorld.toColumnMajor(m);
             rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
-            rtcCommitGeometry(inst);
-            unsigned id = rtcAttachGeometry(m_top, inst);
-            rtcReleaseGeometry(inst);
-            RAYPROC_CHECK(id == m_topEntries.size());
-            m_topEntries.push_back({nullptr, int(m_instances.size())});
+            GeomEntry entry;
+            entry.instance = int(m_instances.size());
+            attachGeometry(m_top, inst, entry, m_topEntries);
             m_instances.push_back({proto, toWorld, toWorld.inverse()});
             for (const Shape* s : leaves) countPlaced(s, toWorld, int(m_instances.size()) - 1);
         }
@@ -357,31 +400,84 @@ void EmbreeScene::place(const Node& group, const Affine& toWorld, bool isRoot) {
     });
 }
 
+namespace {
+
+// A hit on a huge triangle that the user geometry found in double precision
+// (accel/exact_triangles.h): the same test again, in the same space (the ray mapped into the
+// instance's), gives the point as o + t d rounded once, and barycentrics in double for the
+// shading normal and the texture coordinates, which on a 1e9 triangle Embree's float (u, v)
+// would place tens of units off. The error bound is that rounding plus what the double test of
+// a ray leaving the point can miss the plane by (kernels::exactTriangleError), a few 1e-15 of
+// the triangle's size, not the float test's gamma_12 (|e1| + |e2|) of hundreds of units: the
+// spawned rays start next to the plane, so the contact shadows stay. False if the ray, as
+// mapped here, is parallel to the plane (the caller falls back to Embree's barycentrics).
+bool exactTriangleSurface(const TriangleMesh& m, unsigned i0, unsigned i1, unsigned i2,
+                          const Affine* toLocal, const Vec3& rayOrigin, const Vec3& rayDir,
+                          SurfaceHit& h, Vec3& pl, Vec3& errl, Vec3& ngl, Vec3& nsl, Vec3& dpdul) {
+    const Vec3 &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
+    Vec3 ol = toLocal ? toLocal->point(rayOrigin) : rayOrigin;
+    Vec3 dl = toLocal ? toLocal->vector(rayDir) : rayDir;
+    kernels::ExactTriangleHit x = kernels::intersectTriangleExact(ol, dl, p0, p1, p2);
+    if (!x.valid) return false;
+    Vec3 p{float(ol.x + x.t * dl.x), float(ol.y + x.t * dl.y), float(ol.z + x.t * dl.z)};
+    if (!isFinite(p)) return false;
+    pl = p;
+    errl = kernels::absVec(p) * kernels::errorGamma(1) +
+           Vec3(float(kernels::exactTriangleError(p, ol, p0, p1, p2)));
+    const double u = x.u, v = x.v, w = 1 - u - v;
+    const double ex = double(p1.x) - p0.x, ey = double(p1.y) - p0.y, ez = double(p1.z) - p0.z;
+    const double fx = double(p2.x) - p0.x, fy = double(p2.y) - p0.y, fz = double(p2.z) - p0.z;
+    ngl = {float(ey * fz - ez * fy), float(ez * fx - ex * fz), float(ex * fy - ey * fx)};
+    auto blend = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+        return Vec3{float(w * a.x + u * b.x + v * c.x), float(w * a.y + u * b.y + v * c.y),
+                    float(w * a.z + u * b.z + v * c.z)};
+    };
+    nsl = m.normals.empty() ? ngl : blend(m.normals[i0], m.normals[i1], m.normals[i2]);
+    dpdul = p1 - p0;
+    if (!m.uvs.empty()) {
+        const Vec2 &a = m.uvs[i0], &b = m.uvs[i1], &c = m.uvs[i2];
+        h.uv = {float(w * a.x + u * b.x + v * c.x), float(w * a.y + u * b.y + v * c.y)};
+        Vec2 d02{a.x - c.x, a.y - c.y}, d12{b.x - c.x, b.y - c.y};
+        float det = d02.x * d12.y - d02.y * d12.x;
+        if (std::abs(det) > 1e-9f) dpdul = ((p0 - p2) * d12.y - (p1 - p2) * d02.y) / det;
+    } else {
+        h.uv = {float(u), float(v)};
+    }
+    return true;
+}
+
+} // namespace
+
 SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primId, float u,
                                 float v, const Vec3& rayOrigin, const Vec3& rayDir,
                                 float t) const {
     SurfaceHit h;
     const Affine* toWorld = nullptr;
     const Affine* toLocal = nullptr;
+    const GeomEntry* g = nullptr;
     if (instId != RTC_INVALID_GEOMETRY_ID) {
-        const TopEntry& e = m_topEntries[instId];
+        const GeomEntry& e = m_topEntries[instId];
         const InstanceRecord& inst = m_instances[e.instance];
-        h.shape = m_prototypes[inst.prototype].leaves[geomId];
+        g = &m_prototypes[inst.prototype].geoms[geomId];
         h.instance = e.instance;
         toWorld = &inst.toWorld;
         toLocal = &inst.toLocal;
     } else {
-        h.shape = m_topEntries[geomId].leaf;
+        g = &m_topEntries[geomId];
     }
+    h.shape = g->leaf;
     const Shape& s = *h.shape;
     h.material = s.material;
     Vec3 pl, ngl, nsl, errl, dpdul;
     switch (s.type) {
     case ShapeType::Mesh: {
         const TriangleMesh& m = *s.mesh;
-        unsigned i0 = m.indices[3 * primId], i1 = m.indices[3 * primId + 1],
-                 i2 = m.indices[3 * primId + 2];
+        const unsigned tri = g->triangles ? (*g->triangles)[primId] : primId;
+        unsigned i0 = m.indices[3 * tri], i1 = m.indices[3 * tri + 1], i2 = m.indices[3 * tri + 2];
         const Vec3 &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
+        if (g->exact && exactTriangleSurface(m, i0, i1, i2, toLocal, rayOrigin, rayDir, h, pl,
+                                             errl, ngl, nsl, dpdul))
+            break;
         float w = 1.0f - u - v;
         // The point from barycentrics is more accurate than o + t d far from the origin, and
         // its error bound is known (kernels/ray_offset.h).

@@ -3,8 +3,12 @@
 // the root's own leaves plus one Embree instance per placement of a prototype scene. A group
 // with a non-identity transform, and every instanced group, becomes one prototype RTCScene,
 // committed once however often it is placed: geometry is never duplicated per instance.
+// Triangles too large for Embree's single-precision test (a 1e9 ground plane seen from near the
+// origin; accel/huge_triangles.h) are intersected in double precision by a user geometry
+// (accel/exact_triangles.h), beside the rest of their mesh.
 #pragma once
 
+#include "accel/huge_triangles.h"
 #include "core/math.h"
 #include "scene/scene.h"
 
@@ -16,6 +20,8 @@
 #include <vector>
 
 namespace rayproc {
+
+struct ExactTriangles;
 
 // One leaf as Embree sees it: the shape, in its prototype's space.
 struct LeafRecord {
@@ -55,7 +61,13 @@ struct SurfaceHit {
 struct AlphaCutout {
     const Scene* scene;
     const Shape* shape;
+    const std::vector<unsigned>* triangles = nullptr; // the mesh triangle of each primID; null: the same
 };
+
+// Whether a candidate hit at (u, v) of the mesh's triangle `triangle` survives the cut-out: kept
+// where alpha is 1, dropped where it is 0, in between kept with probability alpha, decided by a
+// hash of the triangle and the ray (origin, direction) so every packet width and thread agrees.
+bool alphaKeeps(const AlphaCutout& cut, unsigned triangle, float u, float v, const float ray[6]);
 
 struct AccelStats {
     std::size_t prototypes = 0;
@@ -63,6 +75,7 @@ struct AccelStats {
     std::size_t uniqueTriangles = 0;    // triangles stored once
     std::size_t placedTriangles = 0;    // triangles as seen in the world, counting instances
     std::size_t spheres = 0, disks = 0; // placed
+    std::size_t exactTriangles = 0;     // stored once, intersected in double (accel/huge_triangles.h)
     std::size_t leaves = 0;             // placed shape leaves
     std::size_t memoryBytes = 0;        // Embree's allocations (BVHs, buffers)
     double buildSeconds = 0;
@@ -87,20 +100,28 @@ public:
                        const Vec3& rayOrigin, const Vec3& rayDir, float t) const;
 
 private:
+    // One Embree geometry: a leaf, or one of the two parts of a mesh leaf with huge triangles
+    // (Embree's triangles, and the rest intersected in double precision), or in the top-level
+    // scene an instance.
+    struct GeomEntry {
+        const Shape* leaf = nullptr;
+        const std::vector<unsigned>* triangles = nullptr; // mesh triangle per primID; null: primID
+        bool exact = false;                               // accel/exact_triangles.h
+        int instance = -1;                                // top level: the InstanceRecord
+    };
     struct Prototype {
         RTCScene scene = nullptr;
-        std::vector<const Shape*> leaves; // by geomID
-    };
-    // Top-level geometry: a root leaf or an instance.
-    struct TopEntry {
-        const Shape* leaf = nullptr;
-        int instance = -1;
+        std::vector<const Shape*> leaves;
+        std::vector<GeomEntry> geoms; // by geomID
     };
 
     void place(const Node& group, const Affine& toWorld, bool isRoot);
     int prototypeFor(const Node& group);
     void collectLeaves(const Node& group, std::vector<const Shape*>& out) const;
-    unsigned attachShape(RTCScene target, const Shape& shape);
+    // Attaches the shape's geometries to `target`, their entries to `geoms` (by geomID).
+    void attachShape(RTCScene target, const Shape& shape, std::vector<GeomEntry>& geoms);
+    void attachGeometry(RTCScene target, RTCGeometry geom, const GeomEntry& entry,
+                        std::vector<GeomEntry>& geoms);
 
     const Scene& m_scene;
     RTCDevice m_device = nullptr;
@@ -108,9 +129,12 @@ private:
     std::vector<Prototype> m_prototypes;
     std::unordered_map<const Node*, int> m_prototypeOf;
     std::vector<InstanceRecord> m_instances;
-    std::vector<TopEntry> m_topEntries;
+    std::vector<GeomEntry> m_topEntries; // by geomID of the top-level scene
     std::vector<EmitterRecord> m_emitters;
     std::vector<std::unique_ptr<AlphaCutout>> m_alpha; // filter data of alpha-tested meshes
+    HugeTriangles m_huge;                                // accel/huge_triangles.h
+    std::vector<std::unique_ptr<ExactTriangles>> m_exact; // their user geometries' data
+    std::vector<std::unique_ptr<std::vector<unsigned>>> m_embreeParts; // the rest of those meshes
     AccelStats m_stats;
 };
 

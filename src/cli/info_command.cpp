@@ -89,6 +89,7 @@ nlohmann::ordered_json describe(const Scene& scene, const EmbreeScene& accel) {
                   {"shapes", nodes.shapes}, {"prototypes", scene.prototypes.size()}};
     j["geometry"] = {{"triangles_unique", a.uniqueTriangles},
                      {"triangles_placed", a.placedTriangles},
+                     {"triangles_exact", a.exactTriangles},
                      {"spheres", a.spheres},
                      {"disks", a.disks},
                      {"leaves_placed", a.leaves}};
@@ -116,8 +117,12 @@ void printText(const nlohmann::ordered_json& j) {
     std::printf("nodes        %zu groups, %zu instances, %zu shapes, %zu prototypes\n",
                 n["groups"].get<std::size_t>(), n["instances"].get<std::size_t>(),
                 n["shapes"].get<std::size_t>(), n["prototypes"].get<std::size_t>());
-    std::printf("triangles    %zu unique, %zu placed\n", g["triangles_unique"].get<std::size_t>(),
+    std::printf("triangles    %zu unique, %zu placed", g["triangles_unique"].get<std::size_t>(),
                 g["triangles_placed"].get<std::size_t>());
+    if (g["triangles_exact"].get<std::size_t>() > 0)
+        std::printf(", %zu huge ones intersected in double precision",
+                    g["triangles_exact"].get<std::size_t>());
+    std::printf("\n");
     std::printf("spheres      %zu\ndisks        %zu\n", g["spheres"].get<std::size_t>(),
                 g["disks"].get<std::size_t>());
     std::printf("lights       %zu area, %zu point, %zu spot, %zu directional, %zu environment",
