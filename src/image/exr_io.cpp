@@ -125,6 +125,21 @@ void checkExrHeader(const std::string& path) {
                                          std::to_string(size) +
                                          " bytes, but the file has " +
                                          std::to_string(bytes.size() - pos) + " left");
+            // The C++ library reads a channel list up to its terminating NUL, not by its size:
+            // the two must agree, or the library reads the attributes after it from other
+            // offsets (a 1.1 GB opaque attribute, found by the fuzzer).
+            if (type == "chlist") {
+                std::size_t end = pos + size, p = pos;
+                while (p < end && bytes[p] != '\0') {
+                    std::size_t nameEnd = bytes.find('\0', p);
+                    if (nameEnd == std::string::npos || nameEnd >= end) break;
+                    p = nameEnd + 1 + 16; // pixel type, pLinear, reserved, x and y sampling
+                }
+                if (size == 0 || p != end - 1)
+                    throwReadError(path, "corrupt EXR header: the channel list's entries do not "
+                                         "end where its size (" + std::to_string(size) +
+                                         " bytes) says");
+            }
             pos += size;
         }
         if (!multipart) break;

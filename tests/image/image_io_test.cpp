@@ -451,6 +451,8 @@ TEST_CASE("Headers that claim more than their file holds are refused before allo
                       Catch::Matchers::Contains("claims 1212747008 bytes"));
     CHECK_THROWS_WITH(readImage(corrupt + "channel-list-then-1.9gb-attribute.exr"),
                       Catch::Matchers::Contains("corrupt EXR header: Invalid pixel type"));
+    CHECK_THROWS_WITH(readImage(corrupt + "channel-list-size-disagrees.exr"),
+                      Catch::Matchers::Contains("the channel list's entries do not end"));
     CHECK_THROWS_WITH(readImage(corrupt + "idat-claims-1.2gb.png"),
                       Catch::Matchers::Contains("the IDAT chunk claims 1229539657 bytes"));
 
