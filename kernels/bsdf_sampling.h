@@ -127,6 +127,37 @@ inline BsdfSample sampleBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& ng
     return s;
 }
 
+// The non-delta lobe that raytrace's and gi's reflection stage samples after light sampling
+// (multiple importance sampling of those two strategies): f * |cos| of that lobe alone and the
+// pdf with which the stage's sampler picks wi. A coated surface's rough coat (the stage samples
+// it alone, kernels::sampleCoatReflection; its base is lit by light samples only); a rough
+// conductor's or rough dielectric's whole BSDF and rayproc's glossy lobe (sampleBsdf). Zero
+// with pdf 0 for every other kind: no sampled ray of theirs collects emission.
+inline Vec3 sampledLobeEvalCos(const BsdfParams& b, const Vec3& wo, const Vec3& wi, const Vec3& ng,
+                               const Vec3& ns, float& pdf) {
+    pdf = 0;
+    switch (b.kind) {
+    case BsdfKind::CoatedDiffuse: {
+        Vec3 fg, fs;
+        facingSide(wo, ng, ns, fg, fs);
+        if (dot(wi, fg) <= 0) return Vec3(0.0f);
+        CoatedAnalytic c = coatedAnalyticOf(b);
+        if (c.smooth()) return Vec3(0.0f);
+        ShadingFrame frame(fs, b.tangent);
+        Vec3 lo = frame.toLocal(wo), li = frame.toLocal(wi);
+        if (lo.z <= 0 || li.z <= 0) return Vec3(0.0f);
+        pdf = c.specularPdf(lo, li);
+        return Vec3(c.specular(lo, li) * li.z);
+    }
+    case BsdfKind::Conductor:
+    case BsdfKind::Dielectric:
+        if (!roughAlphas(b)) return Vec3(0.0f);
+        return evalBsdf(b, wo, wi, ng, ns, pdf);
+    case BsdfKind::Glossy: return evalBsdf(b, wo, wi, ng, ns, pdf);
+    default: return Vec3(0.0f);
+    }
+}
+
 // True when every lobe is a delta (evalBsdf is zero everywhere; light sampling cannot help).
 inline bool isDeltaBsdf(const BsdfParams& b) {
     switch (b.kind) {

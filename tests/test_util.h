@@ -101,6 +101,7 @@ struct RenderOptions {
     int packetWidth = 16;
     std::uint64_t seed = 1;
     int maxDepth = 0; // 0: the mode's default
+    bool glossyMis = true; // raytrace: EngineSettings::glossyMis
 };
 
 // Renders quietly through the library, as `rayproc render` does (without the file output).
@@ -111,6 +112,7 @@ inline RenderResult render(const Scene& scene, const EmbreeScene& accel, const R
     engine.packetWidth = o.packetWidth;
     engine.seed = o.seed;
     engine.quiet = true;
+    engine.glossyMis = o.glossyMis;
     ModeOverrides overrides{o.spp, o.maxDepth, o.lightSamples};
     if (o.mode == "preview")
         return renderPreview(scene, accel, previewSettings(scene.render, overrides), engine);

@@ -25,6 +25,8 @@ const std::vector<AblationSwitch>& ablationSwitches() {
         {"caustic map", "gi", "--no-caustics", [](RenderConfig& c) { c.gi.caustics = false; }},
         {"progressive caustics", "gi", "--no-progressive-caustics",
          [](RenderConfig& c) { c.gi.progressiveCaustics = false; }},
+        {"glossy MIS", "gi", "--no-glossy-mis",
+         [](RenderConfig& c) { c.engine.glossyMis = false; }},
         {"Russian roulette", "path", "--no-russian-roulette",
          [](RenderConfig& c) { c.path.roulette = false; }},
         {"Russian roulette", "gi", "--no-russian-roulette",

@@ -46,6 +46,7 @@ std::string RenderConfig::settingsString() const {
         (mode == "gi" && !gi.roulette))
         o << " no-russian-roulette";
     if (!engine.stratification) o << " no-stratification";
+    if (!engine.glossyMis && (mode == "gi" || mode == "raytrace")) o << " no-glossy-mis";
     if (engine.packetWidth != 16) o << " packets=" << engine.packetWidth;
     if (engine.seed != 1) o << " seed=" << engine.seed;
     return o.str();

@@ -62,6 +62,7 @@ struct RenderArgs {
     std::string debugView = "none";
     // profiling switches
     bool noSceneAnalysis = false, noStratification = false, noRoulette = false;
+    bool noGlossyMis = false;
 };
 
 std::string joinModes() {
@@ -131,6 +132,7 @@ int runRender(const RenderArgs& a) {
     engine.cluster = &cluster;
     engine.sceneAnalysis = !a.noSceneAnalysis;
     engine.stratification = !a.noStratification;
+    engine.glossyMis = !a.noGlossyMis;
     engine.timeLimitSeconds = a.timeLimit;
     engine.targetRelMse = a.targetRelMse;
     ToneMapSettings tm;
@@ -398,6 +400,11 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_flag("--no-stratification", args->noStratification,
                   "Independent random samples instead of stratified ones: camera sub-pixel "
                   "positions, light samples, path mode's first-hit samples, final-gather rays");
+    cmd->add_flag("--no-glossy-mis", args->noGlossyMis,
+                  "raytrace, gi: light glossy surfaces (rough metals and glass, rough coats) by "
+                  "light samples alone instead of combining them with the sampled reflection "
+                  "ray by multiple importance sampling (much noisier highlights of small or "
+                  "near-mirror lobes)");
     cmd->add_flag("--no-russian-roulette", args->noRoulette,
                   "raytrace, path, gi: paths (and gi's photons) end only at the maximum depth "
                   "or at zero throughput");

@@ -10,9 +10,12 @@ struct HitList {
     int count = 0;
     std::array<int, kBatchSize> lane;
     std::array<SurfaceHit, kBatchSize> hit;
-    void add(int i, const SurfaceHit& h) {
+    // Whether the shadow stage light-samples this hit too (the reflection stage's MIS).
+    std::array<bool, kBatchSize> lightSampled;
+    void add(int i, const SurfaceHit& h, bool sampled = false) {
         lane[count] = i;
         hit[count] = h;
+        lightSampled[count] = sampled;
         ++count;
     }
 };

@@ -31,6 +31,11 @@ enum RayFlags : std::uint8_t {
     kFlagCountEmission = 1,    // add emission where this ray lands (camera and specular chains)
     kFlagCountEnvironment = 2, // add the sky's radiance if this ray escapes
     kFlagGatherRecord = 4,     // gi prepass: a gather ray of an irradiance-cache record
+    // raytrace, gi: a ray sampled from a glossy lobe whose light the shadow stage also sampled:
+    // emission (and with the second flag the sky) it lands on counts with the MIS weight of
+    // its prevPdf against the light samples' (prevPdf 0: no light sample covered it, weight 1).
+    kFlagMisEmission = 8,
+    kFlagMisEnvironment = 16,
 };
 
 struct RayBatch {

@@ -22,6 +22,23 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         Vec3 w = laneThroughput(b, i);
         Vec3 wi;
         std::uint8_t flags = b.flags[i];
+        // A glossy (non-delta) sample: emitters are light sampled, so the ray takes their
+        // emission and a diffuse-class surface's sky only by its MIS weight
+        // (engine/glossy_mis.h); where no light sample covered them (the shadow stage did not
+        // run here) wholly (pdf 0). Without MIS it sees neither, except the sky of a lobe the
+        // shadow stage's sky samples leave out (glossy classes).
+        float misPdf = 0;
+        auto glossyFlags = [&](float pdf, bool coat) {
+            const bool lit = hits.lightSampled[k];
+            flags = std::uint8_t((flags & ~kFlagCountEmission) | kFlagCountEnvironment);
+            if (m_rc.policy.glossyMis || !lit) {
+                flags |= kFlagMisEmission;
+                if (coat) flags |= kFlagMisEnvironment;
+                misPdf = lit ? pdf : 0.0f;
+            } else if (coat) {
+                flags = std::uint8_t(flags & ~kFlagCountEnvironment);
+            }
+        };
         if (mat.type == MaterialType::Mirror) {
             wi = kernels::reflect(wo, ns);
             if (dot(wi, ng) <= 0) wi = kernels::reflect(wo, ng);
@@ -47,7 +64,7 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             if (!s.delta) {
                 if (!s.coat && materialClass(m_rc.scene.materials, h.material) != MaterialClass::Glossy)
                     continue;
-                flags = std::uint8_t((flags & ~kFlagCountEmission) | kFlagCountEnvironment);
+                glossyFlags(s.pdf, s.coat);
             }
             wi = s.wi;
             w = w * s.weight;
@@ -57,8 +74,10 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
                 if (!m_rc.policy.refractionStage) continue;
                 if (!continuePath(m_rc.policy, depth, b.rngKey[i], 0, w)) continue;
                 Vec3 o = offsetRayOrigin(h, -ng, wi);
-                spawnRay(ctx.out(RayKind::Refraction), b, i, o, wi, w, std::uint8_t(depth),
+                RayBatch& out = ctx.out(RayKind::Refraction);
+                spawnRay(out, b, i, o, wi, w, std::uint8_t(depth),
                          std::uint8_t(b.specularDepth[i] + 1), flags, 0);
+                out.prevPdf[out.count - 1] = misPdf;
                 ++spawned;
                 continue;
             }
@@ -71,16 +90,18 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             float pdf = kernels::glossyPdf(wo, wi, ns, alpha);
             if (pdf <= 0 || dot(wi, ng) <= 0) continue;
             w = w * kernels::glossyEvalCos(wo, wi, ns, mat.color, alpha) / pdf;
-            // Emitters are sampled by the shadow stage; the sky is not (see there), so the
-            // glossy ray is what sees it.
-            flags = std::uint8_t((flags & ~kFlagCountEmission) | kFlagCountEnvironment);
+            // The shadow stage does not sample the sky for it (see there): the ray sees it.
+            glossyFlags(pdf, false);
         }
         int depth = b.depth[i] + 1;
         if (b.specularDepth[i] + 1 > m_rc.policy.maxDepth) continue;
         if (!continuePath(m_rc.policy, depth, b.rngKey[i], 0, w)) continue;
         Vec3 o = offsetRayOrigin(h, ng, wi);
-        spawnRay(ctx.out(RayKind::Reflection), b, i, o, wi, w, std::uint8_t(depth),
-                 std::uint8_t(b.specularDepth[i] + 1), flags, 0);
+        RayBatch& out = ctx.out(RayKind::Reflection);
+        spawnRay(out, b, i, o, wi, w, std::uint8_t(depth), std::uint8_t(b.specularDepth[i] + 1),
+                 flags, 0);
+        out.prevPdf[out.count - 1] = misPdf;
+        out.prevCos[out.count - 1] = dot(wi, ns);
         ++spawned;
     }
     stats.stages[int(StageId::Reflection)].raysOut += spawned;

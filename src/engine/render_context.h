@@ -40,6 +40,10 @@ struct ShadingPolicy {
     bool stratify = true;
     // Stages the scene analysis found unneeded (modes/render_plan.h): never given work.
     bool reflectionStage = true, refractionStage = true, shadowStage = true;
+    // raytrace, gi: a glossy lobe's light comes from both light samples and its sampled
+    // reflection ray, combined by the power heuristic (engine/glossy_mis.h); off
+    // (--no-glossy-mis): light samples only, the reflection ray ignores emitters.
+    bool glossyMis = false;
 };
 
 struct RenderContext {

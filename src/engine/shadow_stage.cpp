@@ -1,8 +1,10 @@
 #include "engine/shadow_stage.h"
 
+#include "engine/glossy_mis.h"
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
 #include "kernels/bsdf.h"
+#include "kernels/bsdf_sampling.h"
 #include "kernels/sampling.h"
 
 namespace rayproc {
@@ -51,6 +53,17 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         const bool transmits = kernels::hasTransmission(bsdf);
         // A light sample through a transmitting surface leaves from its other side.
         auto side = [&](const Vec3& wi) { return dot(wi, ng) > 0 ? ng : -ng; };
+        // The reflection stage samples this hit's glossy lobe too (within the depth limit):
+        // light samples take their MIS share of it (engine/glossy_mis.h).
+        const bool mis = policy.glossyMis && b.depth[i] + 1 <= policy.maxDepth &&
+                         b.specularDepth[i] + 1 <= policy.maxDepth;
+        auto shaded = [&](const Vec3& wi, float lightPdf) {
+            Vec3 f = evalCos(mat, bsdf, h, wo, wi, ns);
+            if (!mis || isBlack(f)) return f;
+            float lobePdf;
+            Vec3 lobe = kernels::sampledLobeEvalCos(bsdf, wo, wi, h.ng, h.ns, lobePdf);
+            return lightSampleEvalCos(f, lobe, lobePdf, lightPdf);
+        };
 
         for (const LightSource& light : lights.lights) {
             // A delta light takes one sample and no random numbers.
@@ -62,7 +75,8 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                                        : kernels::stratified2D(std::uint32_t(s), strata, lightKey);
                 LightSample ls = light.sample(h.p, u);
                 if (!ls.valid || (dot(ls.wi, ng) <= 0 && !transmits)) continue;
-                Vec3 c = w * evalCos(mat, bsdf, h, wo, ls.wi, ns) * ls.weight / float(n);
+                float lightPdf = light.delta() ? kInfinity : float(n) * ls.pdf;
+                Vec3 c = w * shaded(ls.wi, lightPdf) * ls.weight / float(n);
                 if (isBlack(c)) continue;
                 emitShadow(i, h, side(ls.wi), ls.wi, &ls, c);
             }
@@ -86,7 +100,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                 EnvironmentSample es = lights.environment.sample(u, ns);
                 Vec3 wi = es.wi;
                 if (!es.valid || dot(wi, ng) <= 0) continue;
-                Vec3 c = w * evalCos(mat, bsdf, h, wo, wi, ns) * es.weight / float(n);
+                Vec3 c = w * shaded(wi, float(n) * es.pdf) * es.weight / float(n);
                 if (isBlack(c)) continue;
                 emitShadow(i, h, ng, wi, nullptr, c);
             }

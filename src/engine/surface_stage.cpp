@@ -1,6 +1,7 @@
 #include "engine/surface_stage.h"
 
 #include "core/error.h"
+#include "engine/glossy_mis.h"
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
 #include "gi/gather_stage.h"
@@ -21,8 +22,14 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             Vec3 w = laneThroughput(b, i);
             bool countEmission = (b.flags[i] & kFlagCountEmission) != 0;
             if (!b.hit(i)) {
-                if (addDirect && (b.flags[i] & kFlagCountEnvironment) && m_rc.lights.hasEnvironment())
-                    m_rc.film.add(b.pixel[i], w * m_rc.lights.environment.radiance(laneDirection(b, i)), stats);
+                if (addDirect && (b.flags[i] & kFlagCountEnvironment) && m_rc.lights.hasEnvironment()) {
+                    Vec3 d = laneDirection(b, i);
+                    float mis = (b.flags[i] & kFlagMisEnvironment)
+                                    ? reflectionEnvironmentWeight(m_rc.policy, m_rc.lights.environment,
+                                                                  d, b.prevCos[i], b.prevPdf[i])
+                                    : 1.0f;
+                    m_rc.film.add(b.pixel[i], w * m_rc.lights.environment.radiance(d) * mis, stats);
+                }
                 continue;
             }
             Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
@@ -38,6 +45,18 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             if (countEmission && addDirect) {
                 Vec3 le = emittedRadiance(*h.shape, h.ng, -d);
                 if (!isBlack(le)) m_rc.film.add(b.pixel[i], w * le, stats);
+            } else if ((b.flags[i] & kFlagMisEmission) && addDirect) {
+                // A glossy lobe's sampled ray: its share of the light samples' emission.
+                // An emitter outside the sampled light set: no light sample covered it.
+                Vec3 le = emittedRadiance(*h.shape, h.ng, -d);
+                if (!isBlack(le)) {
+                    int li = m_rc.lights.indexOf(h.shape, h.instance);
+                    float mis = li < 0 ? 1.0f
+                                       : reflectionEmissionWeight(m_rc.policy,
+                                                                  m_rc.lights.lights[std::size_t(li)],
+                                                                  o, h.p, h.ng, b.prevPdf[i]);
+                    m_rc.film.add(b.pixel[i], w * le * mis, stats);
+                }
             }
             h.material = resolveMix(m_rc.scene, h.material, h, -d);
             const MaterialType type = materials[h.material].type;
@@ -51,12 +70,13 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
                 if (gi) indirect.add(i, h);
                 // The coat's reflection of the scene, mirror or rough, traced by the
                 // reflection stage (kernels::sampleCoatReflection).
-                if (type == MaterialType::CoatedDiffuse && !prepass) reflect.add(i, h);
+                if (type == MaterialType::CoatedDiffuse && !prepass)
+                    reflect.add(i, h, addDirect && (!gi || countEmission));
                 break;
             case MaterialType::Glossy:
                 if (prepass) break;
                 if (addDirect) direct.add(i, h);
-                reflect.add(i, h);
+                reflect.add(i, h, addDirect);
                 break;
             case MaterialType::Dielectric:
                 if (cls == MaterialClass::Specular) {
@@ -69,7 +89,7 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
                     if (prepass) break;
                     if (addDirect) direct.add(i, h);
                 }
-                reflect.add(i, h);
+                reflect.add(i, h, cls == MaterialClass::Glossy && addDirect);
                 break;
             case MaterialType::Mirror:
             case MaterialType::ThinDielectric: reflect.add(i, h); break;

@@ -410,6 +410,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     policy.directLight = s.debugView == GiDebugView::None || s.debugView == GiDebugView::IcRecords;
     policy.rouletteEnabled = s.roulette;
     policy.stratify = engine.stratification;
+    policy.glossyMis = engine.glossyMis;
     plan.apply(policy);
     // Without diffuse surfaces the gather stage would never get work: not registered.
     std::function<void(int)> beforePass;

@@ -33,6 +33,7 @@ RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
     policy.rrThreshold = s.rrThreshold;
     policy.rouletteEnabled = s.roulette;
     policy.stratify = engine.stratification;
+    policy.glossyMis = engine.glossyMis;
     plan.apply(policy);
     return runRenderJob("raytrace", scene, accel, lights, policy, s.spp, engine);
 }

@@ -33,7 +33,8 @@ std::string EngineSettings::toString() const {
     o << "threads=" << (threads > 0 ? std::to_string(threads) : std::string("all"))
       << " packet_width=" << packetWidth << " seed=" << seed
       << " scene_analysis=" << (sceneAnalysis ? "on" : "off")
-      << " stratification=" << (stratification ? "on" : "off");
+      << " stratification=" << (stratification ? "on" : "off")
+      << " glossy_mis=" << (glossyMis ? "on" : "off");
     return o.str();
 }
 

@@ -34,6 +34,9 @@ struct EngineSettings {
     // need; stratification of camera, light and gather samples.
     bool sceneAnalysis = true;
     bool stratification = true;
+    // raytrace, gi: MIS of light samples and the sampled reflection of glossy lobes
+    // (ShadingPolicy::glossyMis).
+    bool glossyMis = true;
     // Called with the image so far after each pass when set (progressive output); the job
     // calls it at most once per `progressiveSeconds`.
     std::function<void(const Image&)> onProgress;

@@ -1,0 +1,59 @@
+// Multiple importance sampling of a glossy lobe in raytrace and gi (ShadingPolicy::glossyMis).
+//
+// Those modes light a surface by light samples (the shadow stage: every light, `lightSamples`
+// each) and continue a glossy lobe by one sampled reflection ray (the reflection stage: a rough
+// coat's reflection alone, or the whole BSDF of a rough metal or glass and of rayproc's glossy
+// material). A near-mirror lobe's highlight of a small light is found almost only by the
+// reflection ray, a wide lobe's almost only by light samples; each strategy alone is unbiased
+// but one of them is very noisy. Weighting both by Veach's power heuristic, with the light
+// strategy's density n * p_light (n samples of every light), keeps each where it is good:
+//   light sample:    f_rest + w_l f_lobe,  w_l = (n p_l)^2 / ((n p_l)^2 + p_b^2)
+//   reflection ray:  L_e * w_b,            w_b = p_b^2 / (p_b^2 + (n p_l)^2)
+// f_lobe is the part of f the reflection stage samples (kernels::sampledLobeEvalCos), f_rest
+// the rest (a coated surface's base). The sky counts likewise where the shadow stage samples
+// it (diffuse-class surfaces: a rough coat's reflection ray); elsewhere a glossy reflection
+// ray is the only one to see it and takes it whole.
+#pragma once
+
+#include "engine/render_context.h"
+#include "kernels/mis.h"
+#include "lighting/light_set.h"
+
+#include <algorithm>
+
+namespace rayproc {
+
+// The shadow stage's samples of one light (a delta light takes one).
+inline int lightSampleCount(const ShadingPolicy& policy, const LightSource& light) {
+    return light.delta() ? 1 : policy.lightSamples;
+}
+
+// Weight of the emission a glossy reflection ray finds on `light` at q (normal nq), the ray
+// sampled at p with solid-angle pdf bsdfPdf; bsdfPdf 0: no light sample covered that path.
+inline float reflectionEmissionWeight(const ShadingPolicy& policy, const LightSource& light,
+                                      const Vec3& p, const Vec3& q, const Vec3& nq, float bsdfPdf) {
+    if (!(bsdfPdf > 0)) return 1.0f;
+    float pl = float(lightSampleCount(policy, light)) * light.pdf(p, q, nq);
+    return kernels::powerHeuristic(bsdfPdf, pl);
+}
+
+// Weight of the sky a glossy reflection ray escapes to in direction d; cosOrigin is the cosine
+// of d with the facing shading normal it left (a constant sky is sampled cosine-weighted).
+inline float reflectionEnvironmentWeight(const ShadingPolicy& policy, const EnvironmentLight& env,
+                                         const Vec3& d, float cosOrigin, float bsdfPdf) {
+    if (!(bsdfPdf > 0)) return 1.0f;
+    float pe = env.cosineSampled() ? std::max(0.0f, cosOrigin) * kInvPi : env.pdf(d, Vec3(0.0f));
+    return kernels::powerHeuristic(bsdfPdf, float(policy.lightSamples) * pe);
+}
+
+// f |cos| of a light sample with the sampled lobe's share MIS-weighted: f - (1 - w_l) f_lobe,
+// lightPdf the sample's solid-angle pdf times the strategy's sample count (each channel kept
+// non-negative against rounding and the stochastic estimates of random-walk coats).
+inline Vec3 lightSampleEvalCos(const Vec3& f, const Vec3& fLobe, float lobePdf, float lightPdf) {
+    if (!(lobePdf > 0)) return f;
+    float keep = 1.0f - kernels::powerHeuristic(lightPdf, lobePdf);
+    Vec3 r = f - fLobe * keep;
+    return Vec3(std::max(r.x, 0.0f), std::max(r.y, 0.0f), std::max(r.z, 0.0f));
+}
+
+} // namespace rayproc
