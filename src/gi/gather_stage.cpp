@@ -5,6 +5,7 @@
 #include "gi/gi_context.h"
 #include "gi/irradiance_cache.h"
 #include "gi/photon_map.h"
+#include "kernels/bsdf_sampling.h"
 #include "kernels/pbrt_bsdfs.h"
 #include "kernels/sampling.h"
 
@@ -13,12 +14,30 @@
 
 namespace rayproc {
 
+namespace {
+// A gather ray's flag (the camera's "count emission" bit, which gather rays do not otherwise
+// carry): its chain has met a glossy surface, so light it then reaches (an emitter, the sky)
+// is in neither the caustic map nor the gather origin's light samples and is added.
+constexpr std::uint8_t kFlagPastGlossy = kFlagCountEmission;
+} // namespace
+
 Vec3 GatherStage::globalIrradiance(const Vec3& p, const Vec3& n) const {
     const GiData& gi = *m_rc.gi;
     if (!gi.global || gi.global->size() == 0) return Vec3(0.0f);
     if (gi.settings.precomputedIrradiance && gi.global->hasPrecomputedIrradiance())
         return gi.global->irradianceFast(p, n, gi.settings.globalK, gi.globalRadius);
     return gi.global->irradiance(p, n, gi.settings.globalK, gi.globalRadius);
+}
+
+Vec3 GatherStage::glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceHit& h,
+                                 const Vec3& wo, const Vec3& n) const {
+    const GiData& gi = *m_rc.gi;
+    if (!gi.global || gi.global->size() == 0) return Vec3(0.0f);
+    return gi.global->radiance(h.p, n, gi.settings.globalK, gi.globalRadius, [&](const Vec3& wi) {
+        float pdf, c = std::abs(dot(wi, n));
+        Vec3 f = kernels::evalBsdf(bsdf, wo, wi, h.ng, h.ns, pdf);
+        return c > 1e-4f ? f / c : Vec3(0.0f);
+    });
 }
 
 Vec3 GatherStage::causticIrradiance(const Vec3& p, const Vec3& n) const {
@@ -155,46 +174,66 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
     const int maxSpecular = std::max(0, gi.settings.maxDepth);
     std::uint64_t spawned = 0;
     for (int i = 0; i < b.count; ++i) {
-        Vec3 radiance(0.0f);
+        Vec3 radiance(0.0f); // reaching the ray's origin from this hit, before the throughput
         float distance = kInfinity;
         bool done = true;
+        const bool pastGlossy = (b.flags[i] & kFlagPastGlossy) != 0;
         if (b.hit(i)) {
             Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
             SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
             // From the hit point, not Embree's t: t of a sphere differs by an ulp between
             // packet widths, and the cache's record radii must not (determinism).
             distance = length(h.p - o);
+            if (pastGlossy) radiance += emittedRadiance(*h.shape, h.ng, -d);
             h.material = resolveMix(m_rc.scene, h.material, h, -d);
             // Emitters are light sampled at the gather's origin, and light reaching it through
-            // specular surfaces straight from an emitter is the caustic map's: neither is
-            // added here. At a diffuse (or glossy, taken as diffuse) surface the global map
-            // gives the reflected radiance; a mirror or glass surface continues the ray
-            // specularly (one Fresnel-chosen branch, as path mode does) until it reaches one,
-            // so light along L ... D S+ D paths is not lost.
-            if (materialClass(m_rc.scene.materials, h.material) != MaterialClass::Specular) {
-                Vec3 ng, ns;
-                facingNormals(h, -d, ng, ns);
+            // specular surfaces (a coat's reflection included) straight from an emitter is the
+            // caustic map's: neither is added here. At a diffuse surface the global map gives
+            // the diffuse reflected radiance (a coated one's base); at an opaque glossy one its
+            // radiance estimate with the BSDF (Jensen's; a glossy lobe taken as Lambertian
+            // misplaces the light, and traced on it made the irradiance cache's records noisy:
+            // a record's few rays that find a light through the lobe). A coat's own reflection,
+            // a mirror, glass and rough glass continue the ray by one sample of the lobe (as
+            // path mode does), so light along L ... D S+ D paths is not lost.
+            const MaterialClass cls = materialClass(m_rc.scene.materials, h.material);
+            const bool coated = m_rc.scene.materials[h.material].type == MaterialType::CoatedDiffuse;
+            kernels::BsdfParams bsdf =
+                bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], 43));
+            const bool transmits = kernels::hasTransmission(bsdf);
+            Vec3 ng, ns;
+            facingNormals(h, -d, ng, ns);
+            if (cls == MaterialClass::Diffuse) {
                 ++stats.globalLookups;
-                radiance = kernels::lambertianAlbedo(bsdfAt(m_rc.scene, h.material, h, 0), -d,
-                                                     h.ng, h.ns) * kInvPi *
-                           globalIrradiance(h.p, ns);
-            } else if (b.specularDepth[i] < maxSpecular) {
-                kernels::BsdfParams bsdf =
-                    bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], 43));
+                radiance += kernels::lambertianAlbedo(bsdf, -d, h.ng, h.ns) * kInvPi *
+                            globalIrradiance(h.p, ns);
+            } else if (cls == MaterialClass::Glossy && !transmits) {
+                ++stats.globalLookups;
+                radiance += glossyRadiance(bsdf, h, -d, ns);
+            }
+            const bool continues = cls == MaterialClass::Specular || coated ||
+                                   (cls == MaterialClass::Glossy && transmits);
+            if (continues && b.specularDepth[i] < maxSpecular) {
                 Vec2 u{kernels::uniform(b.rngKey[i], 40), kernels::uniform(b.rngKey[i], 41)};
                 kernels::BsdfSample smp =
-                    kernels::sampleBsdf(bsdf, -d, h.ng, h.ns, u, kernels::uniform(b.rngKey[i], 42));
+                    coated ? kernels::sampleCoatReflection(bsdf, -d, h.ng, h.ns, u)
+                           : kernels::sampleBsdf(bsdf, -d, h.ng, h.ns, u,
+                                                 kernels::uniform(b.rngKey[i], 42));
                 Vec3 next = laneThroughput(b, i) * smp.weight;
                 if (smp.valid && !isBlack(next) && isFinite(next)) {
                     Vec3 no = offsetRayOrigin(h, h.ng, smp.wi);
+                    std::uint8_t flags = b.flags[i];
+                    if (cls == MaterialClass::Glossy) flags |= kFlagPastGlossy;
                     spawnRay(ctx.out(RayKind::Gather), b, i, no, smp.wi, next, b.depth[i],
-                             std::uint8_t(b.specularDepth[i] + 1), b.flags[i], 7);
+                             std::uint8_t(b.specularDepth[i] + 1), flags, 7);
                     ++spawned;
                     done = false;
                 }
             }
+        } else if (pastGlossy && m_rc.lights.hasEnvironment()) {
+            radiance = m_rc.lights.environment.radiance(laneDirection(b, i));
         }
         bool firstSegment = b.specularDepth[i] == 0;
+        const Vec3 l = laneThroughput(b, i) * radiance;
         if (b.flags[i] & kFlagGatherRecord) {
             IcRequest& rq = *gi.requests->slots[b.pixel[i]];
             std::uint32_t stratum = b.sample[i];
@@ -205,16 +244,16 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
                                                  std::memory_order_relaxed);
                 if (stratum < rq.strataDistance.size()) rq.strataDistance[stratum] = distance;
             }
-            if (done) {
-                Vec3 l = laneThroughput(b, i) * radiance;
+            // A stratum's radiance arrives in parts along its chain (one lane at a time).
+            if (!isBlack(l)) {
                 for (int c = 0; c < 3; ++c)
                     rq.radiance[c].fetch_add(std::llround(double(l[c]) * IcRequests::kScale),
                                              std::memory_order_relaxed);
-                if (stratum < rq.strataRadiance.size()) rq.strataRadiance[stratum] = l;
-                rq.rays.fetch_add(1, std::memory_order_relaxed);
+                if (stratum < rq.strataRadiance.size()) rq.strataRadiance[stratum] += l;
             }
-        } else if (done) {
-            m_rc.film.add(b.pixel[i], laneThroughput(b, i) * radiance, stats);
+            if (done) rq.rays.fetch_add(1, std::memory_order_relaxed);
+        } else if (!isBlack(l)) {
+            m_rc.film.add(b.pixel[i], l, stats);
         }
     }
     stats.stages[int(StageId::Gather)].raysOut += spawned;

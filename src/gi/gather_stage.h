@@ -20,6 +20,7 @@
 #include "engine/hit_list.h"
 #include "engine/render_context.h"
 #include "engine/stage.h"
+#include "kernels/bsdf_params.h"
 
 namespace rayproc {
 
@@ -33,6 +34,10 @@ private:
     Vec3 globalIrradiance(const Vec3& p, const Vec3& n) const;
     // The caustic map's irradiance: k-nearest, or within the pass's radius when progressive.
     Vec3 causticIrradiance(const Vec3& p, const Vec3& n) const;
+    // Radiance an opaque glossy surface at h sends towards wo: the global map's estimate with
+    // the BSDF (PhotonMap::radiance), n its facing shading normal.
+    Vec3 glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceHit& h, const Vec3& wo,
+                        const Vec3& n) const;
     const RenderContext& m_rc;
 };
 

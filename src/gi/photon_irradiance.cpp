@@ -38,11 +38,12 @@ public:
     ConeSum(const Vec3& p, const Vec3& n, float radius, float radius2)
         : m_p(p), m_n(n), m_radius2(radius2), m_invConeRadius(1.0f / (PhotonMap::kConeK * radius)),
           m_slab(PhotonMap::kDiscThickness * radius) {}
-    void add(const PhotonMap::StoredPhoton& s, float dist2) {
+    // `weight`: a factor of the photon's power (the BSDF value of a radiance estimate).
+    void add(const PhotonMap::StoredPhoton& s, float dist2, const Vec3& weight = Vec3(1.0f)) {
         if (!withinCone(decodeNormalRaw(s.normalAxis), m_n, PhotonMap::kNormalCos)) return;
         if (std::abs(dot(Vec3(s.pos[0], s.pos[1], s.pos[2]) - m_p, m_n)) > m_slab) return;
         if (dot(decodeDirectionRaw(s.direction), m_n) <= 0) return;
-        m_sum += decodeRgbe(s.power) * (1.0f - std::sqrt(dist2) * m_invConeRadius);
+        m_sum += decodeRgbe(s.power) * weight * (1.0f - std::sqrt(dist2) * m_invConeRadius);
     }
     Vec3 irradiance() const {
         constexpr float kConeNorm = 1.0f - 2.0f / (3.0f * PhotonMap::kConeK);
@@ -58,13 +59,8 @@ private:
 } // namespace
 
 Vec3 PhotonMap::irradiance(const Vec3& p, const Vec3& n, int k, float maxDistance) const {
-    std::array<std::uint64_t, kStackCandidates> stackKeys;
-    std::vector<std::uint64_t> heapKeys;
-    std::uint64_t* keys = stackKeys.data();
-    if (k > kStackCandidates) {
-        heapKeys.resize(std::min<std::size_t>(std::size_t(k), m_photons.size()));
-        keys = heapKeys.data();
-    }
+    KeyBuffer buffer(k, m_photons.size());
+    std::uint64_t* keys = buffer.data();
     float radius2 = 0;
     int count = gather(p, k, maxDistance, keys, radius2);
     if (count == 0 || !(radius2 > 0)) return Vec3(0);
@@ -72,6 +68,22 @@ Vec3 PhotonMap::irradiance(const Vec3& p, const Vec3& n, int k, float maxDistanc
     ConeSum sum(p, n, std::sqrt(radius2), radius2);
     for (int j = 0; j < count; ++j)
         sum.add(m_photons[photon_heap::keyIndex(keys[j])], photon_heap::keyDist2(keys[j]));
+    return sum.irradiance();
+}
+
+Vec3 PhotonMap::radiance(const Vec3& p, const Vec3& n, int k, float maxDistance,
+                         const std::function<Vec3(const Vec3& wi)>& f) const {
+    KeyBuffer buffer(k, m_photons.size());
+    std::uint64_t* keys = buffer.data();
+    float radius2 = 0;
+    int count = gather(p, k, maxDistance, keys, radius2);
+    if (count == 0 || !(radius2 > 0)) return Vec3(0);
+
+    ConeSum sum(p, n, std::sqrt(radius2), radius2);
+    for (int j = 0; j < count; ++j) {
+        const StoredPhoton& s = m_photons[photon_heap::keyIndex(keys[j])];
+        sum.add(s, photon_heap::keyDist2(keys[j]), f(decodeDirection(s.direction)));
+    }
     return sum.irradiance();
 }
 
@@ -88,13 +100,8 @@ float PhotonMap::medianNeighbourRadius(int k, float maxDistance, int samples) co
     if (m_photons.empty() || samples <= 0) return 0.0f;
     std::size_t n = std::min(m_photons.size(), std::size_t(samples));
     std::vector<float> radii(n);
-    std::array<std::uint64_t, kStackCandidates> stackKeys;
-    std::vector<std::uint64_t> heapKeys;
-    std::uint64_t* keys = stackKeys.data();
-    if (k > kStackCandidates) {
-        heapKeys.resize(std::min<std::size_t>(std::size_t(k), m_photons.size()));
-        keys = heapKeys.data();
-    }
+    KeyBuffer buffer(k, m_photons.size());
+    std::uint64_t* keys = buffer.data();
     for (std::size_t j = 0; j < n; ++j) {
         const StoredPhoton& s = m_photons[j * m_photons.size() / n];
         float radius2 = 0;

@@ -87,14 +87,8 @@ int PhotonMap::gather(const Vec3& p, int k, float maxDistance, std::uint64_t* ke
 }
 
 void PhotonMap::nearest(const Vec3& p, int k, float maxDistance, Neighbours& out) const {
-    std::size_t capacity = k > 0 ? std::min<std::size_t>(std::size_t(k), m_photons.size()) : 0;
-    std::array<std::uint64_t, kStackCandidates> stackKeys;
-    std::vector<std::uint64_t> heapKeys;
-    std::uint64_t* keys = stackKeys.data();
-    if (capacity > kStackCandidates) {
-        heapKeys.resize(capacity);
-        keys = heapKeys.data();
-    }
+    KeyBuffer buffer(k, m_photons.size());
+    std::uint64_t* keys = buffer.data();
     int count = gather(p, k, maxDistance, keys, out.maxDist2);
     std::sort(keys, keys + count); // ascending (dist2, index)
     out.index.resize(std::size_t(count));

@@ -18,6 +18,8 @@
 #include "core/math.h"
 #include "gi/photon_encoding.h"
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -102,6 +104,14 @@ public:
     // photon counts (or r = 0: k photons all exactly at p).
     Vec3 irradiance(const Vec3& p, const Vec3& n, int k, float maxDistance) const;
 
+    // Radiance leaving p towards the viewer from the k nearest photons irradiance() would count
+    // (Jensen 2001, eq. 7.6, with the cone filter): sum f(wi_i) power_i w_i / ((1 - 2 / (3
+    // kConeK)) pi r^2), f(wi) the BSDF value (no cosine) from the photon's incoming direction
+    // to the viewer, given by the caller. gi's gather uses it at glossy surfaces, where taking
+    // the lobe as Lambertian misplaces the light and tracing it on is noisy.
+    Vec3 radiance(const Vec3& p, const Vec3& n, int k, float maxDistance,
+                  const std::function<Vec3(const Vec3& wi)>& f) const;
+
     // Irradiance at p from every photon within `radius` that irradiance() would count, with
     // the same cone filter over that radius: the fixed-radius estimate of progressive photon
     // mapping, whose radius the caller shrinks from pass to pass (gi/progressive_caustics.h).
@@ -135,6 +145,23 @@ public:
 private:
     // Queries with k up to this keep their candidates on the stack.
     static constexpr int kStackCandidates = 128;
+
+    // Room for the keys of a k-nearest query on a map of `photons`: min(k, photons) entries,
+    // on the stack up to kStackCandidates, else on the heap.
+    class KeyBuffer {
+    public:
+        KeyBuffer(int k, std::size_t photons) {
+            std::size_t capacity = k > 0 ? std::min<std::size_t>(std::size_t(k), photons) : 0;
+            if (capacity > std::size_t(kStackCandidates)) m_heap.resize(capacity);
+        }
+        KeyBuffer(const KeyBuffer&) = delete;
+        KeyBuffer& operator=(const KeyBuffer&) = delete;
+        std::uint64_t* data() { return m_heap.empty() ? m_stack.data() : m_heap.data(); }
+
+    private:
+        std::array<std::uint64_t, kStackCandidates> m_stack;
+        std::vector<std::uint64_t> m_heap;
+    };
 
     // Gathers the k nearest into keys (photon_heap.h; room for min(k, size()) entries,
     // kept as a max-heap once full); returns the count and sets radius2 as

@@ -503,3 +503,28 @@ TEST_CASE("A stop request abandons building and precomputing and leaves no half-
     CHECK(map.hasPrecomputedIrradiance());
     CHECK(done.load() == map.precomputeCount(4));
 }
+
+TEST_CASE("The radiance estimate weights each photon by the BSDF value of its direction", "[gi]") {
+    // PhotonMap::radiance (gi's gather at glossy surfaces) sums the same photons as irradiance()
+    // with the cone filter, each times f(wi): a constant f gives f E exactly, and an f that keeps
+    // only the photons from one side of the plane (directions are uniform over the hemisphere)
+    // about half of E.
+    LitPlane plane;
+    PhotonMap map;
+    map.build(plane.photons(200000, 1));
+    std::vector<Vec3> points = plane.interiorPoints(64, 1.0f, 2);
+    Vec3 half(0), whole(0);
+    for (const Vec3& p : points) {
+        Vec3 e = map.irradiance(p, plane.n, 100, 1.0f);
+        Vec3 l = map.radiance(p, plane.n, 100, 1.0f, [](const Vec3&) { return Vec3(0.25f, 0.5f, 1.0f); });
+        CHECK(l.x == Approx(0.25f * e.x).epsilon(1e-5));
+        CHECK(l.y == Approx(0.5f * e.y).epsilon(1e-5));
+        CHECK(l.z == Approx(e.z).epsilon(1e-5));
+        whole += e;
+        half += map.radiance(p, plane.n, 100, 1.0f, [&](const Vec3& wi) {
+            return dot(wi, plane.t) > 0 ? Vec3(1.0f) : Vec3(0.0f);
+        });
+    }
+    INFO("one side's share " << half.x / whole.x);
+    CHECK(half.x / whole.x == Approx(0.5).margin(0.05));
+}
