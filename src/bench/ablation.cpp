@@ -138,6 +138,15 @@ AblationRun runAblation(const BenchSuite& suite, const BenchOptions& options,
 std::string renderAblationMarkdown(const AblationRun& run, const BenchSuite& suite,
                                    const std::string& commandLine, const std::string& loadAtStart,
                                    const std::string& loadAtEnd) {
+    std::string sizeText = commonRenderSize(run.scenes, suite);
+    if (sizeText.empty()) { // per-scene sizes: name each
+        sizeText = "its scene's size (";
+        for (std::size_t i = 0; i < run.scenes.size(); ++i)
+            sizeText += (i ? ", " : "") + run.scenes[i].name + " " +
+                        std::to_string(run.scenes[i].width) + "x" +
+                        std::to_string(run.scenes[i].height);
+        sizeText += ")";
+    }
     std::ostringstream o;
     o << "# rayproc bench --ablation: suite `" << suite.name << "`\n\n";
     if (run.interrupted) o << "**Interrupted (Ctrl-C): only the rows that completed.**\n\n";
@@ -145,7 +154,7 @@ std::string renderAblationMarkdown(const AblationRun& run, const BenchSuite& sui
       << "- Machine: " << hardwareThreads() << " hardware threads, " << cpuModel()
       << ". Load average (1 min) " << loadAtStart << " at the start, " << loadAtEnd
       << " at the end: a shared machine, so time ratios within about 25% are noise.\n"
-      << "- Each row renders the mode at " << suite.width << "x" << suite.height << " with the "
+      << "- Each row renders the mode at " << sizeText << " with the "
       << "optimisation on and off, everything else equal (path " << suite.ablationPathSpp
       << " spp, gi " << suite.ablationGiSpp << " spp with the suite's first gi setting); "
       << "times are the median of " << std::max(1, suite.ablationRepeats)

@@ -7,11 +7,16 @@
 
 namespace rayproc::bench {
 
-BenchScene prepareBenchScene(const SceneJob& job, int width, int height,
-                             const std::string& refsDir, int cacheSpp, int threads) {
+std::string sceneJobName(const SceneJob& job) {
+    return job.name.empty() ? std::filesystem::path(job.file).stem().string() : job.name;
+}
+
+BenchScene prepareBenchScene(const SceneJob& job, const std::string& refsDir, int cacheSpp,
+                             int threads) {
+    const int width = job.width, height = job.height;
     BenchScene b;
     b.file = job.file;
-    b.name = std::filesystem::path(job.file).stem().string();
+    b.name = sceneJobName(job);
     b.scene = loadScene(job.file);
     b.nativeWidth = b.scene->camera.width;
     b.nativeHeight = b.scene->camera.height;
@@ -29,8 +34,9 @@ BenchScene prepareBenchScene(const SceneJob& job, int width, int height,
         }
         if (job.source == ReferenceSource::Given)
             throw InputError(job.reference + ": the reference is " + std::to_string(image.width) +
-                             "x" + std::to_string(image.height) + " but the suite renders at " +
-                             std::to_string(width) + "x" + std::to_string(height));
+                             "x" + std::to_string(image.height) + " but the bench renders " +
+                             b.name + " at " + std::to_string(width) + "x" +
+                             std::to_string(height));
     }
     b.source = ReferenceSource::Cache;
     b.referenceSpp = cacheSpp;

@@ -1,4 +1,5 @@
-// A suite's scene ready to bench: loaded, set to the suite's resolution, its BVH built, and its
+// A suite's scene ready to bench: loaded, set to its render size (the scene's own in the suite,
+// else the suite's), its BVH built, and its
 // reference image (from the cache, rendered, or given with --reference).
 #pragma once
 
@@ -14,9 +15,11 @@ namespace rayproc::bench {
 // Where a scene's reference comes from.
 enum class ReferenceSource { Cache, Shipped, Given };
 
-// A scene to bench and the reference image to use (empty: the cache).
+// A scene to bench, the size it renders at and the reference image to use (empty: the cache).
 struct SceneJob {
     std::string file;
+    std::string name; // empty: the file's stem
+    int width = 0, height = 0;
     std::string reference;
     int referenceSpp = 0; // of a shipped reference; 0 if unknown
     ReferenceSource source = ReferenceSource::Cache;
@@ -33,11 +36,14 @@ struct BenchScene {
     int referenceSpp = 0; // 0: unknown (a given image)
 };
 
-// Loads the job's scene at width x height and its reference: a given image must have that size
-// (InputError otherwise); a shipped one of another size is passed over for the cache, which
-// renders path mode at `cacheSpp` if it has no such image yet. A cancelled reference render
-// leaves reference.cancelled set.
-BenchScene prepareBenchScene(const SceneJob& job, int width, int height,
-                             const std::string& refsDir, int cacheSpp, int threads);
+// The results' name of the job's scene: its name, else its file's stem.
+std::string sceneJobName(const SceneJob& job);
+
+// Loads the job's scene at the job's width x height and its reference: a given image must have
+// that size (InputError otherwise); a shipped one of another size is passed over for the cache,
+// which renders path mode at `cacheSpp` if it has no such image yet. A cancelled reference
+// render leaves reference.cancelled set.
+BenchScene prepareBenchScene(const SceneJob& job, const std::string& refsDir, int cacheSpp,
+                             int threads);
 
 } // namespace rayproc::bench

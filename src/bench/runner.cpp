@@ -52,12 +52,18 @@ std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions
         for (const std::string& f : options.sceneFiles) {
             SceneJob job;
             job.file = f;
+            job.width = suite.width;
+            job.height = suite.height;
             jobs.push_back(job);
         }
     } else {
         for (const SuiteScene& s : suite.scenes) {
             SceneJob job;
             job.file = (fs::path(options.scenesDir) / s.file).string();
+            job.name = s.name;
+            RenderSize size = renderSize(suite, s);
+            job.width = size.width;
+            job.height = size.height;
             if (!s.shippedReference.empty()) {
                 fs::path ref = fs::path(options.scenesDir) / s.shippedReference;
                 if (fs::is_regular_file(ref)) {
@@ -93,13 +99,12 @@ BenchScene prepareForSuite(const SceneJob& job, const BenchSuite& suite,
                               ? (std::filesystem::path(options.outDir) / "refs").string()
                               : options.refsDir;
     if (job.reference.empty() &&
-        !std::filesystem::exists(referencePath(refsDir, job.file, suite.width, suite.height,
-                                               suite.referenceSpp)))
+        !std::filesystem::exists(
+            referencePath(refsDir, job.file, job.width, job.height, suite.referenceSpp)))
         log("rendering the reference of " + job.file + " (path mode, " +
-            std::to_string(suite.referenceSpp) + " spp, " + std::to_string(suite.width) + "x" +
-            std::to_string(suite.height) + "); it is cached in " + refsDir);
-    BenchScene b = prepareBenchScene(job, suite.width, suite.height, refsDir, suite.referenceSpp,
-                                     options.threads);
+            std::to_string(suite.referenceSpp) + " spp, " + std::to_string(job.width) + "x" +
+            std::to_string(job.height) + "); it is cached in " + refsDir);
+    BenchScene b = prepareBenchScene(job, refsDir, suite.referenceSpp, options.threads);
     if (b.reference.rendered && !b.reference.cancelled)
         log("  done in " + formatSeconds(b.reference.seconds) + ": " + b.reference.path);
     return b;
@@ -111,6 +116,8 @@ SceneInfo sceneInfo(const BenchScene& b) {
     i.file = b.file;
     i.nativeWidth = b.nativeWidth;
     i.nativeHeight = b.nativeHeight;
+    i.width = b.scene->camera.width;
+    i.height = b.scene->camera.height;
     i.referencePath = b.reference.path;
     i.referenceSource = b.source;
     i.referenceSpp = b.referenceSpp;
@@ -123,10 +130,12 @@ SceneInfo describeSceneJob(const SceneJob& job, const BenchSuite& suite,
                            const BenchOptions& options) {
     SceneInfo i;
     i.file = job.file;
-    i.name = std::filesystem::path(job.file).stem().string();
+    i.name = sceneJobName(job);
     std::unique_ptr<Scene> scene = loadScene(job.file);
     i.nativeWidth = scene->camera.width;
     i.nativeHeight = scene->camera.height;
+    i.width = job.width;
+    i.height = job.height;
     i.referenceSource = job.source;
     i.referenceSpp = job.referenceSpp;
     i.referencePath = job.reference;
@@ -135,10 +144,18 @@ SceneInfo describeSceneJob(const SceneJob& job, const BenchSuite& suite,
                                   ? (std::filesystem::path(options.outDir) / "refs").string()
                                   : options.refsDir;
         i.referencePath =
-            referencePath(refsDir, job.file, suite.width, suite.height, suite.referenceSpp);
+            referencePath(refsDir, job.file, job.width, job.height, suite.referenceSpp);
         i.referenceSpp = suite.referenceSpp;
     }
     return i;
+}
+
+std::string commonRenderSize(const std::vector<SceneInfo>& scenes, const BenchSuite& suite) {
+    int w = scenes.empty() ? suite.width : scenes.front().width;
+    int h = scenes.empty() ? suite.height : scenes.front().height;
+    for (const SceneInfo& s : scenes)
+        if (s.width != w || s.height != h) return "";
+    return std::to_string(w) + "x" + std::to_string(h);
 }
 
 LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,

@@ -29,6 +29,7 @@ struct BenchOptions {
 struct SceneInfo {
     std::string name, file;
     int nativeWidth = 0, nativeHeight = 0;
+    int width = 0, height = 0; // the render size (and the reference's)
     std::string referencePath;
     ReferenceSource referenceSource = ReferenceSource::Cache;
     int referenceSpp = 0; // 0: unknown (given with --reference)
@@ -45,9 +46,9 @@ struct LadderRun {
 // Progress lines ("cornell-box path spp=16: 0.52 s, relMSE 0.0123") for the command to print.
 using BenchLog = std::function<void(const std::string&)>;
 
-// The scenes to bench: the --scene files, or the suite's under scenesDir, each with its
-// reference (--reference, a shipped one that exists, else the cache). Throws InputError for a
-// missing scene file.
+// The scenes to bench: the --scene files (at the suite's size), or the suite's under
+// scenesDir (each at renderSize), each with its reference (--reference, a shipped one that
+// exists, else the cache). Throws InputError naming the path of a missing scene file.
 std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions& options);
 
 // Prepares a scene for the suite (reference included), logging a reference render.
@@ -58,6 +59,10 @@ SceneInfo sceneInfo(const BenchScene& scene);
 // resolution, the reference is named as the run would find it.
 SceneInfo describeSceneJob(const SceneJob& job, const BenchSuite& suite,
                            const BenchOptions& options);
+
+// "WxH" when every scene renders at that size (the suite's when there are none), else empty:
+// the report then gives each scene's size.
+std::string commonRenderSize(const std::vector<SceneInfo>& scenes, const BenchSuite& suite);
 
 // The time a render at `nextSpp` is expected to take, from the last two renders of its ladder:
 // a fixed cost plus a cost per sample (gi's photon pass and cache prepass are the fixed part).

@@ -51,6 +51,11 @@ BenchSuite quickSuite() {
 
 } // namespace
 
+RenderSize renderSize(const BenchSuite& suite, const SuiteScene& scene) {
+    if (scene.width > 0 && scene.height > 0) return {scene.width, scene.height};
+    return {suite.width, suite.height};
+}
+
 const std::vector<BenchSuite>& benchSuites() {
     static const std::vector<BenchSuite> suites = {defaultSuite(), quickSuite()};
     return suites;

@@ -25,18 +25,27 @@ struct GiVariant {
 
 // A scene of a suite. A reference shipped with the source tree (the golden path images of
 // tests/golden/, rendered at high spp with their own seed) is used when it exists and has the
-// suite's resolution; otherwise the reference cache renders one.
+// scene's render size; otherwise the reference cache renders one.
 struct SuiteScene {
-    std::string file;             // under the scenes directory
+    std::string file;             // relative to the scenes directory
     std::string shippedReference; // relative to the scenes directory; may be empty
     int shippedReferenceSpp = 0;
+    // The results' scene column and the plot's file name; empty: the file's stem (a name of
+    // its own for files all called scene-v4.pbrt, one folder each).
+    std::string name{};
+    int width = 0, height = 0; // the render size; 0: the suite's
+};
+
+// The size a scene renders at (its reference too): its own, else the suite's.
+struct RenderSize {
+    int width = 0, height = 0;
 };
 
 struct BenchSuite {
     std::string name;
     std::string description;
     std::vector<SuiteScene> scenes;
-    int width = 128, height = 128;   // every scene is rendered at this size
+    int width = 128, height = 128;   // every scene's render size unless the scene sets its own
     int referenceSpp = 4096;         // path mode, cached in <out>/refs (no shipped reference)
     // A ladder stops at its last budget, or before a render predicted (predictSeconds in
     // runner.h) to take longer than this.
@@ -48,9 +57,12 @@ struct BenchSuite {
     int ablationRepeats = 3;
 };
 
-// The suites by name: "default" (about 10 minutes on 2 cores, references included) and
-// "quick" (about a minute: the CI smoke test).
+// The suites by name: "default" (about 10 minutes on 2 cores, references included), "quick"
+// (about a minute: the CI smoke test) and "public" (Bitterli's pbrt-v4 scenes from
+// ../shared beside the clone, at 1/8 of their resolution: hours).
 const std::vector<BenchSuite>& benchSuites();
+// The size `scene` renders at in `suite`: the scene's own if it sets one, else the suite's.
+RenderSize renderSize(const BenchSuite& suite, const SuiteScene& scene);
 // The suite called `name`; throws InputError listing the known ones.
 const BenchSuite& findSuite(const std::string& name);
 

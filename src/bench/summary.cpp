@@ -114,12 +114,17 @@ std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContex
           << ". Load average (1 min) " << ctx.loadAtStart << " at the start, " << ctx.loadAtEnd
           << " at the end: on a shared machine the times are indicative only; compare modes "
              "within one run.\n";
-    o << "- Every scene rendered at **" << suite.width << "x" << suite.height
-      << "** (the scene files' own resolutions are overridden; see the table below). Times are "
-         "the wall time of one mode driver call, from the start of the mode's work to the "
-         "finished image: for gi the photon passes, precomputed irradiance and irradiance-cache "
-         "prepass included; scene loading and the BVH build excluded. One render per budget, "
-         "seed 1.\n"
+    const std::string size = commonRenderSize(ctx.scenes, suite);
+    if (!size.empty())
+        o << "- Every scene rendered at **" << size
+          << "** (the scene files' own resolutions are overridden; see the table below).";
+    else
+        o << "- Each scene rendered at its own size, the table's *rendered at* (the scene files' "
+             "own resolutions are overridden).";
+    o << " Times are the wall time of one mode driver call, from the start of the mode's work "
+         "to the finished image: for gi the photon passes, precomputed irradiance and "
+         "irradiance-cache prepass included; scene loading and the BVH build excluded. One "
+         "render per budget, seed 1.\n"
       << "- Budgets: each mode's spp ladder";
     for (const ModeLadder& l : suite.ladders) {
         o << "; " << l.mode << " ";
@@ -134,9 +139,13 @@ std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContex
       << "- Error: relMSE (docs/image-comparison.md) against the reference. Readings between "
          "renders are log-log interpolations; nothing is extrapolated.\n";
     for (const std::string& peer : ctx.peerCsvs) o << "- Peer results from `" << peer << "`.\n";
-    o << "\n| scene | file's resolution | reference |\n|---|---|---|\n";
+    if (size.empty())
+        o << "\n| scene | file's resolution | rendered at | reference |\n|---|---|---|---|\n";
+    else
+        o << "\n| scene | file's resolution | reference |\n|---|---|---|\n";
     for (const SceneInfo& s : ctx.scenes) {
         o << "| " << s.name << " | " << s.nativeWidth << "x" << s.nativeHeight << " | ";
+        if (size.empty()) o << s.width << "x" << s.height << " | ";
         switch (s.referenceSource) {
         case ReferenceSource::Cache:
             o << "path, " << s.referenceSpp << " spp, its own seed ("

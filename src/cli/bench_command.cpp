@@ -88,9 +88,13 @@ void writeReport(std::vector<BenchRow> rows, SummaryContext& ctx, const std::str
         std::vector<BenchRow> p = readResultsCsv(peer);
         rows.insert(rows.end(), p.begin(), p.end());
     }
-    std::string subtitle = "relMSE against render time, " + std::to_string(ctx.suite->width) +
-                           "x" + std::to_string(ctx.suite->height);
     for (const std::string& scene : sceneNames(rows)) {
+        // The scene's render size (a peer-only scene, unknown to the run: the suite's).
+        std::string size = std::to_string(ctx.suite->width) + "x" +
+                           std::to_string(ctx.suite->height);
+        for (const SceneInfo& s : ctx.scenes)
+            if (s.name == scene) size = std::to_string(s.width) + "x" + std::to_string(s.height);
+        std::string subtitle = "relMSE against render time, " + size;
         std::string path = (fs::path(outDir) / plotFileName(scene)).string();
         writeText(path, renderSvg(scenePlot(rows, scene, subtitle)));
         std::printf("%s\n", fs::absolute(path).c_str());
@@ -214,7 +218,7 @@ std::function<int()> addBenchCommand(CLI::App& app) {
                     "suite's resolution, ladders and settings still apply")
         ->check(CLI::ExistingFile);
     cmd->add_option("--reference", args->options.referenceImage,
-                    "Reference image (EXR/PFM/HDR/PNG at the suite's resolution) instead of the "
+                    "Reference image (EXR/PFM/HDR/PNG at the scene's render size) instead of the "
                     "cached path render; the run must have one scene")
         ->check(CLI::ExistingFile);
     cmd->add_option("--peer-csv", args->options.peerCsvs,
