@@ -79,8 +79,8 @@ std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions
         if (!fs::is_regular_file(j.file))
             throw InputError(j.file + ": no such scene file" +
                              (options.sceneFiles.empty()
-                                  ? std::string(" (the suite's scenes are looked up in "
-                                                "--scenes-dir)")
+                                  ? " (" + fs::absolute(j.file).lexically_normal().string() +
+                                        "; the suite's scenes are looked up in --scenes-dir)"
                                   : std::string()));
     if (!options.referenceImage.empty()) {
         if (jobs.size() != 1)

@@ -49,6 +49,39 @@ BenchSuite quickSuite() {
     return s;
 }
 
+// Bitterli's scenes in pbrt-v4 form, from the shared folder beside the clone (../shared; from
+// scenes/ that is ../../shared). Each renders at 1/8 of its Film resolution, so its aspect is
+// kept. The Tungsten renders beside them are not the references: for several scenes they
+// disagree with the pbrt-v4 files (docs/public-scenes.md), so the references are rayproc's own
+// path renders, cached in --refs.
+BenchSuite publicSuite() {
+    BenchSuite s;
+    s.name = "public";
+    s.description = "Bitterli's pbrt-v4 scenes (cornell-box, veach-mis, coffee, classroom, "
+                    "staircase2) from ../shared/scenes/bitterli at 1/8 of their resolution; "
+                    "references are rayproc's own path renders at 2048 spp, not the Tungsten "
+                    "ones (docs/public-scenes.md): a few hours on 2 cores";
+    const std::string dir = "../../shared/scenes/bitterli/";
+    // The render size is the Film's xresolution x yresolution / 8.
+    s.scenes = {{dir + "cornell-box/scene-v4.pbrt", "", 0, "cornell-box", 128, 128}, // 1024x1024
+                {dir + "veach-mis/scene-v4.pbrt", "", 0, "veach-mis", 160, 90},      // 1280x720
+                {dir + "coffee/scene-v4.pbrt", "", 0, "coffee", 100, 125},           // 800x1000
+                {dir + "classroom/scene-v4.pbrt", "", 0, "classroom", 160, 90},      // 1280x720
+                {dir + "staircase2/scene-v4.pbrt", "", 0, "staircase2", 128, 128}};  // 1024x1024
+    s.width = s.height = 128; // --scene files
+    s.referenceSpp = 2048;
+    s.timeCapSeconds = 120;
+    s.ladders = {{"raytrace", {1, 2, 4, 8, 16, 32, 64}},
+                 {"gi", {1, 2, 4, 8, 16, 32, 64}},
+                 {"path", {1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048}}};
+    // gi's defaults, then more gather rays and more photons (larger, more detailed rooms).
+    s.giVariants = {{64, 0.25f, 200000}, {256, 0.25f, 200000}, {64, 0.25f, 800000}};
+    s.ablationPathSpp = 32;
+    s.ablationGiSpp = 4;
+    s.ablationRepeats = 3;
+    return s;
+}
+
 } // namespace
 
 RenderSize renderSize(const BenchSuite& suite, const SuiteScene& scene) {
@@ -57,7 +90,7 @@ RenderSize renderSize(const BenchSuite& suite, const SuiteScene& scene) {
 }
 
 const std::vector<BenchSuite>& benchSuites() {
-    static const std::vector<BenchSuite> suites = {defaultSuite(), quickSuite()};
+    static const std::vector<BenchSuite> suites = {defaultSuite(), quickSuite(), publicSuite()};
     return suites;
 }
 

@@ -229,7 +229,7 @@ std::function<int()> addBenchCommand(CLI::App& app) {
         ->check(CLI::Range(1, 1024));
     cmd->add_option("--time-cap", args->options.timeCapSeconds,
                     "Seconds: a ladder stops before a render predicted to take longer (default: "
-                    "the suite's, 24 for default, 4 for quick)")
+                    "the suite's, 24 for default, 4 for quick, 120 for public)")
         ->check(finiteNumber())
         ->check(CLI::PositiveNumber);
     cmd->add_flag("--ablation", args->ablation,

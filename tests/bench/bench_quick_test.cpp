@@ -69,7 +69,7 @@ TEST_CASE("rayproc bench rejects an unknown suite and an unwritable output", "[c
                                           dir.file("out")},
                                          dir, 30);
     CHECK(r.status == 1);
-    CHECK(r.err.find("unknown bench suite 'nosuch'; known suites: default, quick") !=
+    CHECK(r.err.find("unknown bench suite 'nosuch'; known suites: default, quick, public") !=
           std::string::npos);
     test::writeText(dir.file("file"), "x");
     r = test::runRayproc({"bench", "--quick", "-o", dir.file("file/sub")},
