@@ -40,7 +40,8 @@ BenchScene prepareBenchScene(const SceneJob& job, const std::string& refsDir, in
     }
     b.source = ReferenceSource::Cache;
     b.referenceSpp = cacheSpp;
-    b.reference = loadOrRenderReference(*b.scene, *b.accel, job.file, refsDir, cacheSpp, threads);
+    b.reference =
+        loadOrRenderReference(*b.scene, *b.accel, job.file, refsDir, cacheSpp, threads, b.name);
     return b;
 }
 

@@ -25,10 +25,10 @@ std::uint64_t hashFile(const std::string& path) {
 }
 
 std::string referencePath(const std::string& refsDir, const std::string& sceneFile, int width,
-                          int height, int spp) {
+                          int height, int spp, const std::string& name) {
     char hash[20];
     std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)hashFile(sceneFile));
-    std::string stem = std::filesystem::path(sceneFile).stem().string();
+    std::string stem = name.empty() ? std::filesystem::path(sceneFile).stem().string() : name;
     return (std::filesystem::path(refsDir) /
             (stem + "-" + std::to_string(width) + "x" + std::to_string(height) + "-path-" +
              std::to_string(spp) + "-" + hash + ".exr"))
@@ -36,10 +36,11 @@ std::string referencePath(const std::string& refsDir, const std::string& sceneFi
 }
 
 Reference loadOrRenderReference(const Scene& scene, const EmbreeScene& accel,
-                                const std::string& sceneFile, const std::string& refsDir,
-                                int spp, int threads) {
+                                const std::string& sceneFile, const std::string& refsDir, int spp,
+                                int threads, const std::string& name) {
     Reference ref;
-    ref.path = referencePath(refsDir, sceneFile, scene.camera.width, scene.camera.height, spp);
+    ref.path =
+        referencePath(refsDir, sceneFile, scene.camera.width, scene.camera.height, spp, name);
     if (std::filesystem::exists(ref.path)) {
         ref.image = readImage(ref.path);
         if (ref.image.width == scene.camera.width && ref.image.height == scene.camera.height)

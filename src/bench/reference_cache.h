@@ -19,9 +19,10 @@ constexpr std::uint64_t kReferenceSeed = 0x7265666572656e63ull; // "referenc"
 // FNV-1a over a file's bytes; throws InputError if it cannot be read.
 std::uint64_t hashFile(const std::string& path);
 
-// <refsDir>/<stem>-<w>x<h>-path-<spp>-<hash>.exr
+// <refsDir>/<name>-<w>x<h>-path-<spp>-<hash>.exr; the name is the scene's in its suite, else
+// (empty) the file's stem.
 std::string referencePath(const std::string& refsDir, const std::string& sceneFile, int width,
-                          int height, int spp);
+                          int height, int spp, const std::string& name = "");
 
 struct Reference {
     Image image;
@@ -34,7 +35,7 @@ struct Reference {
 // The cached reference for the scene (already at the suite's resolution), rendered with path
 // mode at `spp` and written atomically if absent. A cancelled render (Ctrl-C) is not written.
 Reference loadOrRenderReference(const Scene& scene, const EmbreeScene& accel,
-                                const std::string& sceneFile, const std::string& refsDir,
-                                int spp, int threads);
+                                const std::string& sceneFile, const std::string& refsDir, int spp,
+                                int threads, const std::string& name = "");
 
 } // namespace rayproc::bench

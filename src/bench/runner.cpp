@@ -100,7 +100,8 @@ BenchScene prepareForSuite(const SceneJob& job, const BenchSuite& suite,
                               : options.refsDir;
     if (job.reference.empty() &&
         !std::filesystem::exists(
-            referencePath(refsDir, job.file, job.width, job.height, suite.referenceSpp)))
+            referencePath(refsDir, job.file, job.width, job.height, suite.referenceSpp,
+                          sceneJobName(job))))
         log("rendering the reference of " + job.file + " (path mode, " +
             std::to_string(suite.referenceSpp) + " spp, " + std::to_string(job.width) + "x" +
             std::to_string(job.height) + "); it is cached in " + refsDir);
@@ -144,7 +145,7 @@ SceneInfo describeSceneJob(const SceneJob& job, const BenchSuite& suite,
                                   ? (std::filesystem::path(options.outDir) / "refs").string()
                                   : options.refsDir;
         i.referencePath =
-            referencePath(refsDir, job.file, job.width, job.height, suite.referenceSpp);
+            referencePath(refsDir, job.file, job.width, job.height, suite.referenceSpp, i.name);
         i.referenceSpp = suite.referenceSpp;
     }
     return i;
