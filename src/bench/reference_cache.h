@@ -32,7 +32,7 @@ struct Reference {
     bool cancelled = false;
 };
 
-// The cached reference for the scene (already at the suite's resolution), rendered with path
+// The cached reference for the scene (already at its render size), rendered with path
 // mode at `spp` and written atomically if absent. A cancelled render (Ctrl-C) is not written.
 Reference loadOrRenderReference(const Scene& scene, const EmbreeScene& accel,
                                 const std::string& sceneFile, const std::string& refsDir, int spp,
