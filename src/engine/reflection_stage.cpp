@@ -22,18 +22,19 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         Vec3 w = laneThroughput(b, i);
         Vec3 wi;
         std::uint8_t flags = b.flags[i];
-        // A glossy (non-delta) sample: emitters are light sampled, so the ray takes their
-        // emission and a diffuse-class surface's sky only by its MIS weight
-        // (engine/glossy_mis.h); where no light sample covered them (the shadow stage did not
-        // run here) wholly (pdf 0). Without MIS it sees neither, except the sky of a lobe the
-        // shadow stage's sky samples leave out (glossy classes).
+        // A glossy (non-delta) sample: emitters and the sky are light sampled, so the ray
+        // takes them only by its MIS weight (engine/glossy_mis.h); where no light sample
+        // covered them (the shadow stage did not run here) wholly (pdf 0). Without MIS it sees
+        // no emitter, and the sky only where the shadow stage's sky samples leave it out
+        // (glossy classes; a coat's reflection is in the sky samples of its diffuse class).
+        // A transmitted ray's sky is never light sampled (sky samples stay above).
         float misPdf = 0;
-        auto glossyFlags = [&](float pdf, bool coat) {
+        auto glossyFlags = [&](float pdf, bool coat, bool transmitted) {
             const bool lit = hits.lightSampled[k];
             flags = std::uint8_t((flags & ~kFlagCountEmission) | kFlagCountEnvironment);
             if (m_rc.policy.glossyMis || !lit) {
                 flags |= kFlagMisEmission;
-                if (coat) flags |= kFlagMisEnvironment;
+                if (!transmitted) flags |= kFlagMisEnvironment;
                 misPdf = lit ? pdf : 0.0f;
             } else if (coat) {
                 flags = std::uint8_t(flags & ~kFlagCountEnvironment);
@@ -64,7 +65,7 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             if (!s.delta) {
                 if (!s.coat && materialClass(m_rc.scene.materials, h.material) != MaterialClass::Glossy)
                     continue;
-                glossyFlags(s.pdf, s.coat);
+                glossyFlags(s.pdf, s.coat, s.transmitted);
             }
             wi = s.wi;
             w = w * s.weight;
@@ -91,7 +92,7 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             if (pdf <= 0 || dot(wi, ng) <= 0) continue;
             w = w * kernels::glossyEvalCos(wo, wi, ns, mat.color, alpha) / pdf;
             // The shadow stage does not sample the sky for it (see there): the ray sees it.
-            glossyFlags(pdf, false);
+            glossyFlags(pdf, false, false);
         }
         int depth = b.depth[i] + 1;
         if (b.specularDepth[i] + 1 > m_rc.policy.maxDepth) continue;

@@ -82,11 +82,14 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             }
         }
 
-        // The sky lights diffuse surfaces through cosine-weighted shadow rays. A glossy lobe is
-        // narrower than the cosine: its GGX-sampled reflection ray sees the sky instead.
+        // The sky lights diffuse surfaces through its samples (cosine-weighted for a constant
+        // sky, by luminance for an image: a sun). A glossy lobe's reflection ray sees the sky
+        // too: with glossy MIS both count, by their weights; without, the glossy lobe takes the
+        // sky from its reflection ray alone.
+        const MaterialClass cls = materialClass(m_rc.scene.materials, h.material);
         if (lights.hasEnvironment() &&
-            (materialClass(m_rc.scene.materials, h.material) == MaterialClass::Diffuse ||
-             policy.ambientEnvironment)) {
+            (cls == MaterialClass::Diffuse || policy.ambientEnvironment ||
+             (policy.glossyMis && cls == MaterialClass::Glossy))) {
             if (policy.ambientEnvironment) {
                 // Preview: unshadowed sky light, the cosine-weighted integral of the BSDF.
                 m_rc.film.add(b.pixel[i], w * bsdf.color * lights.environment.average(), stats);

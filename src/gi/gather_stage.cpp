@@ -219,6 +219,15 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
                            : kernels::sampleBsdf(bsdf, -d, h.ng, h.ns, u,
                                                  kernels::uniform(b.rngKey[i], 42));
                 Vec3 next = laneThroughput(b, i) * smp.weight;
+                // Russian roulette by the bounce's reflectance: a coat reflects a few percent,
+                // and chains between coated surfaces (a coated floor under coated plastic) ran to
+                // the depth limit, most of gi's gather rays for almost nothing. Survivors are
+                // reweighted (unbiased); mirrors and glass (weight ~1) always go on.
+                float q = std::min(1.0f, maxComponent(smp.weight));
+                if (smp.valid && m_rc.policy.rouletteEnabled && q < 1.0f) {
+                    if (!(q > 0) || kernels::uniform(b.rngKey[i], 44) >= q) smp.valid = false;
+                    else next = next / q;
+                }
                 if (smp.valid && !isBlack(next) && isFinite(next)) {
                     Vec3 no = offsetRayOrigin(h, h.ng, smp.wi);
                     std::uint8_t flags = b.flags[i];

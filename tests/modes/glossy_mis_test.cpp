@@ -72,19 +72,26 @@ TEST_CASE("Glossy MIS: raytrace agrees with path on glossy planes under a small 
     }
 }
 
-TEST_CASE("Glossy MIS: a rough coat's reflection of the sky is counted once", "[modes][mis]") {
-    // Before, the coat's sampled reflection ray took the sky whole while the shadow stage's sky
-    // samples lit the whole BSDF, coat included: the coat's reflection counted twice.
-    auto scene = sceneFromJson(planeScene(
+TEST_CASE("Glossy MIS: a glossy lobe's reflection of the sky is counted once", "[modes][mis]") {
+    // Before, a rough coat's sampled reflection ray took the sky whole while the shadow stage's
+    // sky samples lit the whole BSDF, coat included: the coat's reflection counted twice. With
+    // MIS the sky samples also light rough metals (an image sky's sun is found by them).
+    const char* materials[] = {
         R"({"type": "coateddiffuse", "color": [0.3, 0.3, 0.3], "roughness": 0.2, "remap_roughness": false})",
-        false, R"([{"type": "environment", "radiance": [1, 1, 1]}])"));
-    EmbreeScene accel(*scene);
-    Vec3 path = meanRadiance(renderWith(*scene, accel, "path", 256, true));
-    for (bool mis : {true, false}) {
-        Vec3 rt = meanRadiance(renderWith(*scene, accel, "raytrace", 64, mis));
-        for (int c = 0; c < 3; ++c) {
-            INFO("MIS " << mis << " channel " << c << ": path " << path[c] << " raytrace " << rt[c]);
-            CHECK(rt[c] == Approx(path[c]).epsilon(0.015));
+        R"({"type": "conductor", "metal": "Cu", "roughness": 0.05, "remap_roughness": false})",
+    };
+    for (const char* material : materials) {
+        auto scene = sceneFromJson(
+            planeScene(material, false, R"([{"type": "environment", "radiance": [1, 1, 1]}])"));
+        EmbreeScene accel(*scene);
+        Vec3 path = meanRadiance(renderWith(*scene, accel, "path", 256, true));
+        for (bool mis : {true, false}) {
+            Vec3 rt = meanRadiance(renderWith(*scene, accel, "raytrace", 64, mis));
+            for (int c = 0; c < 3; ++c) {
+                INFO(material << " MIS " << mis << " channel " << c << ": path " << path[c]
+                              << " raytrace " << rt[c]);
+                CHECK(rt[c] == Approx(path[c]).epsilon(0.015));
+            }
         }
     }
 }
