@@ -93,6 +93,14 @@ inline std::unique_ptr<Scene> loadSceneAt(const std::string& name, int width, in
     return scene;
 }
 
+// The mean radiance of an image per channel.
+inline Vec3 imageMean(const Image& img) {
+    Vec3 sum(0.0f);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) sum += Vec3(img.at(x, y)[0], img.at(x, y)[1], img.at(x, y)[2]);
+    return sum / float(img.width * img.height);
+}
+
 struct RenderOptions {
     std::string mode = "raytrace";
     int spp = 4;

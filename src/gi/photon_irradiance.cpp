@@ -58,21 +58,9 @@ private:
 
 } // namespace
 
-Vec3 PhotonMap::irradiance(const Vec3& p, const Vec3& n, int k, float maxDistance) const {
-    KeyBuffer buffer(k, m_photons.size());
-    std::uint64_t* keys = buffer.data();
-    float radius2 = 0;
-    int count = gather(p, k, maxDistance, keys, radius2);
-    if (count == 0 || !(radius2 > 0)) return Vec3(0);
-
-    ConeSum sum(p, n, std::sqrt(radius2), radius2);
-    for (int j = 0; j < count; ++j)
-        sum.add(m_photons[photon_heap::keyIndex(keys[j])], photon_heap::keyDist2(keys[j]));
-    return sum.irradiance();
-}
-
-Vec3 PhotonMap::radiance(const Vec3& p, const Vec3& n, int k, float maxDistance,
-                         const std::function<Vec3(const Vec3& wi)>& f) const {
+template <class Weight>
+Vec3 PhotonMap::coneEstimate(const Vec3& p, const Vec3& n, int k, float maxDistance,
+                             const Weight& weight) const {
     KeyBuffer buffer(k, m_photons.size());
     std::uint64_t* keys = buffer.data();
     float radius2 = 0;
@@ -82,9 +70,19 @@ Vec3 PhotonMap::radiance(const Vec3& p, const Vec3& n, int k, float maxDistance,
     ConeSum sum(p, n, std::sqrt(radius2), radius2);
     for (int j = 0; j < count; ++j) {
         const StoredPhoton& s = m_photons[photon_heap::keyIndex(keys[j])];
-        sum.add(s, photon_heap::keyDist2(keys[j]), f(decodeDirection(s.direction)));
+        sum.add(s, photon_heap::keyDist2(keys[j]), weight(s));
     }
     return sum.irradiance();
+}
+
+Vec3 PhotonMap::irradiance(const Vec3& p, const Vec3& n, int k, float maxDistance) const {
+    return coneEstimate(p, n, k, maxDistance, [](const StoredPhoton&) { return Vec3(1.0f); });
+}
+
+Vec3 PhotonMap::radiance(const Vec3& p, const Vec3& n, int k, float maxDistance,
+                         const std::function<Vec3(const Vec3& wi)>& f) const {
+    return coneEstimate(p, n, k, maxDistance,
+                        [&](const StoredPhoton& s) { return f(decodeDirection(s.direction)); });
 }
 
 Vec3 PhotonMap::irradianceWithin(const Vec3& p, const Vec3& n, float radius) const {

@@ -167,6 +167,11 @@ private:
     // kept as a max-heap once full); returns the count and sets radius2 as
     // Neighbours::maxDist2.
     int gather(const Vec3& p, int k, float maxDistance, std::uint64_t* keys, float& radius2) const;
+    // The cone-filtered estimate over the k nearest photons, each photon's power times
+    // weight(photon): irradiance() (weight 1) and radiance() (the BSDF value).
+    template <class Weight>
+    Vec3 coneEstimate(const Vec3& p, const Vec3& n, int k, float maxDistance,
+                      const Weight& weight) const;
 
     std::vector<StoredPhoton> m_photons;
     std::vector<PrecomputedPhoton> m_precomputed;

@@ -22,13 +22,6 @@ std::unique_ptr<Scene> coatedCornellBox(float roughness) {
     return scene;
 }
 
-Vec3 meanRadiance(const Image& img) {
-    Vec3 sum(0.0f);
-    for (int y = 0; y < img.height; ++y)
-        for (int x = 0; x < img.width; ++x) sum += Vec3(img.at(x, y)[0], img.at(x, y)[1], img.at(x, y)[2]);
-    return sum / float(img.width * img.height);
-}
-
 } // namespace
 
 TEST_CASE("gi agrees with path on a coated Cornell box, smooth and rough coats", "[gi][coated]") {
@@ -42,8 +35,8 @@ TEST_CASE("gi agrees with path on a coated Cornell box, smooth and rough coats",
         RenderOptions o;
         o.mode = "path";
         o.spp = 1024;
-        Vec3 path = meanRadiance(render(*scene, accel, o).image);
-        Vec3 gi = meanRadiance(renderGiMode(*scene, accel, 16).image);
+        Vec3 path = imageMean(render(*scene, accel, o).image);
+        Vec3 gi = imageMean(renderGiMode(*scene, accel, 16).image);
         for (int c = 0; c < 3; ++c) {
             INFO("roughness " << roughness << " channel " << c << ": gi " << gi[c] << " path "
                               << path[c]);

@@ -11,17 +11,6 @@
 using namespace rayproc;
 using namespace rayproc::test;
 
-namespace {
-
-Vec3 meanRadiance(const Image& img) {
-    Vec3 sum(0.0f);
-    for (int y = 0; y < img.height; ++y)
-        for (int x = 0; x < img.width; ++x) sum += Vec3(img.at(x, y)[0], img.at(x, y)[1], img.at(x, y)[2]);
-    return sum / float(img.width * img.height);
-}
-
-} // namespace
-
 TEST_CASE("gi lights a floor through a glossy ceiling as path mode does", "[gi][glossy]") {
     auto scene = sceneFromJson(R"({
       "camera": {"position": [0, 1.2, 6], "look_at": [0, 0, 0], "fov": 50, "resolution": [32, 32]},
@@ -38,8 +27,8 @@ TEST_CASE("gi lights a floor through a glossy ceiling as path mode does", "[gi][
     RenderOptions o;
     o.mode = "path";
     o.spp = 1024;
-    Vec3 path = meanRadiance(render(*scene, accel, o).image);
-    Vec3 gi = meanRadiance(renderGiMode(*scene, accel, 16).image);
+    Vec3 path = imageMean(render(*scene, accel, o).image);
+    Vec3 gi = imageMean(renderGiMode(*scene, accel, 16).image);
     // Measured: gi / path 1.01 (0.76 before).
     for (int c = 0; c < 3; ++c) {
         INFO("channel " << c << ": gi " << gi[c] << " path " << path[c]);

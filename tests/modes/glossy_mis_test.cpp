@@ -32,12 +32,6 @@ std::string planeScene(const std::string& material, bool areaLight, const std::s
          "corners": [[-2, 0, -2], [-2, 0, 2], [2, 0, 2], [2, 0, -2]]})" + light + "]}";
 }
 
-Vec3 meanRadiance(const Image& img) {
-    Vec3 sum(0.0f);
-    for (int y = 0; y < img.height; ++y)
-        for (int x = 0; x < img.width; ++x) sum += Vec3(img.at(x, y)[0], img.at(x, y)[1], img.at(x, y)[2]);
-    return sum / float(img.width * img.height);
-}
 
 Image renderWith(const Scene& scene, const EmbreeScene& accel, const char* mode, int spp, bool mis) {
     RenderOptions o;
@@ -60,9 +54,9 @@ TEST_CASE("Glossy MIS: raytrace agrees with path on glossy planes under a small 
     for (const char* material : materials) {
         auto scene = sceneFromJson(planeScene(material, true, "[]"));
         EmbreeScene accel(*scene);
-        Vec3 path = meanRadiance(renderWith(*scene, accel, "path", 1024, true));
-        Vec3 on = meanRadiance(renderWith(*scene, accel, "raytrace", 256, true));
-        Vec3 off = meanRadiance(renderWith(*scene, accel, "raytrace", 256, false));
+        Vec3 path = imageMean(renderWith(*scene, accel, "path", 1024, true));
+        Vec3 on = imageMean(renderWith(*scene, accel, "raytrace", 256, true));
+        Vec3 off = imageMean(renderWith(*scene, accel, "raytrace", 256, false));
         for (int c = 0; c < 3; ++c) {
             INFO(material << " channel " << c << ": path " << path[c] << " MIS " << on[c]
                           << " light samples only " << off[c]);
@@ -84,9 +78,9 @@ TEST_CASE("Glossy MIS: a glossy lobe's reflection of the sky is counted once", "
         auto scene = sceneFromJson(
             planeScene(material, false, R"([{"type": "environment", "radiance": [1, 1, 1]}])"));
         EmbreeScene accel(*scene);
-        Vec3 path = meanRadiance(renderWith(*scene, accel, "path", 256, true));
+        Vec3 path = imageMean(renderWith(*scene, accel, "path", 256, true));
         for (bool mis : {true, false}) {
-            Vec3 rt = meanRadiance(renderWith(*scene, accel, "raytrace", 64, mis));
+            Vec3 rt = imageMean(renderWith(*scene, accel, "raytrace", 64, mis));
             for (int c = 0; c < 3; ++c) {
                 INFO(material << " MIS " << mis << " channel " << c << ": path " << path[c]
                               << " raytrace " << rt[c]);
