@@ -57,6 +57,9 @@ BenchSuite quickSuite() {
 BenchSuite publicSuite() {
     BenchSuite s;
     s.name = "public";
+    // Issue 13's measure: time to relMSE 0.05 and 0.01 (0.001 is out of reach of these
+    // references, whose own relMSE reaches 0.015 in the classroom).
+    s.summaryTargets = {0.05, 0.01};
     s.description = "Bitterli's pbrt-v4 scenes (cornell-box, veach-mis, coffee, classroom, "
                     "staircase2) from ../shared/scenes/bitterli at 1/8 of their resolution; "
                     "references are rayproc's own path renders at 2048 spp, not the Tungsten "

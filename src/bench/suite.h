@@ -55,6 +55,8 @@ struct BenchSuite {
     // --ablation: the budget of each mode's with/without renders, and timing repeats (median).
     int ablationPathSpp = 16, ablationGiSpp = 4;
     int ablationRepeats = 3;
+    // The relMSE targets of summary.md's "time to reach" table.
+    std::vector<double> summaryTargets = {0.01, 0.001};
 };
 
 // The suites by name: "default" (about 10 minutes on 2 cores, references included), "quick"

@@ -1,5 +1,5 @@
 // summary.md: the bench's findings in Markdown. Per scene: the plot; the time each mode needs
-// to reach relMSE 0.01 and 0.001; the error each reaches at equal times (up to five times of
+// to reach the suite's relMSE targets (0.01 and 0.001 unless it says); the error each reaches at equal times (up to five times of
 // the 1-2-5 series inside the measured span of at least two modes, those most modes span
 // first); for a swept mode, which setting is best at each time.
 // Readings are log-log interpolations between measured renders (curve.h); outside the measured
@@ -28,9 +28,6 @@ struct SummaryContext {
     bool interrupted = false;
     bool regenerated = false; // --report-only: no run, rows from an existing results.csv
 };
-
-// The relMSE targets of the summary's first table.
-inline const double kSummaryTargets[] = {0.01, 0.001};
 
 // The times (seconds) at which the summary compares errors for one scene: 1, 2 or 5 times a
 // power of ten, inside the measured span of at least two modes' envelopes; at most five, those

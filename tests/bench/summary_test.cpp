@@ -38,6 +38,22 @@ TEST_CASE("renderSummary tabulates time to target and error at equal time", "[be
     CHECK(md.find("64x64") != std::string::npos);
 }
 
+TEST_CASE("summary.md's time-to-reach table takes the suite's relMSE targets", "[bench]") {
+    std::vector<BenchRow> rows = {{"s", "path", "spp=1", 1, 1, 0.1, 0},
+                                  {"s", "path", "spp=16", 10, 1, 0.001, 0}};
+    SummaryContext ctx;
+    BenchSuite quick = findSuite("quick");
+    ctx.suite = &quick;
+    std::string md = renderSummary(rows, ctx);
+    CHECK(md.find("| mode | relMSE 0.01 | relMSE 0.001 |") != std::string::npos);
+    BenchSuite publicSuite = findSuite("public");
+    ctx.suite = &publicSuite;
+    md = renderSummary(rows, ctx);
+    // path: 0.1 at 1 s, 0.001 at 10 s (log-log): 0.05 at 10^(log 2 / 2) = 1.41 s.
+    CHECK(md.find("| mode | relMSE 0.05 | relMSE 0.01 |") != std::string::npos);
+    CHECK(md.find("| path | 1.41 s | 3.16 s |") != std::string::npos);
+}
+
 TEST_CASE("settingsWithoutBudget keeps what stays fixed along a ladder", "[bench]") {
     CHECK(settingsWithoutBudget("spp=4 gather=64 ic=0.25") == "gather=64 ic=0.25");
     CHECK(settingsWithoutBudget("samples=16 device=cpu") == "device=cpu");
