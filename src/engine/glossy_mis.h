@@ -10,9 +10,9 @@
 //   light sample:    f_rest + w_l f_lobe,  w_l = (n p_l)^2 / ((n p_l)^2 + p_b^2)
 //   reflection ray:  L_e * w_b,            w_b = p_b^2 / (p_b^2 + (n p_l)^2)
 // f_lobe is the part of f the reflection stage samples (kernels::sampledLobeEvalCos), f_rest
-// the rest (a coated surface's base). The sky counts likewise where the shadow stage samples
-// it (diffuse-class surfaces: a rough coat's reflection ray); elsewhere a glossy reflection
-// ray is the only one to see it and takes it whole.
+// the rest (a coated surface's base). The sky counts likewise: the shadow stage samples it for
+// diffuse-class surfaces and, with MIS, glossy-class ones; a transmitted glossy ray's sky is
+// never light sampled and counts whole.
 #pragma once
 
 #include "engine/render_context.h"

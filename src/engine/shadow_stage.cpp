@@ -67,7 +67,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
 
         for (const LightSource& light : lights.lights) {
             // A delta light takes one sample and no random numbers.
-            int n = light.delta() ? 1 : policy.lightSamples;
+            int n = lightSampleCount(policy, light);
             std::uint64_t lightKey = kernels::hashCombine(key, kDimLightBase + light.stream);
             std::uint32_t strata = policy.stratify ? std::uint32_t(n) : 1u;
             for (int s = 0; s < n; ++s) {

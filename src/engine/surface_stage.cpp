@@ -42,21 +42,19 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
                 b.wg[i] = w.y;
                 b.wb[i] = w.z;
             }
-            if (countEmission && addDirect) {
-                Vec3 le = emittedRadiance(*h.shape, h.ng, -d);
-                if (!isBlack(le)) m_rc.film.add(b.pixel[i], w * le, stats);
-            } else if ((b.flags[i] & kFlagMisEmission) && addDirect) {
-                // A glossy lobe's sampled ray: its share of the light samples' emission.
-                // An emitter outside the sampled light set: no light sample covered it.
-                Vec3 le = emittedRadiance(*h.shape, h.ng, -d);
-                if (!isBlack(le)) {
-                    int li = m_rc.lights.indexOf(h.shape, h.instance);
-                    float mis = li < 0 ? 1.0f
-                                       : reflectionEmissionWeight(m_rc.policy,
-                                                                  m_rc.lights.lights[std::size_t(li)],
-                                                                  o, h.p, h.ng, b.prevPdf[i]);
-                    m_rc.film.add(b.pixel[i], w * le * mis, stats);
-                }
+            const bool misEmission = (b.flags[i] & kFlagMisEmission) != 0;
+            Vec3 le = addDirect && (countEmission || misEmission)
+                          ? emittedRadiance(*h.shape, h.ng, -d)
+                          : Vec3(0.0f);
+            if (!isBlack(le)) {
+                // A glossy lobe's sampled ray takes its MIS share of the light samples'
+                // emission; an emitter outside the sampled light set no light sample covered.
+                float mis = 1.0f;
+                int li = countEmission ? -1 : m_rc.lights.indexOf(h.shape, h.instance);
+                if (li >= 0)
+                    mis = reflectionEmissionWeight(m_rc.policy, m_rc.lights.lights[std::size_t(li)],
+                                                   o, h.p, h.ng, b.prevPdf[i]);
+                m_rc.film.add(b.pixel[i], w * le * mis, stats);
             }
             h.material = resolveMix(m_rc.scene, h.material, h, -d);
             const MaterialType type = materials[h.material].type;
