@@ -4,6 +4,7 @@
 // rays, at the top level and inside an instance; a mesh split into Embree's triangles and exact
 // ones keeps every triangle's identity; alpha cut-outs apply to exact triangles.
 #include "engine/intersect.h"
+#include "scene/pbrt/pbrt_transform.h"
 #include "pbrt/pbrt_test_util.h"
 #include "test_util.h"
 
@@ -15,35 +16,14 @@
 
 using namespace rayproc;
 using namespace rayproc::test;
+using rayproc::pbrt::Vec3d;
 
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
 
-struct D3 {
-    double x, y, z;
-};
-D3 operator+(D3 a, D3 b) {
-    return {a.x + b.x, a.y + b.y, a.z + b.z};
-}
-D3 operator-(D3 a, D3 b) {
-    return {a.x - b.x, a.y - b.y, a.z - b.z};
-}
-D3 operator*(D3 a, double s) {
-    return {a.x * s, a.y * s, a.z * s};
-}
-double dot(D3 a, D3 b) {
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-D3 d3(const Vec3& v) {
-    return {v.x, v.y, v.z};
-}
-Vec3 f3(D3 v) {
-    return {float(v.x), float(v.y), float(v.z)};
-}
-
 // The plane's unit normal when tilted `degrees` about the x axis.
-D3 tiltedNormal(double degrees) {
+Vec3d tiltedNormal(double degrees) {
     double a = degrees * kPiD / 180;
     return {0, std::cos(a), std::sin(a)};
 }
@@ -60,7 +40,7 @@ std::string num(double v) {
 // rotated group (an Embree instance). `extra`: more nodes; `sky`: an environment light too.
 std::unique_ptr<Scene> planeScene(double size, double degrees, bool grouped,
                                   const std::string& extra = "", bool sky = false) {
-    D3 n = tiltedNormal(degrees);
+    Vec3d n = tiltedNormal(degrees);
     std::string quad;
     if (grouped) {
         std::string s = num(size), m = num(-size);
@@ -134,17 +114,17 @@ TEST_CASE("Rays meet a tilted 1e9 plane where a double-precision caster does, at
             auto scene = planeScene(1e9, degrees, grouped);
             EmbreeScene accel(*scene);
             REQUIRE(accel.stats().exactTriangles == 2);
-            const D3 n = tiltedNormal(degrees), o = {0, 3, 8}, centre = n;
+            const Vec3d n = tiltedNormal(degrees), o = {0, 3, 8}, centre = n;
 
             // Camera rays towards a grid of points of the plane around the sphere.
             auto rays = batchOf(RayKind::Camera);
-            const D3 u = {1, 0, 0}, w = {0, -n.z, n.y}; // in the plane
+            const Vec3d u = {1, 0, 0}, w = {0, -n.z, n.y}; // in the plane
             for (int i = 0; i < 11; ++i)
                 for (int j = 0; j < 9; ++j) {
-                    D3 q = u * (-5 + i) + w * (-6 + 1.5 * j);
-                    D3 d = q - o;
+                    Vec3d q = u * (-5 + i) + w * (-6 + 1.5 * j);
+                    Vec3d d = q - o;
                     double l = std::sqrt(dot(d, d));
-                    Vec3 df = f3(d * (1 / l));
+                    Vec3 df = (d * (1 / l)).toFloat();
                     rays->push(float(o.x), float(o.y), float(o.z), df.x, df.y, df.z, 0.0f,
                                kInfinity);
                 }
@@ -155,10 +135,10 @@ TEST_CASE("Rays meet a tilted 1e9 plane where a double-precision caster does, at
             for (int k = 0; k < first->count; ++k) {
                 Vec3 of{first->ox[k], first->oy[k], first->oz[k]};
                 Vec3 df{first->dx[k], first->dy[k], first->dz[k]};
-                D3 od = d3(of), dd = d3(df);
+                Vec3d od = Vec3d(of), dd = Vec3d(df);
                 // The analytic answer: the nearer of the plane (through the origin) and the sphere.
                 double tp = -dot(n, od) / dot(n, dd);
-                D3 oc = od - centre;
+                Vec3d oc = od - centre;
                 double b = dot(oc, dd), c = dot(oc, oc) - 1, disc = b * b - dot(dd, dd) * c;
                 double ts = disc >= 0 ? (-b - std::sqrt(disc)) / dot(dd, dd) : kInfinity;
                 REQUIRE(first->hit(k));
@@ -170,12 +150,12 @@ TEST_CASE("Rays meet a tilted 1e9 plane where a double-precision caster does, at
                 }
                 ++planeHits;
                 REQUIRE(h.shape->type == ShapeType::Mesh);
-                D3 expected = od + dd * tp, p = d3(h.p);
-                D3 diff = p - expected;
+                Vec3d expected = od + dd * tp, p = Vec3d(h.p);
+                Vec3d diff = p - expected;
                 INFO("ray " << k << ": hit " << p.x << " " << p.y << " " << p.z << ", expected "
                             << expected.x << " " << expected.y << " " << expected.z);
                 CHECK(std::sqrt(dot(diff, diff)) < 1e-5 * (1 + std::sqrt(dot(expected, expected))));
-                CHECK(dot(d3(h.ng), n) == Approx(1).margin(1e-6));
+                CHECK(dot(Vec3d(h.ng), n) == Approx(1).margin(1e-6));
                 // The offset that spawned rays take is tiny, not Embree's hundreds of units.
                 CHECK(maxComponent(h.pError) < 1e-4f);
             }
@@ -209,9 +189,9 @@ TEST_CASE("Rays meet a tilted 1e9 plane where a double-precision caster does, at
             int expectBlocked = 0;
             for (int i = 0; i < 8; ++i)
                 for (bool beyond : {false, true}) {
-                    D3 q = u * (3 + i) + w * (-4 + i);
-                    D3 from = q + n * 0.5;
-                    Vec3 df = f3(n * -1);
+                    Vec3d q = u * (3 + i) + w * (-4 + i);
+                    Vec3d from = q + n * 0.5;
+                    Vec3 df = (n * -1).toFloat();
                     shadow->push(float(from.x), float(from.y), float(from.z), df.x, df.y, df.z,
                                  0.0f, beyond ? 0.501f : 0.499f);
                     expectBlocked += beyond;

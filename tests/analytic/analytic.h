@@ -43,6 +43,21 @@ inline RenderResult renderGiMode(const Scene& scene, const EmbreeScene& accel, i
     return renderGi(scene, accel, s, engine);
 }
 
+// Checks, per channel, that gi mode at its defaults (giSpp) gives the image mean of path mode
+// (pathSpp) within relTol.
+inline void checkGiMeanMatchesPath(const Scene& scene, const EmbreeScene& accel, int giSpp,
+                                   int pathSpp, double relTol, const std::string& label) {
+    RenderOptions o;
+    o.mode = "path";
+    o.spp = pathSpp;
+    Vec3 path = imageMean(render(scene, accel, o).image);
+    Vec3 gi = imageMean(renderGiMode(scene, accel, giSpp).image);
+    for (int c = 0; c < 3; ++c) {
+        INFO(label << " channel " << c << ": gi " << gi[c] << " path " << path[c]);
+        CHECK(gi[c] == Approx(path[c]).epsilon(relTol));
+    }
+}
+
 // gi's tolerance in the analytic tests: photon density estimation is biased (the disc's
 // curvature, the cone filter's O(1/k), RGBE rounding, the cache's interpolation); measured
 // figures are in docs/testing.md.

@@ -21,6 +21,7 @@
 // camera's axis in both modes' pixel orientation (mean over a footprint symmetric about it),
 // so the check does not depend on how the image is oriented.
 #include "analytic.h"
+#include "scene/pbrt/pbrt_transform.h"
 
 #include <algorithm>
 #include <array>
@@ -28,20 +29,11 @@
 
 using namespace rayproc;
 using namespace rayproc::test;
+using rayproc::pbrt::Vec3d; // double precision for the reference integrals
 
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
-
-// Double precision for the reference integrals.
-struct D3 {
-    double x, y, z;
-};
-D3 cross(const D3& a, const D3& b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-double dot(const D3& a, const D3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-double length(const D3& a) { return std::sqrt(dot(a, a)); }
 
 struct QuadLightSetup {
     double height;     // hl
@@ -58,8 +50,8 @@ double polygonIrradiance(const QuadLightSetup& l, double x, double z) {
     for (int i = 0; i < 4; ++i) {
         const auto& a2 = q[std::size_t(i)];
         const auto& b2 = q[std::size_t((i + 1) % 4)];
-        D3 a{a2[0] - x, l.height, a2[1] - z}, b{b2[0] - x, l.height, b2[1] - z};
-        D3 c = cross(a, b);
+        Vec3d a{a2[0] - x, l.height, a2[1] - z}, b{b2[0] - x, l.height, b2[1] - z};
+        Vec3d c = cross(a, b);
         double cosAngle = std::clamp(dot(a, b) / (length(a) * length(b)), -1.0, 1.0);
         sum += std::acos(cosAngle) * c.y / length(c);
     }

@@ -43,6 +43,14 @@ BenchSuite boxSuite(const test::TempDir& dir, int width, int height) {
     return s;
 }
 
+// Options that find boxSuite's scene under dir and cache references in <dir>/refs.
+BenchOptions boxOptions(const test::TempDir& dir) {
+    BenchOptions options;
+    options.scenesDir = dir.path.string();
+    options.refsDir = dir.file("refs");
+    return options;
+}
+
 // The Film's "integer <axis>resolution" [ N ] of a pbrt-v4 file; 0 if absent.
 int filmResolution(const std::string& text, const std::string& axis) {
     std::smatch m;
@@ -124,9 +132,7 @@ TEST_CASE("the jobs and the cached reference's path take the scene's own size an
           "[bench]") {
     test::TempDir dir;
     BenchSuite suite = boxSuite(dir, 20, 12);
-    BenchOptions options;
-    options.scenesDir = dir.path.string();
-    options.refsDir = dir.file("refs");
+    BenchOptions options = boxOptions(dir);
 
     std::vector<SceneJob> jobs = benchSceneJobs(suite, options);
     REQUIRE(jobs.size() == 1);
@@ -154,9 +160,7 @@ TEST_CASE("prepareForSuite renders the scene and its reference at the scene's ow
           "[bench]") {
     test::TempDir dir;
     BenchSuite suite = boxSuite(dir, 8, 6);
-    BenchOptions options;
-    options.scenesDir = dir.path.string();
-    options.refsDir = dir.file("refs");
+    BenchOptions options = boxOptions(dir);
     options.quiet = true;
     std::vector<SceneJob> jobs = benchSceneJobs(suite, options);
     REQUIRE(jobs.size() == 1);

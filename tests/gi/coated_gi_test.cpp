@@ -32,15 +32,7 @@ TEST_CASE("gi agrees with path on a coated Cornell box, smooth and rough coats",
     for (float roughness : {0.0f, 0.01f}) {
         auto scene = coatedCornellBox(roughness);
         EmbreeScene accel(*scene);
-        RenderOptions o;
-        o.mode = "path";
-        o.spp = 1024;
-        Vec3 path = imageMean(render(*scene, accel, o).image);
-        Vec3 gi = imageMean(renderGiMode(*scene, accel, 16).image);
-        for (int c = 0; c < 3; ++c) {
-            INFO("roughness " << roughness << " channel " << c << ": gi " << gi[c] << " path "
-                              << path[c]);
-            CHECK(gi[c] == Approx(path[c]).epsilon(0.03));
-        }
+        checkGiMeanMatchesPath(*scene, accel, 16, 1024, 0.03,
+                               "roughness " + std::to_string(roughness));
     }
 }

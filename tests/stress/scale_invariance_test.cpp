@@ -47,6 +47,36 @@ std::unique_ptr<Scene> cornellAt(double scale, double translation) {
     return scene;
 }
 
+// A diffuse ground plane `size` wide under a unit sphere resting on it at the origin, lit by a
+// point and a directional light (and a sky), tilted `degrees` about the x axis, towards the
+// camera (+) or away from it (-). Its corners are A, B, -A, -B, so the plane through the rounded
+// corners contains the origin exactly at every size.
+std::unique_ptr<Scene> groundPlaneScene(double size, double degrees, bool sky) {
+    double t = std::tan(degrees * 3.14159265358979323846 / 180.0), y = size * t;
+    double nl = std::sqrt(1 + t * t);
+    char corners[512], centre[128];
+    std::snprintf(corners, sizeof corners,
+                  "[[%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g], "
+                  "[%.17g, %.17g, %.17g]]",
+                  -size, -y, size, size, -y, size, size, y, -size, -size, y, -size);
+    std::snprintf(centre, sizeof centre, "[0, %.17g, %.17g]", 1 / nl, t / nl);
+    std::string text =
+        R"({"camera": {"position": [0, 3, 8], "look_at": [0, 0.5, 0], "resolution": [32, 24],
+                       "fov": 40},
+            "materials": {"g": {"type": "diffuse", "color": [0.5, 0.5, 0.5]},
+                          "s": {"type": "diffuse", "color": [0.8, 0.3, 0.2]}},
+            "lights": [{"type": "point", "position": [2, 5, 3], "intensity": [30, 30, 30]},
+                       {"type": "directional", "direction": [-0.3, -1, -0.2],
+                        "irradiance": [1, 1, 1]})" +
+        std::string(sky ? R"(, {"type": "environment", "radiance": [0.2, 0.3, 0.6]})" : "") +
+        R"(],
+            "nodes": [{"type": "quad", "material": "g", "corners": )" +
+        corners + R"(},
+                      {"type": "sphere", "material": "s", "center": )" +
+        centre + R"(, "radius": 1}]})";
+    return loadSceneFromString(text, "ground-plane.json");
+}
+
 } // namespace
 
 TEST_CASE("The Cornell box renders the same at every scale and far from the origin",
@@ -102,23 +132,7 @@ TEST_CASE("A ground plane 1e9 wide is lit and shadowed like a small one", "[stre
     // Seen from near the origin, the barycentric hit point on a 1e9 quad cancels to errors of
     // tens of units: the floor came out 80% darker in raytrace and path mode. Compared: the
     // lower half of the image (floor, sphere and its shadow), where both planes look the same.
-    auto sceneWith = [](const std::string& s) {
-        std::string text =
-            R"({"camera": {"position": [0, 3, 8], "look_at": [0, 0.5, 0], "resolution": [32, 24],
-                           "fov": 40},
-                "materials": {"g": {"type": "diffuse", "color": [0.5, 0.5, 0.5]},
-                              "s": {"type": "diffuse", "color": [0.8, 0.3, 0.2]}},
-                "lights": [{"type": "point", "position": [2, 5, 3], "intensity": [30, 30, 30]},
-                           {"type": "directional", "direction": [-0.3, -1, -0.2],
-                            "irradiance": [1, 1, 1]}],
-                "nodes": [{"type": "quad", "material": "g",
-                           "corners": [[-S, 0, -S], [-S, 0, S], [S, 0, S], [S, 0, -S]]},
-                          {"type": "sphere", "material": "s", "center": [0, 1, 0], "radius": 1}]})";
-        for (std::size_t p = text.find('S'); p != std::string::npos; p = text.find('S', p))
-            text.replace(p, 1, s);
-        return loadSceneFromString(text, "plane.json");
-    };
-    auto small = sceneWith("100"), huge = sceneWith("1e9");
+    auto small = groundPlaneScene(100, 0, false), huge = groundPlaneScene(1e9, 0, false);
     EmbreeScene smallAccel(*small), hugeAccel(*huge);
     for (const ModeCase& m : {ModeCase{"raytrace", 4}, ModeCase{"path", 8}}) {
         INFO("mode " << m.mode);
@@ -144,34 +158,9 @@ TEST_CASE("A tilted ground plane 1e9 wide is lit and shadowed like a small one",
     // The plane tilts about the x axis, towards the camera (+) or away from it (-); its corners
     // are A, B, -A, -B, so the plane through the rounded corners contains the origin exactly
     // at every size and the unit sphere rests on it at the origin, in both scenes.
-    auto sceneWith = [](double size, double degrees, bool sky) {
-        double t = std::tan(degrees * 3.14159265358979323846 / 180.0), y = size * t;
-        double nl = std::sqrt(1 + t * t);
-        char corners[512], centre[128];
-        std::snprintf(corners, sizeof corners,
-                      "[[%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g], "
-                      "[%.17g, %.17g, %.17g]]",
-                      -size, -y, size, size, -y, size, size, y, -size, -size, y, -size);
-        std::snprintf(centre, sizeof centre, "[0, %.17g, %.17g]", 1 / nl, t / nl);
-        std::string text =
-            R"({"camera": {"position": [0, 3, 8], "look_at": [0, 0.5, 0], "resolution": [32, 24],
-                           "fov": 40},
-                "materials": {"g": {"type": "diffuse", "color": [0.5, 0.5, 0.5]},
-                              "s": {"type": "diffuse", "color": [0.8, 0.3, 0.2]}},
-                "lights": [{"type": "point", "position": [2, 5, 3], "intensity": [30, 30, 30]},
-                           {"type": "directional", "direction": [-0.3, -1, -0.2],
-                            "irradiance": [1, 1, 1]})" +
-            std::string(sky ? R"(, {"type": "environment", "radiance": [0.2, 0.3, 0.6]})" : "") +
-            R"(],
-                "nodes": [{"type": "quad", "material": "g", "corners": )" +
-            corners + R"(},
-                          {"type": "sphere", "material": "s", "center": )" +
-            centre + R"(, "radius": 1}]})";
-        return loadSceneFromString(text, "tilted-plane.json");
-    };
     for (bool sky : {false, true}) {
         for (double degrees : {-10.0, -5.0, 5.0, 10.0}) {
-            auto small = sceneWith(1e3, degrees, sky), huge = sceneWith(1e9, degrees, sky);
+            auto small = groundPlaneScene(1e3, degrees, sky), huge = groundPlaneScene(1e9, degrees, sky);
             EmbreeScene smallAccel(*small), hugeAccel(*huge);
             for (const ModeCase& m : {ModeCase{"raytrace", 4}, ModeCase{"path", 8}}) {
                 Image ref = lowerHalf(renderStress(*small, smallAccel, m.mode, m.spp, 1).image);
