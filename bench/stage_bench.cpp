@@ -316,8 +316,7 @@ const SceneCache& sceneCache(const std::string& sceneName) {
     Camera coarse = s.nativeCamera;
     coarse.width = std::max(1, coarse.width / 8);
     coarse.height = std::max(1, coarse.height / 8);
-    for (int i = 0; i < coarse.width * coarse.height * 2; ++i)
-        requests.slots.push_back(std::make_unique<IcRequest>());
+    requests.beginLevel(std::size_t(coarse.width) * coarse.height * 2);
     gi.requests = &requests;
     ShadingPolicy policy = raytracePolicy();
     policy.icPrepass = true;
@@ -343,9 +342,9 @@ const SceneCache& sceneCache(const std::string& sceneName) {
         }
     }
     std::vector<IrradianceRecord> records;
-    std::size_t n = std::min<std::size_t>(requests.used.load(), requests.slots.size());
+    std::size_t n = requests.claimed();
     for (std::size_t i = 0; i < n; ++i) {
-        const IcRequest& r = *requests.slots[i];
+        const IcRequest& r = requests[std::uint32_t(i)];
         double rays = r.rays.load();
         if (rays <= 0) continue;
         IrradianceRecord rec;

@@ -111,9 +111,9 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         orthonormalBasis(ns, tu, tv);
         IcRequest* request = nullptr;
         if (prepass) {
-            std::uint32_t slot = gi.requests->used.fetch_add(1);
-            if (slot >= gi.requests->slots.size()) continue; // more than the pass can hold
-            request = gi.requests->slots[slot].get();
+            std::uint32_t slot = 0;
+            request = gi.requests->claim(slot);
+            if (!request) continue; // more than the pass can hold
             IcRequest& rq = *request;
             rq.key = (std::uint64_t(b.pixel[i]) << 32) ^ (b.rngKey[i] & 0xffffffffu);
             rq.position = h.p;
@@ -244,7 +244,7 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
         bool firstSegment = b.specularDepth[i] == 0;
         const Vec3 l = laneThroughput(b, i) * radiance;
         if (b.flags[i] & kFlagGatherRecord) {
-            IcRequest& rq = *gi.requests->slots[b.pixel[i]];
+            IcRequest& rq = (*gi.requests)[b.pixel[i]];
             std::uint32_t stratum = b.sample[i];
             if (firstSegment) {
                 // Ward's R_i: the harmonic mean of the first hits' distances.

@@ -175,14 +175,7 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
     for (int scale : kScales) {
         if (stopped(cluster)) break;
         Camera cam = levelCamera(scale);
-        std::size_t capacity = std::size_t(cam.width) * cam.height * 2;
-        while (requests.slots.size() < capacity) requests.slots.push_back(std::make_unique<IcRequest>());
-        for (auto& r : requests.slots) {
-            for (auto& c : r->radiance) c.store(0);
-            r->inverseDistance.store(0);
-            r->rays.store(0);
-        }
-        requests.used.store(0);
+        requests.beginLevel(std::size_t(cam.width) * cam.height * 2);
 
         Film film(cam.width, cam.height);
         ShadingPolicy policy;
@@ -215,10 +208,10 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         pixelsBefore = pixelsBefore.load() + double(cam.width) * cam.height;
 
         // New records (every rank's) in a fixed order, then into the cache.
-        std::size_t n = std::min<std::size_t>(requests.used.load(), requests.slots.size());
+        std::size_t n = requests.claimed();
         std::vector<MadeGather> made;
         for (std::size_t i = 0; i < n; ++i) {
-            const IcRequest& r = *requests.slots[i];
+            const IcRequest& r = requests[std::uint32_t(i)];
             if (r.rays.load() <= 0) continue;
             MadeGather g;
             g.key = r.key;
