@@ -53,7 +53,7 @@ inline RenderResult renderModeFrame(const std::string& mode, const std::string& 
     if (mode == "raytrace")
         return renderRaytrace(scene, accel, raytraceSettings(scene.render, o), engine);
     if (mode == "path") return renderPath(scene, accel, pathSettings(scene.render, o), engine);
-    return renderGi(scene, accel, giSettings(scene.render, o), engine);
+    return renderGi(scene, accel, giSettings(scene, o), engine);
 }
 
 // Seconds of the render (gi: the final render pass only; its photon, precompute and cache

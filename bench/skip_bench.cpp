@@ -84,7 +84,7 @@ EngineSettings engine(bool analysis) {
 
 void BM_SkipGi(benchmark::State& state, std::string name, bool analysis) {
     Loaded& l = scene(name);
-    GiSettings s = giSettings(l.scene->render, ModeOverrides{4, 0, 0});
+    GiSettings s = giSettings(*l.scene, ModeOverrides{4, 0, 0});
     EngineSettings e = engine(analysis);
     for (auto _ : state) {
         RenderResult r = renderGi(*l.scene, *l.accel, s, e);

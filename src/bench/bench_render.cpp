@@ -13,7 +13,7 @@ RenderConfig RenderConfig::forMode(const Scene& scene, const std::string& mode, 
     ModeOverrides none;
     c.preview = previewSettings(scene.render, none);
     c.raytrace = raytraceSettings(scene.render, none);
-    c.gi = giSettings(scene.render, none);
+    c.gi = giSettings(scene, none);
     c.path = pathSettings(scene.render, none);
     c.engine.quiet = true;
     c.setSpp(spp);

@@ -232,7 +232,7 @@ int runRender(const RenderArgs& a) {
         checkMemory(pixels, 0, 0);
         result = renderPreview(*scene, accel, s, engine);
     } else if (mode == "gi") {
-        GiSettings s = giSettings(scene->render, overrides);
+        GiSettings s = giSettings(*scene, overrides);
         if (a.photons >= 0) s.photons = a.photons;
         if (a.causticPhotons >= 0) s.causticPhotons = a.causticPhotons;
         if (a.gatherRays > 0) s.gatherRays = a.gatherRays;
@@ -363,11 +363,12 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--tonemap", args->tonemap, "PNG tone map: clamp (default), reinhard, aces")
         ->check(CLI::IsMember({"clamp", "reinhard", "aces"}));
     cmd->add_option("--photons", args->photons,
-                    "gi: photons emitted for the global map (default 200000)")
+                    "gi: photons emitted for the global map (default: one per pixel, at least 50000 "
+                    "and at most 1000000)")
         ->check(CLI::Range(0, 100000000));
     cmd->add_option("--caustic-photons", args->causticPhotons,
                     "gi: photons emitted for the caustic map, each pass's with progressive "
-                    "caustics (default 200000; only light -> specular+ -> diffuse paths are "
+                    "caustics (default as --photons; only light -> specular+ -> diffuse paths are "
                     "stored)")
         ->check(CLI::Range(0, 100000000));
     cmd->add_option("--gather-rays", args->gatherRays,

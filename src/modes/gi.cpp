@@ -434,11 +434,12 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     return r;
 }
 
-GiSettings giSettings(const SceneRenderSettings& scene, const ModeOverrides& cli) {
+GiSettings giSettings(const Scene& scene, const ModeOverrides& cli) {
     GiSettings s;
-    applySetting(s.spp, scene.spp, cli.spp);
-    applySetting(s.maxDepth, scene.maxDepth, cli.maxDepth);
-    applySetting(s.lightSamples, scene.lightSamples, cli.lightSamples);
+    applySetting(s.spp, scene.render.spp, cli.spp);
+    applySetting(s.maxDepth, scene.render.maxDepth, cli.maxDepth);
+    applySetting(s.lightSamples, scene.render.lightSamples, cli.lightSamples);
+    s.photons = s.causticPhotons = defaultPhotons(scene.camera.width, scene.camera.height);
     return s;
 }
 

@@ -632,7 +632,7 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
         if (request.mode == "raytrace")
             r = renderRaytrace(scene, *loaded->accel, raytraceSettings(scene.render, overrides), engine);
         else if (request.mode == "gi")
-            r = renderGi(scene, *loaded->accel, giSettings(scene.render, overrides), engine);
+            r = renderGi(scene, *loaded->accel, giSettings(scene, overrides), engine);
         else if (request.mode == "path")
             r = renderPath(scene, *loaded->accel, pathSettings(scene.render, overrides), engine);
         else

@@ -108,7 +108,7 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     engine.quiet = true;
     engine.reference = &reference;
     engine.errorLogPath = log;
-    GiSettings s = giSettings(scene->render, ModeOverrides{4, 0, 0});
+    GiSettings s = giSettings(*scene, ModeOverrides{4, 0, 0});
     RenderResult r = renderGi(*scene, accel, s, engine);
     const double prePasses = extra(r, "gi/photon_seconds") + extra(r, "gi/precompute_seconds") +
                              extra(r, "gi/cache_seconds");
@@ -130,7 +130,7 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     limited.threads = 2;
     limited.quiet = true;
     limited.timeLimitSeconds = 1e-6;
-    GiSettings many = giSettings(scene->render, ModeOverrides{1000, 0, 0});
+    GiSettings many = giSettings(*scene, ModeOverrides{1000, 0, 0});
     RenderResult cut = renderGi(*scene, accel, many, limited);
     CHECK(cut.timeLimitReached);
     CHECK(cut.samplesDone == 1);

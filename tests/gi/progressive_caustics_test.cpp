@@ -41,7 +41,7 @@ RenderResult renderPool(const Scene& scene, const EmbreeScene& accel, int spp, b
     engine.threads = 2;
     engine.seed = 1;
     engine.quiet = true;
-    GiSettings s = giSettings(scene.render, ModeOverrides{spp, 0, 0});
+    GiSettings s = giSettings(scene, ModeOverrides{spp, 0, 0});
     s.progressiveCaustics = progressive;
     s.causticPhotons = 50000;
     return renderGi(scene, accel, s, engine);

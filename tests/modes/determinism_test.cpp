@@ -89,7 +89,7 @@ TEST_CASE("Path and gi images do not depend on the thread count or the packet wi
     auto scene = loadSceneAt("cornell-spheres", 32, 32);
     EmbreeScene accel(*scene);
     ModeOverrides overrides{2, 0, 0};
-    GiSettings gi = giSettings(scene->render, overrides);
+    GiSettings gi = giSettings(*scene, overrides);
     gi.photons = gi.causticPhotons = 20000;
     PathSettings path = pathSettings(scene->render, overrides);
     for (const std::string mode : {"path", "gi"}) {

@@ -398,7 +398,7 @@ Image renderGiImage(const Scene& scene, const EmbreeScene& accel, int spp, std::
     engine.threads = 2;
     engine.seed = seed;
     engine.quiet = true;
-    GiSettings s = giSettings(scene.render, ModeOverrides{spp, 0, 0});
+    GiSettings s = giSettings(scene, ModeOverrides{spp, 0, 0});
     return renderGi(scene, accel, s, engine).image;
 }
 

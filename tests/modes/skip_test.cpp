@@ -76,7 +76,7 @@ RenderResult renderRun(const Scene& scene, const EmbreeScene& accel, const Run& 
         return renderPath(scene, accel, s, e);
     }
     if (r.mode == "gi") {
-        GiSettings s = giSettings(scene.render, o);
+        GiSettings s = giSettings(scene, o);
         s.photons = 20000;
         s.causticPhotons = 20000;
         s.gatherRays = 16;

@@ -195,7 +195,7 @@ inline RenderResult renderStress(const Scene& scene, const EmbreeScene& accel,
         engine.packetWidth = packetWidth;
         engine.seed = seed;
         engine.quiet = true;
-        GiSettings s = giSettings(scene.render, ModeOverrides{spp, 0, 0});
+        GiSettings s = giSettings(scene, ModeOverrides{spp, 0, 0});
         s.photons = 20000;
         s.causticPhotons = 0;
         s.caustics = false;
