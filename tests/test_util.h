@@ -110,6 +110,7 @@ struct RenderOptions {
     std::uint64_t seed = 1;
     int maxDepth = 0; // 0: the mode's default
     bool glossyMis = true; // raytrace: EngineSettings::glossyMis
+    bool lightChoice = true; // raytrace: EngineSettings::lightChoice
 };
 
 // Renders quietly through the library, as `rayproc render` does (without the file output).
@@ -121,6 +122,7 @@ inline RenderResult render(const Scene& scene, const EmbreeScene& accel, const R
     engine.seed = o.seed;
     engine.quiet = true;
     engine.glossyMis = o.glossyMis;
+    engine.lightChoice = o.lightChoice;
     ModeOverrides overrides{o.spp, o.maxDepth, o.lightSamples};
     if (o.mode == "preview")
         return renderPreview(scene, accel, previewSettings(scene.render, overrides), engine);

@@ -27,6 +27,8 @@ const std::vector<AblationSwitch>& ablationSwitches() {
          [](RenderConfig& c) { c.gi.progressiveCaustics = false; }},
         {"glossy MIS", "gi", "--no-glossy-mis",
          [](RenderConfig& c) { c.engine.glossyMis = false; }},
+        {"light choice", "gi", "--no-light-choice",
+         [](RenderConfig& c) { c.engine.lightChoice = false; }},
         {"Russian roulette", "path", "--no-russian-roulette",
          [](RenderConfig& c) { c.path.roulette = false; }},
         {"Russian roulette", "gi", "--no-russian-roulette",

@@ -47,6 +47,7 @@ std::string RenderConfig::settingsString() const {
         o << " no-russian-roulette";
     if (!engine.stratification) o << " no-stratification";
     if (!engine.glossyMis && (mode == "gi" || mode == "raytrace")) o << " no-glossy-mis";
+    if (!engine.lightChoice && (mode == "gi" || mode == "raytrace")) o << " no-light-choice";
     if (engine.packetWidth != 16) o << " packets=" << engine.packetWidth;
     if (engine.seed != 1) o << " seed=" << engine.seed;
     return o.str();

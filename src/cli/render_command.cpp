@@ -63,6 +63,7 @@ struct RenderArgs {
     // profiling switches
     bool noSceneAnalysis = false, noStratification = false, noRoulette = false;
     bool noGlossyMis = false;
+    bool noLightChoice = false;
 };
 
 std::string joinModes() {
@@ -133,6 +134,7 @@ int runRender(const RenderArgs& a) {
     engine.sceneAnalysis = !a.noSceneAnalysis;
     engine.stratification = !a.noStratification;
     engine.glossyMis = !a.noGlossyMis;
+    engine.lightChoice = !a.noLightChoice;
     engine.timeLimitSeconds = a.timeLimit;
     engine.targetRelMse = a.targetRelMse;
     ToneMapSettings tm;
@@ -351,8 +353,9 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "Maximum bounces (raytrace default 8, preview 1, path 64)")
         ->check(CLI::Range(1, 255));
     cmd->add_option("--light-samples", args->lightSamples,
-                    "Stratified samples per area light and for the sky, per shading point "
-                    "(raytrace, default 4)")
+                    "Stratified light samples per shading point, and of the sky (raytrace and "
+                    "gi, default 4): in all over the area lights when there are several (see "
+                    "--no-light-choice); one more per point, spot or distant light")
         ->check(CLI::Range(1, 4096));
     cmd->add_option("--packet-width", args->packetWidth,
                     "Embree traversal: 1 = single rays (rtcIntersect1), 4/8/16 = packets "
@@ -406,6 +409,11 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                   "light samples alone instead of combining them with the sampled reflection "
                   "ray by multiple importance sampling (much noisier highlights of small or "
                   "near-mirror lobes)");
+    cmd->add_flag("--no-light-choice", args->noLightChoice,
+                  "raytrace, gi: with several area lights, take --light-samples samples of "
+                  "every one of them at each hit instead of --light-samples in all, each "
+                  "choosing a light by its power over its squared distance (slower per sample "
+                  "in scenes of many lights)");
     cmd->add_flag("--no-russian-roulette", args->noRoulette,
                   "raytrace, path, gi: paths (and gi's photons) end only at the maximum depth "
                   "or at zero throughput");

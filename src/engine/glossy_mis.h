@@ -1,12 +1,13 @@
 // Multiple importance sampling of a glossy lobe in raytrace and gi (ShadingPolicy::glossyMis).
 //
-// Those modes light a surface by light samples (the shadow stage: every light, `lightSamples`
-// each) and continue a glossy lobe by one sampled reflection ray (the reflection stage: a rough
+// Those modes light a surface by light samples (the shadow stage: `lightSamples` of each light,
+// or in all over several area lights, each picking one) and continue a glossy lobe by one sampled reflection ray (the reflection stage: a rough
 // coat's reflection alone, or the whole BSDF of a rough metal or glass and of rayproc's glossy
 // material). A near-mirror lobe's highlight of a small light is found almost only by the
 // reflection ray, a wide lobe's almost only by light samples; each strategy alone is unbiased
 // but one of them is very noisy. Weighting both by Veach's power heuristic, with the light
-// strategy's density n * p_light (n samples of every light), keeps each where it is good:
+// strategy's density n * p_light (n the light's expected samples at the point: lightSamples, or
+// lightSamples times its choice probability), keeps each where it is good:
 //   light sample:    f_rest + w_l f_lobe,  w_l = (n p_l)^2 / ((n p_l)^2 + p_b^2)
 //   reflection ray:  L_e * w_b,            w_b = p_b^2 / (p_b^2 + (n p_l)^2)
 // f_lobe is the part of f the reflection stage samples (kernels::sampledLobeEvalCos), f_rest
@@ -28,12 +29,28 @@ inline int lightSampleCount(const ShadingPolicy& policy, const LightSource& ligh
     return light.delta() ? 1 : policy.lightSamples;
 }
 
-// Weight of the emission a glossy reflection ray finds on `light` at q (normal nq), the ray
+// Whether the shadow stage chooses among the area lights (ShadingPolicy::lightChoice).
+inline bool choosesLights(const ShadingPolicy& policy, const LightSet& lights) {
+    return policy.lightChoice && lights.choosesAreaLights();
+}
+
+// The expected number of the shadow stage's samples at p that go to light i: its sample count,
+// times the probability that a sample picks it when the stage chooses among the lights.
+inline float expectedLightSamples(const ShadingPolicy& policy, const LightSet& lights,
+                                  std::size_t i, const Vec3& p) {
+    if (!choosesLights(policy, lights) || lights.lights[i].delta())
+        return float(lightSampleCount(policy, lights.lights[i]));
+    LightSet::Choice c = lights.choiceAt(i, p, policy.lightSamples);
+    return float(c.samples) * c.probability;
+}
+
+// Weight of the emission a glossy reflection ray finds on light i at q (normal nq), the ray
 // sampled at p with solid-angle pdf bsdfPdf; bsdfPdf 0: no light sample covered that path.
-inline float reflectionEmissionWeight(const ShadingPolicy& policy, const LightSource& light,
-                                      const Vec3& p, const Vec3& q, const Vec3& nq, float bsdfPdf) {
+inline float reflectionEmissionWeight(const ShadingPolicy& policy, const LightSet& lights,
+                                      std::size_t i, const Vec3& p, const Vec3& q, const Vec3& nq,
+                                      float bsdfPdf) {
     if (!(bsdfPdf > 0)) return 1.0f;
-    float pl = float(lightSampleCount(policy, light)) * light.pdf(p, q, nq);
+    float pl = expectedLightSamples(policy, lights, i, p) * lights.lights[i].pdf(p, q, nq);
     return kernels::powerHeuristic(bsdfPdf, pl);
 }
 

@@ -17,7 +17,7 @@ struct GiData;
 // How surfaces are shaded: the knobs that make preview and raytrace modes differ.
 struct ShadingPolicy {
     int maxDepth = 8;          // reflection + refraction bounces along a path
-    int lightSamples = 4;      // stratified samples per area light and for the environment
+    int lightSamples = 4;      // stratified light samples per hit (see lightChoice) and of the sky
     float rrThreshold = 0.05f; // below this throughput (max channel), Russian roulette
     bool rouletteEnabled = true;
     // Preview: glass lets light straight through (no bending) and keeps at least this much
@@ -44,6 +44,10 @@ struct ShadingPolicy {
     // reflection ray, combined by the power heuristic (engine/glossy_mis.h); off
     // (--no-glossy-mis): light samples only, the reflection ray ignores emitters.
     bool glossyMis = false;
+    // raytrace, gi: with several area lights a hit takes lightSamples samples in all, each
+    // choosing a light by LightSource::selectionWeight (lighting/light_set.h); off
+    // (--no-light-choice): lightSamples samples of every area light.
+    bool lightChoice = false;
 };
 
 struct RenderContext {

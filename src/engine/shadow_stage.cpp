@@ -33,6 +33,8 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
     std::uint64_t spawned = 0;
     const LightSet& lights = m_rc.lights;
     const ShadingPolicy& policy = m_rc.policy;
+    const bool choose = choosesLights(policy, lights);
+    std::vector<float> weights; // the lights' selection weights at a hit, when choosing
     auto emitShadow = [&](int i, const SurfaceHit& h, const Vec3& ng, const Vec3& wi,
                           const LightSample* light, const Vec3& contribution) {
         spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h, ng, wi, light, contribution);
@@ -65,21 +67,50 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             return lightSampleEvalCos(f, lobe, lobePdf, lightPdf);
         };
 
-        for (const LightSource& light : lights.lights) {
-            // A delta light takes one sample and no random numbers.
-            int n = lightSampleCount(policy, light);
+        // Sample s of n on `light`, which a sample picks with probability `chosen`.
+        auto sampleLight = [&](const LightSource& light, int s, int n, float chosen) {
             std::uint64_t lightKey = kernels::hashCombine(key, kDimLightBase + light.stream);
             std::uint32_t strata = policy.stratify ? std::uint32_t(n) : 1u;
-            for (int s = 0; s < n; ++s) {
-                Vec2 u = light.delta() ? Vec2{0.5f, 0.5f}
-                                       : kernels::stratified2D(std::uint32_t(s), strata, lightKey);
-                LightSample ls = light.sample(h.p, u);
-                if (!ls.valid || (dot(ls.wi, ng) <= 0 && !transmits)) continue;
-                float lightPdf = light.delta() ? kInfinity : float(n) * ls.pdf;
-                Vec3 c = w * shaded(ls.wi, lightPdf) * ls.weight / float(n);
-                if (isBlack(c)) continue;
-                emitShadow(i, h, side(ls.wi), ls.wi, &ls, c);
+            Vec2 u = light.delta() ? Vec2{0.5f, 0.5f}
+                                   : kernels::stratified2D(std::uint32_t(s), strata, lightKey);
+            LightSample ls = light.sample(h.p, u);
+            if (!ls.valid || (dot(ls.wi, ng) <= 0 && !transmits)) return;
+            float expected = float(n) * chosen; // this light's expected samples here
+            float lightPdf = light.delta() ? kInfinity : expected * ls.pdf;
+            Vec3 c = w * shaded(ls.wi, lightPdf) * ls.weight / expected;
+            if (isBlack(c)) return;
+            emitShadow(i, h, side(ls.wi), ls.wi, &ls, c);
+        };
+        if (choose) {
+            // n samples per area light that matters here, each picking one by its selection
+            // weight (stratified over the samples); delta lights take one each below.
+            float total = 0;
+            int n = lights.choiceSamples(h.p, policy.lightSamples, weights, total);
+            std::uint64_t choiceKey = kernels::hashCombine(key, kDimLightBase - 3);
+            for (int s = 0; total > 0 && s < n; ++s) {
+                std::uint32_t stratum =
+                    policy.stratify ? kernels::permute(std::uint32_t(s), std::uint32_t(n), choiceKey)
+                                    : 0u;
+                float strata = policy.stratify ? float(n) : 1.0f;
+                float target = (float(stratum) + kernels::uniform(choiceKey, std::uint32_t(s))) /
+                               strata * total;
+                std::size_t l = 0, last = 0;
+                float below = 0;
+                for (; l < weights.size(); ++l) {
+                    if (!(weights[l] > 0)) continue;
+                    last = l;
+                    if (target < below + weights[l]) break;
+                    below += weights[l];
+                }
+                if (l == weights.size()) l = last; // target rounded past the sum
+                sampleLight(lights.lights[l], s, n, weights[l] / total);
             }
+        }
+        for (const LightSource& light : lights.lights) {
+            if (choose && !light.delta()) continue;
+            // A delta light takes one sample and no random numbers.
+            int n = lightSampleCount(policy, light);
+            for (int s = 0; s < n; ++s) sampleLight(light, s, n, 1.0f);
         }
 
         // The sky lights diffuse surfaces through its samples (cosine-weighted for a constant

@@ -1,6 +1,7 @@
-// Shadow stage. Spawning side: at diffuse and glossy hits, samples every light (stratified
-// over each area light's surface, --light-samples per light; one sample per delta light) and
-// the environment, and emits one occlusion ray per sample carrying its unoccluded contribution.
+// Shadow stage. Spawning side: at diffuse and glossy hits, samples the lights (--light-samples
+// stratified samples of the single area light, or in all over several area lights, each
+// sample choosing one by LightSource::selectionWeight; one sample per delta light) and the
+// environment, and emits one occlusion ray per sample carrying its unoccluded contribution.
 // Retrace side: adds the contribution of every ray that reached its light to the film.
 #pragma once
 

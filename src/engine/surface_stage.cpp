@@ -52,8 +52,8 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
                 float mis = 1.0f;
                 int li = countEmission ? -1 : m_rc.lights.indexOf(h.shape, h.instance);
                 if (li >= 0)
-                    mis = reflectionEmissionWeight(m_rc.policy, m_rc.lights.lights[std::size_t(li)],
-                                                   o, h.p, h.ng, b.prevPdf[i]);
+                    mis = reflectionEmissionWeight(m_rc.policy, m_rc.lights, std::size_t(li), o,
+                                                   h.p, h.ng, b.prevPdf[i]);
                 m_rc.film.add(b.pixel[i], w * le * mis, stats);
             }
             h.material = resolveMix(m_rc.scene, h.material, h, -d);

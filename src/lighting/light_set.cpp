@@ -82,6 +82,23 @@ LightSource fromEmitter(const EmitterRecord& e) {
             s.areaCdf.push_back(total);
         }
         s.area = total;
+        Vec3 lo(kInfinity), hi(-kInfinity);
+        for (const Vec3& v : s.triangles) {
+            lo = vmin(lo, v);
+            hi = vmax(hi, v);
+        }
+        s.boundCenter = 0.5f * (lo + hi);
+        s.boundRadius = 0.5f * length(hi - lo);
+        // One-sided and flat: every triangle's normal within 1e-4 of the first's.
+        if (!s.twoSided && s.triangles.size() >= 3) {
+            Vec3 n0 = normalize(cross(s.triangles[1] - s.triangles[0], s.triangles[2] - s.triangles[0]));
+            bool flat = isFinite(n0);
+            for (std::size_t t = 3; flat && t < s.triangles.size(); t += 3) {
+                Vec3 n = normalize(cross(s.triangles[t + 1] - s.triangles[t], s.triangles[t + 2] - s.triangles[t]));
+                flat = isFinite(n) && dot(n, n0) > 1.0f - 1e-4f;
+            }
+            if (flat) s.planeNormal = n0;
+        }
         break;
     }
     case ShapeType::Sphere:
@@ -90,6 +107,8 @@ LightSource fromEmitter(const EmitterRecord& e) {
         s.placementError = kernels::transformedPointError(e.toWorld, sh.center, Vec3(0.0f));
         s.radius = sh.radius * uniformScale(e.toWorld);
         s.area = 4 * kPi * s.radius * s.radius;
+        s.boundCenter = s.center;
+        s.boundRadius = s.radius;
         break;
     case ShapeType::Disk:
         s.kind = LightSource::Kind::AreaDisk;
@@ -98,6 +117,9 @@ LightSource fromEmitter(const EmitterRecord& e) {
         s.normal = normalize(e.toLocal.normalByInverse(sh.normal));
         s.radius = sh.radius * uniformScale(e.toWorld);
         s.area = kPi * s.radius * s.radius;
+        s.boundCenter = s.center;
+        s.boundRadius = s.radius;
+        if (!s.twoSided) s.planeNormal = s.normal;
         break;
     }
     return s;
@@ -260,6 +282,44 @@ Vec3 LightSource::power() const {
     }
 }
 
+float LightSource::selectionWeight(const Vec3& p) const {
+    Vec3 d = p - boundCenter;
+    // Behind the plane (with a margin for the rounding of p and of the vertices).
+    if (dot(d, planeNormal) < -1e-4f * boundRadius) return 0.0f;
+    float d2 = std::max(lengthSquared(d), boundRadius * boundRadius);
+    return d2 > 0 ? powerLuminance / d2 : 0.0f;
+}
+
+float LightSet::effectiveLights(const float* weights, std::size_t count) {
+    double sum = 0, sumSq = 0;
+    for (std::size_t l = 0; l < count; ++l) {
+        sum += weights[l];
+        sumSq += double(weights[l]) * weights[l];
+    }
+    return sumSq > 0 ? float(sum * sum / sumSq) : 0.0f;
+}
+
+int LightSet::choiceSamples(const Vec3& p, int n, std::vector<float>& weights, float& total) const {
+    weights.resize(lights.size());
+    total = 0;
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        weights[l] = lights[l].delta() ? 0.0f : lights[l].selectionWeight(p);
+        total += weights[l];
+    }
+    if (!(total > 0)) return 0;
+    float effective = effectiveLights(weights.data(), weights.size());
+    return std::max(n, int(std::lround(double(n) * effective)));
+}
+
+LightSet::Choice LightSet::choiceAt(std::size_t i, const Vec3& p, int n) const {
+    std::vector<float> weights;
+    float total = 0;
+    Choice c;
+    c.samples = choiceSamples(p, n, weights, total);
+    c.probability = total > 0 ? weights[i] / total : 0.0f;
+    return c;
+}
+
 LightSet LightSet::build(const Scene& scene, const EmbreeScene& accel) {
     LightSet set;
     for (const Light& l : scene.lights) {
@@ -271,8 +331,10 @@ LightSet LightSet::build(const Scene& scene, const EmbreeScene& accel) {
         // A light without area (degenerate triangles, radius 0) emits nothing and cannot be
         // sampled (its pdf would be 1/0); rays cannot hit it either.
         if (!(a.area > 0) || !std::isfinite(a.area)) continue;
+        a.powerLuminance = std::max(0.0f, luminance(a.power()));
         set.m_areaIndex.push_back({{e.shape, e.instance}, int(set.lights.size())});
         set.lights.push_back(std::move(a));
+        ++set.m_areaLights;
     }
     std::sort(set.m_areaIndex.begin(), set.m_areaIndex.end());
     for (std::size_t i = 0; i < set.lights.size(); ++i) set.lights[i].stream = std::uint32_t(i);
@@ -339,6 +401,7 @@ LightSet LightSet::subset(const std::vector<bool>& keep) const {
         if (i < keep.size() && !keep[i]) continue;
         index[i] = int(out.lights.size());
         out.lights.push_back(lights[i]);
+        if (!lights[i].delta()) ++out.m_areaLights;
     }
     for (const auto& e : m_areaIndex)
         if (index[std::size_t(e.second)] >= 0) out.m_areaIndex.push_back({e.first, index[std::size_t(e.second)]});

@@ -61,6 +61,15 @@ public:
     // The light's index in the set it was built in: keys its random numbers, so a subset
     // samples each remaining light exactly as the full set does.
     std::uint32_t stream = 0;
+    // For choosing among area lights: a bounding sphere, the unit normal of a one-sided planar
+    // light (zero otherwise), and the luminance of the emitted power.
+    Vec3 boundCenter, planeNormal;
+    float boundRadius = 0, powerLuminance = 0;
+    // How much this area light can give the point p, up to a factor common to all lights: its
+    // power over the squared distance from p to its bound's centre (at least the bound's
+    // radius squared); 0 behind a one-sided planar light, which cannot light p. Every point it
+    // can light gets a weight > 0, so choosing lights by it is unbiased.
+    float selectionWeight(const Vec3& p) const;
     Vec3 placementError; // bound on the rounding of the world-space vertices / centre
 
     LightSample sample(const Vec3& p, Vec2 u) const;
@@ -81,6 +90,26 @@ struct LightSet {
     // The area light an emissive leaf placement is, or -1.
     int indexOf(const Shape* shape, int instance) const;
 
+    // Raytrace and gi choose among the area lights when there are several: a shading point
+    // takes lightSamples times as many samples as lights matter there (effectiveLights), each
+    // picking area light i with probability selectionWeight_i(p) / sum over the area lights
+    // (delta lights still take one sample each).
+    bool choosesAreaLights() const { return m_areaLights > 1; }
+    // The number of area lights that matter at p, from their selection weights w: the inverse
+    // Simpson index (sum w)^2 / sum w^2, between 1 (one light gives everything) and the count
+    // (all give alike). 0 when none can light p.
+    static float effectiveLights(const float* weights, std::size_t count);
+    // The samples a shading point at p takes over the area lights (n per effective light,
+    // rounded, at least n), and the probability that one of them picks light i.
+    struct Choice {
+        int samples = 0;
+        float probability = 0;
+    };
+    Choice choiceAt(std::size_t i, const Vec3& p, int n) const;
+    // The same for every light at once: weights[l] (0 for delta lights) filled, their sum
+    // returned in `total`.
+    int choiceSamples(const Vec3& p, int n, std::vector<float>& weights, float& total) const;
+
     // Every scene light as it is: area lights stay area lights.
     static LightSet build(const Scene& scene, const EmbreeScene& accel);
     // The paper's preview approximation: each quad light becomes a point light per corner,
@@ -92,6 +121,7 @@ struct LightSet {
 
 private:
     std::vector<std::pair<std::pair<const Shape*, int>, int>> m_areaIndex; // sorted
+    std::size_t m_areaLights = 0;
 };
 
 // Radiance a ray sees when it lands on an emissive surface.

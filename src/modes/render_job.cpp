@@ -34,7 +34,8 @@ std::string EngineSettings::toString() const {
       << " packet_width=" << packetWidth << " seed=" << seed
       << " scene_analysis=" << (sceneAnalysis ? "on" : "off")
       << " stratification=" << (stratification ? "on" : "off")
-      << " glossy_mis=" << (glossyMis ? "on" : "off");
+      << " glossy_mis=" << (glossyMis ? "on" : "off")
+      << " light_choice=" << (lightChoice ? "on" : "off");
     return o.str();
 }
 
