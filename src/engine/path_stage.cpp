@@ -66,6 +66,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             }
             m_rc.film.add(b.pixel[i], w * le * mis, stats);
         }
+        if (b.flags[i] & kFlagEmissionOnly) continue; // the last vertex's BSDF sample
 
         h.material = resolveMix(m_rc.scene, h.material, h, wo);
         kernels::BsdfParams bsdf = bsdfAt(m_rc.scene, h.material, h,
@@ -105,12 +106,9 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             if ((lightPdf > 0 || deltaLight) && (dot(wi, fg) > 0 || transmissive)) {
                 float bsdfPdf;
                 Vec3 f = kernels::evalBsdf(bsdf, wo, wi, h.ng, h.ns, bsdfPdf);
-                // At the last vertex no BSDF ray follows to collect the emission share, so
-                // the light sample takes the whole weight there.
-                bool lastVertex = b.depth[i] >= policy.maxDepth;
-                float mis = deltaLight || lastVertex
-                                ? 1.0f
-                                : kernels::powerHeuristic(pickPdf * lightPdf, bsdfPdf);
+                // At the last vertex too a BSDF ray follows (below), to collect its share.
+                float mis =
+                    deltaLight ? 1.0f : kernels::powerHeuristic(pickPdf * lightPdf, bsdfPdf);
                 Vec3 c = w * f * li * (mis / pickPdf);
                 if (!isBlack(c)) {
                     // A transmitted light sample leaves from the other side.
@@ -129,7 +127,16 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
         if (!bs.valid) continue;
         Vec3 wn = w * bs.weight;
         int depth = b.depth[i] + 1;
-        if (depth > policy.maxDepth || !(maxComponent(wn) > 0)) continue;
+        if (!(maxComponent(wn) > 0)) continue;
+        // Past the last vertex a non-delta sample goes on only to add the MIS share of the
+        // emission or sky it finds (as pbrt-v4's path integrator counts it), so the last
+        // vertex's light sample need not take the whole weight: a near-mirror lobe's rare
+        // light sample was a firefly there.
+        std::uint8_t flags = 0;
+        if (depth > policy.maxDepth) {
+            if (bs.delta) continue;
+            flags = kFlagEmissionOnly;
+        }
         if (policy.rouletteEnabled && depth > policy.rrStartDepth) {
             // Survival = the throughput itself (at most 1): survivors' weights come back to
             // ~1 and stay bounded. A cap below 1 (it was 0.95) let them grow by a/0.95 per
@@ -142,7 +149,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
         RayKind kind = bs.transmitted ? RayKind::Refraction : RayKind::Reflection;
         RayBatch& out = ctx.out(kind);
         spawnRay(out, b, i, no, bs.wi, wn, std::uint8_t(std::min(depth, 255)),
-                 std::uint8_t(std::min(b.specularDepth[i] + (bs.delta ? 1 : 0), 255)), 0, 3);
+                 std::uint8_t(std::min(b.specularDepth[i] + (bs.delta ? 1 : 0), 255)), flags, 3);
         int j = out.count - 1;
         out.prevPdf[j] = bs.delta ? 0.0f : bs.pdf;
         out.prevCos[j] = bs.transmitted ? 0.0f : dot(bs.wi, fs);

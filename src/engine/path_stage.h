@@ -5,8 +5,9 @@
 //    delta lobe or the camera;
 //  - at non-delta surfaces samples one light (uniform choice among the lights and the sky)
 //    and emits a shadow ray carrying the MIS-weighted contribution (next-event estimation);
-//    at the last vertex (depth == maxDepth), where no BSDF ray follows, with full weight;
-//  - samples the BSDF for the next ray, with Russian roulette after `rrStartDepth` bounces.
+//  - samples the BSDF for the next ray, with Russian roulette after `rrStartDepth` bounces;
+//    past the last vertex (depth == maxDepth) only a non-delta sample goes on, flagged
+//    kFlagEmissionOnly: it adds its MIS share of the emission or sky it finds, nothing else.
 // The shadow stage's retrace adds unoccluded contributions to the film.
 #pragma once
 

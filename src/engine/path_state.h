@@ -41,9 +41,8 @@ inline Vec3 laneDirection(const RayBatch& b, int i) { return {b.dx[i], b.dy[i], 
 // The paper's termination: "until the maximum ray depth is achieved or the contributed
 // radiance falls below a specified threshold" — with Russian roulette below the threshold so
 // that the estimate stays unbiased: survivors are reweighted by 1 / survival probability.
-inline bool continuePath(const ShadingPolicy& policy, int newDepth, std::uint64_t key,
-                         std::uint32_t branch, Vec3& weight) {
-    if (newDepth > policy.maxDepth) return false;
+inline bool survivesRoulette(const ShadingPolicy& policy, std::uint64_t key, std::uint32_t branch,
+                             Vec3& weight) {
     float m = maxComponent(weight);
     if (!(m > 0)) return false;
     if (policy.rouletteEnabled && m < policy.rrThreshold) {
@@ -52,6 +51,10 @@ inline bool continuePath(const ShadingPolicy& policy, int newDepth, std::uint64_
         weight = weight / q;
     }
     return true;
+}
+inline bool continuePath(const ShadingPolicy& policy, int newDepth, std::uint64_t key,
+                         std::uint32_t branch, Vec3& weight) {
+    return newDepth <= policy.maxDepth && survivesRoulette(policy, key, branch, weight);
 }
 
 // Writes a successor ray of `parent` lane i into `out`.

@@ -36,6 +36,9 @@ enum RayFlags : std::uint8_t {
     // its prevPdf against the light samples' (prevPdf 0: no light sample covered it, weight 1).
     kFlagMisEmission = 8,
     kFlagMisEnvironment = 16,
+    // Sampled at a path's last vertex (past --max-depth; raytrace and gi: of a glossy lobe): it
+    // adds the MIS share of the emission or sky it finds and nothing else.
+    kFlagEmissionOnly = 32,
 };
 
 struct RayBatch {

@@ -12,6 +12,20 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
     StageTimer timer(stats, StageId::Reflection);
     stats.stages[int(StageId::Reflection)].raysIn += std::uint64_t(hits.count);
     std::uint64_t spawned = 0;
+    const ShadingPolicy& policy = m_rc.policy;
+    auto nextDepth = [](std::uint8_t d) { return std::uint8_t(std::min(int(d) + 1, 255)); };
+    // Whether lane i's sampled ray goes on (Russian roulette reweights w). Past --max-depth a
+    // glossy sample the light samples shared by MIS (misPdf > 0) still goes, flagged to collect
+    // only the MIS share of the emission or sky it meets: without it the light samples there
+    // took the whole lobe, and a near-mirror lobe's rare light sample was a firefly.
+    auto nextRay = [&](int i, std::uint8_t& flags, float misPdf, Vec3& w) {
+        const bool beyond = b.depth[i] + 1 > policy.maxDepth || b.specularDepth[i] + 1 > policy.maxDepth;
+        if (beyond) {
+            if (!(misPdf > 0)) return false;
+            flags |= kFlagEmissionOnly;
+        }
+        return survivesRoulette(policy, b.rngKey[i], 0, w);
+    };
     for (int k = 0; k < hits.count; ++k) {
         int i = hits.lane[k];
         const SurfaceHit& h = hits.hit[k];
@@ -70,14 +84,11 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             wi = s.wi;
             w = w * s.weight;
             if (s.transmitted) {
-                int depth = b.depth[i] + 1;
-                if (b.specularDepth[i] + 1 > m_rc.policy.maxDepth) continue;
-                if (!m_rc.policy.refractionStage) continue;
-                if (!continuePath(m_rc.policy, depth, b.rngKey[i], 0, w)) continue;
+                if (!m_rc.policy.refractionStage || !nextRay(i, flags, misPdf, w)) continue;
                 Vec3 o = offsetRayOrigin(h, -ng, wi);
                 RayBatch& out = ctx.out(RayKind::Refraction);
-                spawnRay(out, b, i, o, wi, w, std::uint8_t(depth),
-                         std::uint8_t(b.specularDepth[i] + 1), flags, 0);
+                spawnRay(out, b, i, o, wi, w, nextDepth(b.depth[i]), nextDepth(b.specularDepth[i]),
+                         flags, 0);
                 out.prevPdf[out.count - 1] = misPdf;
                 ++spawned;
                 continue;
@@ -94,13 +105,11 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             // The shadow stage does not sample the sky for it (see there): the ray sees it.
             glossyFlags(pdf, false, false);
         }
-        int depth = b.depth[i] + 1;
-        if (b.specularDepth[i] + 1 > m_rc.policy.maxDepth) continue;
-        if (!continuePath(m_rc.policy, depth, b.rngKey[i], 0, w)) continue;
+        if (!nextRay(i, flags, misPdf, w)) continue;
         Vec3 o = offsetRayOrigin(h, ng, wi);
         RayBatch& out = ctx.out(RayKind::Reflection);
-        spawnRay(out, b, i, o, wi, w, std::uint8_t(depth), std::uint8_t(b.specularDepth[i] + 1),
-                 flags, 0);
+        spawnRay(out, b, i, o, wi, w, nextDepth(b.depth[i]), nextDepth(b.specularDepth[i]), flags,
+                 0);
         out.prevPdf[out.count - 1] = misPdf;
         out.prevCos[out.count - 1] = dot(wi, ns);
         ++spawned;

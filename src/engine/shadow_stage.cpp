@@ -55,10 +55,10 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         const bool transmits = kernels::hasTransmission(bsdf);
         // A light sample through a transmitting surface leaves from its other side.
         auto side = [&](const Vec3& wi) { return dot(wi, ng) > 0 ? ng : -ng; };
-        // The reflection stage samples this hit's glossy lobe too (within the depth limit):
-        // light samples take their MIS share of it (engine/glossy_mis.h).
-        const bool mis = policy.glossyMis && b.depth[i] + 1 <= policy.maxDepth &&
-                         b.specularDepth[i] + 1 <= policy.maxDepth;
+        // The reflection stage samples this hit's glossy lobe too (past the depth limit a ray
+        // that only collects emission): light samples take their MIS share of it
+        // (engine/glossy_mis.h).
+        const bool mis = policy.glossyMis;
         auto shaded = [&](const Vec3& wi, float lightPdf) {
             Vec3 f = evalCos(mat, bsdf, h, wo, wi, ns);
             if (!mis || isBlack(f)) return f;

@@ -56,6 +56,8 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
                                                    h.p, h.ng, b.prevPdf[i]);
                 m_rc.film.add(b.pixel[i], w * le * mis, stats);
             }
+            if (b.flags[i] & kFlagEmissionOnly) continue; // a last vertex's MIS partner
+
             h.material = resolveMix(m_rc.scene, h.material, h, -d);
             const MaterialType type = materials[h.material].type;
             const MaterialClass cls = materialClass(materials, h.material);
