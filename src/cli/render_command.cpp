@@ -366,13 +366,12 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--tonemap", args->tonemap, "PNG tone map: clamp (default), reinhard, aces")
         ->check(CLI::IsMember({"clamp", "reinhard", "aces"}));
     cmd->add_option("--photons", args->photons,
-                    "gi: photons emitted for the global map (default: one per pixel, at least 50000 "
-                    "and at most 1000000)")
+                    "gi: photons emitted for the global map (default 200000)")
         ->check(CLI::Range(0, 100000000));
     cmd->add_option("--caustic-photons", args->causticPhotons,
                     "gi: photons emitted for the caustic map, each pass's with progressive "
-                    "caustics (default as --photons; only light -> specular+ -> diffuse paths are "
-                    "stored)")
+                    "caustics (default: one per pixel, at least 50000 and at most 1000000; only "
+                    "light -> specular+ -> diffuse paths are stored)")
         ->check(CLI::Range(0, 100000000));
     cmd->add_option("--gather-rays", args->gatherRays,
                     "gi: stratified cosine-weighted rays per final gather (default 64)")

@@ -27,16 +27,17 @@ class IrradianceCache;
 enum class GiDebugView { None, Photons, IcRecords, Caustics, Indirect };
 inline const Vec3 kIcRecordMarker(4.0f, 0.0f, 4.0f); // bright magenta
 
-// The default photon count of each map: one per pixel (pbrt-v4's SPPM also emits one photon per
-// pixel per iteration by default), between kMinDefaultPhotons and kMaxDefaultPhotons. The global
-// map is seen only through final gathers and the cache, so its detail need not exceed the
-// image's; below 50,000 the classroom (sunlit, all indirect) lost accuracy at 1/8 of its size
-// (relMSE 0.21 at 25,000 against 0.15 at 50,000 and 0.16 at 200,000, 32 spp); above 1M the
-// maps' memory grows (tens of MB) for detail the gathers blur. docs/photon-map.md, "How many
-// photons".
+// The global map's default photon count. Its detail is the scene's, not the image's: the sunlit
+// classroom at 160x90 and 128 spp kept a bias of mean 6.4% / block 11% with 50,000 photons,
+// 3.5% / 8.7% with 200,000 and 4.4% / 5.1% with 800,000 (docs/photon-map.md, "How many
+// photons"); 200,000 costs about 0.4 s here.
+constexpr int kGlobalPhotons = 200000;
+// The caustic map's default photon count, each pass's with progressive caustics: one per pixel
+// (pbrt-v4's SPPM also emits one photon per pixel per iteration by default), so caustic photons
+// and camera samples grow together; between kMinDefaultPhotons and kMaxDefaultPhotons.
 constexpr int kMinDefaultPhotons = 50000;
 constexpr int kMaxDefaultPhotons = 1000000;
-inline int defaultPhotons(int width, int height) {
+inline int defaultCausticPhotons(int width, int height) {
     double pixels = double(std::max(width, 1)) * double(std::max(height, 1));
     return int(std::clamp(pixels, double(kMinDefaultPhotons), double(kMaxDefaultPhotons)));
 }
@@ -46,9 +47,9 @@ struct GiSettings {
     int maxDepth = 8;
     int lightSamples = 4;
     // Photons emitted for the global map, and for the caustic map (each pass's with
-    // progressive caustics; only L S+ D paths are kept). giSettings() sets both from the
-    // image: defaultPhotons().
-    int photons = kMinDefaultPhotons;
+    // progressive caustics; only L S+ D paths are kept). giSettings() sets the caustic count
+    // from the image: defaultCausticPhotons().
+    int photons = kGlobalPhotons;
     int causticPhotons = kMinDefaultPhotons;
     // A cap only: Russian roulette ends paths. 16 cut off a^16 of the light, 2.8% of the
     // furnace test's albedo-0.8 channel (measured -2.3% in the photons view).

@@ -440,7 +440,7 @@ GiSettings giSettings(const Scene& scene, const ModeOverrides& cli) {
     applySetting(s.spp, scene.render.spp, cli.spp);
     applySetting(s.maxDepth, scene.render.maxDepth, cli.maxDepth);
     applySetting(s.lightSamples, scene.render.lightSamples, cli.lightSamples);
-    s.photons = s.causticPhotons = defaultPhotons(scene.camera.width, scene.camera.height);
+    s.causticPhotons = defaultCausticPhotons(scene.camera.width, scene.camera.height);
     return s;
 }
 

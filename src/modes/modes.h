@@ -62,7 +62,8 @@ std::string defaultMode(); // the best mode implemented
 PreviewSettings previewSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 
-// gi's photon counts follow the scene's image size (defaultPhotons), the rest its render settings.
+// gi's caustic photon count follows the scene's image size (defaultCausticPhotons), the rest its
+// render settings.
 GiSettings giSettings(const Scene& scene, const ModeOverrides& cli);
 PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 

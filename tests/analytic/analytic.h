@@ -30,18 +30,16 @@ inline Image renderMode(const Scene& scene, const EmbreeScene& accel, const std:
     return render(scene, accel, o).image;
 }
 
-// gi mode at its defaults (photon counts, gather rays, cache) with `spp` and a fixed seed;
-// photons > 0 sets both maps' photon counts instead.
+// gi mode at its defaults (photon counts, gather rays, cache) with `spp` and a fixed seed.
 inline RenderResult renderGiMode(const Scene& scene, const EmbreeScene& accel, int spp,
                                  std::uint64_t seed = 1,
-                                 GiDebugView view = GiDebugView::None, int photons = 0) {
+                                 GiDebugView view = GiDebugView::None) {
     EngineSettings engine;
     engine.threads = 2;
     engine.seed = seed;
     engine.quiet = true;
     GiSettings s = giSettings(scene, ModeOverrides{spp, 0, 0});
     s.debugView = view;
-    if (photons > 0) s.photons = s.causticPhotons = photons;
     return renderGi(scene, accel, s, engine);
 }
 
