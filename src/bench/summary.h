@@ -1,7 +1,7 @@
 // summary.md: the bench's findings in Markdown. Per scene: the plot; the time each mode needs
-// to reach the suite's relMSE targets (0.01 and 0.001 unless it says); the error each reaches at equal times (up to five times of
-// the 1-2-5 series inside the measured span of at least two modes, those most modes span
-// first); for a swept mode, which setting is best at each time.
+// to reach the suite's relMSE targets (0.01 and 0.001 unless it says); the error each reaches
+// at equal times (up to five times of the 1-2-5 series inside the measured span of at least two
+// modes, those most modes span first); for a swept mode, which setting is best at each time.
 // Readings are log-log interpolations between measured renders (curve.h); outside the measured
 // range a cell says so instead of extrapolating.
 #pragma once

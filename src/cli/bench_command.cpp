@@ -235,8 +235,8 @@ std::function<int()> addBenchCommand(CLI::App& app) {
     cmd->add_flag("--ablation", args->ablation,
                   "Instead of the ladders: render each optimisation (packets, irradiance cache, "
                   "precomputed irradiance, caustic map, progressive caustics, glossy MIS, light "
-                  "choice, Russian roulette, stratification) on and off at one budget and report what "
-                  "it buys in time and error");
+                  "choice, Russian roulette, stratification) on and off at one budget and report "
+                  "what it buys in time and error");
     cmd->add_flag("--report-only", args->reportOnly,
                   "Render nothing: rewrite the plots and summary.md from <output>/results.csv "
                   "(and --peer-csv files)");

@@ -19,7 +19,8 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
     // only the MIS share of the emission or sky it meets: without it the light samples there
     // took the whole lobe, and a near-mirror lobe's rare light sample was a firefly.
     auto nextRay = [&](int i, std::uint8_t& flags, float misPdf, Vec3& w) {
-        const bool beyond = b.depth[i] + 1 > policy.maxDepth || b.specularDepth[i] + 1 > policy.maxDepth;
+        const bool beyond =
+            b.depth[i] + 1 > policy.maxDepth || b.specularDepth[i] + 1 > policy.maxDepth;
         if (beyond) {
             if (!(misPdf > 0)) return false;
             flags |= kFlagEmissionOnly;

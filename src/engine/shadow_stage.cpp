@@ -88,21 +88,12 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             int n = lights.choiceSamples(h.p, policy.lightSamples, weights, total);
             std::uint64_t choiceKey = kernels::hashCombine(key, kDimLightBase - 3);
             for (int s = 0; total > 0 && s < n; ++s) {
-                std::uint32_t stratum =
-                    policy.stratify ? kernels::permute(std::uint32_t(s), std::uint32_t(n), choiceKey)
-                                    : 0u;
+                std::uint32_t stratum = policy.stratify ? kernels::permute(std::uint32_t(s),
+                                                                           std::uint32_t(n), choiceKey)
+                                                        : 0u;
                 float strata = policy.stratify ? float(n) : 1.0f;
-                float target = (float(stratum) + kernels::uniform(choiceKey, std::uint32_t(s))) /
-                               strata * total;
-                std::size_t l = 0, last = 0;
-                float below = 0;
-                for (; l < weights.size(); ++l) {
-                    if (!(weights[l] > 0)) continue;
-                    last = l;
-                    if (target < below + weights[l]) break;
-                    below += weights[l];
-                }
-                if (l == weights.size()) l = last; // target rounded past the sum
+                float u = (float(stratum) + kernels::uniform(choiceKey, std::uint32_t(s))) / strata;
+                std::size_t l = LightSet::pickByWeight(weights, total, u);
                 sampleLight(lights.lights[l], s, n, weights[l] / total);
             }
         }

@@ -91,10 +91,14 @@ LightSource fromEmitter(const EmitterRecord& e) {
         s.boundRadius = 0.5f * length(hi - lo);
         // One-sided and flat: every triangle's normal within 1e-4 of the first's.
         if (!s.twoSided && s.triangles.size() >= 3) {
-            Vec3 n0 = normalize(cross(s.triangles[1] - s.triangles[0], s.triangles[2] - s.triangles[0]));
+            auto normalOf = [&](std::size_t t) {
+                const Vec3* v = &s.triangles[t];
+                return normalize(cross(v[1] - v[0], v[2] - v[0]));
+            };
+            Vec3 n0 = normalOf(0);
             bool flat = isFinite(n0);
             for (std::size_t t = 3; flat && t < s.triangles.size(); t += 3) {
-                Vec3 n = normalize(cross(s.triangles[t + 1] - s.triangles[t], s.triangles[t + 2] - s.triangles[t]));
+                Vec3 n = normalOf(t);
                 flat = isFinite(n) && dot(n, n0) > 1.0f - 1e-4f;
             }
             if (flat) s.planeNormal = n0;
@@ -309,6 +313,18 @@ int LightSet::choiceSamples(const Vec3& p, int n, std::vector<float>& weights, f
     if (!(total > 0)) return 0;
     float effective = effectiveLights(weights.data(), weights.size());
     return std::max(n, int(std::lround(double(n) * effective)));
+}
+
+std::size_t LightSet::pickByWeight(const std::vector<float>& weights, float total, float u) {
+    float target = u * total, below = 0;
+    std::size_t last = 0;
+    for (std::size_t l = 0; l < weights.size(); ++l) {
+        if (!(weights[l] > 0)) continue;
+        last = l;
+        if (target < below + weights[l]) return l;
+        below += weights[l];
+    }
+    return last;
 }
 
 LightSet::Choice LightSet::choiceAt(std::size_t i, const Vec3& p, int n) const {

@@ -109,6 +109,9 @@ struct LightSet {
     // The same for every light at once: weights[l] (0 for delta lights) filled, their sum
     // returned in `total`.
     int choiceSamples(const Vec3& p, int n, std::vector<float>& weights, float& total) const;
+    // The light whose share of `total` (choiceSamples' weights) holds u in [0, 1); the last
+    // light with a weight when rounding carries u past the sum.
+    static std::size_t pickByWeight(const std::vector<float>& weights, float total, float u);
 
     // Every scene light as it is: area lights stay area lights.
     static LightSet build(const Scene& scene, const EmbreeScene& accel);
