@@ -55,7 +55,7 @@ struct RenderArgs {
     int photons = -1, causticPhotons = -1, gatherRays = 0;
     float icAccuracy = 0;
     bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
-    bool noProgressiveCaustics = false;
+    bool noProgressiveCaustics = false, noGatherDirect = false;
     float causticAlpha = 0;
     double timeLimit = 0;
     double targetRelMse = 0;
@@ -244,6 +244,7 @@ int runRender(const RenderArgs& a) {
         s.progressiveCaustics = !a.noProgressiveCaustics;
         if (a.causticAlpha > 0) s.causticAlpha = a.causticAlpha;
         s.precomputedIrradiance = !a.noPrecomputed;
+        s.gatherDirect = !a.noGatherDirect;
         s.roulette = !a.noRoulette;
         s.icGradients = !a.noIcGradients;
         s.debugView = a.debugView == "photons"      ? GiDebugView::Photons
@@ -397,6 +398,11 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_flag("--no-precomputed-irradiance", args->noPrecomputed,
                   "gi: gather rays estimate the global map's irradiance from scratch instead of "
                   "Christensen's precomputed values");
+    cmd->add_flag("--no-gather-direct", args->noGatherDirect,
+                  "gi: where a final-gather ray lands on a diffuse surface, take the global map's "
+                  "estimate of all the light there instead of sampling the sun (delta lights) "
+                  "and the sky there with one shadow ray each and taking the rest from the map "
+                  "(the map blurs sharp shadows and sunlit patches: biased, but no shadow rays)");
     cmd->add_flag("--no-scene-analysis", args->noSceneAnalysis,
                   "Run every pass and stage and sample every light, even those the scene "
                   "analysis finds cannot contribute (for comparisons and profiling)");

@@ -59,7 +59,7 @@ void tracePackets(RTCScene scene, RayBatch& b, RTCIntersectContext* ctx) {
     alignas(64) int valid[K];
     for (int base = 0; base < b.count; base += K) {
         int n = std::min(K, b.count - base);
-        if (b.kind == RayKind::Shadow) {
+        if (isOcclusionRay(b.kind)) {
             alignas(64) typename Packet<K>::Ray r;
             loadRays(r, b, base, n, valid, K);
             Packet<K>::occluded(valid, scene, ctx, &r);
@@ -92,7 +92,7 @@ void traceSingle(RTCScene scene, RayBatch& b, RTCIntersectContext* ctx) {
         rh.ray.dir_x = b.dx[i]; rh.ray.dir_y = b.dy[i]; rh.ray.dir_z = b.dz[i];
         rh.ray.tnear = b.tnear[i]; rh.ray.tfar = b.tfar[i];
         rh.ray.time = 0; rh.ray.mask = 0xffffffffu; rh.ray.id = unsigned(i); rh.ray.flags = 0;
-        if (b.kind == RayKind::Shadow) {
+        if (isOcclusionRay(b.kind)) {
             rtcOccluded1(scene, ctx, &rh.ray);
             b.tfar[i] = rh.ray.tfar;
         } else {
@@ -121,7 +121,7 @@ Intersector::Intersector(RTCScene scene, int width)
 }
 
 void Intersector::trace(RayBatch& b, ThreadStats& stats) const {
-    StageId id = b.kind == RayKind::Shadow ? StageId::Occlude : StageId::Intersect;
+    StageId id = isOcclusionRay(b.kind) ? StageId::Occlude : StageId::Intersect;
     if (m_recorder) m_recorder->record(b);
     StageTimer timer(stats, id);
     stats.stages[int(id)].raysIn += b.count;

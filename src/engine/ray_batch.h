@@ -21,10 +21,13 @@ enum class RayKind : std::uint8_t {
     Shadow,     // occlusion rays from the shadow stage
     Photon,     // gi mode, first pass: photons from the photon emitter and their bounces
     Gather,     // gi mode, second pass: final-gather rays from a diffuse hit
+    GatherShadow, // gi mode: occlusion rays of the light samples where a gather ray lands
     Count
 };
 constexpr int kRayKindCount = int(RayKind::Count);
 const char* rayKindName(RayKind k);
+// Occlusion rays (any hit before tfar ends them) rather than closest-hit rays.
+inline bool isOcclusionRay(RayKind k) { return k == RayKind::Shadow || k == RayKind::GatherShadow; }
 
 // Per-ray flags.
 enum RayFlags : std::uint8_t {

@@ -10,6 +10,7 @@ const char* rayKindName(RayKind k) {
     case RayKind::Shadow: return "shadow";
     case RayKind::Photon: return "photon";
     case RayKind::Gather: return "gather";
+    case RayKind::GatherShadow: return "gather-shadow";
     case RayKind::Count: break;
     }
     return "?";

@@ -21,12 +21,64 @@ namespace {
 constexpr std::uint8_t kFlagPastGlossy = kFlagCountEmission;
 } // namespace
 
-Vec3 GatherStage::globalIrradiance(const Vec3& p, const Vec3& n) const {
+Vec3 GatherStage::mapIrradiance(const PhotonMap* map, const Vec3& p, const Vec3& n) const {
     const GiData& gi = *m_rc.gi;
-    if (!gi.global || gi.global->size() == 0) return Vec3(0.0f);
-    if (gi.settings.precomputedIrradiance && gi.global->hasPrecomputedIrradiance())
-        return gi.global->irradianceFast(p, n, gi.settings.globalK, gi.globalRadius);
-    return gi.global->irradiance(p, n, gi.settings.globalK, gi.globalRadius);
+    if (!map || map->size() == 0) return Vec3(0.0f);
+    if (gi.settings.precomputedIrradiance && map->hasPrecomputedIrradiance())
+        return map->irradianceFast(p, n, gi.settings.globalK, gi.globalRadius);
+    return map->irradiance(p, n, gi.settings.globalK, gi.globalRadius);
+}
+
+std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceHit& h,
+                                        const Vec3& ng, const Vec3& ns, const Vec3& reflect,
+                                        StageContext& ctx) const {
+    const LightSet& lights = m_rc.lights;
+    const std::uint64_t key = kernels::hashCombine(b.rngKey[i], 0x5d17);
+    std::uint64_t spawned = 0;
+    auto emit = [&](const Vec3& wi, const LightSample* light, const Vec3& weight) {
+        float c = dot(wi, ns);
+        if (dot(wi, ng) <= 0 || !(c > 0)) return;
+        Vec3 contribution = reflect * weight * c;
+        if (isBlack(contribution) || !isFinite(contribution)) return;
+        RayBatch& out = ctx.out(RayKind::GatherShadow);
+        spawnShadowRay(out, b, i, h, ng, wi, light, contribution);
+        out.flags[out.count - 1] = std::uint8_t(b.flags[i] & kFlagGatherRecord);
+        ++spawned;
+    };
+    // One sample per delta light (no random numbers), one of the sky.
+    for (const LightSource& light : lights.lights) {
+        if (!light.delta()) continue;
+        LightSample ls = light.sample(h.p, {0.5f, 0.5f});
+        if (ls.valid) emit(ls.wi, &ls, ls.weight);
+    }
+    if (lights.hasEnvironment()) {
+        EnvironmentSample es =
+            lights.environment.sample({kernels::uniform(key, 3), kernels::uniform(key, 4)}, ns);
+        if (es.valid) emit(es.wi, nullptr, es.weight);
+    }
+    return spawned;
+}
+
+void GatherStage::deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const {
+    if (isBlack(l)) return;
+    if (b.flags[i] & kFlagGatherRecord) {
+        // A stratum's radiance arrives in parts (its ray, continuations, light samples).
+        IcRequest& rq = (*m_rc.gi->requests)[b.pixel[i]];
+        for (int c = 0; c < 3; ++c)
+            rq.radiance[c].fetch_add(std::llround(double(l[c]) * IcRequests::kScale),
+                                     std::memory_order_relaxed);
+        rq.addStratum(b.sample[i], l, IcRequests::kScale);
+    } else {
+        m_rc.film.add(b.pixel[i], l, stats);
+    }
+}
+
+void GatherStage::retraceShadow(RayBatch& b, StageContext& ctx) {
+    ThreadStats& stats = *ctx.stats;
+    StageTimer timer(stats, StageId::Gather);
+    stats.stages[int(StageId::Gather)].raysIn += std::uint64_t(b.count);
+    for (int i = 0; i < b.count; ++i)
+        if (!b.occluded(i)) deposit(b, i, laneThroughput(b, i), stats);
 }
 
 Vec3 GatherStage::glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceHit& h,
@@ -71,7 +123,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
 
         if (!firstDiffuse) {
             ++stats.globalLookups;
-            m_rc.film.add(b.pixel[i], reflect * globalIrradiance(h.p, ns), stats);
+            m_rc.film.add(b.pixel[i], reflect * mapIrradiance(gi.global, h.p, ns), stats);
             continue;
         }
         bool prepass = gi.requests != nullptr;
@@ -121,7 +173,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             rq.u = tu;
             rq.v = tv;
             if (gi.strataWanted) {
-                rq.strataRadiance.assign(std::size_t(strata), Vec3(0.0f));
+                rq.strataRadiance.assign(std::size_t(strata), {0, 0, 0});
                 rq.strataDistance.assign(std::size_t(strata), 0.0f);
             }
             target = slot;
@@ -167,11 +219,16 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
 }
 
 void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
+    if (b.kind == RayKind::GatherShadow) {
+        retraceShadow(b, ctx);
+        return;
+    }
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, StageId::Gather);
     stats.stages[int(StageId::Gather)].raysIn += std::uint64_t(b.count);
     const GiData& gi = *m_rc.gi;
     const int maxSpecular = std::max(0, gi.settings.maxDepth);
+    const bool sampleLights = gi.globalIndirect != nullptr; // GiSettings::gatherDirect
     std::uint64_t spawned = 0;
     for (int i = 0; i < b.count; ++i) {
         Vec3 radiance(0.0f); // reaching the ray's origin from this hit, before the throughput
@@ -204,8 +261,12 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
             facingNormals(h, -d, ng, ns);
             if (cls == MaterialClass::Diffuse) {
                 ++stats.globalLookups;
-                radiance += kernels::lambertianAlbedo(bsdf, -d, h.ng, h.ns) * kInvPi *
-                            globalIrradiance(h.p, ns);
+                const Vec3 albedo = kernels::lambertianAlbedo(bsdf, -d, h.ng, h.ns) * kInvPi;
+                radiance += albedo * mapIrradiance(sampleLights ? gi.globalIndirect : gi.global,
+                                                   h.p, ns);
+                if (sampleLights)
+                    spawned += sampleDirect(b, i, h, ng, ns, laneThroughput(b, i) * albedo,
+                                            ctx);
             } else if (cls == MaterialClass::Glossy && !transmits) {
                 ++stats.globalLookups;
                 radiance += glossyRadiance(bsdf, h, -d, ns);
@@ -253,16 +314,10 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
                                                  std::memory_order_relaxed);
                 if (stratum < rq.strataDistance.size()) rq.strataDistance[stratum] = distance;
             }
-            // A stratum's radiance arrives in parts along its chain (one lane at a time).
-            if (!isBlack(l)) {
-                for (int c = 0; c < 3; ++c)
-                    rq.radiance[c].fetch_add(std::llround(double(l[c]) * IcRequests::kScale),
-                                             std::memory_order_relaxed);
-                if (stratum < rq.strataRadiance.size()) rq.strataRadiance[stratum] += l;
-            }
+            deposit(b, i, l, stats);
             if (done) rq.rays.fetch_add(1, std::memory_order_relaxed);
-        } else if (!isBlack(l)) {
-            m_rc.film.add(b.pixel[i], l, stats);
+        } else {
+            deposit(b, i, l, stats);
         }
     }
     stats.stages[int(StageId::Gather)].raysOut += spawned;

@@ -11,6 +11,12 @@
 //  reflected light (no final gather there, and no shadow rays: the map holds direct light).
 // Retrace side: each gather ray's hit reads the global photon map (no second gather): the
 // reflected radiance albedo/pi * E, with E the precomputed (Christensen) or full estimate.
+// With GiSettings::gatherDirect (the default) the direct light of delta lights (the sun) and
+// of the sky comes from light samples at the hit instead, one per delta light and one of the
+// sky, each an occlusion ray (RayKind::GatherShadow) whose unoccluded contribution this stage
+// adds to the gather's pixel or cache record when it comes back; E is then the map without
+// those lights' first-landing photons. Area lights' direct light stays the map's: sampled
+// at gather hits close to a lamp it made bright specks in cache records.
 // At a mirror or glass surface the gather ray continues specularly (one branch, chosen with
 // the Fresnel probability; at most maxDepth specular bounces) until it reaches a diffuse
 // surface, so light along L ... D S+ D paths is kept; emission reached that way is the caustic
@@ -22,7 +28,11 @@
 #include "engine/stage.h"
 #include "kernels/bsdf_params.h"
 
+#include <cstdint>
+
 namespace rayproc {
+
+class PhotonMap;
 
 class GatherStage : public RetraceStage {
 public:
@@ -31,7 +41,15 @@ public:
     void retrace(RayBatch& batch, StageContext& ctx) override;
 
 private:
-    Vec3 globalIrradiance(const Vec3& p, const Vec3& n) const;
+    // Irradiance from `map` (the global map or its scattered photons): precomputed or full.
+    Vec3 mapIrradiance(const PhotonMap* map, const Vec3& p, const Vec3& n) const;
+    // The light samples at a gather ray's diffuse hit h (lane i of b), for a Lambertian
+    // reflection of factor `reflect` (throughput x albedo / pi): GatherShadow rays.
+    std::uint64_t sampleDirect(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& ng,
+                               const Vec3& ns, const Vec3& reflect, StageContext& ctx) const;
+    // Adds a light sample's, or a gather ray's, radiance l to lane i's pixel or cache record.
+    void deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const;
+    void retraceShadow(RayBatch& batch, StageContext& ctx);
     // The caustic map's irradiance: k-nearest, or within the pass's radius when progressive.
     Vec3 causticIrradiance(const Vec3& p, const Vec3& n) const;
     // Radiance an opaque glossy surface at h sends towards wo: the global map's estimate with

@@ -6,6 +6,7 @@
 #include "core/math.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -68,6 +69,13 @@ struct GiSettings {
     bool progressiveCaustics = true;
     float causticAlpha = 2.0f / 3.0f; // the radius reduction (Hachisuka & Jensen's alpha)
     bool precomputedIrradiance = true;
+    // Where a gather ray lands on a diffuse surface, the direct light of delta lights and of
+    // the sky comes from light samples there (shadow rays, like the first hit's) and the global
+    // map gives the rest (it leaves out those lights' first-landing photons); off: the map
+    // gives all. Its estimate of sunlight blurs sharp shadows and sunlit patches into their
+    // surroundings, and the gather carries that bias to every surface they light
+    // (docs/photon-map.md, "Direct light at gather hits").
+    bool gatherDirect = true;
     bool roulette = true;        // Russian roulette of photons and of specular paths
     GiDebugView debugView = GiDebugView::None;
     std::string toString() const;
@@ -82,12 +90,19 @@ struct IcRequest {
     std::atomic<std::int64_t> inverseDistance{0};
     std::atomic<std::int32_t> rays{0};
     // With gradients: the gather's frame (u, v, normal) and per stratum (j, k) at [j N + k]
-    // the incident radiance and the first hit's distance (GatherStrata's layout). Each slot
-    // is written by the one gather ray of its stratum (and its specular continuations, in
-    // sequence), so plain stores suffice; they are read after the pass.
+    // the incident radiance, fixed-point like `radiance` (a stratum's ray, its continuations
+    // and the shadow rays of its light samples add to it in any order: addStratum), and the
+    // first hit's distance (GatherStrata's layout; written once, by the stratum's ray). Read
+    // after the pass.
     Vec3 u, v;
-    std::vector<Vec3> strataRadiance;
+    std::vector<std::array<std::int64_t, 3>> strataRadiance;
     std::vector<float> strataDistance;
+    void addStratum(std::uint32_t stratum, const Vec3& l, double scale) {
+        if (stratum >= strataRadiance.size()) return;
+        for (int c = 0; c < 3; ++c)
+            std::atomic_ref<std::int64_t>(strataRadiance[stratum][std::size_t(c)])
+                .fetch_add(std::llround(double(l[c]) * scale), std::memory_order_relaxed);
+    }
 };
 
 // The prepass level's requests, one slot per new gather, claimed by an atomic counter. Slots
@@ -160,6 +175,9 @@ private:
 struct GiData {
     GiSettings settings;
     const PhotonMap* global = nullptr;
+    // The global map without the first-landing photons of delta lights and the sky
+    // (GiSettings::gatherDirect; null otherwise): diffuse gather hits' estimate of the rest.
+    const PhotonMap* globalIndirect = nullptr;
     const PhotonMap* caustic = nullptr;
     const IrradianceCache* cache = nullptr; // frozen during a pass
     IcRequests* requests = nullptr;         // set only in the cache's prepass

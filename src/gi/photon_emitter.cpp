@@ -101,6 +101,7 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
         e.valid = true;
     };
 
+    e.deltaOrSky = c == m_lights.lights.size() || m_lights.lights[c].delta();
     if (c == m_lights.lights.size()) { // the sky
         if (m_lights.environment.cosineSampled()) { // constant: uniform directions
             e.direction = kernels::toWorld(kernels::uniformCone(uDir, -1.0f), {0, 0, 1});
@@ -213,7 +214,7 @@ bool PhotonEmitter::emit(StageContext& ctx) {
         b.rngKey[j] = kernels::hashCombine(m_key, k + 0x1000);
         b.depth[j] = 0;
         b.specularDepth[j] = 0;
-        b.flags[j] = 0;
+        b.flags[j] = e.deltaOrSky ? kPhotonDeltaOrSky : 0;
         b.prevPdf[j] = 0;
         b.prevCos[j] = 0;
     }

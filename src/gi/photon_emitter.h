@@ -7,6 +7,7 @@
 #include "core/math.h"
 #include "engine/render_context.h"
 #include "engine/stage.h"
+#include "gi/photon_stage.h"
 #include "lighting/light_set.h"
 
 #include <atomic>
@@ -39,6 +40,7 @@ private:
     struct Emission {
         Vec3 origin, direction, power;
         bool valid = false;
+        bool deltaOrSky = false; // from a delta light or the sky (kPhotonDeltaOrSky)
     };
     Emission emitOne(std::uint32_t index) const;
     // A photon origin on the emission plane behind the scene, perpendicular to dir, and the

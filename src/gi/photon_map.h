@@ -36,6 +36,10 @@ struct PhotonRecord {
     Vec3 power;     // flux (W) carried, RGB
     Vec3 direction; // unit, pointing from the surface back towards where the photon came from
     Vec3 normal;    // unit surface normal at the hit, on the side the photon arrived from
+    // 1: the direct light of a delta light or the sky, stored where the photon first landed:
+    // gi's gather samples those lights at its hits instead (buildPhotonMap's `indirect` map
+    // leaves these photons out). 0 otherwise.
+    std::uint32_t sampledDirect = 0;
 };
 
 class PhotonMap {
@@ -93,7 +97,8 @@ public:
     };
     void nearest(const Vec3& p, int k, float maxDistance, Neighbours& out) const;
 
-    // Decoded photon i < size() (power, direction and normal from the compact form).
+    // Decoded photon i < size() (power, direction and normal from the compact form; the map
+    // does not keep `sampledDirect`: 0).
     PhotonRecord photon(std::uint32_t i) const;
 
     // Irradiance at p with surface normal n from the k nearest photons within maxDistance,

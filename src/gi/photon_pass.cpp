@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 
 namespace rayproc {
 
@@ -75,12 +76,21 @@ bool stopped(const Cluster& cluster) {
 void buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScene& accel,
                     const LightSet& lights, const GiSettings& s, const EngineSettings& engine,
                     const Cluster& cluster, const PhotonPassSpec& pass, const FocusRegion& focus,
-                    Stats& stats) {
+                    Stats& stats, PhotonMap* indirect) {
     map.build({});
+    if (indirect) indirect->build({});
     if (pass.count == 0 || stopped(cluster)) return;
     std::vector<PhotonRecord> photons = mergePhotonShares(
         cluster, tracePhotons(scene, accel, lights, s, engine, cluster, pass, focus, stats));
-    if (!stopped(cluster)) map.build(std::move(photons), [] { return interruptRequested(); });
+    if (stopped(cluster)) return;
+    auto stop = [] { return interruptRequested(); };
+    if (indirect) {
+        std::vector<PhotonRecord> scattered;
+        std::copy_if(photons.begin(), photons.end(), std::back_inserter(scattered),
+                     [](const PhotonRecord& p) { return p.sampledDirect == 0; });
+        if (!indirect->build(std::move(scattered), stop)) return;
+    }
+    map.build(std::move(photons), stop);
 }
 
 } // namespace rayproc

@@ -48,10 +48,11 @@ std::vector<PhotonRecord> mergePhotonShares(const Cluster& cluster,
 bool stopped(const Cluster& cluster);
 
 // tracePhotons, mergePhotonShares and PhotonMap::build in one: the pass's map, left empty
-// when interrupted. A collective.
+// when interrupted. With `indirect`, also the map of the photons that are not the direct light
+// of a delta light or the sky (PhotonRecord::sampledDirect 0), in the same order. A collective.
 void buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScene& accel,
                     const LightSet& lights, const GiSettings& s, const EngineSettings& engine,
                     const Cluster& cluster, const PhotonPassSpec& pass, const FocusRegion& focus,
-                    Stats& stats);
+                    Stats& stats, PhotonMap* indirect = nullptr);
 
 } // namespace rayproc

@@ -13,7 +13,6 @@
 namespace rayproc {
 
 namespace {
-enum PhotonFlags : std::uint8_t { kPhotonDiffuse = 1, kPhotonSpecular = 2 };
 enum PhotonDim : std::uint32_t { kDimScatter = 30, kDimLobe = 32, kDimSurvive = 33 };
 
 } // namespace
@@ -40,7 +39,10 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
             if (store) {
                 Vec3 fg = dot(wo, h.ng) >= 0 ? h.ng : -h.ng;
                 std::uint64_t key = (std::uint64_t(b.sample[i]) << 8) | b.depth[i];
-                stored.push_back({key, PhotonRecord{h.p, power, wo, fg}});
+                // Where a photon from a delta light or the sky first lands it is that light's direct
+                // light, which gi's gather samples instead (GiSettings::gatherDirect).
+                std::uint32_t sampled = b.depth[i] == 0 && (flags & kPhotonDeltaOrSky) ? 1u : 0u;
+                stored.push_back({key, PhotonRecord{h.p, power, wo, fg, sampled}});
                 ++stats.photonsStored;
             }
             // A caustic path ends at its first diffuse surface, unless a coat over it

@@ -18,6 +18,10 @@
 
 namespace rayproc {
 
+// A photon ray's flags: it scattered diffusely / specularly on its way (the caustic pass keeps
+// L S+ D paths only), and it left a delta light or the sky (set by the photon emitter).
+enum PhotonFlags : std::uint8_t { kPhotonDiffuse = 1, kPhotonSpecular = 2, kPhotonDeltaOrSky = 4 };
+
 class PhotonStage : public RetraceStage {
 public:
     PhotonStage(const RenderContext& rc, bool causticPass, int maxDepth)

@@ -198,6 +198,7 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
             processor.setStage(k, &surface);
         processor.setStage(RayKind::Shadow, &shadow);
         processor.setStage(RayKind::Gather, &gather);
+        processor.setStage(RayKind::GatherShadow, &gather);
         CameraEmitter camera(rc, 1, &cam);
         camera.setShare(cluster.rank(), cluster.size()); // each rank gathers for its tiles
         camera.beginPass(0, 1);
@@ -222,7 +223,11 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
             for (int c = 0; c < 3; ++c) g.radiance[c] = r.radiance[c].load();
             g.inverseDistance = r.inverseDistance.load();
             g.rays = r.rays.load();
-            g.strataRadiance = r.strataRadiance;
+            g.strataRadiance.resize(r.strataRadiance.size());
+            for (std::size_t s = 0; s < r.strataRadiance.size(); ++s)
+                for (int c = 0; c < 3; ++c)
+                    g.strataRadiance[s][c] =
+                        float(double(r.strataRadiance[s][std::size_t(c)]) / IcRequests::kScale);
             g.strataDistance = r.strataDistance;
             made.push_back(std::move(g));
         }
@@ -311,6 +316,7 @@ std::string GiSettings::toString() const {
       << " progressive_caustics=" << (progressiveCaustics ? "on" : "off")
       << " caustic_alpha=" << causticAlpha
       << " precomputed_irradiance=" << (precomputedIrradiance ? "on" : "off")
+      << " gather_direct=" << (gatherDirect ? "on" : "off")
       << " roulette=" << (roulette ? "on" : "off")
       << " debug_view=" << debugViewName(debugView);
     return o.str();
@@ -350,10 +356,16 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     // one before every later render pass.
     Stats photonStats;
     auto t0 = Clock::now();
-    PhotonMap global, caustic;
+    // Direct light at gather hits: only delta lights and the sky are sampled there.
+    const bool gatherDirect =
+        s.gatherDirect && (lights.hasEnvironment() ||
+                           std::any_of(lights.lights.begin(), lights.lights.end(),
+                                       [](const LightSource& l) { return l.delta(); }));
+    PhotonMap global, caustic, scattered;
     if (s.photons > 0 && plan.globalMap)
         buildPhotonMap(global, scene, accel, lights, s, engine, cluster,
-                       {false, std::uint32_t(s.photons), 1, "gi photons"}, focus, photonStats);
+                       {false, std::uint32_t(s.photons), 1, "gi photons"}, focus, photonStats,
+                       gatherDirect ? &scattered : nullptr);
     const bool causticPass = s.caustics && s.causticPhotons > 0 && plan.causticMap;
     std::optional<ProgressiveCaustics> progressive;
     if (causticPass && s.progressiveCaustics) {
@@ -368,14 +380,19 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     auto t1 = Clock::now();
     if (s.precomputedIrradiance && global.size() > 0 && !stopped(cluster))
         precomputePhotonIrradiance(global, s, gi.globalRadius, engine, cluster);
+    if (s.precomputedIrradiance && scattered.size() > 0 && !stopped(cluster))
+        precomputePhotonIrradiance(scattered, s, gi.globalRadius, engine, cluster);
     double precomputeSeconds = secondsSince(t1);
     gi.global = &global;
+    if (gatherDirect && global.size() > 0) gi.globalIndirect = &scattered;
     if (!progressive) gi.caustic = &caustic;
     extras.push_back({"gi/photon_seconds", photonSeconds});
     extras.push_back({"gi/photons_global", double(global.size())});
+    extras.push_back({"gi/photons_scattered", double(scattered.size())});
     extras.push_back({"gi/photons_caustic", double(gi.caustic ? gi.caustic->size() : 0)});
     extras.push_back({"gi/photon_map_bytes",
-                      double(global.memoryBytes() + (gi.caustic ? gi.caustic->memoryBytes() : 0))});
+                      double(global.memoryBytes() + scattered.memoryBytes() +
+                             (gi.caustic ? gi.caustic->memoryBytes() : 0))});
     extras.push_back({"gi/precompute_seconds", precomputeSeconds});
 
     // Cache prepass.

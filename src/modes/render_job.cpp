@@ -83,6 +83,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     processor.setStage(RayKind::Refraction, policy.refractionStage ? radianceStage : nullptr);
     processor.setStage(RayKind::Shadow, policy.shadowStage ? &shadow : nullptr);
     processor.setStage(RayKind::Gather, gi ? &gather : nullptr);
+    processor.setStage(RayKind::GatherShadow, gi ? &gather : nullptr);
 
     RenderResult result;
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> errorLog(nullptr, &std::fclose);
