@@ -22,6 +22,8 @@ const std::vector<AblationSwitch>& ablationSwitches() {
          [](RenderConfig& c) { c.gi.irradianceCache = false; }},
         {"precomputed irradiance", "gi", "--no-precomputed-irradiance",
          [](RenderConfig& c) { c.gi.precomputedIrradiance = false; }},
+        {"photon rounds", "gi", "--photon-rounds 1",
+         [](RenderConfig& c) { c.gi.photonRounds = 1; }},
         {"direct light at gather hits", "gi", "--no-gather-direct",
          [](RenderConfig& c) { c.gi.gatherDirect = false; }},
         {"caustic map", "gi", "--no-caustics", [](RenderConfig& c) { c.gi.caustics = false; }},

@@ -40,6 +40,7 @@ std::string RenderConfig::settingsString() const {
         if (!gi.irradianceCache) o << " no-irradiance-cache";
         if (!gi.precomputedIrradiance) o << " no-precomputed-irradiance";
         if (!gi.gatherDirect) o << " no-gather-direct";
+        if (gi.photonRounds != kMaxPhotonRounds) o << " photon-rounds=" << gi.photonRounds;
         if (!gi.caustics) o << " no-caustics";
         if (!gi.progressiveCaustics) o << " no-progressive-caustics";
     }

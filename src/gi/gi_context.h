@@ -33,6 +33,7 @@ inline const Vec3 kIcRecordMarker(4.0f, 0.0f, 4.0f); // bright magenta
 // 3.5% / 8.7% with 200,000 and 4.4% / 5.1% with 800,000 (docs/photon-map.md, "How many
 // photons"); 200,000 costs about 0.4 s here.
 constexpr int kGlobalPhotons = 200000;
+constexpr int kMaxPhotonRounds = 8;
 // The caustic map's default photon count, each pass's with progressive caustics: one per pixel
 // (pbrt-v4's SPPM also emits one photon per pixel per iteration by default), so caustic photons
 // and camera samples grow together; between kMinDefaultPhotons and kMaxDefaultPhotons.
@@ -52,6 +53,11 @@ struct GiSettings {
     // from the image: defaultCausticPhotons().
     int photons = kGlobalPhotons;
     int causticPhotons = kMinDefaultPhotons;
+    // The global map is traced in rounds of `photons` until at least a quarter of `photons`
+    // of the photons its gather estimate reads have landed in view (the camera's focus region),
+    // at most this many rounds: the sunlit classroom keeps 4% of them in view, the Cornell box
+    // all (docs/photon-map.md, "How many photons"). 1: exactly `photons`.
+    int photonRounds = kMaxPhotonRounds;
     // A cap only: Russian roulette ends paths. 16 cut off a^16 of the light, 2.8% of the
     // furnace test's albedo-0.8 channel (measured -2.3% in the photons view).
     int maxPhotonDepth = 64;

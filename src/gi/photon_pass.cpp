@@ -6,6 +6,7 @@
 #include "engine/processor.h"
 #include "engine/progress.h"
 #include "gi/photon_emitter.h"
+#include "kernels/random.h"
 #include "modes/render_job.h"
 
 #include <algorithm>
@@ -73,24 +74,52 @@ bool stopped(const Cluster& cluster) {
     return cluster.distributed() ? agreeInterrupted(cluster) : interruptRequested();
 }
 
-void buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScene& accel,
-                    const LightSet& lights, const GiSettings& s, const EngineSettings& engine,
-                    const Cluster& cluster, const PhotonPassSpec& pass, const FocusRegion& focus,
-                    Stats& stats, PhotonMap* indirect) {
+PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScene& accel,
+                            const LightSet& lights, const GiSettings& s,
+                            const EngineSettings& engine, const Cluster& cluster,
+                            const PhotonPassSpec& pass, const FocusRegion& focus, Stats& stats,
+                            PhotonMap* indirect) {
     map.build({});
     if (indirect) indirect->build({});
-    if (pass.count == 0 || stopped(cluster)) return;
-    std::vector<PhotonRecord> photons = mergePhotonShares(
-        cluster, tracePhotons(scene, accel, lights, s, engine, cluster, pass, focus, stats));
-    if (stopped(cluster)) return;
+    PhotonRounds done;
+    if (pass.count == 0 || stopped(cluster)) return done;
+    auto inView = [&](const PhotonRecord& p) {
+        if (indirect && p.sampledDirect) return false;
+        if (!focus.active) return true;
+        const Bounds3& b = focus.bounds;
+        return p.position.x >= b.lo.x && p.position.y >= b.lo.y && p.position.z >= b.lo.z &&
+               p.position.x <= b.hi.x && p.position.y <= b.hi.y && p.position.z <= b.hi.z;
+    };
+    std::vector<PhotonRecord> photons;
+    std::size_t& landed = done.inView;
+    int& rounds = done.rounds;
+    while (rounds < std::max(1, pass.maxRounds)) {
+        PhotonPassSpec round = pass;
+        if (rounds > 0) {
+            round.tag = kernels::hashCombine(pass.tag, std::uint64_t(rounds));
+            round.label = "gi photons, another round";
+        }
+        std::vector<PhotonRecord> more = mergePhotonShares(
+            cluster, tracePhotons(scene, accel, lights, s, engine, cluster, round, focus, stats));
+        if (stopped(cluster)) return done;
+        ++rounds;
+        landed += std::size_t(std::count_if(more.begin(), more.end(), inView));
+        if (photons.empty()) photons = std::move(more);
+        else photons.insert(photons.end(), more.begin(), more.end());
+        if (landed >= pass.inViewTarget) break;
+    }
+    // Each round alone carries the lights' whole power.
+    if (rounds > 1)
+        for (PhotonRecord& p : photons) p.power = p.power / float(rounds);
     auto stop = [] { return interruptRequested(); };
     if (indirect) {
         std::vector<PhotonRecord> scattered;
         std::copy_if(photons.begin(), photons.end(), std::back_inserter(scattered),
                      [](const PhotonRecord& p) { return p.sampledDirect == 0; });
-        if (!indirect->build(std::move(scattered), stop)) return;
+        if (!indirect->build(std::move(scattered), stop)) return done;
     }
     map.build(std::move(photons), stop);
+    return done;
 }
 
 } // namespace rayproc

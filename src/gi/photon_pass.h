@@ -28,6 +28,12 @@ struct PhotonPassSpec {
     std::uint32_t count = 0;
     std::uint64_t tag = 1;
     const char* label = "gi photons";
+    // Rounds (buildPhotonMap): up to maxRounds rounds of `count` photons each, until at least
+    // inViewTarget photons of the map the gather reads have landed in view (inside the focus
+    // region's bounds when it is active, anywhere otherwise). Round r > 0 draws from the
+    // stream hashCombine(tag, r); the powers are divided by the rounds traced.
+    int maxRounds = 1;
+    std::size_t inViewTarget = 0;
 };
 
 // Traces this rank's share of the pass and returns what the photon stage stored, keyed;
@@ -47,10 +53,16 @@ std::vector<PhotonRecord> mergePhotonShares(const Cluster& cluster,
 // Whether any rank was interrupted (one process: whether this one was). A collective.
 bool stopped(const Cluster& cluster);
 
-// tracePhotons, mergePhotonShares and PhotonMap::build in one: the pass's map, left empty
-// when interrupted. With `indirect`, also the map of the photons that are not the direct light
-// of a delta light or the sky (PhotonRecord::sampledDirect 0), in the same order. A collective.
-void buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScene& accel,
+// tracePhotons, mergePhotonShares and PhotonMap::build in one, in rounds (PhotonPassSpec): the
+// pass's map, left empty when interrupted. With `indirect`, also the map of the photons that
+// are not the direct light of a delta light or the sky (PhotonRecord::sampledDirect 0), in the
+// same order; it is then the one whose photons in view count. A collective: every rank sees
+// the same merged photons, so all stop after the same round.
+struct PhotonRounds {
+    int rounds = 0;          // traced
+    std::size_t inView = 0;  // photons of the gather's map that landed in view
+};
+PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScene& accel,
                     const LightSet& lights, const GiSettings& s, const EngineSettings& engine,
                     const Cluster& cluster, const PhotonPassSpec& pass, const FocusRegion& focus,
                     Stats& stats, PhotonMap* indirect = nullptr);

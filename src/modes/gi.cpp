@@ -307,7 +307,8 @@ std::string GiSettings::toString() const {
     gatherStrata(gatherRays, thetaCount, phiCount);
     std::ostringstream o;
     o << "mode=gi spp=" << spp << " max_depth=" << maxDepth << " light_samples=" << lightSamples
-      << " photons=" << photons << " caustic_photons=" << causticPhotons
+      << " photons=" << photons << " photon_rounds=" << photonRounds
+      << " caustic_photons=" << causticPhotons
       << " global_k=" << globalK << " caustic_k=" << causticK << " gather_rays=" << gatherRays
       << " gather_strata=" << thetaCount << "x" << phiCount
       << " ic_accuracy=" << icAccuracy << " irradiance_cache=" << (irradianceCache ? "on" : "off")
@@ -362,10 +363,12 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
                            std::any_of(lights.lights.begin(), lights.lights.end(),
                                        [](const LightSource& l) { return l.delta(); }));
     PhotonMap global, caustic, scattered;
+    PhotonRounds rounds;
     if (s.photons > 0 && plan.globalMap)
-        buildPhotonMap(global, scene, accel, lights, s, engine, cluster,
-                       {false, std::uint32_t(s.photons), 1, "gi photons"}, focus, photonStats,
-                       gatherDirect ? &scattered : nullptr);
+        rounds = buildPhotonMap(global, scene, accel, lights, s, engine, cluster,
+                                {false, std::uint32_t(s.photons), 1, "gi photons",
+                                 s.photonRounds, std::size_t(s.photons) / 4},
+                                focus, photonStats, gatherDirect ? &scattered : nullptr);
     const bool causticPass = s.caustics && s.causticPhotons > 0 && plan.causticMap;
     std::optional<ProgressiveCaustics> progressive;
     if (causticPass && s.progressiveCaustics) {
@@ -388,6 +391,9 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     if (!progressive) gi.caustic = &caustic;
     extras.push_back({"gi/photon_seconds", photonSeconds});
     extras.push_back({"gi/photons_global", double(global.size())});
+    extras.push_back({"gi/photon_rounds", double(rounds.rounds)});
+    extras.push_back({"gi/photons_emitted", double(rounds.rounds) * double(s.photons)});
+    extras.push_back({"gi/photons_in_view", double(rounds.inView)});
     extras.push_back({"gi/photons_scattered", double(scattered.size())});
     extras.push_back({"gi/photons_caustic", double(gi.caustic ? gi.caustic->size() : 0)});
     extras.push_back({"gi/photon_map_bytes",
