@@ -20,6 +20,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -172,6 +173,12 @@ inline bool allFinite(const Image& img) {
     for (float v : img.pixels)
         if (!std::isfinite(v)) return false;
     return true;
+}
+
+// The same size and the same bits in every value.
+inline bool sameBits(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height && a.pixels.size() == b.pixels.size() &&
+           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
 }
 
 inline double meanValue(const Image& img) {

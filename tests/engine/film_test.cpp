@@ -3,6 +3,8 @@
 // missing samples.
 #include "engine/film.h"
 
+#include "test_util.h"
+
 #include <catch2/catch.hpp>
 
 #include <tbb/parallel_for.h>
@@ -16,6 +18,7 @@
 #include <vector>
 
 using namespace rayproc;
+using namespace rayproc::test;
 
 namespace {
 
@@ -44,11 +47,6 @@ void addAll(Film& film, const std::vector<Contribution>& cs, ThreadStats& stats)
         film.addSample(c.pixel);
         film.add(c.pixel, c.radiance, stats);
     }
-}
-
-bool sameBits(const Image& a, const Image& b) {
-    return a.width == b.width && a.height == b.height && a.pixels.size() == b.pixels.size() &&
-           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
 }
 
 } // namespace

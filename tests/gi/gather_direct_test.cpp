@@ -110,3 +110,28 @@ TEST_CASE("Gather direct light: gi's mean in a room lit through a hole matches p
     CHECK(errOn < 0.03);
     CHECK(errOff > 0.1); // the map alone is far off here (measured: 0.0099 against 0.48)
 }
+
+// The gather's light samples add to cache records from any thread in any order, and the map
+// comes in rounds: the image still does not depend on the thread count or the packet width.
+TEST_CASE("Gather direct light: the image does not depend on the thread count",
+          "[gi][gather-direct]") {
+    auto scene = sunlitRoom();
+    EmbreeScene accel(*scene);
+    GiSettings s = giSettings(*scene, ModeOverrides{2, 0, 0});
+    s.photons = 20000;
+    s.photonRounds = 3;
+    auto run = [&](int threads, int width) {
+        EngineSettings engine;
+        engine.threads = threads;
+        engine.packetWidth = width;
+        engine.quiet = true;
+        return renderGi(*scene, accel, s, engine);
+    };
+    RenderResult reference = run(1, 16);
+    CHECK(meanValue(reference.image) > 0.005);
+    for (auto [threads, width] : {std::pair{2, 16}, std::pair{2, 4}}) {
+        INFO("threads " << threads << ", packet width " << width);
+        RenderResult r = run(threads, width);
+        CHECK(sameBits(r.image, reference.image));
+    }
+}

@@ -11,11 +11,6 @@ using namespace rayproc::test;
 
 namespace {
 
-bool sameBits(const Image& a, const Image& b) {
-    return a.width == b.width && a.height == b.height && a.pixels.size() == b.pixels.size() &&
-           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
-}
-
 // Pixels whose bits differ, for the failure message.
 std::size_t differingValues(const Image& a, const Image& b) {
     std::size_t n = 0;
