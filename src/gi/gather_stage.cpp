@@ -53,7 +53,7 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
     }
     if (lights.hasEnvironment()) {
         EnvironmentSample es =
-            lights.environment.sample({kernels::uniform(key, 3), kernels::uniform(key, 4)}, ns);
+            lights.environment.sample({kernels::uniform(key, 0), kernels::uniform(key, 1)}, ns);
         if (es.valid) emit(es.wi, nullptr, es.weight);
     }
     return spawned;
@@ -261,12 +261,12 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
             facingNormals(h, -d, ng, ns);
             if (cls == MaterialClass::Diffuse) {
                 ++stats.globalLookups;
-                const Vec3 albedo = kernels::lambertianAlbedo(bsdf, -d, h.ng, h.ns) * kInvPi;
-                radiance += albedo * mapIrradiance(sampleLights ? gi.globalIndirect : gi.global,
-                                                   h.p, ns);
+                // The Lambertian BSDF value albedo / pi, times irradiance.
+                const Vec3 f = kernels::lambertianAlbedo(bsdf, -d, h.ng, h.ns) * kInvPi;
+                radiance +=
+                    f * mapIrradiance(sampleLights ? gi.globalIndirect : gi.global, h.p, ns);
                 if (sampleLights)
-                    spawned += sampleDirect(b, i, h, ng, ns, laneThroughput(b, i) * albedo,
-                                            ctx);
+                    spawned += sampleDirect(b, i, h, ng, ns, laneThroughput(b, i) * f, ctx);
             } else if (cls == MaterialClass::Glossy && !transmits) {
                 ++stats.globalLookups;
                 radiance += glossyRadiance(bsdf, h, -d, ns);
@@ -302,22 +302,18 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
         } else if (pastGlossy && m_rc.lights.hasEnvironment()) {
             radiance = m_rc.lights.environment.radiance(laneDirection(b, i));
         }
-        bool firstSegment = b.specularDepth[i] == 0;
-        const Vec3 l = laneThroughput(b, i) * radiance;
+        deposit(b, i, laneThroughput(b, i) * radiance, stats);
         if (b.flags[i] & kFlagGatherRecord) {
             IcRequest& rq = (*gi.requests)[b.pixel[i]];
             std::uint32_t stratum = b.sample[i];
-            if (firstSegment) {
+            if (b.specularDepth[i] == 0) { // the stratum's first segment
                 // Ward's R_i: the harmonic mean of the first hits' distances.
                 if (std::isfinite(distance) && distance > 0)
                     rq.inverseDistance.fetch_add(std::llround(IcRequests::kScale / double(distance)),
                                                  std::memory_order_relaxed);
                 if (stratum < rq.strataDistance.size()) rq.strataDistance[stratum] = distance;
             }
-            deposit(b, i, l, stats);
             if (done) rq.rays.fetch_add(1, std::memory_order_relaxed);
-        } else {
-            deposit(b, i, l, stats);
         }
     }
     stats.stages[int(StageId::Gather)].raysOut += spawned;
