@@ -254,6 +254,7 @@ int runRender(const RenderArgs& a) {
                       : a.debugView == "indirect"   ? GiDebugView::Indirect
                                                     : GiDebugView::None;
         logSettings(s.toString());
+        // One round of the global map: most scenes take one (docs/robustness.md, "Memory").
         checkMemory(pixels, std::uint64_t(std::max(0, s.photons)),
                     s.caustics ? std::uint64_t(std::max(0, s.causticPhotons)) : 0);
         result = renderGi(*scene, accel, s, engine);

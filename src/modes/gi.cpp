@@ -362,13 +362,13 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
         s.gatherDirect && (lights.hasEnvironment() ||
                            std::any_of(lights.lights.begin(), lights.lights.end(),
                                        [](const LightSource& l) { return l.delta(); }));
-    PhotonMap global, caustic, scattered;
+    PhotonMap global, caustic, gatherMap;
     PhotonRounds rounds;
     if (s.photons > 0 && plan.globalMap)
         rounds = buildPhotonMap(global, scene, accel, lights, s, engine, cluster,
                                 {false, std::uint32_t(s.photons), 1, "gi photons",
                                  s.photonRounds, std::size_t(s.photons) / 4},
-                                focus, photonStats, gatherDirect ? &scattered : nullptr);
+                                focus, photonStats, gatherDirect ? &gatherMap : nullptr);
     const bool causticPass = s.caustics && s.causticPhotons > 0 && plan.causticMap;
     std::optional<ProgressiveCaustics> progressive;
     if (causticPass && s.progressiveCaustics) {
@@ -383,21 +383,21 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     auto t1 = Clock::now();
     if (s.precomputedIrradiance && global.size() > 0 && !stopped(cluster))
         precomputePhotonIrradiance(global, s, gi.globalRadius, engine, cluster);
-    if (s.precomputedIrradiance && scattered.size() > 0 && !stopped(cluster))
-        precomputePhotonIrradiance(scattered, s, gi.globalRadius, engine, cluster);
+    if (s.precomputedIrradiance && gatherMap.size() > 0 && !stopped(cluster))
+        precomputePhotonIrradiance(gatherMap, s, gi.globalRadius, engine, cluster);
     double precomputeSeconds = secondsSince(t1);
     gi.global = &global;
-    if (gatherDirect && global.size() > 0) gi.globalIndirect = &scattered;
+    if (gatherDirect && global.size() > 0) gi.globalIndirect = &gatherMap;
     if (!progressive) gi.caustic = &caustic;
     extras.push_back({"gi/photon_seconds", photonSeconds});
     extras.push_back({"gi/photons_global", double(global.size())});
     extras.push_back({"gi/photon_rounds", double(rounds.rounds)});
     extras.push_back({"gi/photons_emitted", double(rounds.rounds) * double(s.photons)});
     extras.push_back({"gi/photons_in_view", double(rounds.inView)});
-    extras.push_back({"gi/photons_scattered", double(scattered.size())});
+    extras.push_back({"gi/photons_gather_map", double(gatherMap.size())});
     extras.push_back({"gi/photons_caustic", double(gi.caustic ? gi.caustic->size() : 0)});
     extras.push_back({"gi/photon_map_bytes",
-                      double(global.memoryBytes() + scattered.memoryBytes() +
+                      double(global.memoryBytes() + gatherMap.memoryBytes() +
                              (gi.caustic ? gi.caustic->memoryBytes() : 0))});
     extras.push_back({"gi/precompute_seconds", precomputeSeconds});
 
