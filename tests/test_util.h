@@ -4,6 +4,9 @@
 #pragma once
 
 #include "accel/embree_scene.h"
+#include "cluster/cluster.h"
+#include "gi/focus_region.h"
+#include "gi/photon_pass.h"
 #include "image/image.h"
 #include "modes/modes.h"
 #include "scene/scene_loader.h"
@@ -173,6 +176,21 @@ inline bool allFinite(const Image& img) {
     for (float v : img.pixels)
         if (!std::isfinite(v)) return false;
     return true;
+}
+
+// gi's global photon pass over `scene` (one process, 2 threads, quiet, no focus region): the
+// map, and the map the gather reads into `gatherMap`.
+inline PhotonRounds traceGlobalMap(const Scene& scene, const EmbreeScene& accel,
+                                   const PhotonPassSpec& pass, PhotonMap& map,
+                                   PhotonMap* gatherMap) {
+    LightSet lights = LightSet::build(scene, accel);
+    EngineSettings engine;
+    engine.threads = 2;
+    engine.quiet = true;
+    Cluster alone;
+    Stats stats;
+    return buildPhotonMap(map, scene, accel, lights, GiSettings{}, engine, alone, pass,
+                          FocusRegion{}, stats, gatherMap);
 }
 
 // The same size and the same bits in every value.

@@ -39,8 +39,8 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
             if (store) {
                 Vec3 fg = dot(wo, h.ng) >= 0 ? h.ng : -h.ng;
                 std::uint64_t key = (std::uint64_t(b.sample[i]) << 8) | b.depth[i];
-                // Where a photon from a delta light or the sky first lands it is that light's direct
-                // light, which gi's gather samples instead (GiSettings::gatherDirect).
+                // Where a photon from a delta light or the sky first lands it is that light's
+                // direct light, which gi's gather samples instead (GiSettings::gatherDirect).
                 std::uint32_t sampled = b.depth[i] == 0 && (flags & kPhotonDeltaOrSky) ? 1u : 0u;
                 stored.push_back({key, PhotonRecord{h.p, power, wo, fg, sampled}});
                 ++stats.photonsStored;

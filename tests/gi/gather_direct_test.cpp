@@ -4,10 +4,6 @@
 // patch into its surroundings (and Christensen's nearest-photon lookup leans towards the dense,
 // bright side of its edge), and the gather carries that bias to every surface the patch lights.
 // A closed room lit by the sun through a hole in its ceiling is mostly that light.
-#include "cluster/cluster.h"
-#include "gi/focus_region.h"
-#include "gi/photon_pass.h"
-
 #include "../analytic/analytic.h"
 
 #include <cmath>
@@ -32,7 +28,8 @@ std::unique_ptr<Scene> sunlitRoom() {
           {"type": "quad", "material": "m", "corners": [[-1,0,1],[1,0,1],[1,2,1],[-1,2,1]]},
           {"type": "quad", "material": "m", "corners": [[-1,0,-1],[-1,0,1],[-1,2,1],[-1,2,-1]]},
           {"type": "quad", "material": "m", "corners": [[1,0,-1],[1,2,-1],[1,2,1],[1,0,1]]},
-          {"type": "quad", "material": "m", "corners": [[-1,2,-1],[-1,2,1],[-0.25,2,1],[-0.25,2,-1]]},
+          {"type": "quad", "material": "m",
+           "corners": [[-1,2,-1],[-1,2,1],[-0.25,2,1],[-0.25,2,-1]]},
           {"type": "quad", "material": "m", "corners": [[0.25,2,-1],[0.25,2,1],[1,2,1],[1,2,-1]]},
           {"type": "quad", "material": "m",
            "corners": [[-0.25,2,-1],[-0.25,2,-0.25],[0.25,2,-0.25],[0.25,2,-1]]},
@@ -48,21 +45,13 @@ double worstChannelError(const Vec3& a, const Vec3& b) {
 
 } // namespace
 
-TEST_CASE("Gather direct light: the scattered map holds the photons that bounced",
+TEST_CASE("Gather direct light: the gather's map leaves out the sun's first landings",
           "[gi][gather-direct]") {
     auto scene = sunlitRoom();
     EmbreeScene accel(*scene);
-    LightSet lights = LightSet::build(*scene, accel);
-    GiSettings s;
-    EngineSettings engine;
-    engine.threads = 2;
-    engine.quiet = true;
-    Cluster alone;
-    Stats stats;
     PhotonMap all, scattered;
-    buildPhotonMap(all, *scene, accel, lights, s, engine, alone, {false, 200000, 1, "photons"},
-                   FocusRegion{}, stats, &scattered);
-    // A photon is stored at most once before it scatters.
+    traceGlobalMap(*scene, accel, {false, 200000, 1, "photons"}, all, &scattered);
+    // A photon first lands once.
     REQUIRE(scattered.size() > 0);
     CHECK(all.size() - scattered.size() <= 200000);
     // Photons on the floor in the sunlit patch under the hole (the hole's centre moves by

@@ -2,10 +2,6 @@
 // `count` photons repeat until enough photons of the gather's map have landed in view, each
 // round from its own random stream, and the powers are divided by the rounds traced, so the
 // map carries the lights' power once whatever the count.
-#include "cluster/cluster.h"
-#include "gi/focus_region.h"
-#include "gi/photon_pass.h"
-
 #include "../analytic/analytic.h"
 
 using namespace rayproc;
@@ -34,19 +30,10 @@ struct Built {
 };
 
 Built build(const Scene& scene, const EmbreeScene& accel, int maxRounds, std::size_t target) {
-    LightSet lights = LightSet::build(scene, accel);
-    GiSettings s;
-    EngineSettings engine;
-    engine.threads = 2;
-    engine.quiet = true;
-    Cluster alone;
-    Stats stats;
     PhotonMap all, scattered;
-    PhotonPassSpec pass{false, 20000, 1, "photons", maxRounds, target};
     Built b;
-    b.rounds = buildPhotonMap(all, scene, accel, lights, s, engine, alone, pass, FocusRegion{},
-                              stats, &scattered)
-                   .rounds;
+    PhotonPassSpec pass{false, 20000, 1, "photons", maxRounds, target};
+    b.rounds = traceGlobalMap(scene, accel, pass, all, &scattered).rounds;
     b.photons = all.size();
     b.scattered = scattered.size();
     double sum[3] = {0, 0, 0};
