@@ -94,6 +94,11 @@ struct Bounds3 {
     }
     Vec3 diagonal() const { return hi - lo; }
     Vec3 center() const { return (lo + hi) * 0.5f; }
+    // p inside or on the box (an empty box contains nothing).
+    bool contains(const Vec3& p) const {
+        return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z &&
+               p.z <= hi.z;
+    }
 };
 
 // Row-major 3x4 affine transform (the last row of the 4x4 matrix is implied 0 0 0 1).

@@ -3,8 +3,9 @@
 // Those modes light a surface by light samples (the shadow stage: `lightSamples` of each light,
 // or per light that matters over several area lights, each sample picking one) and continue a
 // glossy lobe by one sampled reflection ray (the reflection stage: a rough coat's reflection
-// alone, or the whole BSDF of a rough metal or glass and of rayproc's glossy material). A near-mirror lobe's highlight of a small light is found almost only by the
-// reflection ray, a wide lobe's almost only by light samples; each strategy alone is unbiased
+// alone, or the whole BSDF of a rough metal or glass and of rayproc's glossy material). A
+// near-mirror lobe's highlight of a small light is found almost only by the reflection ray, a
+// wide lobe's almost only by light samples; each strategy alone is unbiased
 // but one of them is very noisy. Weighting both by Veach's power heuristic, with the light
 // strategy's density n * p_light (n the light's expected samples at the point: lightSamples, or
 // lightSamples times its choice probability), keeps each where it is good:

@@ -62,12 +62,7 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
 void GatherStage::deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const {
     if (isBlack(l)) return;
     if (b.flags[i] & kFlagGatherRecord) {
-        // A stratum's radiance arrives in parts (its ray, continuations, light samples).
-        IcRequest& rq = (*m_rc.gi->requests)[b.pixel[i]];
-        for (int c = 0; c < 3; ++c)
-            rq.radiance[c].fetch_add(std::llround(double(l[c]) * IcRequests::kScale),
-                                     std::memory_order_relaxed);
-        rq.addStratum(b.sample[i], l, IcRequests::kScale);
+        (*m_rc.gi->requests)[b.pixel[i]].add(b.sample[i], l);
     } else {
         m_rc.film.add(b.pixel[i], l, stats);
     }

@@ -96,18 +96,23 @@ struct IcRequest {
     std::atomic<std::int64_t> inverseDistance{0};
     std::atomic<std::int32_t> rays{0};
     // With gradients: the gather's frame (u, v, normal) and per stratum (j, k) at [j N + k]
-    // the incident radiance, fixed-point like `radiance` (a stratum's ray, its continuations
-    // and the shadow rays of its light samples add to it in any order: addStratum), and the
-    // first hit's distance (GatherStrata's layout; written once, by the stratum's ray). Read
-    // after the pass.
+    // the incident radiance, fixed-point like `radiance`, and the first hit's distance
+    // (GatherStrata's layout; written once, by the stratum's ray). Read after the pass.
     Vec3 u, v;
     std::vector<std::array<std::int64_t, 3>> strataRadiance;
     std::vector<float> strataDistance;
-    void addStratum(std::uint32_t stratum, const Vec3& l, double scale) {
-        if (stratum >= strataRadiance.size()) return;
-        for (int c = 0; c < 3; ++c)
-            std::atomic_ref<std::int64_t>(strataRadiance[stratum][std::size_t(c)])
-                .fetch_add(std::llround(double(l[c]) * scale), std::memory_order_relaxed);
+
+    static constexpr double kScale = 1048576.0; // 2^20 fixed-point units per unit
+    // Adds radiance l that stratum's ray brought: its ray, continuations and the shadow rays of
+    // its light samples add in any order, from any thread.
+    void add(std::uint32_t stratum, const Vec3& l) {
+        for (int c = 0; c < 3; ++c) {
+            std::int64_t units = std::llround(double(l[c]) * kScale);
+            radiance[c].fetch_add(units, std::memory_order_relaxed);
+            if (stratum < strataRadiance.size())
+                std::atomic_ref<std::int64_t>(strataRadiance[stratum][std::size_t(c)])
+                    .fetch_add(units, std::memory_order_relaxed);
+        }
     }
 };
 
@@ -117,7 +122,7 @@ struct IcRequest {
 // half the prepass's time (cornell-box 256x256: 0.076 s of 0.15 s).
 class IcRequests {
 public:
-    static constexpr double kScale = 1048576.0; // 2^20 fixed-point units per unit
+    static constexpr double kScale = IcRequest::kScale;
 
     IcRequests() = default;
     IcRequests(const IcRequests&) = delete;

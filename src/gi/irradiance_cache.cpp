@@ -16,11 +16,6 @@ float maxAbs(const Vec3& v) {
     return std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z)));
 }
 
-bool contains(const Bounds3& b, const Vec3& p) {
-    return p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y && p.z >= b.lo.z &&
-           p.z <= b.hi.z;
-}
-
 bool insideCube(const Vec3& center, float halfSize, const Vec3& p) {
     return maxAbs(p - center) <= halfSize;
 }
@@ -243,7 +238,7 @@ bool IrradianceCache::interpolate(CandidateList& candidates, const Vec3& p, cons
 // its validity box, and every such box is inside the reach of every node on the record's path.
 bool IrradianceCache::lookup(const Vec3& p, const Vec3& n, LookupResult& out) const {
     CandidateList candidates;
-    if (contains(m_nodes[0].reach, p)) {
+    if (m_nodes[0].reach.contains(p)) {
         std::array<std::uint32_t, kStackSize> stack;
         int top = 0;
         stack[top++] = 0;
@@ -255,7 +250,7 @@ bool IrradianceCache::lookup(const Vec3& p, const Vec3& n, LookupResult& out) co
             }
             const std::uint32_t childEnd = node.firstChild + node.childCount;
             for (std::uint32_t child = node.firstChild; child < childEnd; ++child) {
-                if (contains(m_nodes[child].reach, p)) stack[top++] = child;
+                if (m_nodes[child].reach.contains(p)) stack[top++] = child;
             }
         }
     }

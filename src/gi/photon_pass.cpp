@@ -85,10 +85,7 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
     if (pass.count == 0 || stopped(cluster)) return done;
     auto inView = [&](const PhotonRecord& p) {
         if (indirect && p.sampledDirect) return false;
-        if (!focus.active) return true;
-        const Bounds3& b = focus.bounds;
-        return p.position.x >= b.lo.x && p.position.y >= b.lo.y && p.position.z >= b.lo.z &&
-               p.position.x <= b.hi.x && p.position.y <= b.hi.y && p.position.z <= b.hi.z;
+        return !focus.active || focus.bounds.contains(p.position);
     };
     std::vector<PhotonRecord> photons;
     std::size_t& landed = done.inView;

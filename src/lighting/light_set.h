@@ -95,6 +95,8 @@ struct LightSet {
     // picking area light i with probability selectionWeight_i(p) / sum over the area lights
     // (delta lights still take one sample each).
     bool choosesAreaLights() const { return m_areaLights > 1; }
+    // Point, spot or directional lights among `lights`.
+    bool hasDeltaLights() const { return m_areaLights < lights.size(); }
     // The number of area lights that matter at p, from their selection weights w: the inverse
     // Simpson index (sum w)^2 / sum w^2, between 1 (one light gives everything) and the count
     // (all give alike). 0 when none can light p.

@@ -359,9 +359,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     auto t0 = Clock::now();
     // Direct light at gather hits: only delta lights and the sky are sampled there.
     const bool gatherDirect =
-        s.gatherDirect && (lights.hasEnvironment() ||
-                           std::any_of(lights.lights.begin(), lights.lights.end(),
-                                       [](const LightSource& l) { return l.delta(); }));
+        s.gatherDirect && (lights.hasEnvironment() || lights.hasDeltaLights());
     PhotonMap global, caustic, gatherMap;
     PhotonRounds rounds;
     if (s.photons > 0 && plan.globalMap)
