@@ -73,7 +73,7 @@ TEST_CASE("the public suite renders the five Bitterli scenes at their own sizes"
         CHECK(size.width == kPublic[i].width);
         CHECK(size.height == kPublic[i].height);
     }
-    CHECK(s.referenceSpp == 2048);
+    CHECK(s.referenceSpp == 16384);
     CHECK(s.timeCapSeconds == 120);
     bool hasPath = false, hasGi = false;
     for (const ModeLadder& l : s.ladders) {
