@@ -52,7 +52,7 @@ struct RenderArgs {
     std::string reference, errorLog;
     std::string displayServer;
     // gi
-    int photons = -1, causticPhotons = -1, gatherRays = 0, photonRounds = 0;
+    int photons = -1, causticPhotons = -1, gatherRays = 0, photonRounds = 0, globalK = 0;
     float icAccuracy = 0;
     bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
     bool noProgressiveCaustics = false, noGatherDirect = false;
@@ -237,6 +237,7 @@ int runRender(const RenderArgs& a) {
         GiSettings s = giSettings(*scene, overrides);
         if (a.photons >= 0) s.photons = a.photons;
         if (a.photonRounds > 0) s.photonRounds = a.photonRounds;
+        if (a.globalK > 0) s.globalK = a.globalK;
         if (a.causticPhotons >= 0) s.causticPhotons = a.causticPhotons;
         if (a.gatherRays > 0) s.gatherRays = a.gatherRays;
         if (a.icAccuracy > 0) s.icAccuracy = a.icAccuracy;
@@ -378,6 +379,11 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "1 = exactly --photons). A room lit through its windows keeps few of the "
                     "photons aimed at it (the classroom: 4% in view)")
         ->check(CLI::Range(1, 64));
+    cmd->add_option("--global-k", args->globalK,
+                    "gi: photons per density estimate of the global map (default 64; Jensen's k). "
+                    "Fewer: smaller discs, less of the darkening where a disc reaches past a "
+                    "surface's edge, more noise; more: the reverse")
+        ->check(CLI::Range(1, 1024));
     cmd->add_option("--caustic-photons", args->causticPhotons,
                     "gi: photons emitted for the caustic map, each pass's with progressive "
                     "caustics (default: one per pixel, at least 50000 and at most 1000000; only "

@@ -293,6 +293,8 @@ TEST_CASE("Absurd sizes on the command line are refused before rendering", "[cli
         {{"--photons", "1000000000000", "--mode", "gi"}, "--photons"},
         {{"--caustic-photons", "1e12", "--mode", "gi"}, "--caustic-photons"},
         {{"--gather-rays", "100000000", "--mode", "gi"}, "--gather-rays"},
+        {{"--global-k", "0", "--mode", "gi"}, "--global-k"},
+        {{"--global-k", "100000", "--mode", "gi"}, "--global-k"},
         {{"--max-depth", "1000000"}, "--max-depth"},
         {{"--threads", "1000000"}, "--threads"},
     };

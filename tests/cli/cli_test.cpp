@@ -180,6 +180,17 @@ TEST_CASE("Statistics as JSON with --stats-json", "[cli]") {
     CHECK(img.height == 32);
 }
 
+TEST_CASE("gi's --global-k sets the photons per estimate, and the render log says so", "[cli]") {
+    TempDir dir;
+    RunResult r = runRayproc({"render", scenePath("cornell-box"), "--mode", "gi", "--width", "16",
+                              "--height", "16", "--spp", "1", "--photons", "5000", "--global-k",
+                              "32", "-o", dir.file("img.pfm")},
+                             dir, 600);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(contains(r.err, "global_k=32"));
+}
+
 TEST_CASE("Progress is printed as plain lines when stderr is not a terminal", "[cli]") {
     TempDir dir;
     std::string out = dir.file("img.pfm");
