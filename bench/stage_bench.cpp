@@ -352,8 +352,8 @@ const SceneCache& sceneCache(const std::string& sceneName) {
         rec.normal = r.normal;
         for (int c = 0; c < 3; ++c)
             rec.irradiance[c] =
-                float(kPi * double(r.radiance[c].load()) / IcRequests::kScale / rays);
-        double inv = double(r.inverseDistance.load()) / IcRequests::kScale;
+                float(kPi * double(r.radiance[c].load()) / IcRequest::kScale / rays);
+        double inv = double(r.inverseDistance.load()) / IcRequest::kScale;
         float harmonic = inv > 0 ? float(rays / inv) : gi.icMaxRadius;
         rec.radius = std::clamp(harmonic, gi.icMinRadius, gi.icMaxRadius);
         records.push_back(rec);

@@ -304,7 +304,7 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
             if (b.specularDepth[i] == 0) { // the stratum's first segment
                 // Ward's R_i: the harmonic mean of the first hits' distances.
                 if (std::isfinite(distance) && distance > 0)
-                    rq.inverseDistance.fetch_add(std::llround(IcRequests::kScale / double(distance)),
+                    rq.inverseDistance.fetch_add(std::llround(IcRequest::kScale / double(distance)),
                                                  std::memory_order_relaxed);
                 if (stratum < rq.strataDistance.size()) rq.strataDistance[stratum] = distance;
             }

@@ -122,8 +122,6 @@ struct IcRequest {
 // half the prepass's time (cornell-box 256x256: 0.076 s of 0.15 s).
 class IcRequests {
 public:
-    static constexpr double kScale = IcRequest::kScale;
-
     IcRequests() = default;
     IcRequests(const IcRequests&) = delete;
     IcRequests& operator=(const IcRequests&) = delete;

@@ -227,7 +227,7 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
             for (std::size_t s = 0; s < r.strataRadiance.size(); ++s)
                 for (int c = 0; c < 3; ++c)
                     g.strataRadiance[s][c] =
-                        float(double(r.strataRadiance[s][std::size_t(c)]) / IcRequests::kScale);
+                        float(double(r.strataRadiance[s][std::size_t(c)]) / IcRequest::kScale);
             g.strataDistance = r.strataDistance;
             made.push_back(std::move(g));
         }
@@ -247,8 +247,8 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
             rec.normal = r.normal;
             // Cosine-weighted gather: E = pi / N * sum L.
             for (int c = 0; c < 3; ++c)
-                rec.irradiance[c] = float(kPi * double(r.radiance[c]) / IcRequests::kScale / rays);
-            double inv = double(r.inverseDistance) / IcRequests::kScale;
+                rec.irradiance[c] = float(kPi * double(r.radiance[c]) / IcRequest::kScale / rays);
+            double inv = double(r.inverseDistance) / IcRequest::kScale;
             float harmonic = inv > 0 ? float(rays / inv) : gi.icMaxRadius;
             rec.radius = std::clamp(harmonic, gi.icMinRadius, gi.icMaxRadius);
             if (gi.strataWanted &&
