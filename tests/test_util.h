@@ -115,6 +115,7 @@ struct RenderOptions {
     int maxDepth = 0; // 0: the mode's default
     bool glossyMis = true; // raytrace: EngineSettings::glossyMis
     bool lightChoice = true; // raytrace: EngineSettings::lightChoice
+    bool diffuseMis = true; // raytrace: EngineSettings::diffuseMis
 };
 
 // Renders quietly through the library, as `rayproc render` does (without the file output).
@@ -127,6 +128,7 @@ inline RenderResult render(const Scene& scene, const EmbreeScene& accel, const R
     engine.quiet = true;
     engine.glossyMis = o.glossyMis;
     engine.lightChoice = o.lightChoice;
+    engine.diffuseMis = o.diffuseMis;
     ModeOverrides overrides{o.spp, o.maxDepth, o.lightSamples};
     if (o.mode == "preview")
         return renderPreview(scene, accel, previewSettings(scene.render, overrides), engine);

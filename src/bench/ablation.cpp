@@ -31,6 +31,8 @@ const std::vector<AblationSwitch>& ablationSwitches() {
          [](RenderConfig& c) { c.gi.progressiveCaustics = false; }},
         {"glossy MIS", "gi", "--no-glossy-mis",
          [](RenderConfig& c) { c.engine.glossyMis = false; }},
+        {"diffuse MIS", "gi", "--no-diffuse-mis",
+         [](RenderConfig& c) { c.engine.diffuseMis = false; }},
         {"light choice", "gi", "--no-light-choice",
          [](RenderConfig& c) { c.engine.lightChoice = false; }},
         {"Russian roulette", "path", "--no-russian-roulette",

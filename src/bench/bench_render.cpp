@@ -50,6 +50,7 @@ std::string RenderConfig::settingsString() const {
     if (!engine.stratification) o << " no-stratification";
     if (!engine.glossyMis && (mode == "gi" || mode == "raytrace")) o << " no-glossy-mis";
     if (!engine.lightChoice && (mode == "gi" || mode == "raytrace")) o << " no-light-choice";
+    if (!engine.diffuseMis && (mode == "gi" || mode == "raytrace")) o << " no-diffuse-mis";
     if (engine.packetWidth != 16) o << " packets=" << engine.packetWidth;
     if (engine.seed != 1) o << " seed=" << engine.seed;
     return o.str();

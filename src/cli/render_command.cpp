@@ -62,7 +62,7 @@ struct RenderArgs {
     std::string debugView = "none";
     // profiling switches
     bool noSceneAnalysis = false, noStratification = false, noRoulette = false;
-    bool noGlossyMis = false;
+    bool noGlossyMis = false, noDiffuseMis = false;
     bool noLightChoice = false;
 };
 
@@ -134,6 +134,7 @@ int runRender(const RenderArgs& a) {
     engine.sceneAnalysis = !a.noSceneAnalysis;
     engine.stratification = !a.noStratification;
     engine.glossyMis = !a.noGlossyMis;
+    engine.diffuseMis = !a.noDiffuseMis;
     engine.lightChoice = !a.noLightChoice;
     engine.timeLimitSeconds = a.timeLimit;
     engine.targetRelMse = a.targetRelMse;
@@ -429,6 +430,11 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                   "light samples alone instead of combining them with the sampled reflection "
                   "ray by multiple importance sampling (much noisier highlights of small or "
                   "near-mirror lobes)");
+    cmd->add_flag("--no-diffuse-mis", args->noDiffuseMis,
+                  "raytrace, gi: light diffuse surfaces from area lights by light samples alone "
+                  "instead of combining them with one cosine-sampled ray per hit that collects "
+                  "emission, by multiple importance sampling (fireflies on surfaces close to a "
+                  "small light)");
     cmd->add_flag("--no-light-choice", args->noLightChoice,
                   "raytrace, gi: with several area lights, take --light-samples samples of "
                   "every one of them at each hit instead of --light-samples in all, each "

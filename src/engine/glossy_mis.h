@@ -1,4 +1,5 @@
-// Multiple importance sampling of a glossy lobe in raytrace and gi (ShadingPolicy::glossyMis).
+// Multiple importance sampling of a glossy lobe in raytrace and gi (ShadingPolicy::glossyMis),
+// and of the rest of the BSDF under area lights (ShadingPolicy::diffuseMis).
 //
 // Those modes light a surface by light samples (the shadow stage: `lightSamples` of each light,
 // or per light that matters over several area lights, each sample picking one) and continue a
@@ -12,7 +13,13 @@
 //   light sample:    f_rest + w_l f_lobe,  w_l = (n p_l)^2 / ((n p_l)^2 + p_b^2)
 //   reflection ray:  L_e * w_b,            w_b = p_b^2 / (p_b^2 + (n p_l)^2)
 // f_lobe is the part of f the reflection stage samples (kernels::sampledLobeEvalCos), f_rest
-// the rest (a coated surface's base). The sky counts likewise: the shadow stage samples it for
+// the rest (a coated surface's base, a diffuse surface whole). With ShadingPolicy::diffuseMis
+// the rest is shared the same way for area lights: the shadow stage spawns one cosine-sampled
+// ray (p_c = cos / pi) that collects only emission, f_rest cos / p_c its weight, and
+//   light sample:    w_r f_rest,  w_r = (n p_l)^2 / ((n p_l)^2 + p_c^2)
+//   cosine ray:      L_e * w_c,   w_c = p_c^2 / (p_c^2 + (n p_l)^2)   (reflectionEmissionWeight)
+// so a point right under a light's edge, where a light sample's 1 / distance^2 is a firefly,
+// gets its light from the ray. The sky counts likewise: the shadow stage samples it for
 // diffuse-class surfaces and, with MIS, glossy-class ones; a transmitted glossy ray's sky is
 // never light sampled and counts whole.
 #pragma once
@@ -62,16 +69,6 @@ inline float reflectionEnvironmentWeight(const ShadingPolicy& policy, const Envi
     if (!(bsdfPdf > 0)) return 1.0f;
     float pe = env.cosineSampled() ? std::max(0.0f, cosOrigin) * kInvPi : env.pdf(d, Vec3(0.0f));
     return kernels::powerHeuristic(bsdfPdf, float(policy.lightSamples) * pe);
-}
-
-// f |cos| of a light sample with the sampled lobe's share MIS-weighted: f - (1 - w_l) f_lobe,
-// lightPdf the sample's solid-angle pdf times the strategy's sample count (each channel kept
-// non-negative against rounding and the stochastic estimates of random-walk coats).
-inline Vec3 lightSampleEvalCos(const Vec3& f, const Vec3& fLobe, float lobePdf, float lightPdf) {
-    if (!(lobePdf > 0)) return f;
-    float keep = 1.0f - kernels::powerHeuristic(lightPdf, lobePdf);
-    Vec3 r = f - fLobe * keep;
-    return Vec3(std::max(r.x, 0.0f), std::max(r.y, 0.0f), std::max(r.z, 0.0f));
 }
 
 } // namespace rayproc

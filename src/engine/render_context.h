@@ -44,6 +44,10 @@ struct ShadingPolicy {
     // reflection ray, combined by the power heuristic (engine/glossy_mis.h); off
     // (--no-glossy-mis): light samples only, the reflection ray ignores emitters.
     bool glossyMis = false;
+    // raytrace, gi: a diffuse surface's light from area lights comes from both light samples
+    // and one cosine-sampled ray that collects only emission, combined by the power heuristic
+    // (engine/glossy_mis.h); off (--no-diffuse-mis): light samples only.
+    bool diffuseMis = false;
     // raytrace, gi: with several area lights a hit takes lightSamples samples in all, each
     // choosing a light by LightSource::selectionWeight (lighting/light_set.h); off
     // (--no-light-choice): lightSamples samples of every area light.

@@ -59,12 +59,32 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         // that only collects emission): light samples take their MIS share of it
         // (engine/glossy_mis.h).
         const bool mis = policy.glossyMis;
-        auto shaded = [&](const Vec3& wi, float lightPdf) {
+        // The rest of the BSDF, the part the reflection stage does not sample (a diffuse
+        // surface whole, a coated one's base), is lit from area lights by light samples and by
+        // one cosine-sampled ray that collects only emission (spawned below), combined by the
+        // power heuristic (ShadingPolicy::diffuseMis): the light samples keep the light where
+        // it is small or far, the ray takes over where the surface is so close to a light that
+        // a sample's 1 / distance^2 would be a firefly.
+        const bool diffuseMis = policy.diffuseMis && lights.hasAreaLights() && !transmits;
+        auto cosinePdf = [&](const Vec3& wi) { return std::max(0.0f, dot(wi, ns)) * kInvPi; };
+        // f |cos| split into the sampled lobe and the rest (each channel non-negative against
+        // rounding and the stochastic estimates of random-walk coats).
+        auto split = [&](const Vec3& wi, Vec3& lobe, float& lobePdf) {
             Vec3 f = evalCos(mat, bsdf, h, wo, wi, ns);
-            if (!mis || isBlack(f)) return f;
-            float lobePdf;
-            Vec3 lobe = kernels::sampledLobeEvalCos(bsdf, wo, wi, h.ng, h.ns, lobePdf);
-            return lightSampleEvalCos(f, lobe, lobePdf, lightPdf);
+            lobe = kernels::sampledLobeEvalCos(bsdf, wo, wi, h.ng, h.ns, lobePdf);
+            if (!(lobePdf > 0)) lobe = Vec3(0.0f);
+            Vec3 r = f - lobe;
+            return Vec3(std::max(r.x, 0.0f), std::max(r.y, 0.0f), std::max(r.z, 0.0f));
+        };
+        auto shaded = [&](const Vec3& wi, float lightPdf, bool areaLight = false) {
+            const bool restMis = diffuseMis && areaLight;
+            if (!mis && !restMis) return evalCos(mat, bsdf, h, wo, wi, ns);
+            Vec3 lobe;
+            float lobePdf = 0;
+            Vec3 rest = split(wi, lobe, lobePdf);
+            if (restMis) rest = rest * kernels::powerHeuristic(lightPdf, cosinePdf(wi));
+            if (mis && lobePdf > 0) lobe = lobe * kernels::powerHeuristic(lightPdf, lobePdf);
+            return rest + lobe;
         };
 
         // Sample s of n on `light`, which a sample picks with probability `chosen`.
@@ -77,7 +97,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             if (!ls.valid || (dot(ls.wi, ng) <= 0 && !transmits)) return;
             float expected = float(n) * chosen; // this light's expected samples here
             float lightPdf = light.delta() ? kInfinity : expected * ls.pdf;
-            Vec3 c = w * shaded(ls.wi, lightPdf) * ls.weight / expected;
+            Vec3 c = w * shaded(ls.wi, lightPdf, !light.delta()) * ls.weight / expected;
             if (isBlack(c)) return;
             emitShadow(i, h, side(ls.wi), ls.wi, &ls, c);
         };
@@ -102,6 +122,31 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             // A delta light takes one sample and no random numbers.
             int n = lightSampleCount(policy, light);
             for (int s = 0; s < n; ++s) sampleLight(light, s, n, 1.0f);
+        }
+
+        // The rest's MIS partner: one cosine-sampled ray that adds only the emission it meets,
+        // weighted by the surface stage (reflectionEmissionWeight); the sky stays the sky
+        // samples' alone.
+        if (diffuseMis) {
+            std::uint64_t misKey = kernels::hashCombine(key, kDimLightBase - 4);
+            Vec3 local = kernels::cosineHemisphere({kernels::uniform(misKey, 0), kernels::uniform(misKey, 1)});
+            Vec3 tu, tv;
+            orthonormalBasis(ns, tu, tv);
+            Vec3 wi = normalize(tu * local.x + tv * local.y + ns * local.z);
+            float pdf = cosinePdf(wi);
+            Vec3 lobe;
+            float lobePdf = 0;
+            Vec3 rest = dot(wi, ng) > 0 && pdf > 0 ? split(wi, lobe, lobePdf) : Vec3(0.0f);
+            Vec3 weight = w * rest / std::max(pdf, 1e-20f);
+            if (!isBlack(weight) && isFinite(weight)) {
+                RayBatch& out = ctx.out(RayKind::Reflection);
+                spawnRay(out, b, i, offsetRayOrigin(h, ng, wi), wi, weight,
+                         std::uint8_t(std::min(int(b.depth[i]) + 1, 255)), b.specularDepth[i],
+                         std::uint8_t(kFlagMisEmission | kFlagEmissionOnly), 0x4d);
+                out.prevPdf[out.count - 1] = pdf;
+                out.prevCos[out.count - 1] = dot(wi, ns);
+                ++spawned;
+            }
         }
 
         // The sky lights diffuse surfaces through its samples (cosine-weighted for a constant

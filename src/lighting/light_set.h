@@ -95,6 +95,8 @@ struct LightSet {
     // picking area light i with probability selectionWeight_i(p) / sum over the area lights
     // (delta lights still take one sample each).
     bool choosesAreaLights() const { return m_areaLights > 1; }
+    // Area lights (emissive shapes) among `lights`.
+    bool hasAreaLights() const { return m_areaLights > 0; }
     // Point, spot or directional lights among `lights`.
     bool hasDeltaLights() const { return m_areaLights < lights.size(); }
     // The number of area lights that matter at p, from their selection weights w: the inverse

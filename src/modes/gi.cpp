@@ -425,6 +425,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     policy.rouletteEnabled = s.roulette;
     policy.stratify = engine.stratification;
     policy.glossyMis = engine.glossyMis;
+    policy.diffuseMis = engine.diffuseMis;
     policy.lightChoice = engine.lightChoice;
     plan.apply(policy);
     // Without diffuse surfaces the gather stage would never get work: not registered.

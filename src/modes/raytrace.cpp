@@ -34,6 +34,7 @@ RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
     policy.rouletteEnabled = s.roulette;
     policy.stratify = engine.stratification;
     policy.glossyMis = engine.glossyMis;
+    policy.diffuseMis = engine.diffuseMis;
     policy.lightChoice = engine.lightChoice;
     plan.apply(policy);
     return runRenderJob("raytrace", scene, accel, lights, policy, s.spp, engine);

@@ -35,7 +35,8 @@ std::string EngineSettings::toString() const {
       << " scene_analysis=" << (sceneAnalysis ? "on" : "off")
       << " stratification=" << (stratification ? "on" : "off")
       << " glossy_mis=" << (glossyMis ? "on" : "off")
-      << " light_choice=" << (lightChoice ? "on" : "off");
+      << " light_choice=" << (lightChoice ? "on" : "off")
+      << " diffuse_mis=" << (diffuseMis ? "on" : "off");
     return o.str();
 }
 

@@ -37,6 +37,9 @@ struct EngineSettings {
     // raytrace, gi: MIS of light samples and the sampled reflection of glossy lobes
     // (ShadingPolicy::glossyMis).
     bool glossyMis = true;
+    // raytrace, gi: MIS of area-light samples and a cosine-sampled emission ray at diffuse
+    // surfaces (ShadingPolicy::diffuseMis).
+    bool diffuseMis = true;
     // raytrace, gi: choose among several area lights per sample (ShadingPolicy::lightChoice).
     bool lightChoice = true;
     // Called with the image so far after each pass when set (progressive output); the job
