@@ -84,7 +84,7 @@ bool CameraEmitter::emit(StageContext& ctx) {
             std::uint64_t pixelKey = kernels::pathKey(m_rc.seed, p, 0xffffffffu);
             // Unstratified (--no-stratification): the same stream, one stratum per sample.
             std::uint32_t strata = m_rc.policy.stratify ? std::uint32_t(m_totalSpp) : 1u;
-            Vec2 s = kernels::stratified2D(std::uint32_t(sample), strata, pixelKey);
+            Vec2 s = kernels::groupStratified2D(std::uint32_t(sample), strata, pixelKey);
             std::uint64_t key = kernels::pathKey(m_rc.seed, p, std::uint32_t(sample));
             if (m_camera.filter.type == PixelFilter::Type::Box) {
                 // x + (0.5 - r) + 2 r s: for the default radius 0.5 exactly x + s, the film

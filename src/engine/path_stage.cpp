@@ -19,7 +19,7 @@ enum PathDim : std::uint32_t { kDimLightPick = 20, kDimLight = 21, kDimBsdf = 23
 Vec2 sample2D(const RayBatch& b, int i, std::uint32_t dim, int spp, std::uint64_t seed) {
     if (b.depth[i] == 0 && spp > 0) { // spp 0: --no-stratification
         std::uint64_t key = kernels::hashCombine(kernels::pathKey(seed, b.pixel[i], 0xfffffffeu), dim);
-        return kernels::stratified2D(b.sample[i], std::uint32_t(spp), key);
+        return kernels::groupStratified2D(b.sample[i], std::uint32_t(spp), key);
     }
     return {kernels::uniform(b.rngKey[i], dim), kernels::uniform(b.rngKey[i], dim + 1)};
 }
