@@ -130,9 +130,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         if (diffuseMis) {
             std::uint64_t misKey = kernels::hashCombine(key, kDimLightBase - 4);
             Vec3 local = kernels::cosineHemisphere({kernels::uniform(misKey, 0), kernels::uniform(misKey, 1)});
-            Vec3 tu, tv;
-            orthonormalBasis(ns, tu, tv);
-            Vec3 wi = normalize(tu * local.x + tv * local.y + ns * local.z);
+            Vec3 wi = normalize(kernels::toWorld(local, ns));
             float pdf = cosinePdf(wi);
             Vec3 lobe;
             float lobePdf = 0;
