@@ -65,7 +65,10 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         // power heuristic (ShadingPolicy::diffuseMis): the light samples keep the light where
         // it is small or far, the ray takes over where the surface is so close to a light that
         // a sample's 1 / distance^2 would be a firefly.
-        const bool diffuseMis = policy.diffuseMis && lights.hasAreaLights() && !transmits;
+        // Glossy classes have no rest: the reflection stage samples their whole BSDF.
+        const MaterialClass cls = materialClass(m_rc.scene.materials, h.material);
+        const bool diffuseMis = policy.diffuseMis && lights.hasAreaLights() && !transmits &&
+                                cls != MaterialClass::Glossy;
         auto cosinePdf = [&](const Vec3& wi) { return std::max(0.0f, dot(wi, ns)) * kInvPi; };
         // f |cos| split into the sampled lobe and the rest (each channel non-negative against
         // rounding and the stochastic estimates of random-walk coats).
@@ -151,7 +154,6 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         // sky, by luminance for an image: a sun). A glossy lobe's reflection ray sees the sky
         // too: with glossy MIS both count, by their weights; without, the glossy lobe takes the
         // sky from its reflection ray alone.
-        const MaterialClass cls = materialClass(m_rc.scene.materials, h.material);
         if (lights.hasEnvironment() &&
             (cls == MaterialClass::Diffuse || policy.ambientEnvironment ||
              (policy.glossyMis && cls == MaterialClass::Glossy))) {
