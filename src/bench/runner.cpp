@@ -3,16 +3,22 @@
 #include "bench/bench_render.h"
 #include "core/error.h"
 #include "engine/cancel.h"
+#include "image/image.h"
 #include "image/metrics.h"
 #include "scene/scene_loader.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
 namespace rayproc::bench {
 
 namespace {
+
+// --progressive renders' spp: more than any time cap allows (passes of 1 spp), as
+// `render --time-limit` is run with a large --spp.
+constexpr int kProgressiveSpp = 100000;
 
 std::string formatSeconds(double s) {
     char buf[32];
@@ -82,15 +88,64 @@ std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions
                                   ? " (" + fs::absolute(j.file).lexically_normal().string() +
                                         "; the suite's scenes are looked up in --scenes-dir)"
                                   : std::string()));
-    if (!options.referenceImage.empty()) {
-        if (jobs.size() != 1)
-            throw InputError("--reference is the reference of one scene, but the run has " +
-                             std::to_string(jobs.size()) + " scenes; pick one with --scene FILE");
-        jobs[0].reference = options.referenceImage;
-        jobs[0].referenceSpp = 0;
-        jobs[0].source = ReferenceSource::Given;
+    for (const std::string& spec : options.referenceImages) {
+        // NAME=FILE, unless the whole argument is a file (a file name may hold '=').
+        std::string name, file = spec;
+        std::size_t eq = spec.find('=');
+        if (eq != std::string::npos && !fs::is_regular_file(spec)) {
+            name = spec.substr(0, eq);
+            file = spec.substr(eq + 1);
+        }
+        SceneJob* job = nullptr;
+        if (name.empty()) {
+            if (jobs.size() != 1)
+                throw InputError("--reference " + spec + " is the reference of one scene, but "
+                                 "the run has " + std::to_string(jobs.size()) +
+                                 " scenes; pick one with --scene FILE or name it: "
+                                 "--reference NAME=FILE");
+            job = &jobs[0];
+        } else {
+            std::string names;
+            for (SceneJob& j : jobs) {
+                if (sceneJobName(j) == name) job = &j;
+                names += (names.empty() ? "" : ", ") + sceneJobName(j);
+            }
+            if (!job)
+                throw InputError("--reference " + spec + ": the run has no scene called '" +
+                                 name + "' (its scenes: " + names + ")");
+        }
+        if (job->source == ReferenceSource::Given)
+            throw InputError("--reference " + spec + ": " + sceneJobName(*job) +
+                             " already has a reference (" + job->reference + ")");
+        if (!fs::is_regular_file(file))
+            throw InputError("--reference " + spec + ": " + file + ": no such file");
+        // The scene renders at its reference's size.
+        Image image = readImage(file);
+        job->width = image.width;
+        job->height = image.height;
+        job->reference = file;
+        job->referenceSpp = 0;
+        job->source = ReferenceSource::Given;
     }
     return jobs;
+}
+
+std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOptions& options) {
+    if (options.modes.empty()) return suite.ladders;
+    std::vector<ModeLadder> ladders;
+    std::string known;
+    for (const ModeLadder& l : suite.ladders) known += (known.empty() ? "" : ", ") + l.mode;
+    for (const std::string& mode : options.modes) {
+        auto it = std::find_if(suite.ladders.begin(), suite.ladders.end(),
+                               [&](const ModeLadder& l) { return l.mode == mode; });
+        if (it == suite.ladders.end())
+            throw InputError("--modes: '" + mode + "' is not a mode of suite '" + suite.name +
+                             "' (its modes: " + known + ")");
+        if (std::none_of(ladders.begin(), ladders.end(),
+                         [&](const ModeLadder& l) { return l.mode == mode; }))
+            ladders.push_back(*it);
+    }
+    return ladders;
 }
 
 BenchScene prepareForSuite(const SceneJob& job, const BenchSuite& suite,
@@ -170,7 +225,7 @@ LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
             run.interrupted = true;
             return run;
         }
-        for (const ModeLadder& ladder : suite.ladders) {
+        for (const ModeLadder& ladder : selectedLadders(suite, options)) {
             for (RenderConfig c : ladderConfigs(b, suite, ladder, options.threads)) {
                 double prevSeconds = 0;
                 for (std::size_t k = 0; k < ladder.spp.size(); ++k) {
@@ -198,6 +253,50 @@ LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
                     prevSeconds = t.seconds;
                 }
             }
+        }
+    }
+    return run;
+}
+
+LadderRun runProgressive(const BenchSuite& suite, const BenchOptions& options,
+                         ResultsCsvWriter& results, const BenchLog& log) {
+    LadderRun run;
+    const double timeLimit =
+        options.timeCapSeconds > 0 ? options.timeCapSeconds : suite.timeCapSeconds;
+    for (const SceneJob& job : benchSceneJobs(suite, options)) {
+        BenchScene b = prepareForSuite(job, suite, options, log);
+        run.scenes.push_back(sceneInfo(b));
+        if (b.reference.cancelled || interruptRequested()) {
+            run.interrupted = true;
+            return run;
+        }
+        for (const ModeLadder& ladder : selectedLadders(suite, options)) {
+            RenderConfig c = ladderConfigs(b, suite, ladder, options.threads).front();
+            // As many samples as the time allows: the limit ends the render.
+            c.setSpp(kProgressiveSpp);
+            c.engine.timeLimitSeconds = timeLimit;
+            c.engine.reference = &b.reference.image;
+            char limit[48];
+            std::snprintf(limit, sizeof limit, " time-limit=%g", timeLimit);
+            const std::string fixed = settingsWithout(c.settingsString(), "spp") + limit;
+            std::size_t firstRow = run.rows.size();
+            c.engine.onPassError = [&](const EngineSettings::PassError& e) {
+                BenchRow row{b.name, c.mode, "spp=" + std::to_string(e.spp) + " " + fixed,
+                             e.seconds, e.rays, e.relmse, e.rmse};
+                results.append(row);
+                run.rows.push_back(row);
+            };
+            TimedRender t = renderTimed(*b.scene, *b.accel, c);
+            if (t.cancelled || interruptRequested()) {
+                run.interrupted = true;
+                return run;
+            }
+            char line[256];
+            std::size_t n = run.rows.size() - firstRow;
+            std::snprintf(line, sizeof line, "%s %s %s: %zu passes in %s, relMSE %.4g",
+                          b.name.c_str(), c.mode.c_str(), fixed.c_str(), n,
+                          formatSeconds(t.seconds).c_str(), n ? run.rows.back().relmse : NAN);
+            log(line);
         }
     }
     return run;

@@ -18,7 +18,11 @@ struct BenchOptions {
     std::string refsDir;                 // empty: <outDir>/refs
     std::string scenesDir;               // where the suite's scene files are
     std::vector<std::string> sceneFiles; // --scene: instead of the suite's scenes
-    std::string referenceImage;          // --reference: for a single scene
+    // --reference: FILE for a run of one scene, or NAME=FILE for the scene of that name; a
+    // given reference sets the size its scene renders at.
+    std::vector<std::string> referenceImages;
+    std::vector<std::string> modes;      // --modes: a subset of the suite's, empty = all
+    bool progressive = false;            // --progressive: runProgressive instead of the ladders
     std::vector<std::string> peerCsvs;   // --peer-csv
     int threads = 0;                     // engine threads, 0 = all cores
     double timeCapSeconds = 0;           // > 0: instead of the suite's
@@ -69,9 +73,23 @@ std::string commonRenderSize(const std::vector<SceneInfo>& scenes, const BenchSu
 // With no earlier render (prevSpp 0), time in proportion to the samples.
 double predictSeconds(int prevSpp, double prevSeconds, int spp, double seconds, int nextSpp);
 
+// The suite's ladders, only those of options.modes when it names some. Throws InputError
+// naming a mode the suite does not have.
+std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOptions& options);
+
 // Renders every ladder of the suite; stops early (interrupted = true) on Ctrl-C, keeping the
 // rows of the renders that completed.
 LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
                      ResultsCsvWriter& results, const BenchLog& log);
+
+// --progressive: each mode renders once with its defaults (gi: the suite's first setting),
+// passes of 1 spp under a time limit of the time cap, and its error against the reference is
+// measured after every pass (the clock stopped meanwhile, as for `render --error-log`): one row
+// per pass, settings "spp=N ... time-limit=T", seconds from the start of the mode's work, rays
+// those of the render passes so far. One render gives the whole curve, so the time to an error
+// is read at pass resolution, and gi pays its photon pass and cache prepass once, as a user's
+// render does.
+LadderRun runProgressive(const BenchSuite& suite, const BenchOptions& options,
+                         ResultsCsvWriter& results, const BenchLog& log);
 
 } // namespace rayproc::bench

@@ -3,6 +3,7 @@
 #include "bench/mode_curves.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 
 namespace rayproc::bench {
@@ -24,6 +25,20 @@ LogLogPlot scenePlot(const std::vector<BenchRow>& rows, const std::string& scene
             for (const CurvePoint& p : c.envelope) best.points.push_back({p.seconds, p.relmse});
             plot.series.push_back(best);
             plot.series.push_back(each);
+        } else if (!settingValue(c.rows.front().settings, "time-limit").empty()) {
+            // One progressive render (--progressive): its passes in time order as a line,
+            // thinned to a point per 1/100 decade of time so a long render stays a small file.
+            PlotSeries s{c.mode, colour, {}, true, false, false};
+            double lastKept = -INFINITY;
+            for (std::size_t i = 0; i < c.rows.size(); ++i) {
+                const BenchRow& r = c.rows[i];
+                double t = std::log10(r.seconds);
+                if (i + 1 == c.rows.size() || !(t < lastKept + 0.01)) {
+                    s.points.push_back({r.seconds, r.relmse});
+                    lastKept = t;
+                }
+            }
+            plot.series.push_back(s);
         } else {
             // One setting: the ladder in budget order (spp when present, else time).
             std::vector<BenchRow> ladder = c.rows;

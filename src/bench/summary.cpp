@@ -121,22 +121,38 @@ std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContex
     else
         o << "- Each scene rendered at its own size, the table's *rendered at* (the scene files' "
              "own resolutions are overridden).";
-    o << " Times are the wall time of one mode driver call, from the start of the mode's work "
-         "to the finished image: for gi the photon passes, precomputed irradiance and "
-         "irradiance-cache prepass included; scene loading and the BVH build excluded. One "
-         "render per budget, seed 1.\n"
-      << "- Budgets: each mode's spp ladder";
-    for (const ModeLadder& l : suite.ladders) {
-        o << "; " << l.mode << " ";
-        for (std::size_t i = 0; i < l.spp.size(); ++i) o << (i ? "," : "") << l.spp[i];
+    const bool progressive = std::any_of(rows.begin(), rows.end(), [](const BenchRow& r) {
+        return !settingValue(r.settings, "time-limit").empty();
+    });
+    if (progressive) {
+        o << " Times are seconds from the start of the mode's work to the end of a pass: for gi "
+             "the photon passes, precomputed irradiance and irradiance-cache prepass included; "
+             "scene loading, the BVH build and the error measurements excluded. Seed 1.\n"
+          << "- Budgets (`--progressive`): each mode renders once with its defaults (gi: "
+          << suite.giVariants.front().gatherRays << " gather rays, IC accuracy "
+          << suite.giVariants.front().icAccuracy << ", " << suite.giVariants.front().photons
+          << " photons per map), in passes of 1 spp until its time limit (the settings' "
+             "`time-limit`), and its error is measured after every pass: each point of a curve "
+             "is one pass of one render, as a user's time-limited render would show it. A "
+             "curve is the render's lower envelope (the best error reached by each time).\n";
+    } else {
+        o << " Times are the wall time of one mode driver call, from the start of the mode's "
+             "work to the finished image: for gi the photon passes, precomputed irradiance and "
+             "irradiance-cache prepass included; scene loading and the BVH build excluded. One "
+             "render per budget, seed 1.\n"
+          << "- Budgets: each mode's spp ladder";
+        for (const ModeLadder& l : suite.ladders) {
+            o << "; " << l.mode << " ";
+            for (std::size_t i = 0; i < l.spp.size(); ++i) o << (i ? "," : "") << l.spp[i];
+        }
+        o << ". A ladder stops before a render predicted to take longer than "
+          << secs(ctx.timeCapSeconds > 0 ? ctx.timeCapSeconds : suite.timeCapSeconds) << ".\n"
+          << "- gi settings swept (gather rays, IC accuracy a, photons per map):";
+        for (const GiVariant& v : suite.giVariants)
+            o << " (" << v.gatherRays << ", " << v.icAccuracy << ", " << v.photons << ")";
+        o << ". gi's curve is the lower envelope: at each time, the best of these.\n";
     }
-    o << ". A ladder stops before a render predicted to take longer than "
-      << secs(ctx.timeCapSeconds > 0 ? ctx.timeCapSeconds : suite.timeCapSeconds) << ".\n"
-      << "- gi settings swept (gather rays, IC accuracy a, photons per map):";
-    for (const GiVariant& v : suite.giVariants)
-        o << " (" << v.gatherRays << ", " << v.icAccuracy << ", " << v.photons << ")";
-    o << ". gi's curve is the lower envelope: at each time, the best of these.\n"
-      << "- Error: relMSE (docs/image-comparison.md) against the reference. Readings between "
+    o << "- Error: relMSE (docs/image-comparison.md) against the reference. Readings between "
          "renders are log-log interpolations; nothing is extrapolated.\n";
     for (const std::string& peer : ctx.peerCsvs) o << "- Peer results from `" << peer << "`.\n";
     if (size.empty())

@@ -71,7 +71,13 @@ std::string commandLine(const BenchArgs& a, const std::string& suite) {
     s += " -o " + a.options.outDir;
     if (!a.options.refsDir.empty()) s += " --refs " + a.options.refsDir;
     for (const std::string& f : a.options.sceneFiles) s += " --scene " + f;
-    if (!a.options.referenceImage.empty()) s += " --reference " + a.options.referenceImage;
+    for (const std::string& r : a.options.referenceImages) s += " --reference " + r;
+    if (!a.options.modes.empty()) {
+        s += " --modes ";
+        for (std::size_t i = 0; i < a.options.modes.size(); ++i)
+            s += (i ? "," : "") + a.options.modes[i];
+    }
+    if (a.options.progressive) s += " --progressive";
     for (const std::string& f : a.options.peerCsvs) s += " --peer-csv " + f;
     if (a.options.threads > 0) s += " --threads " + std::to_string(a.options.threads);
     if (a.options.timeCapSeconds > 0) {
@@ -112,7 +118,15 @@ int runBench(BenchArgs& a) {
     const BenchSuite& suite = findSuite(suiteName);
     BenchOptions& o = a.options;
     if (o.scenesDir.empty()) o.scenesDir = defaultScenesDir();
-    benchSceneJobs(suite, o); // scene files and --reference: fail before any work
+    if (a.ablation && o.progressive)
+        throw InputError("--progressive renders the curves; --ablation renders each "
+                         "optimisation on and off at one budget: pick one");
+    if (a.ablation && !o.modes.empty())
+        throw InputError("--modes selects the curves' modes; --ablation renders its own fixed "
+                         "list of optimisations in path and gi mode");
+    // Scene files, --reference and --modes: fail before any work.
+    std::vector<SceneJob> jobs = benchSceneJobs(suite, o);
+    selectedLadders(suite, o);
     std::string resultsPath = (fs::path(o.outDir) / "results.csv").string();
     if (a.reportOnly && !fs::is_regular_file(resultsPath))
         throw InputError(resultsPath + ": no results to report (--report-only reads the "
@@ -121,7 +135,9 @@ int runBench(BenchArgs& a) {
     // No output of the run may be one of its inputs.
     std::vector<NamedPath> files;
     for (const std::string& peer : o.peerCsvs) files.push_back({"--peer-csv", peer, false});
-    if (!o.referenceImage.empty()) files.push_back({"--reference", o.referenceImage, false});
+    for (const SceneJob& job : jobs)
+        if (job.source == ReferenceSource::Given)
+            files.push_back({"--reference", job.reference, false});
     for (const std::string& scene : o.sceneFiles) files.push_back({"--scene", scene, false});
     for (const char* name : {"results.csv", "summary.md", "ablation.csv", "ablation.md"})
         files.push_back({"the output " + std::string(name), (fs::path(o.outDir) / name).string(),
@@ -151,8 +167,7 @@ int runBench(BenchArgs& a) {
 
     if (a.reportOnly) {
         std::vector<BenchRow> rows = readResultsCsv(resultsPath);
-        for (const SceneJob& job : benchSceneJobs(suite, o))
-            ctx.scenes.push_back(describeSceneJob(job, suite, o));
+        for (const SceneJob& job : jobs) ctx.scenes.push_back(describeSceneJob(job, suite, o));
         ctx.regenerated = true;
         writeReport(rows, ctx, o.outDir);
         return 0;
@@ -174,7 +189,8 @@ int runBench(BenchArgs& a) {
     }
 
     ResultsCsvWriter results(resultsPath, /*truncate=*/true);
-    LadderRun run = runLadders(suite, o, results, log);
+    LadderRun run = o.progressive ? runProgressive(suite, o, results, log)
+                                  : runLadders(suite, o, results, log);
     ctx.scenes = run.scenes;
     ctx.interrupted = run.interrupted;
     ctx.loadAtEnd = loadAverage();
@@ -217,10 +233,18 @@ std::function<int()> addBenchCommand(CLI::App& app) {
                     "Bench this scene file instead of the suite's scenes (repeatable); the "
                     "suite's resolution, ladders and settings still apply")
         ->check(CLI::ExistingFile);
-    cmd->add_option("--reference", args->options.referenceImage,
-                    "Reference image (EXR/PFM/HDR/PNG at the scene's render size) instead of the "
-                    "cached path render; the run must have one scene")
-        ->check(CLI::ExistingFile);
+    cmd->add_option("--reference", args->options.referenceImages,
+                    "Reference image (EXR/PFM/HDR/PNG) instead of the cached path render: FILE "
+                    "when the run has one scene, NAME=FILE for the scene called NAME (the "
+                    "results' scene column; repeatable). The scene renders at the reference's "
+                    "size");
+    cmd->add_option("--modes", args->options.modes,
+                    "Only these of the suite's modes, comma-separated (e.g. gi,path)")
+        ->delimiter(',');
+    cmd->add_flag("--progressive", args->options.progressive,
+                  "Instead of the ladders: each mode renders once with its defaults, passes of "
+                  "1 spp until the time cap, its error measured after every pass (one "
+                  "results.csv row per pass): the curve of a user's time-limited render");
     cmd->add_option("--peer-csv", args->options.peerCsvs,
                     "Results of another renderer, columns as results.csv (repeatable): added to "
                     "the plots and tables as their own modes")
@@ -228,8 +252,9 @@ std::function<int()> addBenchCommand(CLI::App& app) {
     cmd->add_option("--threads", args->options.threads, "Engine threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
     cmd->add_option("--time-cap", args->options.timeCapSeconds,
-                    "Seconds: a ladder stops before a render predicted to take longer (default: "
-                    "the suite's, 24 for default, 4 for quick, 120 for public)")
+                    "Seconds: a ladder stops before a render predicted to take longer; with "
+                    "--progressive, each render's time limit (default: the suite's, 24 for "
+                    "default, 4 for quick, 120 for public)")
         ->check(finiteNumber())
         ->check(CLI::PositiveNumber);
     cmd->add_flag("--ablation", args->ablation,
@@ -249,7 +274,9 @@ std::function<int()> addBenchCommand(CLI::App& app) {
         "passes and cache prepass included). Error: relMSE and RMSE against a path-mode reference "
         "with its own seed: the golden image of tests/golden/ where the suite names one at its "
         "resolution (default: 8192 spp), else rendered at the suite's reference spp and cached "
-        "in --refs, or --reference FILE. results.csv is written row by row, so "
+        "in --refs, or --reference FILE. With --progressive each mode renders once under a time "
+        "limit of the time cap and its error is read after every pass (the clock stopped "
+        "meanwhile). results.csv is written row by row, so "
         "Ctrl-C, SIGTERM or SIGHUP keeps every finished render (and still writes the report).\n"
         "Exit status: 0 done, 1 bad input or I/O error, 130 interrupted by Ctrl-C, 143 by "
         "SIGTERM, 129 by SIGHUP.");

@@ -96,8 +96,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         if (errorLog) std::fclose(errorLog.release());
     };
     // Every rank takes part in the log's image merge; rank 0 writes it.
-    const bool logging = engine.reference && !engine.errorLogPath.empty();
-    if (logging && cluster.root()) {
+    const bool logging = engine.reference && (!engine.errorLogPath.empty() || engine.onPassError);
+    if (logging && cluster.root() && !engine.errorLogPath.empty()) {
         errorLog.reset(std::fopen(engine.errorLogPath.c_str(), "w"));
         if (!errorLog) throw std::runtime_error("cannot write the error log " + engine.errorLogPath);
         if (std::fprintf(errorLog.get(), "spp,seconds,relmse,rmse,relmse_estimate\n") < 0 ||
@@ -172,12 +172,16 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             // The log's clock stops while the error is measured.
             double seconds = std::chrono::duration<double>(now - start).count();
             Image whole = wholeImage();
-            if (errorLog) {
+            if (cluster.root() && (errorLog || engine.onPassError)) {
                 ImageMetrics m = compareImages(whole, *engine.reference);
-                if (std::fprintf(errorLog.get(), "%d,%.6f,%.9g,%.9g,%.9g\n", first + count,
-                                 seconds, m.relmse, m.rmse, result.relMseEstimate) < 0 ||
-                    std::fflush(errorLog.get()) != 0)
+                if (errorLog &&
+                    (std::fprintf(errorLog.get(), "%d,%.6f,%.9g,%.9g,%.9g\n", first + count,
+                                  seconds, m.relmse, m.rmse, result.relMseEstimate) < 0 ||
+                     std::fflush(errorLog.get()) != 0))
                     logFailed();
+                if (engine.onPassError)
+                    engine.onPassError({first + count, seconds, m.relmse, m.rmse,
+                                        result.relMseEstimate, raysSoFar()});
             }
             start += std::chrono::steady_clock::now() - now;
         }

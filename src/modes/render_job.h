@@ -67,6 +67,14 @@ struct EngineSettings {
     // (spp,seconds,relmse,rmse,relmse_estimate; the estimate is nan after the first pass).
     const Image* reference = nullptr;
     std::string errorLogPath;
+    // The same row handed to a caller (rayproc bench --progressive), on rank 0, when set with
+    // `reference`; `rays` counts the render passes' rays so far (not gi's photon passes).
+    struct PassError {
+        int spp = 0;
+        double seconds = 0, relmse = 0, rmse = 0, relmseEstimate = 0;
+        std::uint64_t rays = 0;
+    };
+    std::function<void(const PassError&)> onPassError;
     // When the mode's work started (gi sets it before its photon pass): the error log's
     // seconds, the time limit and the reported wall time count from here. Unset: from the
     // start of the render passes.

@@ -116,3 +116,87 @@ TEST_CASE("SIGINT stops rayproc bench, keeping the finished rows and writing the
     CHECK(md.find("given: `") != std::string::npos);
     CHECK(std::filesystem::exists(out + "/cornell-box.svg"));
 }
+
+TEST_CASE("rayproc bench --progressive renders each mode once and records every pass",
+          "[cli][bench]") {
+    test::TempDir dir;
+    std::string out = dir.file("bench");
+    // The golden reference is 128x128: the quick suite's cornell-box renders at its size.
+    test::RunResult r = test::runRayproc(
+        {"bench", "--quick", "-q", "--progressive", "--modes", "gi,path", "--time-cap", "0.5",
+         "-o", out, "--scenes-dir", (test::sourceDir() / "scenes").string(), "--reference",
+         "cornell-box=" + test::goldenPath("cornell-box-path.exr")},
+        dir, 120);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    std::vector<bench::BenchRow> rows = bench::readResultsCsv(out + "/results.csv");
+    std::set<std::string> modes;
+    for (const std::string mode : {"gi", "path"}) {
+        std::vector<bench::BenchRow> own;
+        for (const bench::BenchRow& row : rows)
+            if (row.mode == mode) own.push_back(row);
+        INFO(mode << ": " << own.size() << " passes");
+        REQUIRE(own.size() >= 2);
+        for (std::size_t i = 0; i < own.size(); ++i) {
+            INFO(bench::formatCsvRow(own[i]));
+            // One row per pass of one render: 1, 2, 3 ... spp, in time order.
+            CHECK(bench::settingValue(own[i].settings, "spp") == std::to_string(i + 1));
+            CHECK(bench::settingValue(own[i].settings, "time-limit") == "0.5");
+            CHECK(own[i].relmse > 0);
+            CHECK(own[i].rays > 0);
+            if (i > 0) CHECK(own[i].seconds >= own[i - 1].seconds);
+        }
+        // The render stops after the first pass that ends past the limit.
+        CHECK(own.back().seconds >= 0.5);
+        CHECK(own[own.size() - 2].seconds < 0.5);
+        // The error falls with the passes (the first pass against the last).
+        CHECK(own.back().relmse < own.front().relmse);
+    }
+    for (const bench::BenchRow& row : rows) modes.insert(row.mode);
+    CHECK(modes == std::set<std::string>{"gi", "path"});
+    // The plot draws each render as a line through its passes, without markers.
+    std::string svg = test::readText(out + "/cornell-box.svg");
+    CHECK(svg.find("<polyline") != std::string::npos);
+    CHECK(svg.find("class=\"pt\"") == std::string::npos);
+    std::string md = test::readText(out + "/summary.md");
+    CHECK(md.find("--progressive") != std::string::npos);
+    CHECK(md.find("128x128") != std::string::npos);
+    CHECK(md.find("| path (time-limit=0.5) |") != std::string::npos);
+}
+
+TEST_CASE("rayproc bench names what is wrong with --reference, --modes and --progressive",
+          "[cli][bench]") {
+    test::TempDir dir;
+    const std::string scenes = (test::sourceDir() / "scenes").string();
+    const std::string golden = test::goldenPath("cornell-box-path.exr");
+    struct Case {
+        std::vector<std::string> args;
+        std::string message;
+    };
+    const std::vector<Case> cases = {
+        {{"--quick", "--reference", "nosuch=" + golden},
+         "--reference nosuch=" + golden +
+             ": the run has no scene called 'nosuch' (its scenes: cornell-box)"},
+        {{"--quick", "--reference", "cornell-box=" + dir.file("missing.exr")},
+         dir.file("missing.exr") + ": no such file"},
+        {{"--quick", "--reference", "cornell-box=" + golden, "--reference", golden},
+         "cornell-box already has a reference"},
+        {{"default", "--reference", golden}, "is the reference of one scene, but the run has 2"},
+        {{"--quick", "--modes", "gi,bogus"},
+         "--modes: 'bogus' is not a mode of suite 'quick' (its modes: preview, raytrace, gi, "
+         "path)"},
+        {{"--quick", "--ablation", "--progressive"}, "pick one"},
+        {{"--quick", "--ablation", "--modes", "gi"}, "--modes selects the curves' modes"},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::string> args = {"bench"};
+        args.insert(args.end(), c.args.begin(), c.args.end());
+        for (const std::string& a : {std::string("-o"), dir.file("out"), std::string("--scenes-dir"), scenes})
+            args.push_back(a);
+        test::RunResult r = test::runRayproc(args, dir, 30);
+        INFO(r.err);
+        CHECK(r.status == 1);
+        CHECK(r.err.find(c.message) != std::string::npos);
+        CHECK(!std::filesystem::exists(dir.file("out/results.csv")));
+    }
+}

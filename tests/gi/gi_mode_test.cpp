@@ -2,6 +2,7 @@
 // photon pass, precomputation and cache prepass, and --time-limit stops after the first pass
 // past the budget.
 #include "../analytic/analytic.h"
+#include "image/metrics.h"
 
 #include <fstream>
 
@@ -149,4 +150,50 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     CHECK(p.samplesDone >= 1);
     CHECK(p.samplesDone < 100000);
     CHECK(p.stats.wallSeconds >= 0.05);
+}
+
+TEST_CASE("The error-log row is handed to EngineSettings::onPassError, with or without the log "
+          "file",
+          "[gi][bench]") {
+    auto scene = loadSceneAt("cornell-box", 16, 16);
+    EmbreeScene accel(*scene);
+    TempDir dir;
+    Image reference = renderGiMode(*scene, accel, 2, 5).image;
+    for (bool withFile : {true, false}) {
+        const std::string log = (dir.path / "gi.csv").string();
+        std::vector<EngineSettings::PassError> rows;
+        EngineSettings engine;
+        engine.threads = 2;
+        engine.quiet = true;
+        engine.reference = &reference;
+        if (withFile) engine.errorLogPath = log;
+        engine.onPassError = [&](const EngineSettings::PassError& e) { rows.push_back(e); };
+        RenderResult r = renderGi(*scene, accel, giSettings(*scene, ModeOverrides{3, 0, 0}), engine);
+        INFO("with the log file: " << withFile);
+        REQUIRE(rows.size() == std::size_t(r.passesDone));
+        REQUIRE(rows.size() >= 2);
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            CHECK(rows[i].spp == int(i) + 1); // passes of 1 spp (3 spp asked)
+            CHECK(rows[i].relmse > 0);
+            CHECK(rows[i].rays > 0);
+            if (i > 0) {
+                CHECK(rows[i].seconds >= rows[i - 1].seconds);
+                CHECK(rows[i].rays > rows[i - 1].rays);
+            }
+        }
+        // The last pass's error is the finished image's.
+        CHECK(rows.back().relmse == Approx(compareImages(r.image, reference).relmse).epsilon(1e-9));
+        if (!withFile) continue;
+        std::ifstream in(log);
+        std::string line;
+        std::getline(in, line);
+        for (const EngineSettings::PassError& e : rows) {
+            REQUIRE(std::getline(in, line));
+            CHECK(std::stoi(line) == e.spp);
+            std::size_t c = line.find(',');
+            c = line.find(',', c + 1); // past seconds
+            CHECK(std::stod(line.substr(c + 1)) == Approx(e.relmse).epsilon(1e-7));
+        }
+        CHECK(!std::getline(in, line));
+    }
 }
