@@ -22,6 +22,8 @@ const std::vector<AblationSwitch>& ablationSwitches() {
          [](RenderConfig& c) { c.gi.irradianceCache = false; }},
         {"precomputed irradiance", "gi", "--no-precomputed-irradiance",
          [](RenderConfig& c) { c.gi.precomputedIrradiance = false; }},
+        {"lazy precomputed irradiance", "gi", "--no-lazy-irradiance",
+         [](RenderConfig& c) { c.gi.lazyIrradiance = false; }},
         {"photon rounds", "gi", "--photon-rounds 1",
          [](RenderConfig& c) { c.gi.photonRounds = 1; }},
         {"direct light at gather hits", "gi", "--no-gather-direct",

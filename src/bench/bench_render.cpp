@@ -39,6 +39,7 @@ std::string RenderConfig::settingsString() const {
         if (gi.causticPhotons != gi.photons) o << " caustic-photons=" << gi.causticPhotons;
         if (!gi.irradianceCache) o << " no-irradiance-cache";
         if (!gi.precomputedIrradiance) o << " no-precomputed-irradiance";
+        if (!gi.lazyIrradiance) o << " no-lazy-irradiance";
         if (!gi.gatherDirect) o << " no-gather-direct";
         if (gi.photonRounds != kMaxPhotonRounds) o << " photon-rounds=" << gi.photonRounds;
         if (!gi.caustics) o << " no-caustics";

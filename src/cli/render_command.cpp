@@ -55,7 +55,7 @@ struct RenderArgs {
     int photons = -1, causticPhotons = -1, gatherRays = 0, photonRounds = 0, globalK = 0;
     float icAccuracy = 0;
     bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
-    bool noProgressiveCaustics = false, noGatherDirect = false;
+    bool noProgressiveCaustics = false, noGatherDirect = false, noLazyIrradiance = false;
     float causticAlpha = 0;
     double timeLimit = 0;
     double targetRelMse = 0;
@@ -247,6 +247,7 @@ int runRender(const RenderArgs& a) {
         s.progressiveCaustics = !a.noProgressiveCaustics;
         if (a.causticAlpha > 0) s.causticAlpha = a.causticAlpha;
         s.precomputedIrradiance = !a.noPrecomputed;
+        s.lazyIrradiance = !a.noLazyIrradiance;
         s.gatherDirect = !a.noGatherDirect;
         s.roulette = !a.noRoulette;
         s.icGradients = !a.noIcGradients;
@@ -414,6 +415,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_flag("--no-precomputed-irradiance", args->noPrecomputed,
                   "gi: gather rays estimate the global map's irradiance from scratch instead of "
                   "Christensen's precomputed values");
+    cmd->add_flag("--no-lazy-irradiance", args->noLazyIrradiance,
+                  "gi: precompute the irradiance at every fourth photon before rendering instead "
+                  "of each the first time a lookup needs it (the same image; the lazy way skips "
+                  "photons no lookup reaches)");
     cmd->add_flag("--no-gather-direct", args->noGatherDirect,
                   "gi: where a final-gather ray lands on a diffuse surface, take the global map's "
                   "estimate of all the light there instead of sampling the sun (delta lights) "

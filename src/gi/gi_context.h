@@ -75,6 +75,10 @@ struct GiSettings {
     bool progressiveCaustics = true;
     float causticAlpha = 2.0f / 3.0f; // the radius reduction (Hachisuka & Jensen's alpha)
     bool precomputedIrradiance = true;
+    // Each precomputed estimate made when a gather lookup first lands on its photon instead of
+    // all of them before the render (PhotonMap::deferIrradiance): the same image, and no work
+    // for photons no lookup reaches (a sunlit room's map outside the room).
+    bool lazyIrradiance = true;
     // Where a gather ray lands on a diffuse surface, the direct light of delta lights and of
     // the sky comes from light samples there (shadow rays, like the first hit's) and the global
     // map gives the rest (it leaves out those lights' first-landing photons); off: the map

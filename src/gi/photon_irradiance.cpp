@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <type_traits>
@@ -151,8 +152,14 @@ bool PhotonMap::precomputeIrradiance(int k, float maxDistance, int stride,
         if (!all.empty()) std::memcpy(subset.data(), all.data(), all.size());
     }
     if (stopped) return false;
+    m_deferred.clear();
+    m_deferred.shrink_to_fit();
+    buildPrecomputedTree(std::move(subset));
+    return true;
+}
 
-    // Their own kd-tree.
+void PhotonMap::buildPrecomputedTree(std::vector<PrecomputedPhoton> subset) {
+    const std::size_t count = subset.size();
     std::vector<kdtree::BuildKey> keys(count);
     for (std::size_t j = 0; j < count; ++j) {
         const PrecomputedPhoton& s = subset[j];
@@ -167,7 +174,47 @@ bool PhotonMap::precomputeIrradiance(int k, float maxDistance, int stride,
         m_precomputed[i].normalAxis |= std::uint16_t(unsigned(axis[i]) << 14);
     }
     m_hasPrecomputed = true;
-    return true;
+}
+
+void PhotonMap::deferIrradiance(int k, float maxDistance, int stride) {
+    RAYPROC_CHECK(stride >= 1);
+    const std::size_t step = std::size_t(stride), count = precomputeCount(stride);
+    std::vector<PrecomputedPhoton> subset(count);
+    for (std::size_t j = 0; j < count; ++j) {
+        const StoredPhoton& s = m_photons[j * step];
+        PrecomputedPhoton& out = subset[j];
+        std::copy_n(s.pos, 3, out.pos);
+        out.irradiance = {};
+        out.normalAxis = std::uint16_t(s.normalAxis & 0x3fffu);
+    }
+    m_deferredK = k;
+    m_deferredMaxDistance = maxDistance;
+    std::vector<std::atomic<std::uint64_t>> slots(count); // value-initialised: 0, not made
+    m_deferred.swap(slots);
+    buildPrecomputedTree(std::move(subset));
+}
+
+Rgbe PhotonMap::precomputedIrradiance(std::size_t i) const {
+    if (m_deferred.empty()) return m_precomputed[i].irradiance;
+    std::uint64_t v = m_deferred[i].load(std::memory_order_relaxed);
+    if (!(v >> 32)) {
+        // The same inputs precomputeIrradiance gives the estimate at this photon: its position
+        // and its normal's code (the top bits are this tree's split axis).
+        const PrecomputedPhoton& s = m_precomputed[i];
+        Rgbe e = encodeRgbe(irradiance(Vec3(s.pos[0], s.pos[1], s.pos[2]),
+                                       decodeNormal(std::uint16_t(s.normalAxis & 0x3fffu)),
+                                       m_deferredK, m_deferredMaxDistance));
+        v = (std::uint64_t(1) << 32) | std::bit_cast<std::uint32_t>(e);
+        m_deferred[i].store(v, std::memory_order_relaxed);
+    }
+    return std::bit_cast<Rgbe>(std::uint32_t(v));
+}
+
+std::size_t PhotonMap::precomputedEstimatesMade() const {
+    if (m_deferred.empty()) return m_hasPrecomputed ? m_precomputed.size() : 0;
+    std::size_t made = 0;
+    for (const auto& v : m_deferred) made += (v.load(std::memory_order_relaxed) >> 32) != 0;
+    return made;
 }
 
 Vec3 PhotonMap::irradianceFast(const Vec3& p, const Vec3& n, int k, float maxDistance) const {
@@ -189,7 +236,7 @@ Vec3 PhotonMap::irradianceFast(const Vec3& p, const Vec3& n, int k, float maxDis
                            bestDist2 = d2;
                            radius2 = d2;
                        });
-        if (best < m_precomputed.size()) return decodeRgbe(m_precomputed[best].irradiance);
+        if (best < m_precomputed.size()) return decodeRgbe(precomputedIrradiance(best));
     }
     return irradiance(p, n, k, maxDistance);
 }

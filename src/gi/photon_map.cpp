@@ -22,6 +22,8 @@ bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<boo
     m_photons.shrink_to_fit();
     m_precomputed.clear();
     m_precomputed.shrink_to_fit();
+    m_deferred.clear();
+    m_deferred.shrink_to_fit();
     m_hasPrecomputed = false;
     RAYPROC_CHECK(photons.size() < (std::size_t(1) << 32));
 
@@ -70,7 +72,8 @@ bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<boo
 
 std::size_t PhotonMap::memoryBytes() const {
     return m_photons.capacity() * sizeof(StoredPhoton) +
-           m_precomputed.capacity() * sizeof(PrecomputedPhoton);
+           m_precomputed.capacity() * sizeof(PrecomputedPhoton) +
+           m_deferred.capacity() * sizeof(std::atomic<std::uint64_t>);
 }
 
 int PhotonMap::gather(const Vec3& p, int k, float maxDistance, std::uint64_t* keys,

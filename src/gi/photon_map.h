@@ -140,6 +140,15 @@ public:
     std::size_t precomputeCount(int stride) const {
         return (m_photons.size() + std::size_t(stride) - 1) / std::size_t(stride);
     }
+    // The same subset and kd-tree, but each photon's estimate is made the first time a lookup
+    // (irradianceFast) lands on it, with this call's k and maxDistance, and kept: the
+    // precomputation then costs only the photons lookups use (most of a map's photons may lie
+    // outside the view). An estimate is a function of the map and the photon alone, so the
+    // results equal precomputeIrradiance's bit for bit, whichever thread makes each one first
+    // (two may both make it and store the same value). Serial: the tree's build only.
+    void deferIrradiance(int k, float maxDistance, int stride);
+    // Estimates deferIrradiance's lookups have made so far (precomputedCount() when eager).
+    std::size_t precomputedEstimatesMade() const;
     bool hasPrecomputedIrradiance() const { return m_hasPrecomputed; }
     std::size_t precomputedCount() const { return m_precomputed.size(); }
     // The precomputed irradiance of the nearest precomputed photon within maxDistance whose
@@ -178,9 +187,18 @@ private:
     Vec3 coneEstimate(const Vec3& p, const Vec3& n, int k, float maxDistance,
                       const Weight& weight) const;
 
+    // Orders `subset` (precomputed photons in subset order) into their own kd-tree.
+    void buildPrecomputedTree(std::vector<PrecomputedPhoton> subset);
+    // The irradiance of precomputed photon i (tree order), made now if deferred and not yet made.
+    Rgbe precomputedIrradiance(std::size_t i) const;
+
     std::vector<StoredPhoton> m_photons;
     std::vector<PrecomputedPhoton> m_precomputed;
     bool m_hasPrecomputed = false;
+    // deferIrradiance: per precomputed photon, 0 until made, then 2^32 | the RGBE's bits.
+    mutable std::vector<std::atomic<std::uint64_t>> m_deferred;
+    int m_deferredK = 0;
+    float m_deferredMaxDistance = 0;
 };
 
 static_assert(sizeof(PhotonMap::StoredPhoton) == PhotonMap::kPhotonBytes);

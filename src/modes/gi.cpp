@@ -64,19 +64,24 @@ const char* debugViewName(GiDebugView v) {
     return "?";
 }
 
-// Christensen's precomputed irradiance at every fourth photon of the global map (each rank
-// estimates a share, every rank gets all); skipped when interrupted.
-void precomputePhotonIrradiance(PhotonMap& global, const GiSettings& s, float radius,
+// Christensen's precomputed irradiance at every fourth photon of a map: by default each
+// estimate made when a lookup first needs it (GiSettings::lazyIrradiance); eagerly, each rank
+// estimates a share and every rank gets all, skipped when interrupted.
+void precomputePhotonIrradiance(PhotonMap& map, const GiSettings& s, float radius,
                                 const EngineSettings& engine, const Cluster& cluster) {
     constexpr int kStride = 4;
+    if (s.lazyIrradiance) {
+        map.deferIrradiance(s.globalK, radius, kStride); // the subset's kd-tree only
+        return;
+    }
     std::atomic<std::size_t> done{0};
     std::uint64_t first = 0, last = 0; // this rank's share, for progress
-    shareOf(global.precomputeCount(kStride), cluster.rank(), cluster.size(), first, last);
+    shareOf(map.precomputeCount(kStride), cluster.rank(), cluster.size(), first, last);
     double total = double(std::max<std::uint64_t>(last - first, 1));
     Progress progress("gi precomputed irradiance", engine.quiet,
                       [&] { return double(done.load()) / total; }, [] { return std::uint64_t(0); });
-    bool complete = global.precomputeIrradiance(s.globalK, radius, kStride, &done,
-                                                [] { return interruptRequested(); }, &cluster);
+    bool complete = map.precomputeIrradiance(s.globalK, radius, kStride, &done,
+                                             [] { return interruptRequested(); }, &cluster);
     progress.finish(complete);
 }
 
@@ -317,6 +322,7 @@ std::string GiSettings::toString() const {
       << " progressive_caustics=" << (progressiveCaustics ? "on" : "off")
       << " caustic_alpha=" << causticAlpha
       << " precomputed_irradiance=" << (precomputedIrradiance ? "on" : "off")
+      << " lazy_irradiance=" << (lazyIrradiance ? "on" : "off")
       << " gather_direct=" << (gatherDirect ? "on" : "off")
       << " roulette=" << (roulette ? "on" : "off")
       << " debug_view=" << debugViewName(debugView);
@@ -434,6 +440,11 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine,
                                   RadianceStage::Surface, plan.globalMap ? &gi : nullptr,
                                   beforePass);
+    // Precomputed estimates the render needed (all of them when not lazy).
+    extras.push_back({"gi/precomputed_estimates", double(global.precomputedEstimatesMade() +
+                                                         gatherMap.precomputedEstimatesMade())});
+    extras.push_back({"gi/precomputed_photons",
+                      double(global.precomputedCount() + gatherMap.precomputedCount())});
     if (progressive) {
         extras.push_back({"gi/caustic_passes", double(progressive->passesTraced())});
         extras.push_back({"gi/caustic_first_radius", double(progressive->firstRadius())});

@@ -444,6 +444,54 @@ TEST_CASE("Building and precomputing give the same map on 1 and 2 threads", "[gi
     }
 }
 
+TEST_CASE("Deferred irradiance equals the precomputed one bit for bit and is made only where "
+          "lookups land",
+          "[gi]") {
+    LitPlane plane;
+    std::vector<PhotonRecord> photons = plane.photons(100000, 12);
+    PhotonMap eager, lazy;
+    eager.build(photons);
+    eager.precomputeIrradiance(50, 1.0f, 4);
+    lazy.build(photons);
+    lazy.deferIrradiance(50, 1.0f, 4);
+    REQUIRE(lazy.hasPrecomputedIrradiance());
+    REQUIRE(lazy.precomputedCount() == eager.precomputedCount());
+    CHECK(eager.precomputedEstimatesMade() == eager.precomputedCount());
+    CHECK(lazy.precomputedEstimatesMade() == 0);
+    // Lookups on a small patch of the plane: concurrent, on 2 threads, then again serially
+    // (the values made by the first round are read back).
+    std::vector<Vec3> points;
+    std::mt19937 rng(13);
+    std::uniform_real_distribution<float> patch(4.0f, 5.0f); // 1% of the plane
+    for (int i = 0; i < 3000; ++i) points.push_back(plane.at(patch(rng), patch(rng)));
+    std::vector<Vec3> first(points.size());
+    tbb::task_arena(2).execute([&] {
+        tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
+            first[i] = lazy.irradianceFast(points[i], plane.n, 50, 1.0f);
+        });
+    });
+    std::size_t made = lazy.precomputedEstimatesMade();
+    INFO(made << " of " << lazy.precomputedCount() << " estimates made");
+    CHECK(made > 0);
+    CHECK(made < lazy.precomputedCount() / 10);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        Vec3 e = eager.irradianceFast(points[i], plane.n, 50, 1.0f);
+        Vec3 again = lazy.irradianceFast(points[i], plane.n, 50, 1.0f);
+        REQUIRE(std::memcmp(&e, &first[i], sizeof e) == 0);
+        REQUIRE(std::memcmp(&e, &again, sizeof e) == 0);
+    }
+    CHECK(lazy.precomputedEstimatesMade() == made);
+    // The deferred estimate uses deferIrradiance's k and radius, not the lookup's: a lookup
+    // with other ones reads the same precomputed value, as it would read an eager one.
+    Vec3 e = eager.irradianceFast(points[0], plane.n, 10, 0.5f);
+    Vec3 l = lazy.irradianceFast(points[0], plane.n, 10, 0.5f);
+    CHECK(std::memcmp(&e, &l, sizeof e) == 0);
+    // Rebuilding drops the deferred estimates too.
+    lazy.build(plane.photons(1000, 9));
+    CHECK_FALSE(lazy.hasPrecomputedIrradiance());
+    CHECK(lazy.precomputedEstimatesMade() == 0);
+}
+
 TEST_CASE("Concurrent queries give the serial results", "[gi]") {
     LitPlane plane;
     PhotonMap map;
