@@ -102,13 +102,7 @@ AblationRun runAblation(const BenchSuite& suite, const BenchOptions& options,
     if (!csv) throw InputError(csvPath + ": cannot open for writing");
     csv << kAblationCsvHeader << "\n" << std::flush;
     AblationRun run;
-    for (const SceneJob& job : benchSceneJobs(suite, options)) {
-        BenchScene b = prepareForSuite(job, suite, options, log);
-        run.scenes.push_back(sceneInfo(b));
-        if (b.reference.cancelled || interruptRequested()) {
-            run.interrupted = true;
-            return run;
-        }
+    run.interrupted = !forEachBenchScene(suite, options, log, run.scenes, [&](const BenchScene& b) {
         for (const AblationSwitch& sw : ablationSwitches()) {
             RenderConfig on = baseConfig(b, suite, sw.mode, options.threads);
             RenderConfig off = on;
@@ -120,10 +114,7 @@ AblationRun runAblation(const BenchSuite& suite, const BenchOptions& options,
                 for (int which = 0; which < 2; ++which) {
                     const RenderConfig& c = which == 0 ? on : off;
                     TimedRender t = renderTimed(*b.scene, *b.accel, c);
-                    if (t.cancelled || interruptRequested()) {
-                        run.interrupted = true;
-                        return run;
-                    }
+                    if (t.cancelled || interruptRequested()) return false;
                     (which == 0 ? tOn : tOff).push_back(t.seconds);
                     if (rep == 0) { // the image is the same in every repeat (fixed seed)
                         double e = compareImages(t.image, b.reference.image).relmse;
@@ -141,7 +132,8 @@ AblationRun runAblation(const BenchSuite& suite, const BenchOptions& options,
                 " s relMSE " + g3(row.relmseOn) + ", off " + g3(row.secondsOff) + " s relMSE " +
                 g3(row.relmseOff));
         }
-    }
+        return true;
+    });
     return run;
 }
 

@@ -130,6 +130,17 @@ std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions
     return jobs;
 }
 
+bool forEachBenchScene(const BenchSuite& suite, const BenchOptions& options, const BenchLog& log,
+                       std::vector<SceneInfo>& scenes,
+                       const std::function<bool(const BenchScene&)>& body) {
+    for (const SceneJob& job : benchSceneJobs(suite, options)) {
+        BenchScene b = prepareForSuite(job, suite, options, log);
+        scenes.push_back(sceneInfo(b));
+        if (b.reference.cancelled || interruptRequested() || !body(b)) return false;
+    }
+    return true;
+}
+
 std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOptions& options) {
     if (options.modes.empty()) return suite.ladders;
     std::vector<ModeLadder> ladders;
@@ -218,13 +229,7 @@ LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
                      ResultsCsvWriter& results, const BenchLog& log) {
     LadderRun run;
     double timeCap = options.timeCapSeconds > 0 ? options.timeCapSeconds : suite.timeCapSeconds;
-    for (const SceneJob& job : benchSceneJobs(suite, options)) {
-        BenchScene b = prepareForSuite(job, suite, options, log);
-        run.scenes.push_back(sceneInfo(b));
-        if (b.reference.cancelled || interruptRequested()) {
-            run.interrupted = true;
-            return run;
-        }
+    run.interrupted = !forEachBenchScene(suite, options, log, run.scenes, [&](const BenchScene& b) {
         for (const ModeLadder& ladder : selectedLadders(suite, options)) {
             for (RenderConfig c : ladderConfigs(b, suite, ladder, options.threads)) {
                 double prevSeconds = 0;
@@ -232,10 +237,7 @@ LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
                     int spp = ladder.spp[k];
                     c.setSpp(spp);
                     TimedRender t = renderTimed(*b.scene, *b.accel, c);
-                    if (t.cancelled || interruptRequested()) {
-                        run.interrupted = true;
-                        return run;
-                    }
+                    if (t.cancelled || interruptRequested()) return false;
                     ImageMetrics m = compareImages(t.image, b.reference.image);
                     BenchRow row{b.name, c.mode, c.settingsString(), t.seconds, t.rays,
                                  m.relmse, m.rmse};
@@ -254,7 +256,8 @@ LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
                 }
             }
         }
-    }
+        return true;
+    });
     return run;
 }
 
@@ -263,13 +266,7 @@ LadderRun runProgressive(const BenchSuite& suite, const BenchOptions& options,
     LadderRun run;
     const double timeLimit =
         options.timeCapSeconds > 0 ? options.timeCapSeconds : suite.timeCapSeconds;
-    for (const SceneJob& job : benchSceneJobs(suite, options)) {
-        BenchScene b = prepareForSuite(job, suite, options, log);
-        run.scenes.push_back(sceneInfo(b));
-        if (b.reference.cancelled || interruptRequested()) {
-            run.interrupted = true;
-            return run;
-        }
+    run.interrupted = !forEachBenchScene(suite, options, log, run.scenes, [&](const BenchScene& b) {
         for (const ModeLadder& ladder : selectedLadders(suite, options)) {
             RenderConfig c = ladderConfigs(b, suite, ladder, options.threads).front();
             // As many samples as the time allows: the limit ends the render.
@@ -277,8 +274,9 @@ LadderRun runProgressive(const BenchSuite& suite, const BenchOptions& options,
             c.engine.timeLimitSeconds = timeLimit;
             c.engine.reference = &b.reference.image;
             char limit[48];
-            std::snprintf(limit, sizeof limit, " time-limit=%g", timeLimit);
-            const std::string fixed = settingsWithout(c.settingsString(), "spp") + limit;
+            std::snprintf(limit, sizeof limit, "time-limit=%g", timeLimit);
+            std::string fixed = settingsWithout(c.settingsString(), "spp");
+            fixed += (fixed.empty() ? "" : " ") + std::string(limit);
             std::size_t firstRow = run.rows.size();
             c.engine.onPassError = [&](const EngineSettings::PassError& e) {
                 BenchRow row{b.name, c.mode, "spp=" + std::to_string(e.spp) + " " + fixed,
@@ -287,10 +285,7 @@ LadderRun runProgressive(const BenchSuite& suite, const BenchOptions& options,
                 run.rows.push_back(row);
             };
             TimedRender t = renderTimed(*b.scene, *b.accel, c);
-            if (t.cancelled || interruptRequested()) {
-                run.interrupted = true;
-                return run;
-            }
+            if (t.cancelled || interruptRequested()) return false;
             char line[256];
             std::size_t n = run.rows.size() - firstRow;
             std::snprintf(line, sizeof line, "%s %s %s: %zu passes in %s, relMSE %.4g",
@@ -298,7 +293,8 @@ LadderRun runProgressive(const BenchSuite& suite, const BenchOptions& options,
                           formatSeconds(t.seconds).c_str(), n ? run.rows.back().relmse : NAN);
             log(line);
         }
-    }
+        return true;
+    });
     return run;
 }
 

@@ -73,6 +73,13 @@ std::string commonRenderSize(const std::vector<SceneInfo>& scenes, const BenchSu
 // With no earlier render (prevSpp 0), time in proportion to the samples.
 double predictSeconds(int prevSpp, double prevSeconds, int spp, double seconds, int nextSpp);
 
+// Each scene of the run in turn: prepared (prepareForSuite), its SceneInfo appended to
+// `scenes`, then body(scene). Returns false, skipping the rest, when a reference render was
+// interrupted or body returns false (it was interrupted).
+bool forEachBenchScene(const BenchSuite& suite, const BenchOptions& options, const BenchLog& log,
+                       std::vector<SceneInfo>& scenes,
+                       const std::function<bool(const BenchScene&)>& body);
+
 // The suite's ladders, only those of options.modes when it names some. Throws InputError
 // naming a mode the suite does not have.
 std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOptions& options);

@@ -14,7 +14,8 @@
 
 namespace rayproc::bench {
 
-// Every row of `scene` becomes one point (a progressive render's: one per 1/100 decade); `subtitle` follows the scene's name in the title.
+// Every row of `scene` becomes one point (a progressive render's: one per 1/100 decade of
+// time); `subtitle` follows the scene's name in the title.
 LogLogPlot scenePlot(const std::vector<BenchRow>& rows, const std::string& scene,
                      const std::string& subtitle);
 

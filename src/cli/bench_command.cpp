@@ -259,7 +259,8 @@ std::function<int()> addBenchCommand(CLI::App& app) {
         ->check(CLI::PositiveNumber);
     cmd->add_flag("--ablation", args->ablation,
                   "Instead of the ladders: render each optimisation (packets, irradiance cache, "
-                  "precomputed irradiance and its laziness, caustic map, progressive caustics, glossy MIS, light "
+                  "precomputed irradiance and its laziness, photon rounds, direct light at "
+                  "gather hits, caustic map, progressive caustics, glossy MIS, diffuse MIS, light "
                   "choice, Russian roulette, stratification) on and off at one budget and report "
                   "what it buys in time and error");
     cmd->add_flag("--report-only", args->reportOnly,

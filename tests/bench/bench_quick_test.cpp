@@ -191,7 +191,8 @@ TEST_CASE("rayproc bench names what is wrong with --reference, --modes and --pro
     for (const Case& c : cases) {
         std::vector<std::string> args = {"bench"};
         args.insert(args.end(), c.args.begin(), c.args.end());
-        for (const std::string& a : {std::string("-o"), dir.file("out"), std::string("--scenes-dir"), scenes})
+        for (const std::string& a :
+             {std::string("-o"), dir.file("out"), std::string("--scenes-dir"), scenes})
             args.push_back(a);
         test::RunResult r = test::runRayproc(args, dir, 30);
         INFO(r.err);

@@ -168,7 +168,8 @@ TEST_CASE("The error-log row is handed to EngineSettings::onPassError, with or w
         engine.reference = &reference;
         if (withFile) engine.errorLogPath = log;
         engine.onPassError = [&](const EngineSettings::PassError& e) { rows.push_back(e); };
-        RenderResult r = renderGi(*scene, accel, giSettings(*scene, ModeOverrides{3, 0, 0}), engine);
+        GiSettings s = giSettings(*scene, ModeOverrides{3, 0, 0});
+        RenderResult r = renderGi(*scene, accel, s, engine);
         INFO("with the log file: " << withFile);
         REQUIRE(rows.size() == std::size_t(r.passesDone));
         REQUIRE(rows.size() >= 2);
