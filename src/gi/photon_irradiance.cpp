@@ -132,13 +132,9 @@ bool PhotonMap::precomputeIrradiance(int k, float maxDistance, int stride,
                               return;
                           }
                           for (std::size_t j = r.begin(); j != r.end(); ++j) {
-                              const StoredPhoton& s = m_photons[j * step];
-                              Vec3 p(s.pos[0], s.pos[1], s.pos[2]);
-                              Vec3 e = irradiance(p, decodeNormal(s.normalAxis), k, maxDistance);
                               PrecomputedPhoton& out = subset[j];
-                              std::copy_n(s.pos, 3, out.pos);
-                              out.irradiance = encodeRgbe(e);
-                              out.normalAxis = std::uint16_t(s.normalAxis & 0x3fffu);
+                              out = subsetPhoton(m_photons[j * step]);
+                              out.irradiance = subsetEstimate(out, k, maxDistance);
                           }
                           if (done) done->fetch_add(r.size(), std::memory_order_relaxed);
                       });
@@ -156,6 +152,21 @@ bool PhotonMap::precomputeIrradiance(int k, float maxDistance, int stride,
     m_deferred.shrink_to_fit();
     buildPrecomputedTree(std::move(subset));
     return true;
+}
+
+PhotonMap::PrecomputedPhoton PhotonMap::subsetPhoton(const StoredPhoton& s) {
+    PrecomputedPhoton out;
+    std::copy_n(s.pos, 3, out.pos);
+    out.irradiance = {};
+    out.normalAxis = std::uint16_t(s.normalAxis & 0x3fffu);
+    return out;
+}
+
+Rgbe PhotonMap::subsetEstimate(const PrecomputedPhoton& s, int k, float maxDistance) const {
+    // decodeNormal reads the low 14 bits: the photon's normal, whether or not the top two
+    // already hold this tree's split axis.
+    return encodeRgbe(
+        irradiance(Vec3(s.pos[0], s.pos[1], s.pos[2]), decodeNormal(s.normalAxis), k, maxDistance));
 }
 
 void PhotonMap::buildPrecomputedTree(std::vector<PrecomputedPhoton> subset) {
@@ -180,13 +191,7 @@ void PhotonMap::deferIrradiance(int k, float maxDistance, int stride) {
     RAYPROC_CHECK(stride >= 1);
     const std::size_t step = std::size_t(stride), count = precomputeCount(stride);
     std::vector<PrecomputedPhoton> subset(count);
-    for (std::size_t j = 0; j < count; ++j) {
-        const StoredPhoton& s = m_photons[j * step];
-        PrecomputedPhoton& out = subset[j];
-        std::copy_n(s.pos, 3, out.pos);
-        out.irradiance = {};
-        out.normalAxis = std::uint16_t(s.normalAxis & 0x3fffu);
-    }
+    for (std::size_t j = 0; j < count; ++j) subset[j] = subsetPhoton(m_photons[j * step]);
     m_deferredK = k;
     m_deferredMaxDistance = maxDistance;
     std::vector<std::atomic<std::uint64_t>> slots(count); // value-initialised: 0, not made
@@ -198,12 +203,7 @@ Rgbe PhotonMap::precomputedIrradiance(std::size_t i) const {
     if (m_deferred.empty()) return m_precomputed[i].irradiance;
     std::uint64_t v = m_deferred[i].load(std::memory_order_relaxed);
     if (!(v >> 32)) {
-        // The same inputs precomputeIrradiance gives the estimate at this photon: its position
-        // and its normal's code (the top bits are this tree's split axis).
-        const PrecomputedPhoton& s = m_precomputed[i];
-        Rgbe e = encodeRgbe(irradiance(Vec3(s.pos[0], s.pos[1], s.pos[2]),
-                                       decodeNormal(std::uint16_t(s.normalAxis & 0x3fffu)),
-                                       m_deferredK, m_deferredMaxDistance));
+        Rgbe e = subsetEstimate(m_precomputed[i], m_deferredK, m_deferredMaxDistance);
         v = (std::uint64_t(1) << 32) | std::bit_cast<std::uint32_t>(e);
         m_deferred[i].store(v, std::memory_order_relaxed);
     }

@@ -187,6 +187,11 @@ private:
     Vec3 coneEstimate(const Vec3& p, const Vec3& n, int k, float maxDistance,
                       const Weight& weight) const;
 
+    // A subset entry for stored photon s: its position and normal code, no irradiance yet.
+    static PrecomputedPhoton subsetPhoton(const StoredPhoton& s);
+    // The estimate an entry holds, eager (precomputeIrradiance) or deferred alike: the one
+    // function both call, so their values are the same bits.
+    Rgbe subsetEstimate(const PrecomputedPhoton& s, int k, float maxDistance) const;
     // Orders `subset` (precomputed photons in subset order) into their own kd-tree.
     void buildPrecomputedTree(std::vector<PrecomputedPhoton> subset);
     // The irradiance of precomputed photon i (tree order), made now if deferred and not yet made.
