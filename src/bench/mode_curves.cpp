@@ -19,6 +19,10 @@ std::string settingsWithoutBudget(const std::string& settings) {
     return s;
 }
 
+bool isProgressiveRow(const BenchRow& row) {
+    return !settingValue(row.settings, "time-limit").empty();
+}
+
 std::vector<std::string> sceneNames(const std::vector<BenchRow>& rows) {
     std::vector<std::string> names;
     for (const BenchRow& r : rows)

@@ -23,6 +23,10 @@ struct ModeCurve {
 // but spp=, samples=, seconds= and time= (a peer renderer may name its budget any of these).
 std::string settingsWithoutBudget(const std::string& settings);
 
+// A row of a --progressive render (one pass of a time-limited render: its settings name the
+// time-limit), not of a ladder.
+bool isProgressiveRow(const BenchRow& row);
+
 // Scene names in order of first appearance.
 std::vector<std::string> sceneNames(const std::vector<BenchRow>& rows);
 

@@ -25,7 +25,7 @@ LogLogPlot scenePlot(const std::vector<BenchRow>& rows, const std::string& scene
             for (const CurvePoint& p : c.envelope) best.points.push_back({p.seconds, p.relmse});
             plot.series.push_back(best);
             plot.series.push_back(each);
-        } else if (!settingValue(c.rows.front().settings, "time-limit").empty()) {
+        } else if (isProgressiveRow(c.rows.front())) {
             // One progressive render (--progressive): its passes in time order as a line,
             // thinned to a point per 1/100 decade of time so a long render stays a small file.
             PlotSeries s{c.mode, colour, {}, true, false, false};

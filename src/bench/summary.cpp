@@ -121,9 +121,7 @@ std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContex
     else
         o << "- Each scene rendered at its own size, the table's *rendered at* (the scene files' "
              "own resolutions are overridden).";
-    const bool progressive = std::any_of(rows.begin(), rows.end(), [](const BenchRow& r) {
-        return !settingValue(r.settings, "time-limit").empty();
-    });
+    const bool progressive = std::any_of(rows.begin(), rows.end(), isProgressiveRow);
     if (progressive) {
         o << " Times are seconds from the start of the mode's work to the end of a pass: for gi "
              "the photon passes, precomputed irradiance and irradiance-cache prepass included; "
