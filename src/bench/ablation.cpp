@@ -96,13 +96,15 @@ std::string g3(double v) {
 
 } // namespace
 
-AblationRun runAblation(const BenchSuite& suite, const BenchOptions& options,
-                        const std::string& csvPath, const BenchLog& log) {
+AblationRun runAblation(const std::vector<SceneJob>& jobs, const BenchSuite& suite,
+                        const BenchOptions& options, const std::string& csvPath,
+                        const BenchLog& log) {
     std::ofstream csv(csvPath, std::ios::trunc);
     if (!csv) throw InputError(csvPath + ": cannot open for writing");
     csv << kAblationCsvHeader << "\n" << std::flush;
     AblationRun run;
-    run.interrupted = !forEachBenchScene(suite, options, log, run.scenes, [&](const BenchScene& b) {
+    run.interrupted = !forEachBenchScene(jobs, suite, options, log, run.scenes,
+                                         [&](const BenchScene& b) {
         for (const AblationSwitch& sw : ablationSwitches()) {
             RenderConfig on = baseConfig(b, suite, sw.mode, options.threads);
             RenderConfig off = on;

@@ -44,10 +44,11 @@ struct AblationRun {
     bool interrupted = false;
 };
 
-// Renders the ablation of every scene of the suite, appending each finished row to
+// Renders the ablation of every scene of `jobs` (benchSceneJobs), appending each finished row to
 // `csvPath` (header first).
-AblationRun runAblation(const BenchSuite& suite, const BenchOptions& options,
-                        const std::string& csvPath, const BenchLog& log);
+AblationRun runAblation(const std::vector<SceneJob>& jobs, const BenchSuite& suite,
+                        const BenchOptions& options, const std::string& csvPath,
+                        const BenchLog& log);
 
 // ablation.md: one table per scene (time on/off, relMSE on/off, ratios).
 std::string renderAblationMarkdown(const AblationRun& run, const BenchSuite& suite,

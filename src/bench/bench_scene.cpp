@@ -24,7 +24,7 @@ BenchScene prepareBenchScene(const SceneJob& job, const std::string& refsDir, in
     b.scene->camera.height = height;
     b.accel = std::make_unique<EmbreeScene>(*b.scene);
     if (!job.reference.empty()) {
-        Image image = readImage(job.reference);
+        Image image = job.givenImage ? *job.givenImage : readImage(job.reference);
         if (image.width == width && image.height == height) {
             b.source = job.source;
             b.referenceSpp = job.referenceSpp;

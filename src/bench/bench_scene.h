@@ -5,6 +5,7 @@
 
 #include "accel/embree_scene.h"
 #include "bench/reference_cache.h"
+#include "image/image.h"
 #include "scene/scene.h"
 
 #include <memory>
@@ -21,6 +22,9 @@ struct SceneJob {
     std::string name; // empty: the file's stem
     int width = 0, height = 0;
     std::string reference;
+    // A given reference (--reference), read once when the job was made (its size is the
+    // render's); null for shipped and cached ones, which are read when the scene is prepared.
+    std::shared_ptr<const Image> givenImage;
     int referenceSpp = 0; // of a shipped reference; 0 if unknown
     ReferenceSource source = ReferenceSource::Cache;
 };

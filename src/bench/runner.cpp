@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 namespace rayproc::bench {
 
@@ -120,9 +121,10 @@ std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions
         if (!fs::is_regular_file(file))
             throw InputError("--reference " + spec + ": " + file + ": no such file");
         // The scene renders at its reference's size.
-        Image image = readImage(file);
-        job->width = image.width;
-        job->height = image.height;
+        auto image = std::make_shared<const Image>(readImage(file));
+        job->width = image->width;
+        job->height = image->height;
+        job->givenImage = image;
         job->reference = file;
         job->referenceSpp = 0;
         job->source = ReferenceSource::Given;
@@ -130,10 +132,11 @@ std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions
     return jobs;
 }
 
-bool forEachBenchScene(const BenchSuite& suite, const BenchOptions& options, const BenchLog& log,
+bool forEachBenchScene(const std::vector<SceneJob>& jobs, const BenchSuite& suite,
+                       const BenchOptions& options, const BenchLog& log,
                        std::vector<SceneInfo>& scenes,
                        const std::function<bool(const BenchScene&)>& body) {
-    for (const SceneJob& job : benchSceneJobs(suite, options)) {
+    for (const SceneJob& job : jobs) {
         BenchScene b = prepareForSuite(job, suite, options, log);
         scenes.push_back(sceneInfo(b));
         if (b.reference.cancelled || interruptRequested() || !body(b)) return false;
@@ -225,11 +228,12 @@ std::string commonRenderSize(const std::vector<SceneInfo>& scenes, const BenchSu
     return std::to_string(w) + "x" + std::to_string(h);
 }
 
-LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
-                     ResultsCsvWriter& results, const BenchLog& log) {
+LadderRun runLadders(const std::vector<SceneJob>& jobs, const BenchSuite& suite,
+                     const BenchOptions& options, ResultsCsvWriter& results, const BenchLog& log) {
     LadderRun run;
     double timeCap = options.timeCapSeconds > 0 ? options.timeCapSeconds : suite.timeCapSeconds;
-    run.interrupted = !forEachBenchScene(suite, options, log, run.scenes, [&](const BenchScene& b) {
+    run.interrupted = !forEachBenchScene(jobs, suite, options, log, run.scenes,
+                                         [&](const BenchScene& b) {
         for (const ModeLadder& ladder : selectedLadders(suite, options)) {
             for (RenderConfig c : ladderConfigs(b, suite, ladder, options.threads)) {
                 double prevSeconds = 0;
@@ -261,12 +265,14 @@ LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
     return run;
 }
 
-LadderRun runProgressive(const BenchSuite& suite, const BenchOptions& options,
-                         ResultsCsvWriter& results, const BenchLog& log) {
+LadderRun runProgressive(const std::vector<SceneJob>& jobs, const BenchSuite& suite,
+                         const BenchOptions& options, ResultsCsvWriter& results,
+                         const BenchLog& log) {
     LadderRun run;
     const double timeLimit =
         options.timeCapSeconds > 0 ? options.timeCapSeconds : suite.timeCapSeconds;
-    run.interrupted = !forEachBenchScene(suite, options, log, run.scenes, [&](const BenchScene& b) {
+    run.interrupted = !forEachBenchScene(jobs, suite, options, log, run.scenes,
+                                         [&](const BenchScene& b) {
         for (const ModeLadder& ladder : selectedLadders(suite, options)) {
             RenderConfig c = ladderConfigs(b, suite, ladder, options.threads).front();
             // As many samples as the time allows: the limit ends the render.

@@ -73,10 +73,11 @@ std::string commonRenderSize(const std::vector<SceneInfo>& scenes, const BenchSu
 // With no earlier render (prevSpp 0), time in proportion to the samples.
 double predictSeconds(int prevSpp, double prevSeconds, int spp, double seconds, int nextSpp);
 
-// Each scene of the run in turn: prepared (prepareForSuite), its SceneInfo appended to
-// `scenes`, then body(scene). Returns false, skipping the rest, when a reference render was
-// interrupted or body returns false (it was interrupted).
-bool forEachBenchScene(const BenchSuite& suite, const BenchOptions& options, const BenchLog& log,
+// Each scene of `jobs` (benchSceneJobs) in turn: prepared (prepareForSuite), its SceneInfo
+// appended to `scenes`, then body(scene). Returns false, skipping the rest, when a reference
+// render was interrupted or body returns false (it was interrupted).
+bool forEachBenchScene(const std::vector<SceneJob>& jobs, const BenchSuite& suite,
+                       const BenchOptions& options, const BenchLog& log,
                        std::vector<SceneInfo>& scenes,
                        const std::function<bool(const BenchScene&)>& body);
 
@@ -86,8 +87,8 @@ std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOpti
 
 // Renders every ladder of the suite; stops early (interrupted = true) on Ctrl-C, keeping the
 // rows of the renders that completed.
-LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
-                     ResultsCsvWriter& results, const BenchLog& log);
+LadderRun runLadders(const std::vector<SceneJob>& jobs, const BenchSuite& suite,
+                     const BenchOptions& options, ResultsCsvWriter& results, const BenchLog& log);
 
 // --progressive: each mode renders once with its defaults (gi: the suite's first setting),
 // passes of 1 spp under a time limit of the time cap, and its error against the reference is
@@ -96,7 +97,8 @@ LadderRun runLadders(const BenchSuite& suite, const BenchOptions& options,
 // those of the render passes so far. One render gives the whole curve, so the time to an error
 // is read at pass resolution, and gi pays its photon pass and cache prepass once, as a user's
 // render does.
-LadderRun runProgressive(const BenchSuite& suite, const BenchOptions& options,
-                         ResultsCsvWriter& results, const BenchLog& log);
+LadderRun runProgressive(const std::vector<SceneJob>& jobs, const BenchSuite& suite,
+                         const BenchOptions& options, ResultsCsvWriter& results,
+                         const BenchLog& log);
 
 } // namespace rayproc::bench

@@ -124,7 +124,8 @@ int runBench(BenchArgs& a) {
     if (a.ablation && !o.modes.empty())
         throw InputError("--modes selects the curves' modes; --ablation renders its own fixed "
                          "list of optimisations in path and gi mode");
-    // Scene files, --reference and --modes: fail before any work.
+    // Scene files, --reference and --modes: fail before any work. The runs take these jobs
+    // (given references already read).
     std::vector<SceneJob> jobs = benchSceneJobs(suite, o);
     selectedLadders(suite, o);
     std::string resultsPath = (fs::path(o.outDir) / "results.csv").string();
@@ -175,7 +176,7 @@ int runBench(BenchArgs& a) {
 
     if (a.ablation) {
         std::string csv = (fs::path(o.outDir) / "ablation.csv").string();
-        AblationRun run = runAblation(suite, o, csv, log);
+        AblationRun run = runAblation(jobs, suite, o, csv, log);
         std::string md = (fs::path(o.outDir) / "ablation.md").string();
         writeText(md, renderAblationMarkdown(run, suite, ctx.commandLine, ctx.loadAtStart,
                                              loadAverage()));
@@ -189,8 +190,8 @@ int runBench(BenchArgs& a) {
     }
 
     ResultsCsvWriter results(resultsPath, /*truncate=*/true);
-    LadderRun run = o.progressive ? runProgressive(suite, o, results, log)
-                                  : runLadders(suite, o, results, log);
+    LadderRun run = o.progressive ? runProgressive(jobs, suite, o, results, log)
+                                  : runLadders(jobs, suite, o, results, log);
     ctx.scenes = run.scenes;
     ctx.interrupted = run.interrupted;
     ctx.loadAtEnd = loadAverage();
