@@ -41,6 +41,7 @@ std::string RenderConfig::settingsString() const {
         if (!gi.precomputedIrradiance) o << " no-precomputed-irradiance";
         if (!gi.lazyIrradiance) o << " no-lazy-irradiance";
         if (!gi.gatherDirect) o << " no-gather-direct";
+        if (gi.mapCorrection) o << " map-correction";
         if (gi.photonRounds != kMaxPhotonRounds) o << " photon-rounds=" << gi.photonRounds;
         if (!gi.caustics) o << " no-caustics";
         if (!gi.progressiveCaustics) o << " no-progressive-caustics";

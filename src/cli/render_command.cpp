@@ -55,7 +55,8 @@ struct RenderArgs {
     int photons = -1, causticPhotons = -1, gatherRays = 0, photonRounds = 0, globalK = 0;
     float icAccuracy = 0;
     bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
-    bool noProgressiveCaustics = false, noGatherDirect = false, noLazyIrradiance = false;
+    bool noProgressiveCaustics = false, noGatherDirect = false, noLazyIrradiance = false,
+         mapCorrection = false;
     float causticAlpha = 0;
     double timeLimit = 0;
     double targetRelMse = 0;
@@ -249,6 +250,7 @@ int runRender(const RenderArgs& a) {
         s.precomputedIrradiance = !a.noPrecomputed;
         s.lazyIrradiance = !a.noLazyIrradiance;
         s.gatherDirect = !a.noGatherDirect;
+        s.mapCorrection = a.mapCorrection;
         s.roulette = !a.noRoulette;
         s.icGradients = !a.noIcGradients;
         s.debugView = a.debugView == "photons"      ? GiDebugView::Photons
@@ -419,6 +421,12 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                   "gi: precompute the irradiance at every fourth photon before rendering instead "
                   "of each the first time a lookup needs it (the same image; the lazy way skips "
                   "photons no lookup reaches)");
+    cmd->add_flag("--map-correction", args->mapCorrection,
+                  "gi: every pass, take the global photon map's estimate away again wherever it "
+                  "went into the image and add a traced path in its place (one ray from each "
+                  "first diffuse hit for its final gather): the map's bias fades as passes add "
+                  "up and gi converges to path mode's image, at path tracing's noise (off by "
+                  "default)");
     cmd->add_flag("--no-gather-direct", args->noGatherDirect,
                   "gi: where a final-gather ray lands on a diffuse surface, take the global map's "
                   "estimate of all the light there instead of sampling the sun (delta lights) "

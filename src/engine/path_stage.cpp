@@ -26,6 +26,52 @@ Vec2 sample2D(const RayBatch& b, int i, std::uint32_t dim, int spp, std::uint64_
 
 } // namespace
 
+bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const SurfaceHit& h,
+                    const kernels::BsdfParams& bsdf, const Vec3& wo, const Vec3& w, Vec2 u,
+                    float up, bool areaLightsOnly, RayBatch& out) {
+    const std::size_t choices = lights.choiceCount();
+    if (choices == 0) return false;
+    const float pickPdf = 1.0f / float(choices);
+    std::size_t pick = std::min(std::size_t(up * float(choices)), choices - 1);
+    Vec3 fg, fs;
+    kernels::facingSide(wo, h.ng, h.ns, fg, fs);
+    Vec3 wi;
+    float lightPdf = 0;
+    Vec3 li;
+    bool deltaLight = false;
+    LightSample ls;
+    if (pick < lights.lights.size()) {
+        if (areaLightsOnly && lights.lights[pick].delta()) return false;
+        ls = lights.lights[pick].sample(h.p, u);
+        if (ls.valid) {
+            wi = ls.wi;
+            lightPdf = ls.pdf;
+            deltaLight = lights.lights[pick].delta();
+            li = ls.weight; // radiance / pdf, or irradiance for delta lights
+        }
+    } else {
+        if (areaLightsOnly) return false;
+        EnvironmentSample es = lights.environment.sample(u, fs);
+        if (es.valid) {
+            wi = es.wi;
+            lightPdf = es.pdf;
+            li = es.weight;
+        }
+    }
+    const bool transmissive = kernels::hasTransmission(bsdf);
+    if (!(lightPdf > 0 || deltaLight) || !(dot(wi, fg) > 0 || transmissive)) return false;
+    float bsdfPdf;
+    Vec3 f = kernels::evalBsdf(bsdf, wo, wi, h.ng, h.ns, bsdfPdf);
+    // At the last vertex too a BSDF ray follows, to collect its share.
+    float mis = deltaLight ? 1.0f : kernels::powerHeuristic(pickPdf * lightPdf, bsdfPdf);
+    Vec3 c = w * f * li * (mis / pickPdf);
+    if (isBlack(c)) return false;
+    // A transmitted light sample leaves from the other side.
+    Vec3 side = dot(wi, fg) > 0 ? fg : -fg;
+    spawnShadowRay(out, b, i, h, side, wi, ls.valid ? &ls : nullptr, c);
+    return true;
+}
+
 void PathStage::retrace(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, StageId::Surface);
@@ -43,7 +89,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
         bool fromDelta = b.prevPdf[i] == 0.0f;
 
         if (!b.hit(i)) {
-            if (!lights.hasEnvironment()) continue;
+            if (!lights.hasEnvironment() || (b.flags[i] & kFlagSkipEnvironment)) continue;
             // A constant sky is sampled cosine-weighted about the previous facing normal, an
             // image sky by its luminance (lighting/environment.h): MIS with that pdf.
             float envPdf = lights.environment.cosineSampled()
@@ -73,52 +119,15 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                                           kernels::hashCombine(b.rngKey[i], kDimLayered));
         const bool deltaMaterial =
             materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
-        const bool transmissive = kernels::hasTransmission(bsdf);
         Vec3 fg, fs;
         kernels::facingSide(wo, h.ng, h.ns, fg, fs);
 
         // Next-event estimation: one light (or the sky), MIS-weighted against the BSDF.
-        if (!deltaMaterial && choices > 0) {
-            float up = kernels::uniform(b.rngKey[i], kDimLightPick);
-            std::size_t pick = std::min(std::size_t(up * float(choices)), choices - 1);
-            Vec2 u = sample2D(b, i, kDimLight, strata, m_rc.seed);
-            Vec3 wi;
-            float lightPdf = 0;
-            Vec3 li;
-            bool deltaLight = false;
-            LightSample ls;
-            if (pick < lights.lights.size()) {
-                ls = lights.lights[pick].sample(h.p, u);
-                if (ls.valid) {
-                    wi = ls.wi;
-                    lightPdf = ls.pdf;
-                    deltaLight = lights.lights[pick].delta();
-                    li = ls.weight; // radiance / pdf, or irradiance for delta lights
-                }
-            } else {
-                EnvironmentSample es = lights.environment.sample(u, fs);
-                if (es.valid) {
-                    wi = es.wi;
-                    lightPdf = es.pdf;
-                    li = es.weight;
-                }
-            }
-            if ((lightPdf > 0 || deltaLight) && (dot(wi, fg) > 0 || transmissive)) {
-                float bsdfPdf;
-                Vec3 f = kernels::evalBsdf(bsdf, wo, wi, h.ng, h.ns, bsdfPdf);
-                // At the last vertex too a BSDF ray follows (below), to collect its share.
-                float mis =
-                    deltaLight ? 1.0f : kernels::powerHeuristic(pickPdf * lightPdf, bsdfPdf);
-                Vec3 c = w * f * li * (mis / pickPdf);
-                if (!isBlack(c)) {
-                    // A transmitted light sample leaves from the other side.
-                    Vec3 side = dot(wi, fg) > 0 ? fg : -fg;
-                    spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h, side, wi,
-                                   ls.valid ? &ls : nullptr, c);
-                    ++shadowOut;
-                }
-            }
-        }
+        if (!deltaMaterial && choices > 0 &&
+            sampleOneLight(lights, b, i, h, bsdf, wo, w, sample2D(b, i, kDimLight, strata, m_rc.seed),
+                           kernels::uniform(b.rngKey[i], kDimLightPick), false,
+                           ctx.out(m_outputs.shadow)))
+            ++shadowOut;
 
         // Continue the path by sampling the BSDF.
         Vec2 u = sample2D(b, i, kDimBsdf, strata, m_rc.seed);
@@ -146,7 +155,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             wn = wn / q;
         }
         Vec3 no = offsetRayOrigin(h, h.ng, bs.wi);
-        RayKind kind = bs.transmitted ? RayKind::Refraction : RayKind::Reflection;
+        RayKind kind = bs.transmitted ? m_outputs.transmitted : m_outputs.reflected;
         RayBatch& out = ctx.out(kind);
         spawnRay(out, b, i, no, bs.wi, wn, std::uint8_t(std::min(depth, 255)),
                  std::uint8_t(std::min(b.specularDepth[i] + (bs.delta ? 1 : 0), 255)), flags, 3);

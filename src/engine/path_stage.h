@@ -9,20 +9,39 @@
 //    past the last vertex (depth == maxDepth) only a non-delta sample goes on, flagged
 //    kFlagEmissionOnly: it adds its MIS share of the emission or sky it finds, nothing else.
 // The shadow stage's retrace adds unoccluded contributions to the film.
+// gi mode runs one too, for its correction paths (gi/correction_stage.h): there its bounces are
+// RayKind::CorrectionPath rays, and an escaping ray flagged kFlagSkipEnvironment adds no sky.
 #pragma once
 
 #include "engine/render_context.h"
 #include "engine/stage.h"
+#include "kernels/bsdf_params.h"
 
 namespace rayproc {
 
+// Next-event estimation at a path vertex, lane i of b at hit h (throughput w, BSDF bsdf, wo
+// towards the previous vertex): one light or the sky chosen uniformly (`up`) and sampled (`u`),
+// MIS-weighted against the BSDF by the power heuristic; an occlusion ray into `out` carries the
+// unoccluded contribution. `areaLightsOnly`: a delta light or the sky chosen adds nothing (gi's
+// correction paths leave their direct light to the gather). Whether a ray was spawned.
+bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const SurfaceHit& h,
+                    const kernels::BsdfParams& bsdf, const Vec3& wo, const Vec3& w, Vec2 u,
+                    float up, bool areaLightsOnly, RayBatch& out);
+
 class PathStage : public RetraceStage {
 public:
+    // The kinds of the rays it spawns: bounces (reflected, transmitted) and light samples.
+    struct Outputs {
+        RayKind reflected = RayKind::Reflection, transmitted = RayKind::Refraction;
+        RayKind shadow = RayKind::Shadow;
+    };
     explicit PathStage(const RenderContext& rc) : m_rc(rc) {}
+    PathStage(const RenderContext& rc, Outputs outputs) : m_rc(rc), m_outputs(outputs) {}
     void retrace(RayBatch& batch, StageContext& ctx) override;
 
 private:
     const RenderContext& m_rc;
+    Outputs m_outputs;
 };
 
 } // namespace rayproc

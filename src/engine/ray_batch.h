@@ -22,6 +22,8 @@ enum class RayKind : std::uint8_t {
     Photon,     // gi mode, first pass: photons from the photon emitter and their bounces
     Gather,     // gi mode, second pass: final-gather rays from a diffuse hit
     GatherShadow, // gi mode: occlusion rays of the light samples where a gather ray lands
+    Correction,   // gi mode: one ray per first diffuse hit whose far end corrects the map's bias
+    CorrectionPath, // gi mode: the path traced on from a correction ray's far end
     Count
 };
 constexpr int kRayKindCount = int(RayKind::Count);
@@ -42,6 +44,9 @@ enum RayFlags : std::uint8_t {
     // Sampled at a path's last vertex (past --max-depth; raytrace and gi: of a glossy lobe): it
     // adds the MIS share of the emission or sky it finds and nothing else.
     kFlagEmissionOnly = 32,
+    // A path ray whose escape adds nothing: gi's correction paths leave the sky's direct light
+    // at their origin to the gather's light samples (gi/correction_stage.h).
+    kFlagSkipEnvironment = 64,
 };
 
 struct RayBatch {

@@ -11,6 +11,8 @@ const char* rayKindName(RayKind k) {
     case RayKind::Photon: return "photon";
     case RayKind::Gather: return "gather";
     case RayKind::GatherShadow: return "gather-shadow";
+    case RayKind::Correction: return "correction";
+    case RayKind::CorrectionPath: return "correction-path";
     case RayKind::Count: break;
     }
     return "?";

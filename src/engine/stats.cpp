@@ -19,6 +19,7 @@ const char* stageName(StageId s) {
     case StageId::Refraction: return "refraction";
     case StageId::Photon: return "photon";
     case StageId::Gather: return "gather";
+    case StageId::Correction: return "correction";
     case StageId::Count: break;
     }
     return "?";

@@ -24,6 +24,7 @@ enum class StageId {
     Refraction,
     Photon,     // gi: photon emission and scattering (rays out), photon hits (rays in)
     Gather,     // gi: final-gather rays spawned (rays out) and resolved (rays in)
+    Correction, // gi: the map's correction rays spawned (rays out) and resolved (rays in)
     Count
 };
 constexpr int kStageCount = int(StageId::Count);

@@ -4,6 +4,7 @@
 #include "engine/glossy_mis.h"
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
+#include "gi/correction_stage.h"
 #include "gi/gather_stage.h"
 
 namespace rayproc {
@@ -104,6 +105,7 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
     RAYPROC_CHECK(policy.refractionStage || refract.count == 0);
     if (direct.count) m_shadow.spawn(b, direct, ctx);
     if (indirect.count) m_gather->spawn(b, indirect, ctx);
+    if (indirect.count && m_correction) m_correction->spawn(b, indirect, ctx);
     if (reflect.count) m_reflection.spawn(b, reflect, ctx);
     if (refract.count) m_refraction.spawn(b, refract, ctx);
 }

@@ -13,16 +13,19 @@
 
 namespace rayproc {
 
+class CorrectionStage;
 class GatherStage;
 
 class SurfaceStage : public RetraceStage {
 public:
-    // `gather` is gi mode's indirect-diffuse stage (caustics, irradiance cache, final gather);
-    // null in the other modes.
+    // `gather` is gi mode's indirect-diffuse stage (caustics, irradiance cache, final gather),
+    // `correction` its correction of the photon map's bias at the same hits; null in the other
+    // modes (and the correction in gi's cache prepass).
     SurfaceStage(const RenderContext& rc, ShadowStage& shadow, ReflectionStage& reflection,
-                 RefractionStage& refraction, GatherStage* gather = nullptr)
+                 RefractionStage& refraction, GatherStage* gather = nullptr,
+                 const CorrectionStage* correction = nullptr)
         : m_rc(rc), m_shadow(shadow), m_reflection(reflection), m_refraction(refraction),
-          m_gather(gather) {}
+          m_gather(gather), m_correction(correction) {}
     void retrace(RayBatch& batch, StageContext& ctx) override;
 
 private:
@@ -31,6 +34,7 @@ private:
     ReflectionStage& m_reflection;
     RefractionStage& m_refraction;
     GatherStage* m_gather;
+    const CorrectionStage* m_correction;
 };
 
 } // namespace rayproc

@@ -40,9 +40,15 @@ public:
     void spawn(const RayBatch& parent, const HitList& hits, StageContext& ctx);
     void retrace(RayBatch& batch, StageContext& ctx) override;
 
-private:
+    // What the global map gives where gi reads it; the correction stage takes it away again.
     // Irradiance from `map` (the global map or its scattered photons): precomputed or full.
     Vec3 mapIrradiance(const PhotonMap* map, const Vec3& p, const Vec3& n) const;
+    // Radiance an opaque glossy surface at h sends towards wo: the global map's estimate with
+    // the BSDF (PhotonMap::radiance), n its facing shading normal.
+    Vec3 glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceHit& h, const Vec3& wo,
+                        const Vec3& n) const;
+
+private:
     // The light samples at a gather ray's diffuse hit h (lane i of b), for a Lambertian
     // reflection of factor `reflect` (throughput x albedo / pi): GatherShadow rays.
     std::uint64_t sampleDirect(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& ng,
@@ -52,10 +58,6 @@ private:
     void retraceShadow(RayBatch& batch, StageContext& ctx);
     // The caustic map's irradiance: k-nearest, or within the pass's radius when progressive.
     Vec3 causticIrradiance(const Vec3& p, const Vec3& n) const;
-    // Radiance an opaque glossy surface at h sends towards wo: the global map's estimate with
-    // the BSDF (PhotonMap::radiance), n its facing shading normal.
-    Vec3 glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceHit& h, const Vec3& wo,
-                        const Vec3& n) const;
     const RenderContext& m_rc;
 };
 

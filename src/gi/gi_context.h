@@ -86,6 +86,13 @@ struct GiSettings {
     // surroundings, and the gather carries that bias to every surface they light
     // (docs/photon-map.md, "Direct light at gather hits").
     bool gatherDirect = true;
+    // Every render pass, wherever the global map's estimate goes into the image (one ray from
+    // each first diffuse hit standing for its gather), that estimate is taken away again and
+    // a traced path added in its place, so the map's bias leaves the image as passes add up:
+    // a consistent gi, at path tracing's noise (gi/correction_stage.h, docs/photon-map.md
+    // "Correcting the map"). Off by default: on the public scenes the noise costs more time
+    // to a given error than the bias does.
+    bool mapCorrection = false;
     bool roulette = true;        // Russian roulette of photons and of specular paths
     GiDebugView debugView = GiDebugView::None;
     std::string toString() const;

@@ -324,6 +324,7 @@ std::string GiSettings::toString() const {
       << " precomputed_irradiance=" << (precomputedIrradiance ? "on" : "off")
       << " lazy_irradiance=" << (lazyIrradiance ? "on" : "off")
       << " gather_direct=" << (gatherDirect ? "on" : "off")
+      << " map_correction=" << (mapCorrection ? "on" : "off")
       << " roulette=" << (roulette ? "on" : "off")
       << " debug_view=" << debugViewName(debugView);
     return o.str();
@@ -452,6 +453,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     }
     const ThreadStats& t = r.stats.totals;
     extras.push_back({"gi/gather_rays", double(t.stages[int(StageId::Gather)].raysOut)});
+    extras.push_back({"gi/correction_rays", double(t.stages[int(StageId::Correction)].raysOut)});
     extras.push_back({"gi/cache_lookups", double(t.cacheLookups)});
     extras.push_back({"gi/cache_hit_rate", t.cacheLookups ? double(t.cacheHits) / double(t.cacheLookups) : 0.0});
     double gatherSeconds = t.stages[int(StageId::Gather)].seconds;

@@ -10,7 +10,9 @@
 #include "engine/refraction_stage.h"
 #include "engine/shadow_stage.h"
 #include "engine/surface_stage.h"
+#include "gi/correction_stage.h"
 #include "gi/gather_stage.h"
+#include "gi/gi_context.h"
 
 #include "cluster/cluster.h"
 #include "image/metrics.h"
@@ -73,7 +75,12 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     ReflectionStage reflection(rc);
     RefractionStage refraction(rc);
     GatherStage gather(rc);
-    SurfaceStage surface(rc, shadow, reflection, refraction, gi ? &gather : nullptr);
+    // gi: the photon map's correction rays, and the paths they trace on (gi/correction_stage.h).
+    CorrectionStage correction(rc, gather);
+    PathStage correctionPath(rc, {RayKind::CorrectionPath, RayKind::CorrectionPath, RayKind::Shadow});
+    const bool correcting = gi && gi->settings.mapCorrection;
+    SurfaceStage surface(rc, shadow, reflection, refraction, gi ? &gather : nullptr,
+                         correcting ? &correction : nullptr);
     PathStage path(rc);
     RetraceStage* radianceStage = radiance == RadianceStage::Path
                                       ? static_cast<RetraceStage*>(&path)
@@ -82,9 +89,12 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     processor.setStage(RayKind::Reflection, radianceStage);
     // Kinds of rays the scene analysis rules out get no stage: one would fail a check.
     processor.setStage(RayKind::Refraction, policy.refractionStage ? radianceStage : nullptr);
-    processor.setStage(RayKind::Shadow, policy.shadowStage ? &shadow : nullptr);
+    // Correction paths sample lights wherever they go.
+    processor.setStage(RayKind::Shadow, policy.shadowStage || correcting ? &shadow : nullptr);
     processor.setStage(RayKind::Gather, gi ? &gather : nullptr);
     processor.setStage(RayKind::GatherShadow, gi ? &gather : nullptr);
+    processor.setStage(RayKind::Correction, correcting ? &correction : nullptr);
+    processor.setStage(RayKind::CorrectionPath, correcting ? &correctionPath : nullptr);
 
     RenderResult result;
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> errorLog(nullptr, &std::fclose);

@@ -1,0 +1,147 @@
+#include "gi/correction_stage.h"
+
+#include "engine/material_bsdf.h"
+#include "engine/path_stage.h"
+#include "engine/path_state.h"
+#include "gi/gather_stage.h"
+#include "gi/gi_context.h"
+#include "gi/photon_map.h"
+#include "kernels/bsdf_sampling.h"
+#include "kernels/pbrt_bsdfs.h"
+#include "kernels/sampling.h"
+
+namespace rayproc {
+
+namespace {
+// Random dimensions: the ray from x; at the vertex that replaces the map, its light sample (3)
+// and its BSDF sample (3) and Russian roulette.
+enum CorrectionDim : std::uint32_t { kDimRay = 60, kDimLight = 62, kDimBsdf = 65, kDimRr = 68 };
+
+Vec2 uniform2(std::uint64_t key, std::uint32_t dim) {
+    return {kernels::uniform(key, dim), kernels::uniform(key, dim + 1)};
+}
+} // namespace
+
+void CorrectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ctx) const {
+    const GiData& gi = *m_rc.gi;
+    if (!gi.settings.mapCorrection || m_rc.policy.icPrepass ||
+        gi.settings.debugView != GiDebugView::None || !gi.global || gi.global->size() == 0)
+        return;
+    ThreadStats& stats = *ctx.stats;
+    StageTimer timer(stats, StageId::Correction);
+    std::uint64_t spawned = 0;
+    for (int k = 0; k < hits.count; ++k) {
+        int i = hits.lane[k];
+        const SurfaceHit& h = hits.hit[k];
+        if (!(b.flags[i] & kFlagCountEmission)) {
+            // Past a glossy bounce: the gather stage adds the map's estimate of all the light
+            // reflected here (GatherStage::spawn, its BSDF stream 0).
+            spawned += replaceMap(b, i, h, false, 0, ctx);
+            continue;
+        }
+        // A first diffuse hit (from the camera through specular surfaces only), whose indirect
+        // light is the cache's or a final gather's: one ray like a gather ray.
+        if (b.depth[i] + 1 > m_rc.policy.maxDepth) continue;
+        Vec3 wo = -laneDirection(b, i);
+        Vec3 ng, ns;
+        facingNormals(h, wo, ng, ns);
+        Vec3 wi = kernels::toWorld(kernels::cosineHemisphere(uniform2(b.rngKey[i], kDimRay)), ns);
+        if (dot(wi, ng) <= 0) continue; // below the surface: dark, as in the gathers
+        Vec3 albedo =
+            kernels::lambertianAlbedo(bsdfAt(m_rc.scene, h.material, h, 0), wo, h.ng, h.ns);
+        Vec3 weight = laneThroughput(b, i) * albedo; // cosine sampling: f cos / pdf = albedo
+        if (isBlack(weight)) continue;
+        spawnRay(ctx.out(RayKind::Correction), b, i, offsetRayOrigin(h, ng, wi), wi, weight,
+                 std::uint8_t(b.depth[i] + 1), 0, 0, 11);
+        ++spawned;
+    }
+    stats.stages[int(StageId::Correction)].raysOut += spawned;
+}
+
+void CorrectionStage::retrace(RayBatch& b, StageContext& ctx) {
+    ThreadStats& stats = *ctx.stats;
+    StageTimer timer(stats, StageId::Correction);
+    stats.stages[int(StageId::Correction)].raysIn += std::uint64_t(b.count);
+    std::uint64_t spawned = 0;
+    for (int i = 0; i < b.count; ++i) {
+        if (!b.hit(i)) continue; // the sky seen from x is light sampled at x: nothing to correct
+        Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
+        SurfaceHit h =
+            m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
+        h.material = resolveMix(m_rc.scene, h.material, h, -d);
+        // The gather's far end: its BSDF stream (GatherStage::retrace).
+        spawned += replaceMap(b, i, h, true, kernels::hashCombine(b.rngKey[i], 43), ctx);
+    }
+    stats.stages[int(StageId::Correction)].raysOut += spawned;
+}
+
+std::uint64_t CorrectionStage::replaceMap(const RayBatch& b, int i, const SurfaceHit& h,
+                                          bool gatherEnd, std::uint64_t bsdfKey,
+                                          StageContext& ctx) const {
+    const GiData& gi = *m_rc.gi;
+    const ShadingPolicy& policy = m_rc.policy;
+    ThreadStats& stats = *ctx.stats;
+    const MaterialType type = m_rc.scene.materials[h.material].type;
+    const MaterialClass cls = materialClass(m_rc.scene.materials, h.material);
+    kernels::BsdfParams bsdf = bsdfAt(m_rc.scene, h.material, h, bsdfKey);
+    const Vec3 wo = -laneDirection(b, i), w = laneThroughput(b, i);
+    Vec3 ng, ns;
+    facingNormals(h, wo, ng, ns);
+    const bool diffuse = type == MaterialType::Diffuse || type == MaterialType::CoatedDiffuse;
+    const bool glossy = cls == MaterialClass::Glossy && !kernels::hasTransmission(bsdf);
+    // A glossy surface is read only at a gather's far end; a diffuse transmitter's light through
+    // it, mirrors and glass are not the map's.
+    if (!(diffuse || (glossy && gatherEnd))) return 0;
+    // The sun's and the sky's direct light: the gather's light samples at a diffuse far end.
+    const bool leaveDirect = diffuse && gatherEnd && gi.globalIndirect != nullptr;
+    // Minus the map's estimate, as gi takes it; the vertex's lobe: a Lambertian one of the
+    // albedo gi weighs the map with (a coated surface's base; its coat is traced by gi itself).
+    ++stats.globalLookups;
+    Vec3 mapRadiance;
+    if (diffuse) {
+        Vec3 albedo = kernels::lambertianAlbedo(bsdf, wo, h.ng, h.ns);
+        const PhotonMap* map = leaveDirect ? gi.globalIndirect : gi.global;
+        mapRadiance = albedo * kInvPi * m_gather.mapIrradiance(map, h.p, ns);
+        bsdf = kernels::BsdfParams{};
+        bsdf.kind = kernels::BsdfKind::Diffuse;
+        bsdf.color = albedo;
+    } else {
+        mapRadiance = m_gather.glossyRadiance(bsdf, h, wo, ns);
+    }
+    m_rc.film.add(b.pixel[i], -(w * mapRadiance), stats);
+
+    std::uint64_t spawned = 0;
+    if (sampleOneLight(m_rc.lights, b, i, h, bsdf, wo, w, uniform2(b.rngKey[i], kDimLight),
+                       kernels::uniform(b.rngKey[i], kDimLight + 2), leaveDirect,
+                       ctx.out(RayKind::Shadow)))
+        ++spawned;
+    // The bounce, as path mode takes it (its depth limit and Russian roulette).
+    kernels::BsdfSample bs =
+        kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, uniform2(b.rngKey[i], kDimBsdf),
+                            kernels::uniform(b.rngKey[i], kDimBsdf + 2));
+    if (!bs.valid) return spawned;
+    Vec3 next = w * bs.weight;
+    int depth = b.depth[i] + 1;
+    std::uint8_t flags = leaveDirect ? kFlagSkipEnvironment : 0;
+    if (depth > policy.maxDepth) {
+        if (bs.delta) return spawned;
+        flags |= kFlagEmissionOnly;
+    }
+    if (policy.rouletteEnabled && depth > policy.rrStartDepth) {
+        float q = std::min(1.0f, maxComponent(next));
+        if (!(q > 0) || kernels::uniform(b.rngKey[i], kDimRr) >= q) return spawned;
+        next = next / q;
+    }
+    if (!(maxComponent(next) > 0) || !isFinite(next)) return spawned;
+    Vec3 fg, fs;
+    kernels::facingSide(wo, h.ng, h.ns, fg, fs);
+    RayBatch& out = ctx.out(RayKind::CorrectionPath);
+    spawnRay(out, b, i, offsetRayOrigin(h, h.ng, bs.wi), bs.wi, next,
+             std::uint8_t(std::min(depth, 255)), 0, flags, 12);
+    // For the MIS weight of the light the bounce finds against this vertex's light sample.
+    out.prevPdf[out.count - 1] = bs.delta ? 0.0f : bs.pdf;
+    out.prevCos[out.count - 1] = dot(bs.wi, fs);
+    return spawned + 1;
+}
+
+} // namespace rayproc
