@@ -53,6 +53,7 @@ struct RenderArgs {
     std::string displayServer;
     // gi
     int photons = -1, causticPhotons = -1, gatherRays = 0, photonRounds = 0, globalK = 0;
+    int filmGatherRays = 0;
     float icAccuracy = 0;
     bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
     bool noProgressiveCaustics = false, noGatherDirect = false, noLazyIrradiance = false,
@@ -242,6 +243,7 @@ int runRender(const RenderArgs& a) {
         if (a.globalK > 0) s.globalK = a.globalK;
         if (a.causticPhotons >= 0) s.causticPhotons = a.causticPhotons;
         if (a.gatherRays > 0) s.gatherRays = a.gatherRays;
+        if (a.filmGatherRays > 0) s.filmGatherRays = a.filmGatherRays;
         if (a.icAccuracy > 0) s.icAccuracy = a.icAccuracy;
         s.irradianceCache = !a.noCache;
         s.caustics = !a.noCaustics;
@@ -394,7 +396,14 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "light -> specular+ -> diffuse paths are stored)")
         ->check(CLI::Range(0, 100000000));
     cmd->add_option("--gather-rays", args->gatherRays,
-                    "gi: stratified cosine-weighted rays per final gather (default 64)")
+                    "gi: stratified cosine-weighted rays per final gather of an irradiance-cache "
+                    "record (default 64)")
+        ->check(CLI::Range(1, 65536));
+    cmd->add_option("--film-gather-rays", args->filmGatherRays,
+                    "gi: rays of a final gather made for the image where a render pass finds no "
+                    "usable cache record (or without the cache); default --gather-rays / --spp, "
+                    "at least 1: about a record's rays per pixel over the render, one per pass "
+                    "under --time-limit with a large --spp")
         ->check(CLI::Range(1, 65536));
     cmd->add_option("--ic-accuracy", args->icAccuracy,
                     "gi: Ward's accuracy a of the irradiance cache; smaller = more records "

@@ -99,7 +99,10 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
     StageTimer timer(stats, StageId::Gather);
     const GiData& gi = *m_rc.gi;
     const GiSettings& s = gi.settings;
-    const int thetaCount = gi.gatherTheta, phiCount = gi.gatherPhi;
+    // A record's gather in the prepass; in a render pass a film gather (filmGatherRays).
+    const bool prepass = gi.requests != nullptr;
+    const int thetaCount = prepass ? gi.gatherTheta : gi.filmGatherTheta;
+    const int phiCount = prepass ? gi.gatherPhi : gi.filmGatherPhi;
     const int strata = thetaCount * phiCount;
     std::uint64_t spawned = 0;
     for (int k = 0; k < hits.count; ++k) {
@@ -121,7 +124,6 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             m_rc.film.add(b.pixel[i], reflect * mapIrradiance(gi.global, h.p, ns), stats);
             continue;
         }
-        bool prepass = gi.requests != nullptr;
         if (s.debugView == GiDebugView::Photons) {
             // The maps themselves at the first diffuse hit: the global map's estimate of all
             // light reflected there (direct included) plus the caustic map's.

@@ -2,7 +2,8 @@
 // Spawning side, at a diffuse hit reached from the camera through specular surfaces only:
 //  - caustics: the caustic photon map's radiance estimate, added directly;
 //  - indirect diffuse: Ward's irradiance cache when a usable record exists, else a final
-//    gather: M x N ~ `gatherRays` cosine-weighted rays, one jittered ray per stratum
+//    gather: M x N ~ `gatherRays` (a record's) or `filmGatherRays` (the film's, in a render
+//    pass) cosine-weighted rays, one jittered ray per stratum
 //    sin^2(theta) in [j/M, (j+1)/M), phi in [2 pi k/N, 2 pi (k+1)/N) (equal cosine-weighted
 //    solid angle each; the layout Ward & Heckbert's gradients read, GatherStrata).
 //  In the cache's prepass it only creates records (the gather rays then sum into them, and

@@ -66,6 +66,12 @@ struct GiSettings {
     float globalRadius = 0.0f;   // 0: a fraction of the scene's diagonal
     float causticRadius = 0.0f;
     int gatherRays = 64;         // final-gather rays per new estimate
+    // Rays of a final gather made straight for the film, where a render pass finds no usable
+    // cache record (or without the cache); 0: gatherRays / spp, at least 1, so such a pixel
+    // gets about a record's rays over the whole render, and a time-limited render (a large
+    // spp) one ray per pass: the passes average them (docs/irradiance-cache.md, "Film
+    // gathers").
+    int filmGatherRays = 0;
     float icAccuracy = 0.25f;    // Ward's a
     bool irradianceCache = true;
     bool icGradients = true;     // Ward & Heckbert's gradients in the cache's interpolation
@@ -209,6 +215,7 @@ struct GiData {
     // The final gather's strata: M rings of equal sin^2(theta) by N azimuth sectors, one ray
     // each (M N ~ gatherRays, N ~ pi M as Ward & Heckbert suggest); see gatherStrata().
     int gatherTheta = 1, gatherPhi = 1;
+    int filmGatherTheta = 1, filmGatherPhi = 1; // the same for film gathers (filmGatherRays)
     bool strataWanted = false; // the prepass records per-stratum results (for gradients)
 };
 
@@ -218,6 +225,12 @@ inline void gatherStrata(int rays, int& thetaCount, int& phiCount) {
     thetaCount = int(std::lround(std::sqrt(double(std::max(rays, 1)) / 3.14159265358979)));
     thetaCount = std::max(1, thetaCount);
     phiCount = std::max(1, int(std::lround(double(std::max(rays, 1)) / thetaCount)));
+}
+
+// The rays of a film gather (GiSettings::filmGatherRays), "auto" (0) resolved.
+inline int filmGatherRays(const GiSettings& s) {
+    if (s.filmGatherRays > 0) return s.filmGatherRays;
+    return std::max(1, int(std::lround(double(s.gatherRays) / double(std::max(s.spp, 1)))));
 }
 
 } // namespace rayproc

@@ -316,6 +316,7 @@ std::string GiSettings::toString() const {
       << " caustic_photons=" << causticPhotons
       << " global_k=" << globalK << " caustic_k=" << causticK << " gather_rays=" << gatherRays
       << " gather_strata=" << thetaCount << "x" << phiCount
+      << " film_gather_rays=" << rayproc::filmGatherRays(*this)
       << " ic_accuracy=" << icAccuracy << " irradiance_cache=" << (irradianceCache ? "on" : "off")
       << " ic_gradients=" << (icGradients ? "on" : "off")
       << " caustics=" << (caustics ? "on" : "off")
@@ -346,6 +347,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     GiData gi;
     gi.settings = s;
     gatherStrata(s.gatherRays, gi.gatherTheta, gi.gatherPhi);
+    gatherStrata(filmGatherRays(s), gi.filmGatherTheta, gi.filmGatherPhi);
     // Gradients need the strata layout: independent gather rays (--no-stratification) have none.
     gi.strataWanted = s.irradianceCache && s.icGradients && engine.stratification;
     // Lengths scale with the scene, or with the part the camera sees when that is much smaller.
