@@ -97,6 +97,15 @@ inline std::unique_ptr<Scene> loadSceneAt(const std::string& name, int width, in
     return scene;
 }
 
+// A render's extra statistic (RenderStats::extras, e.g. "gi/gather_rays"); fails the test when
+// the render has none of that name.
+inline double extraStat(const RenderResult& r, const std::string& name) {
+    for (const auto& [key, value] : r.stats.extras)
+        if (key == name) return value;
+    FAIL("no extra statistic " << name);
+    return 0;
+}
+
 // The mean radiance of an image per channel.
 inline Vec3 imageMean(const Image& img) {
     Vec3 sum(0.0f);

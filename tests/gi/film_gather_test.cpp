@@ -6,17 +6,6 @@
 using namespace rayproc;
 using namespace rayproc::test;
 
-namespace {
-
-double extra(const RenderResult& r, const std::string& name) {
-    for (auto& [k, v] : r.stats.extras)
-        if (k == name) return v;
-    FAIL("no extra statistic " << name);
-    return 0;
-}
-
-} // namespace
-
 TEST_CASE("Film gathers take gatherRays / spp rays unless set, at least one", "[gi]") {
     GiSettings s;
     s.gatherRays = 64;
@@ -44,7 +33,7 @@ TEST_CASE("A one-ray film gather costs a 64th of the rays and keeps the image's 
     RenderResult full = renderGi(*scene, accel, s, engine);
     s.filmGatherRays = 1;
     RenderResult one = renderGi(*scene, accel, s, engine);
-    const double raysFull = extra(full, "gi/gather_rays"), raysOne = extra(one, "gi/gather_rays");
+    const double raysFull = extraStat(full, "gi/gather_rays"), raysOne = extraStat(one, "gi/gather_rays");
     INFO(raysFull << " gather rays with 64 per gather, " << raysOne << " with 1");
     // Every pixel's 16 samples see a diffuse wall; strata below a surface send no ray.
     CHECK(raysOne > 0.9 * 24 * 24 * 16);

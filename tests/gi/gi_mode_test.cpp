@@ -11,13 +11,6 @@ using namespace rayproc::test;
 
 namespace {
 
-double extra(const RenderResult& r, const std::string& name) {
-    for (auto& [k, v] : r.stats.extras)
-        if (k == name) return v;
-    FAIL("no extra statistic " << name);
-    return 0;
-}
-
 bool isMarker(const Image& img, int x, int y) {
     const float* p = img.at(x, y);
     return p[0] == kIcRecordMarker.x && p[1] == kIcRecordMarker.y && p[2] == kIcRecordMarker.z;
@@ -30,7 +23,7 @@ TEST_CASE("gi debug view ic-records: the render at a quarter, one marker per rec
     EmbreeScene accel(*scene);
     RenderResult normal = renderGiMode(*scene, accel, 1);
     RenderResult view = renderGiMode(*scene, accel, 1, 1, GiDebugView::IcRecords);
-    const double records = extra(view, "gi/cache_records");
+    const double records = extraStat(view, "gi/cache_records");
     REQUIRE(records > 20);
     std::size_t marked = 0, dimmed = 0, other = 0;
     for (int y = 0; y < view.image.height; ++y)
@@ -48,7 +41,7 @@ TEST_CASE("gi debug view ic-records: the render at a quarter, one marker per rec
     INFO(records << " records, " << marked << " marked pixels, " << dimmed << " dimmed, " << other
                  << " other");
     CHECK(other == 0);
-    CHECK(double(marked) == extra(view, "gi/ic_marked_pixels"));
+    CHECK(double(marked) == extraStat(view, "gi/ic_marked_pixels"));
     // Every record lies where a camera ray met a diffuse surface, so it projects into the
     // image; several may share a pixel (the fine levels of the prepass are at full resolution).
     CHECK(double(marked) <= records);
@@ -111,8 +104,8 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     engine.errorLogPath = log;
     GiSettings s = giSettings(*scene, ModeOverrides{4, 0, 0});
     RenderResult r = renderGi(*scene, accel, s, engine);
-    const double prePasses = extra(r, "gi/photon_seconds") + extra(r, "gi/precompute_seconds") +
-                             extra(r, "gi/cache_seconds");
+    const double prePasses = extraStat(r, "gi/photon_seconds") + extraStat(r, "gi/precompute_seconds") +
+                             extraStat(r, "gi/cache_seconds");
     std::ifstream in(log);
     std::string header, first;
     std::getline(in, header);
@@ -216,11 +209,11 @@ TEST_CASE("Lazy precomputed irradiance renders the eager image bit for bit with 
     REQUIRE(lazy.image.pixels.size() == eager.image.pixels.size());
     CHECK(std::memcmp(lazy.image.pixels.data(), eager.image.pixels.data(),
                       lazy.image.pixels.size() * sizeof(lazy.image.pixels[0])) == 0);
-    const double made = extra(lazy, "gi/precomputed_estimates");
-    const double all = extra(lazy, "gi/precomputed_photons");
+    const double made = extraStat(lazy, "gi/precomputed_estimates");
+    const double all = extraStat(lazy, "gi/precomputed_photons");
     INFO(made << " of " << all << " estimates made");
     CHECK(all > 1000);
     CHECK(made > 0);
     CHECK(made <= all);
-    CHECK(extra(eager, "gi/precomputed_estimates") == all);
+    CHECK(extraStat(eager, "gi/precomputed_estimates") == all);
 }

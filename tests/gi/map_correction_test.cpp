@@ -11,13 +11,6 @@ using namespace rayproc::test;
 
 namespace {
 
-double extra(const RenderResult& r, const std::string& name) {
-    for (auto& [k, v] : r.stats.extras)
-        if (k == name) return v;
-    FAIL("no extra statistic " << name);
-    return 0;
-}
-
 RenderResult renderStarvedGi(const Scene& scene, const EmbreeScene& accel, bool correct,
                              int threads) {
     EngineSettings engine;
@@ -51,9 +44,9 @@ TEST_CASE("gi's map correction takes a starved photon map's bias out of the imag
     CHECK(before.meanRel > 0.04);
     CHECK(after.meanRel < 0.02);
     CHECK(after.meanRel < before.meanRel / 3);
-    CHECK(extra(plain, "gi/correction_rays") == 0);
+    CHECK(extraStat(plain, "gi/correction_rays") == 0);
     // About one ray per first diffuse hit and pass, plus the paths they continue.
-    CHECK(extra(corrected, "gi/correction_rays") > 32.0 * 32.0 * 64.0 * 0.5);
+    CHECK(extraStat(corrected, "gi/correction_rays") > 32.0 * 32.0 * 64.0 * 0.5);
 }
 
 TEST_CASE("gi's map correction renders the same image on 1 and 2 threads", "[gi][determinism]") {

@@ -47,13 +47,6 @@ RenderResult renderPool(const Scene& scene, const EmbreeScene& accel, int spp, b
     return renderGi(scene, accel, s, engine);
 }
 
-double extra(const RenderResult& r, const std::string& name) {
-    for (auto& [k, v] : r.stats.extras)
-        if (k == name) return v;
-    FAIL("no extra statistic " << name);
-    return 0;
-}
-
 } // namespace
 
 TEST_CASE("Progressive caustics converge on the caustic pool, where one k-nearest map stalls",
@@ -67,8 +60,8 @@ TEST_CASE("Progressive caustics converge on the caustic pool, where one k-neares
     for (int spp : {4, 16, 64}) {
         RenderResult r = renderPool(*scene, accel, spp, true);
         double e = relMse(r.image, ref);
-        INFO(spp << " spp: relMSE " << e << ", " << extra(r, "gi/caustic_passes")
-                 << " caustic maps, last radius " << extra(r, "gi/caustic_last_radius"));
+        INFO(spp << " spp: relMSE " << e << ", " << extraStat(r, "gi/caustic_passes")
+                 << " caustic maps, last radius " << extraStat(r, "gi/caustic_last_radius"));
         CHECK(e < previous);
         previous = e;
     }

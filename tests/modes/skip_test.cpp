@@ -88,13 +88,6 @@ RenderResult renderRun(const Scene& scene, const EmbreeScene& accel, const Run& 
     return renderRaytrace(scene, accel, s, e);
 }
 
-double extra(const RenderResult& r, const std::string& name) {
-    for (auto& e : r.stats.extras)
-        if (e.first == name) return e.second;
-    FAIL("no extra " << name);
-    return 0;
-}
-
 const StageCounters& stage(const RenderResult& r, StageId id) { return r.stats.totals.stages[int(id)]; }
 
 // The image with analysis against the image without, in one mode.
@@ -169,9 +162,9 @@ TEST_CASE("Scene analysis: no mirror or glass skips the caustic map and the spec
         CHECK(stage(p.analysed, StageId::Reflection).raysIn == 0);
         CHECK(stage(p.analysed, StageId::Shadow).raysOut > 0);
         if (mode == "gi") {
-            CHECK(extra(p.analysed, "gi/photons_caustic") == 0);
-            CHECK(extra(p.full, "gi/photons_caustic") == 0);
-            CHECK(extra(p.analysed, "gi/photons_global") == extra(p.full, "gi/photons_global"));
+            CHECK(extraStat(p.analysed, "gi/photons_caustic") == 0);
+            CHECK(extraStat(p.full, "gi/photons_caustic") == 0);
+            CHECK(extraStat(p.analysed, "gi/photons_global") == extraStat(p.full, "gi/photons_global"));
             // The full render traced the caustic pass's 20000 photons for nothing.
             CHECK(p.analysed.stats.totals.raysTraced + 20000 <= p.full.stats.totals.raysTraced);
         }
@@ -192,7 +185,7 @@ TEST_CASE("Scene analysis: glass makes the caustic map and the refraction stage 
     CHECK(p.analysed.image.pixels == p.full.image.pixels);
     CHECK(stage(p.analysed, StageId::Refraction).raysOut > 0);
     Pair g = renderBoth(*scene, accel, "gi");
-    CHECK(extra(g.analysed, "gi/photons_caustic") > 0);
+    CHECK(extraStat(g.analysed, "gi/photons_caustic") > 0);
     CHECK(g.analysed.image.pixels == g.full.image.pixels);
 }
 
@@ -218,10 +211,10 @@ TEST_CASE("Scene analysis: no diffuse surface skips the global map, final gather
         CHECK(stage(p.analysed, StageId::Gather).raysIn == 0);
         CHECK(stage(p.analysed, StageId::Gather).raysOut == 0);
         if (mode == "gi") {
-            CHECK(extra(p.analysed, "gi/photons_global") == 0);
-            CHECK(extra(p.analysed, "gi/cache_records") == 0);
-            CHECK(extra(p.analysed, "gi/photons_caustic") == 0);
-            CHECK(extra(p.full, "gi/photons_global") > 0); // stored at glossy walls, never read
+            CHECK(extraStat(p.analysed, "gi/photons_global") == 0);
+            CHECK(extraStat(p.analysed, "gi/cache_records") == 0);
+            CHECK(extraStat(p.analysed, "gi/photons_caustic") == 0);
+            CHECK(extraStat(p.full, "gi/photons_global") > 0); // stored at glossy walls, never read
             CHECK(p.analysed.stats.totals.raysTraced < p.full.stats.totals.raysTraced);
         }
     }
@@ -383,7 +376,7 @@ TEST_CASE("Profiling switches: without stratification or Russian roulette path m
     g.roulette = false;
     g.stratify = false;
     RenderResult giA = renderRun(*scene, accel, g);
-    CHECK(extra(giA, "gi/photons_global") > 1.5 * extra(giRef, "gi/photons_global"));
+    CHECK(extraStat(giA, "gi/photons_global") > 1.5 * extraStat(giRef, "gi/photons_global"));
     CHECK(std::abs(meanValue(giA.image) / meanValue(giRef.image) - 1.0) < 0.05);
 }
 
