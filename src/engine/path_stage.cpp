@@ -72,6 +72,44 @@ bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const Surf
     return true;
 }
 
+Bounce spawnBounce(const ShadingPolicy& policy, const RayBatch& b, int i, const SurfaceHit& h,
+                   const kernels::BsdfParams& bsdf, const Vec3& wo, const Vec3& w, Vec2 u,
+                   float uc, float ur, std::uint8_t flags, const PathStage::Outputs& outputs,
+                   std::uint32_t branch, StageContext& ctx) {
+    kernels::BsdfSample bs = kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u, uc);
+    if (!bs.valid) return Bounce::None;
+    Vec3 wn = w * bs.weight;
+    int depth = b.depth[i] + 1;
+    if (!(maxComponent(wn) > 0)) return Bounce::None;
+    // Past the last vertex a non-delta sample goes on only to add the MIS share of the
+    // emission or sky it finds (as pbrt-v4's path integrator counts it), so the last
+    // vertex's light sample need not take the whole weight: a near-mirror lobe's rare
+    // light sample was a firefly there.
+    if (depth > policy.maxDepth) {
+        if (bs.delta) return Bounce::None;
+        flags |= kFlagEmissionOnly;
+    }
+    if (policy.rouletteEnabled && depth > policy.rrStartDepth) {
+        // Survival = the throughput itself (at most 1): survivors' weights come back to
+        // ~1 and stay bounded. A cap below 1 (it was 0.95) let them grow by a/0.95 per
+        // bounce where the albedo a > 0.95 (tests/stress/degenerate_test.cpp, [energy]).
+        float q = std::min(1.0f, maxComponent(wn));
+        if (ur >= q) return Bounce::None;
+        wn = wn / q;
+    }
+    Vec3 fg, fs;
+    kernels::facingSide(wo, h.ng, h.ns, fg, fs);
+    Vec3 no = offsetRayOrigin(h, h.ng, bs.wi);
+    RayBatch& out = ctx.out(bs.transmitted ? outputs.transmitted : outputs.reflected);
+    spawnRay(out, b, i, no, bs.wi, wn, std::uint8_t(std::min(depth, 255)),
+             std::uint8_t(std::min(b.specularDepth[i] + (bs.delta ? 1 : 0), 255)), flags, branch);
+    int j = out.count - 1;
+    // For the MIS weight of the light the ray finds against this vertex's light sample.
+    out.prevPdf[j] = bs.delta ? 0.0f : bs.pdf;
+    out.prevCos[j] = bs.transmitted ? 0.0f : dot(bs.wi, fs);
+    return bs.transmitted ? Bounce::Transmitted : Bounce::Reflected;
+}
+
 void PathStage::retrace(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, StageId::Surface);
@@ -119,9 +157,6 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                                           kernels::hashCombine(b.rngKey[i], kDimLayered));
         const bool deltaMaterial =
             materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
-        Vec3 fg, fs;
-        kernels::facingSide(wo, h.ng, h.ns, fg, fs);
-
         // Next-event estimation: one light (or the sky), MIS-weighted against the BSDF.
         if (!deltaMaterial && choices > 0 &&
             sampleOneLight(lights, b, i, h, bsdf, wo, w, sample2D(b, i, kDimLight, strata, m_rc.seed),
@@ -130,39 +165,13 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             ++shadowOut;
 
         // Continue the path by sampling the BSDF.
-        Vec2 u = sample2D(b, i, kDimBsdf, strata, m_rc.seed);
-        float uc = kernels::uniform(b.rngKey[i], kDimLobe);
-        kernels::BsdfSample bs = kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u, uc);
-        if (!bs.valid) continue;
-        Vec3 wn = w * bs.weight;
-        int depth = b.depth[i] + 1;
-        if (!(maxComponent(wn) > 0)) continue;
-        // Past the last vertex a non-delta sample goes on only to add the MIS share of the
-        // emission or sky it finds (as pbrt-v4's path integrator counts it), so the last
-        // vertex's light sample need not take the whole weight: a near-mirror lobe's rare
-        // light sample was a firefly there.
-        std::uint8_t flags = 0;
-        if (depth > policy.maxDepth) {
-            if (bs.delta) continue;
-            flags = kFlagEmissionOnly;
+        switch (spawnBounce(policy, b, i, h, bsdf, wo, w, sample2D(b, i, kDimBsdf, strata, m_rc.seed),
+                            kernels::uniform(b.rngKey[i], kDimLobe),
+                            kernels::uniform(b.rngKey[i], kDimRr), 0, m_outputs, 3, ctx)) {
+        case Bounce::Reflected: ++reflectOut; break;
+        case Bounce::Transmitted: ++refractOut; break;
+        case Bounce::None: break;
         }
-        if (policy.rouletteEnabled && depth > policy.rrStartDepth) {
-            // Survival = the throughput itself (at most 1): survivors' weights come back to
-            // ~1 and stay bounded. A cap below 1 (it was 0.95) let them grow by a/0.95 per
-            // bounce where the albedo a > 0.95 (tests/stress/degenerate_test.cpp, [energy]).
-            float q = std::min(1.0f, maxComponent(wn));
-            if (kernels::uniform(b.rngKey[i], kDimRr) >= q) continue;
-            wn = wn / q;
-        }
-        Vec3 no = offsetRayOrigin(h, h.ng, bs.wi);
-        RayKind kind = bs.transmitted ? m_outputs.transmitted : m_outputs.reflected;
-        RayBatch& out = ctx.out(kind);
-        spawnRay(out, b, i, no, bs.wi, wn, std::uint8_t(std::min(depth, 255)),
-                 std::uint8_t(std::min(b.specularDepth[i] + (bs.delta ? 1 : 0), 255)), flags, 3);
-        int j = out.count - 1;
-        out.prevPdf[j] = bs.delta ? 0.0f : bs.pdf;
-        out.prevCos[j] = bs.transmitted ? 0.0f : dot(bs.wi, fs);
-        ++(bs.transmitted ? refractOut : reflectOut);
     }
     stats.stages[int(StageId::Shadow)].raysOut += shadowOut;
     stats.stages[int(StageId::Reflection)].raysOut += reflectOut;

@@ -44,4 +44,15 @@ private:
     Outputs m_outputs;
 };
 
+// The path's next ray at a vertex, lane i of b at hit h (throughput w, BSDF bsdf, wo towards the
+// previous vertex): one BSDF sample (`u`, `uc`); path mode's depth limit (past maxDepth only a
+// non-delta sample goes on, flagged kFlagEmissionOnly) and Russian roulette after rrStartDepth
+// (`ur`); its prevPdf and prevCos for the MIS weight of the light it finds. `flags` are added to
+// the ray's; it goes to `outputs`' reflected or transmitted kind.
+enum class Bounce { None, Reflected, Transmitted };
+Bounce spawnBounce(const ShadingPolicy& policy, const RayBatch& b, int i, const SurfaceHit& h,
+                   const kernels::BsdfParams& bsdf, const Vec3& wo, const Vec3& w, Vec2 u,
+                   float uc, float ur, std::uint8_t flags, const PathStage::Outputs& outputs,
+                   std::uint32_t branch, StageContext& ctx);
+
 } // namespace rayproc

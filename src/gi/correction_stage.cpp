@@ -116,32 +116,13 @@ std::uint64_t CorrectionStage::replaceMap(const RayBatch& b, int i, const Surfac
                        ctx.out(RayKind::Shadow)))
         ++spawned;
     // The bounce, as path mode takes it (its depth limit and Russian roulette).
-    kernels::BsdfSample bs =
-        kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, uniform2(b.rngKey[i], kDimBsdf),
-                            kernels::uniform(b.rngKey[i], kDimBsdf + 2));
-    if (!bs.valid) return spawned;
-    Vec3 next = w * bs.weight;
-    int depth = b.depth[i] + 1;
-    std::uint8_t flags = leaveDirect ? kFlagSkipEnvironment : 0;
-    if (depth > policy.maxDepth) {
-        if (bs.delta) return spawned;
-        flags |= kFlagEmissionOnly;
-    }
-    if (policy.rouletteEnabled && depth > policy.rrStartDepth) {
-        float q = std::min(1.0f, maxComponent(next));
-        if (!(q > 0) || kernels::uniform(b.rngKey[i], kDimRr) >= q) return spawned;
-        next = next / q;
-    }
-    if (!(maxComponent(next) > 0) || !isFinite(next)) return spawned;
-    Vec3 fg, fs;
-    kernels::facingSide(wo, h.ng, h.ns, fg, fs);
-    RayBatch& out = ctx.out(RayKind::CorrectionPath);
-    spawnRay(out, b, i, offsetRayOrigin(h, h.ng, bs.wi), bs.wi, next,
-             std::uint8_t(std::min(depth, 255)), 0, flags, 12);
-    // For the MIS weight of the light the bounce finds against this vertex's light sample.
-    out.prevPdf[out.count - 1] = bs.delta ? 0.0f : bs.pdf;
-    out.prevCos[out.count - 1] = dot(bs.wi, fs);
-    return spawned + 1;
+    const std::uint8_t flags = leaveDirect ? kFlagSkipEnvironment : 0;
+    if (spawnBounce(policy, b, i, h, bsdf, wo, w, uniform2(b.rngKey[i], kDimBsdf),
+                    kernels::uniform(b.rngKey[i], kDimBsdf + 2),
+                    kernels::uniform(b.rngKey[i], kDimRr), flags, kPathOutputs, 12,
+                    ctx) != Bounce::None)
+        ++spawned;
+    return spawned;
 }
 
 } // namespace rayproc

@@ -21,6 +21,7 @@
 #pragma once
 
 #include "engine/hit_list.h"
+#include "engine/path_stage.h"
 #include "engine/render_context.h"
 #include "engine/stage.h"
 
@@ -36,6 +37,10 @@ public:
     // diffuse hit, the map replaced in place at those past a glossy bounce.
     void spawn(const RayBatch& parent, const HitList& hits, StageContext& ctx) const;
     void retrace(RayBatch& batch, StageContext& ctx) override;
+
+    // The kinds of the correction paths' rays, for the PathStage that traces them on.
+    static constexpr PathStage::Outputs kPathOutputs{RayKind::CorrectionPath,
+                                                     RayKind::CorrectionPath, RayKind::Shadow};
 
 private:
     // The map's estimate at hit h of lane i of b replaced by a path vertex (above); `gatherEnd`:

@@ -77,7 +77,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     GatherStage gather(rc);
     // gi: the photon map's correction rays, and the paths they trace on (gi/correction_stage.h).
     CorrectionStage correction(rc, gather);
-    PathStage correctionPath(rc, {RayKind::CorrectionPath, RayKind::CorrectionPath, RayKind::Shadow});
+    PathStage correctionPath(rc, CorrectionStage::kPathOutputs);
     const bool correcting = gi && gi->settings.mapCorrection;
     SurfaceStage surface(rc, shadow, reflection, refraction, gi ? &gather : nullptr,
                          correcting ? &correction : nullptr);
