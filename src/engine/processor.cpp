@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <exception>
+#include <mutex>
 #include <thread>
 
 namespace rayproc {
@@ -44,24 +45,37 @@ void RayProcessor::process(RayBatch* batch, StageContext& ctx) {
 
 // One worker: pop and process queued batches first (finish work in flight), emit new work
 // only when the queue is empty, and flush its own partial batches before it leaves. It leaves
-// when nothing is queued, nothing can be emitted and no other worker is busy.
+// when nothing is queued, nothing can be emitted and no other worker is busy, or when any worker
+// failed: an exception (out of memory in a stage) is kept for run() to rethrow, and the others
+// must not wait for the busy count the failed worker can no longer lower.
 void RayProcessor::worker(Emitter& emitter, const std::function<bool()>& stopEmitting) {
     auto& slot = m_contexts.local();
     if (!slot) slot = std::make_unique<StageContext>(m_queue, m_pool);
     StageContext& ctx = *slot;
     ctx.stats = &m_stats.local();
     for (;;) {
+        if (m_failed.load(std::memory_order_acquire)) return;
         m_busy.fetch_add(1, std::memory_order_acq_rel);
-        RayBatch* b = nullptr;
         bool worked = false;
-        if (m_queue.tryPop(b)) {
-            process(b, ctx);
-            worked = true;
-        } else if (!m_emitterDone.load(std::memory_order_acquire)) {
-            if (stopEmitting() || !emitter.emit(ctx)) m_emitterDone.store(true);
-            else worked = true;
+        try {
+            RayBatch* b = nullptr;
+            if (m_queue.tryPop(b)) {
+                process(b, ctx);
+                worked = true;
+            } else if (!m_emitterDone.load(std::memory_order_acquire)) {
+                if (stopEmitting() || !emitter.emit(ctx)) m_emitterDone.store(true);
+                else worked = true;
+            }
+            if (!worked) worked = ctx.flush();
+        } catch (...) {
+            {
+                std::lock_guard<std::mutex> lock(m_failureMutex);
+                if (!m_failure) m_failure = std::current_exception();
+            }
+            m_failed.store(true, std::memory_order_release);
+            m_busy.fetch_sub(1, std::memory_order_acq_rel);
+            return;
         }
-        if (!worked) worked = ctx.flush();
         m_busy.fetch_sub(1, std::memory_order_acq_rel);
         if (worked) continue;
         if (m_busy.load(std::memory_order_acquire) == 0 && m_queue.empty() &&
@@ -73,10 +87,19 @@ void RayProcessor::worker(Emitter& emitter, const std::function<bool()>& stopEmi
 
 void RayProcessor::run(Emitter& emitter, const std::function<bool()>& stopEmitting) {
     m_emitterDone.store(false);
+    m_failed.store(false);
+    m_failure = nullptr;
     m_arena.execute([&] {
         tbb::parallel_for(0, m_threads, [&](int) { worker(emitter, stopEmitting); },
                           tbb::simple_partitioner());
     });
+    if (m_failed.load()) {
+        // The run's work is dropped with it: queued and staged batches go back to the pool.
+        RayBatch* b = nullptr;
+        while (m_queue.tryPop(b)) m_pool.release(b);
+        for (auto& c : m_contexts) c->discard();
+        std::rethrow_exception(m_failure);
+    }
     // Workers flush their own staging before leaving; nothing may remain.
     RAYPROC_CHECK(m_queue.empty());
     for (auto& c : m_contexts) RAYPROC_CHECK(!c->flush());

@@ -14,8 +14,10 @@
 
 #include <array>
 #include <atomic>
+#include <exception>
 #include <functional>
 #include <memory>
+#include <mutex>
 
 namespace rayproc {
 
@@ -29,7 +31,8 @@ public:
 
     // Drains the emitter and all the work it causes. `stopEmitting` is polled before each
     // emission (cancel); work already in flight is always finished, so every emitted sample
-    // is complete when run() returns.
+    // is complete when run() returns. When a stage or the emitter throws (out of memory),
+    // every worker stops, the run's rays are dropped and run() rethrows the first exception.
     void run(Emitter& emitter, const std::function<bool()>& stopEmitting);
 
 private:
@@ -46,6 +49,10 @@ private:
     tbb::enumerable_thread_specific<std::unique_ptr<StageContext>> m_contexts;
     std::atomic<int> m_busy{0};
     std::atomic<bool> m_emitterDone{false};
+    // A worker's exception: the others stop, run() rethrows it.
+    std::atomic<bool> m_failed{false};
+    std::mutex m_failureMutex;
+    std::exception_ptr m_failure;
 };
 
 } // namespace rayproc

@@ -40,6 +40,15 @@ public:
         }
     }
 
+    // Returns every open batch to the pool unsent (a run that failed drops its work).
+    void discard() {
+        for (RayBatch*& b : m_open)
+            if (b) {
+                m_pool.release(b);
+                b = nullptr;
+            }
+    }
+
     ThreadStats* stats = nullptr; // set by the processor for the running thread
 
 private:
