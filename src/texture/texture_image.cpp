@@ -1,8 +1,7 @@
 #include "texture/texture_image.h"
 
 #include "image/image.h"
-
-#include <OpenImageIO/imageio.h>
+#include "texture/oiio_module.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,23 +27,30 @@ std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
     // Before OpenImageIO hands an EXR header to OpenEXR; a missing file is OpenImageIO's to say.
     std::error_code ec;
     if (std::filesystem::is_regular_file(path, ec)) checkImageHeader(path);
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw ImageIoError("cannot read the texture \"" + path + "\": " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    const int w = spec.width, h = spec.height, nch = spec.nchannels;
+    auto fail = [&](const std::string& why) {
+        return ImageIoError("cannot read the texture \"" + path + "\": " + why);
+    };
+    const OiioModule* module = nullptr;
+    try {
+        module = &OiioModule::get();
+    } catch (const ImageIoError& e) {
+        throw fail(e.what());
+    }
+    const OiioModule& oiio = *module;
+    char error[1024] = "";
+    RayprocOiioInfo info{};
+    std::unique_ptr<void, RayprocOiioCloseFn> in(oiio.open(path.c_str(), &info, error, sizeof error),
+                                                 oiio.close);
+    if (!in) throw fail(error);
+    const int w = info.width, h = info.height, nch = info.channels;
     if (w <= 0 || h <= 0 || nch <= 0 || std::int64_t(w) * h > (std::int64_t(1) << 28))
-        throw ImageIoError("cannot read the texture \"" + path + "\": unsupported size " +
-                           std::to_string(w) + "x" + std::to_string(h));
+        throw fail("unsupported size " + std::to_string(w) + "x" + std::to_string(h));
     checkImageDimensions(path, w, h);
     std::vector<float> px(std::size_t(w) * h * nch);
-    if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, px.data()))
-        throw ImageIoError("cannot read the texture \"" + path + "\": " + in->geterror());
+    if (!oiio.read(in.get(), px.data(), error, sizeof error)) throw fail(error);
     // Integer files store encoded values; float files hold linear radiance or reflectance.
-    const bool isFloat = spec.format.basetype == OIIO::TypeDesc::FLOAT ||
-                         spec.format.basetype == OIIO::TypeDesc::HALF ||
-                         spec.format.basetype == OIIO::TypeDesc::DOUBLE;
-    TextureEncoding e = isFloat ? TextureEncoding{TextureEncoding::Kind::Linear} : encoding;
-    const int alphaChannel = spec.alpha_channel >= 0 ? spec.alpha_channel
+    TextureEncoding e = info.isFloat ? TextureEncoding{TextureEncoding::Kind::Linear} : encoding;
+    const int alphaChannel = info.alphaChannel >= 0 ? info.alphaChannel
                                                      : (nch == 2 || nch == 4 ? nch - 1 : -1);
     auto img = std::make_shared<TextureImage>();
     TextureImage::Level base;
