@@ -63,6 +63,17 @@ inline Vec3 cosineHemisphere(Vec2 u) {
     return {d.x, d.y, z};
 }
 
+// A cosine-weighted direction (local frame, +z up) in stratum (j, k) of M x N: sin^2(theta) in
+// [j/M, (j+1)/M), phi in [2 pi k/N, 2 pi (k+1)/N), jittered by u. sin^2(theta) uniform is the
+// cosine-weighted density (Malley), so every stratum has the same cosine-weighted solid angle
+// pi / (M N): the final gather's layout (gi/gather_stage.h). Unstratified: u alone.
+inline Vec3 cosineStratum(int j, int k, int thetaCount, int phiCount, Vec2 u, bool stratify) {
+    float s2 = stratify ? (float(j) + u.x) / float(thetaCount) : u.x;
+    float phi = 2.0f * kPi * (stratify ? (float(k) + u.y) / float(phiCount) : u.y);
+    float sinT = std::sqrt(std::min(1.0f, s2)), cosT = std::sqrt(std::max(0.0f, 1.0f - s2));
+    return {sinT * std::cos(phi), sinT * std::sin(phi), cosT};
+}
+
 // Uniform point on a triangle (Heitz's low-distortion map would do too); returns barycentrics.
 inline Vec2 uniformTriangle(Vec2 u) {
     float su = std::sqrt(u.x);

@@ -20,6 +20,8 @@ const std::vector<AblationSwitch>& ablationSwitches() {
          [](RenderConfig& c) { c.engine.packetWidth = 1; }},
         {"irradiance cache", "gi", "--no-irradiance-cache",
          [](RenderConfig& c) { c.gi.irradianceCache = false; }},
+        {"cache refinement", "gi", "--ic-refine-rays 0",
+         [](RenderConfig& c) { c.gi.icRefineRays = 0; }},
         {"precomputed irradiance", "gi", "--no-precomputed-irradiance",
          [](RenderConfig& c) { c.gi.precomputedIrradiance = false; }},
         {"lazy precomputed irradiance", "gi", "--no-lazy-irradiance",

@@ -38,6 +38,7 @@ std::string RenderConfig::settingsString() const {
         o << " gather=" << gi.gatherRays << " ic=" << gi.icAccuracy << " photons=" << gi.photons;
         if (gi.causticPhotons != gi.photons) o << " caustic-photons=" << gi.causticPhotons;
         if (!gi.irradianceCache) o << " no-irradiance-cache";
+        if (gi.icRefineRays != GiSettings{}.icRefineRays) o << " ic-refine-rays=" << gi.icRefineRays;
         if (!gi.precomputedIrradiance) o << " no-precomputed-irradiance";
         if (!gi.lazyIrradiance) o << " no-lazy-irradiance";
         if (!gi.gatherDirect) o << " no-gather-direct";

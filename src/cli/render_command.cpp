@@ -53,7 +53,7 @@ struct RenderArgs {
     std::string displayServer;
     // gi
     int photons = -1, causticPhotons = -1, gatherRays = 0, photonRounds = 0, globalK = 0;
-    int filmGatherRays = 0;
+    int filmGatherRays = 0, icRefineRays = -1;
     float icAccuracy = 0;
     bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
     bool noProgressiveCaustics = false, noGatherDirect = false, noLazyIrradiance = false,
@@ -245,6 +245,7 @@ int runRender(const RenderArgs& a) {
         if (a.gatherRays > 0) s.gatherRays = a.gatherRays;
         if (a.filmGatherRays > 0) s.filmGatherRays = a.filmGatherRays;
         if (a.icAccuracy > 0) s.icAccuracy = a.icAccuracy;
+        if (a.icRefineRays >= 0) s.icRefineRays = a.icRefineRays;
         s.irradianceCache = !a.noCache;
         s.caustics = !a.noCaustics;
         s.progressiveCaustics = !a.noProgressiveCaustics;
@@ -410,6 +411,11 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "(default 0.25)")
         ->check(finiteNumber())
         ->check(CLI::Range(0.001, 10.0));
+    cmd->add_option("--ic-refine-rays", args->icRefineRays,
+                    "gi: gather rays every cache record adds before each render pass, so the "
+                    "records' noise falls as passes accumulate instead of staying in the image "
+                    "(default 1; 0: off)")
+        ->check(CLI::Range(0, 65536));
     cmd->add_flag("--no-irradiance-cache", args->noCache,
                   "gi: final gather at every diffuse hit instead of interpolating cached records");
     cmd->add_flag("--no-caustics", args->noCaustics, "gi: no caustic photon map");

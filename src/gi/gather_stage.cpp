@@ -167,6 +167,8 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             rq.key = (std::uint64_t(b.pixel[i]) << 32) ^ (b.rngKey[i] & 0xffffffffu);
             rq.position = h.p;
             rq.normal = ns;
+            rq.origin = offsetRayOrigin(h, ng, ns);
+            rq.geometricNormal = ng;
             rq.u = tu;
             rq.v = tv;
             if (gi.strataWanted) {
@@ -188,10 +190,9 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             float u2 = kernels::uniform(key, 2 * std::uint32_t(r) + 1);
             // --no-stratification: independent cosine-weighted rays (the cache then interpolates
             // without gradients, which need the strata; see gi.cpp).
-            float s2 = m_rc.policy.stratify ? (float(j) + u1) / float(thetaCount) : u1;
-            float phi = 2.0f * kPi * (m_rc.policy.stratify ? (float(kk) + u2) / float(phiCount) : u2);
-            float sinT = std::sqrt(std::min(1.0f, s2)), cosT = std::sqrt(std::max(0.0f, 1.0f - s2));
-            Vec3 wi = normalize(tu * (sinT * std::cos(phi)) + tv * (sinT * std::sin(phi)) + ns * cosT);
+            Vec3 l = kernels::cosineStratum(j, kk, thetaCount, phiCount, {u1, u2},
+                                            m_rc.policy.stratify);
+            Vec3 wi = normalize(tu * l.x + tv * l.y + ns * l.z);
             if (dot(wi, ng) <= 0) {
                 // Below the geometric surface (shading normals): the stratum counts as dark,
                 // as it does in the film's gathers (weight albedo / (M N), no ray).

@@ -41,6 +41,11 @@ struct IrradianceRecord {
     // unused.
     Vec3 gradT[3]{};
     Vec3 gradR[3]{};
+    // How the record was gathered, for refining it later (gi/cache_refinement.h): the rays'
+    // origin (off the surface), the geometric normal they stay above, and their count.
+    Vec3 gatherOrigin;
+    Vec3 geometricNormal;
+    int gatherRays = 0;
 };
 
 struct IrradianceCacheSettings {
@@ -93,6 +98,9 @@ public:
 
     // Every record, in insertion order (the debug view).
     const std::vector<IrradianceRecord>& records() const { return m_records; }
+    // Replaces record i's irradiance (a refined estimate; gradients are kept). Not concurrent
+    // with lookups.
+    void setIrradiance(std::size_t i, const Vec3& irradiance) { m_records[i].irradiance = irradiance; }
 
     // Ward & Heckbert's gradient estimates from a stratified gather at a record with the
     // orthonormal frame (u, v, n) of GatherStrata. Writes gradT[c] and gradR[c] for each channel

@@ -26,6 +26,7 @@
 #include "engine/refraction_stage.h"
 #include "engine/shadow_stage.h"
 #include "engine/surface_stage.h"
+#include "gi/cache_refinement.h"
 #include "gi/focus_region.h"
 #include "gi/gather_stage.h"
 #include "gi/gi_context.h"
@@ -88,7 +89,7 @@ void precomputePhotonIrradiance(PhotonMap& map, const GiSettings& s, float radiu
 // A gather the prepass made, as plain values: what a record is made of.
 struct MadeGather {
     std::uint64_t key = 0;
-    Vec3 position, normal, u, v;
+    Vec3 position, normal, u, v, origin, geometricNormal;
     std::int64_t radiance[3] = {0, 0, 0};
     std::int64_t inverseDistance = 0;
     std::int32_t rays = 0;
@@ -117,7 +118,8 @@ std::vector<MadeGather> mergeGatherShares(const Cluster& cluster, std::vector<Ma
     std::vector<std::uint8_t> bytes;
     for (const MadeGather& g : mine) {
         putValue(bytes, g.key);
-        for (const Vec3* w : {&g.position, &g.normal, &g.u, &g.v}) putValue(bytes, *w);
+        for (const Vec3* w : {&g.position, &g.normal, &g.u, &g.v, &g.origin, &g.geometricNormal})
+            putValue(bytes, *w);
         for (std::int64_t r : g.radiance) putValue(bytes, r);
         putValue(bytes, g.inverseDistance);
         putValue(bytes, g.rays);
@@ -132,7 +134,8 @@ std::vector<MadeGather> mergeGatherShares(const Cluster& cluster, std::vector<Ma
     for (std::size_t at = 0; at < all.size();) {
         MadeGather g;
         g.key = getValue<std::uint64_t>(all, at);
-        for (Vec3* w : {&g.position, &g.normal, &g.u, &g.v}) *w = getValue<Vec3>(all, at);
+        for (Vec3* w : {&g.position, &g.normal, &g.u, &g.v, &g.origin, &g.geometricNormal})
+            *w = getValue<Vec3>(all, at);
         for (std::int64_t& r : g.radiance) r = getValue<std::int64_t>(all, at);
         g.inverseDistance = getValue<std::int64_t>(all, at);
         g.rays = getValue<std::int32_t>(all, at);
@@ -225,6 +228,8 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
             g.normal = r.normal;
             g.u = r.u;
             g.v = r.v;
+            g.origin = r.origin;
+            g.geometricNormal = r.geometricNormal;
             for (int c = 0; c < 3; ++c) g.radiance[c] = r.radiance[c].load();
             g.inverseDistance = r.inverseDistance.load();
             g.rays = r.rays.load();
@@ -250,6 +255,9 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
             IrradianceRecord rec;
             rec.position = r.position;
             rec.normal = r.normal;
+            rec.gatherOrigin = r.origin;
+            rec.geometricNormal = r.geometricNormal;
+            rec.gatherRays = r.rays;
             // Cosine-weighted gather: E = pi / N * sum L.
             for (int c = 0; c < 3; ++c)
                 rec.irradiance[c] = float(kPi * double(r.radiance[c]) / IcRequest::kScale / rays);
@@ -317,7 +325,7 @@ std::string GiSettings::toString() const {
       << " global_k=" << globalK << " caustic_k=" << causticK << " gather_rays=" << gatherRays
       << " gather_strata=" << thetaCount << "x" << phiCount
       << " film_gather_rays=" << rayproc::filmGatherRays(*this)
-      << " ic_accuracy=" << icAccuracy << " irradiance_cache=" << (irradianceCache ? "on" : "off")
+      << " ic_accuracy=" << icAccuracy << " ic_refine_rays=" << icRefineRays << " irradiance_cache=" << (irradianceCache ? "on" : "off")
       << " ic_gradients=" << (icGradients ? "on" : "off")
       << " caustics=" << (caustics ? "on" : "off")
       << " progressive_caustics=" << (progressiveCaustics ? "on" : "off")
@@ -438,8 +446,19 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     policy.lightChoice = engine.lightChoice;
     plan.apply(policy);
     // Without diffuse surfaces the gather stage would never get work: not registered.
+    // Before each render pass: a new caustic map (progressive caustics), the records' new
+    // gather rays (cache refinement).
+    Stats refineStats;
+    std::optional<CacheRefinement> refinement;
+    if (s.irradianceCache && s.icRefineRays > 0 && plan.globalMap && cache.size() > 0 &&
+        s.debugView == GiDebugView::None)
+        refinement.emplace(scene, accel, lights, gi, cache, engine, cluster, refineStats);
     std::function<void(int)> beforePass;
-    if (progressive && plan.globalMap) beforePass = [&](int pass) { progressive->beginPass(pass); };
+    if ((progressive || refinement) && plan.globalMap)
+        beforePass = [&](int pass) {
+            if (progressive) progressive->beginPass(pass);
+            if (refinement && pass > 0) refinement->beginPass(pass);
+        };
     RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine,
                                   RadianceStage::Surface, plan.globalMap ? &gi : nullptr,
                                   beforePass);
@@ -456,6 +475,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     const ThreadStats& t = r.stats.totals;
     extras.push_back({"gi/gather_rays", double(t.stages[int(StageId::Gather)].raysOut)});
     extras.push_back({"gi/correction_rays", double(t.stages[int(StageId::Correction)].raysOut)});
+    extras.push_back({"gi/refine_rays", refinement ? double(refinement->raysGathered()) : 0.0});
     extras.push_back({"gi/cache_lookups", double(t.cacheLookups)});
     extras.push_back({"gi/cache_hit_rate", t.cacheLookups ? double(t.cacheHits) / double(t.cacheLookups) : 0.0});
     double gatherSeconds = t.stages[int(StageId::Gather)].seconds;
@@ -467,7 +487,10 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     // runRenderJob measured its wall time from engine.workStart: the pre-passes are in it.
     ThreadStats photonTotals = photonStats.merged();
     sumToRoot(cluster, photonTotals);
-    r.stats.totals.raysTraced += photonTotals.raysTraced + cacheTotals.raysTraced;
+    ThreadStats refineTotals = refineStats.merged();
+    sumToRoot(cluster, refineTotals);
+    r.stats.totals.raysTraced +=
+        photonTotals.raysTraced + cacheTotals.raysTraced + refineTotals.raysTraced;
     r.stats.extras = extras;
     return r;
 }

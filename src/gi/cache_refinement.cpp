@@ -1,0 +1,97 @@
+#include "gi/cache_refinement.h"
+
+#include "cluster/cluster.h"
+#include "engine/cancel.h"
+#include "engine/film.h"
+#include "engine/intersect.h"
+#include "engine/processor.h"
+#include "gi/gather_stage.h"
+#include "gi/irradiance_cache.h"
+#include "gi/photon_pass.h"
+#include "gi/record_emitter.h"
+#include "kernels/random.h"
+
+namespace rayproc {
+
+CacheRefinement::CacheRefinement(const Scene& scene, const EmbreeScene& accel,
+                                 const LightSet& lights, GiData& gi, IrradianceCache& cache,
+                                 const EngineSettings& engine, const Cluster& cluster,
+                                 Stats& stats)
+    : m_scene(scene), m_accel(accel), m_lights(lights), m_gi(gi), m_cache(cache),
+      m_engine(engine), m_cluster(cluster), m_stats(stats) {
+    // The prepass's gathers: S_0 = E_0 n_0 / pi.
+    const std::vector<IrradianceRecord>& records = cache.records();
+    m_sums.resize(3 * records.size());
+    m_counts.resize(records.size());
+    for (std::size_t i = 0; i < records.size(); ++i) {
+        const IrradianceRecord& r = records[i];
+        const double n = double(std::max(r.gatherRays, 1));
+        for (int c = 0; c < 3; ++c) m_sums[3 * i + std::size_t(c)] = double(r.irradiance[c]) * n / kPi;
+        m_counts[i] = std::uint64_t(std::max(r.gatherRays, 1));
+    }
+}
+
+void CacheRefinement::beginPass(int pass) {
+    const GiSettings& s = m_gi.settings;
+    const std::vector<IrradianceRecord>& records = m_cache.records();
+    if (s.icRefineRays <= 0 || records.empty() || stopped(m_cluster)) return;
+    std::uint64_t first = 0, last = 0;
+    shareOf(records.size(), m_cluster.rank(), m_cluster.size(), first, last);
+
+    // This rank's records, one request slot each, claimed in record order.
+    IcRequests requests;
+    requests.beginLevel(std::size_t(last - first));
+    std::vector<IcRequest*> slots(std::size_t(last - first));
+    for (IcRequest*& slot : slots) {
+        std::uint32_t index = 0;
+        slot = requests.claim(index);
+    }
+
+    Film film(1, 1); // every ray of this pass adds to a record's slot, none to a pixel
+    ShadingPolicy policy;
+    policy.maxDepth = s.maxDepth;
+    policy.icPrepass = true;
+    policy.stratify = m_engine.stratification;
+    policy.rouletteEnabled = s.roulette;
+    RenderContext rc{m_scene, m_accel, m_lights, policy, film, m_engine.seed};
+    IcRequests* rendering = m_gi.requests;
+    m_gi.requests = &requests;
+    rc.gi = &m_gi;
+    Intersector intersector(m_accel.root(), m_engine.packetWidth);
+    RayProcessor processor(intersector, m_stats, m_engine.threads);
+    GatherStage gather(rc);
+    processor.setStage(RayKind::Gather, &gather);
+    processor.setStage(RayKind::GatherShadow, &gather);
+    const std::uint64_t key =
+        kernels::hashCombine(kernels::hashCombine(m_engine.seed, 0x1c7e), std::uint64_t(pass));
+    RecordEmitter emitter(records, std::size_t(first), std::size_t(last), s.icRefineRays,
+                          m_engine.stratification, key, slots.data());
+    // Not interruptible halfway: the pass's sums are all or nothing (a cancel stops the render
+    // after its current pass anyway).
+    processor.run(emitter, [] { return false; });
+    m_gi.requests = rendering;
+
+    // The pass's sums, every rank's, in record order; then the records.
+    std::vector<std::uint64_t> sums(4 * records.size(), 0);
+    for (std::size_t i = std::size_t(first); i < std::size_t(last); ++i) {
+        const IcRequest& r = *slots[i - std::size_t(first)];
+        for (int c = 0; c < 3; ++c) sums[4 * i + std::size_t(c)] = std::uint64_t(r.radiance[c].load());
+        sums[4 * i + 3] = std::uint64_t(r.rays.load());
+    }
+    m_cluster.sumAll(sums); // two's complement: the signed sums add exactly
+    for (std::size_t i = 0; i < records.size(); ++i) {
+        const std::uint64_t rays = sums[4 * i + 3];
+        if (rays == 0) continue;
+        m_counts[i] += rays;
+        m_rays += rays;
+        Vec3 e;
+        for (int c = 0; c < 3; ++c) {
+            double& sum = m_sums[3 * i + std::size_t(c)];
+            sum += double(std::int64_t(sums[4 * i + std::size_t(c)])) / IcRequest::kScale;
+            e[c] = float(std::max(0.0, kPi * sum / double(m_counts[i])));
+        }
+        m_cache.setIrradiance(i, e);
+    }
+}
+
+} // namespace rayproc
