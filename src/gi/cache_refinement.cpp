@@ -54,7 +54,13 @@ void CacheRefinement::beginPass(int pass) {
     policy.stratify = m_engine.stratification;
     policy.rouletteEnabled = s.roulette;
     RenderContext rc{m_scene, m_accel, m_lights, policy, film, m_engine.seed};
-    IcRequests* rendering = m_gi.requests;
+    // The gather stage adds to these slots while the refinement runs; afterwards (also when
+    // the run throws) gi's render passes see their own requests (none) again.
+    struct RequestsScope {
+        GiData& gi;
+        IcRequests* saved;
+        ~RequestsScope() { gi.requests = saved; }
+    } scope{m_gi, m_gi.requests};
     m_gi.requests = &requests;
     rc.gi = &m_gi;
     Intersector intersector(m_accel.root(), m_engine.packetWidth);
@@ -69,7 +75,6 @@ void CacheRefinement::beginPass(int pass) {
     // Not interruptible halfway: the pass's sums are all or nothing (a cancel stops the render
     // after its current pass anyway).
     processor.run(emitter, [] { return false; });
-    m_gi.requests = rendering;
 
     // The pass's sums, every rank's, in record order; then the records.
     std::vector<std::uint64_t> sums(4 * records.size(), 0);
