@@ -15,10 +15,9 @@ namespace rayproc {
 
 CacheRefinement::CacheRefinement(const Scene& scene, const EmbreeScene& accel,
                                  const LightSet& lights, GiData& gi, IrradianceCache& cache,
-                                 const EngineSettings& engine, const Cluster& cluster,
-                                 Stats& stats)
-    : m_scene(scene), m_accel(accel), m_lights(lights), m_gi(gi), m_cache(cache),
-      m_engine(engine), m_cluster(cluster), m_stats(stats) {
+                                 const EngineSettings& engine, const Cluster& cluster, Stats& stats)
+    : m_scene(scene), m_accel(accel), m_lights(lights), m_gi(gi), m_cache(cache), m_engine(engine),
+      m_cluster(cluster), m_stats(stats) {
     // The prepass's gathers: S_0 = E_0 n_0 / pi.
     const std::vector<IrradianceRecord>& records = cache.records();
     m_sums.resize(3 * records.size());
@@ -26,7 +25,8 @@ CacheRefinement::CacheRefinement(const Scene& scene, const EmbreeScene& accel,
     for (std::size_t i = 0; i < records.size(); ++i) {
         const IrradianceRecord& r = records[i];
         const double n = double(std::max(r.gatherRays, 1));
-        for (int c = 0; c < 3; ++c) m_sums[3 * i + std::size_t(c)] = double(r.irradiance[c]) * n / kPi;
+        for (int c = 0; c < 3; ++c)
+            m_sums[3 * i + std::size_t(c)] = double(r.irradiance[c]) * n / kPi;
         m_counts[i] = std::uint64_t(std::max(r.gatherRays, 1));
     }
 }
@@ -80,7 +80,8 @@ void CacheRefinement::beginPass(int pass) {
     std::vector<std::uint64_t> sums(4 * records.size(), 0);
     for (std::size_t i = std::size_t(first); i < std::size_t(last); ++i) {
         const IcRequest& r = *slots[i - std::size_t(first)];
-        for (int c = 0; c < 3; ++c) sums[4 * i + std::size_t(c)] = std::uint64_t(r.radiance[c].load());
+        for (int c = 0; c < 3; ++c)
+            sums[4 * i + std::size_t(c)] = std::uint64_t(r.radiance[c].load());
         sums[4 * i + 3] = std::uint64_t(r.rays.load());
     }
     m_cluster.sumAll(sums); // two's complement: the signed sums add exactly

@@ -23,9 +23,8 @@ class RecordEmitter : public Emitter {
 public:
     // Records [first, last) of `records` (a distributed render's share), `rays` each; record i's
     // sums go to slot i - first of `slots` (claimed by the caller in record order).
-    RecordEmitter(const std::vector<IrradianceRecord>& records, std::size_t first,
-                  std::size_t last, int rays, bool stratify, std::uint64_t key,
-                  IcRequest* const* slots);
+    RecordEmitter(const std::vector<IrradianceRecord>& records, std::size_t first, std::size_t last,
+                  int rays, bool stratify, std::uint64_t key, IcRequest* const* slots);
     bool emit(StageContext& ctx) override;
 
     static constexpr std::size_t kRecordsPerUnit = 16;

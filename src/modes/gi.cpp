@@ -325,7 +325,8 @@ std::string GiSettings::toString() const {
       << " global_k=" << globalK << " caustic_k=" << causticK << " gather_rays=" << gatherRays
       << " gather_strata=" << thetaCount << "x" << phiCount
       << " film_gather_rays=" << rayproc::filmGatherRays(*this)
-      << " ic_accuracy=" << icAccuracy << " ic_refine_rays=" << icRefineRays << " irradiance_cache=" << (irradianceCache ? "on" : "off")
+      << " ic_accuracy=" << icAccuracy << " ic_refine_rays=" << icRefineRays
+      << " irradiance_cache=" << (irradianceCache ? "on" : "off")
       << " ic_gradients=" << (icGradients ? "on" : "off")
       << " caustics=" << (caustics ? "on" : "off")
       << " progressive_caustics=" << (progressiveCaustics ? "on" : "off")
@@ -445,7 +446,6 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     policy.diffuseMis = engine.diffuseMis;
     policy.lightChoice = engine.lightChoice;
     plan.apply(policy);
-    // Without diffuse surfaces the gather stage would never get work: not registered.
     // Before each render pass: a new caustic map (progressive caustics), the records' new
     // gather rays (cache refinement).
     Stats refineStats;
@@ -453,6 +453,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     if (s.irradianceCache && s.icRefineRays > 0 && plan.globalMap && cache.size() > 0 &&
         s.debugView == GiDebugView::None)
         refinement.emplace(scene, accel, lights, gi, cache, engine, cluster, refineStats);
+    // Without diffuse surfaces the gather stage would never get work: not registered.
     std::function<void(int)> beforePass;
     if ((progressive || refinement) && plan.globalMap)
         beforePass = [&](int pass) {

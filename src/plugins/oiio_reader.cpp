@@ -22,10 +22,8 @@ void setError(char* error, std::size_t size, const std::string& message) {
 
 extern "C" {
 
-__attribute__((visibility("default"))) void* rayproc_oiio_open(const char* path,
-                                                               RayprocOiioInfo* info,
-                                                               char* error,
-                                                               std::size_t errorSize) {
+__attribute__((visibility("default"))) void*
+rayproc_oiio_open(const char* path, RayprocOiioInfo* info, char* error, std::size_t errorSize) {
     try {
         std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
         if (!in) {
@@ -48,12 +46,10 @@ __attribute__((visibility("default"))) void* rayproc_oiio_open(const char* path,
 }
 
 __attribute__((visibility("default"))) int rayproc_oiio_read(void* handle, float* pixels,
-                                                             char* error,
-                                                             std::size_t errorSize) {
+                                                             char* error, std::size_t errorSize) {
     auto* in = static_cast<OIIO::ImageInput*>(handle);
     try {
-        if (in->read_image(0, 0, 0, in->spec().nchannels, OIIO::TypeDesc::FLOAT, pixels))
-            return 1;
+        if (in->read_image(0, 0, 0, in->spec().nchannels, OIIO::TypeDesc::FLOAT, pixels)) return 1;
         setError(error, errorSize, in->geterror());
     } catch (const std::exception& e) {
         setError(error, errorSize, e.what());

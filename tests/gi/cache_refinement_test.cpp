@@ -47,7 +47,7 @@ TEST_CASE("Cache refinement: records gather on during the render and their noise
     const double errFrozen = relMse(frozen.image, reference.image);
     const double errRefined = relMse(refined.image, reference.image);
     INFO("relMSE against 256-ray records: frozen 4-ray records " << errFrozen << ", refined "
-                                                                  << errRefined);
+                                                                 << errRefined);
     CHECK(errRefined < 0.25 * errFrozen); // measured: 0.00042 against 0.0066
 
     RenderResult one = render(*scene, accel, 4, 8, 1);
