@@ -199,17 +199,10 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                 if (request) request->rays.fetch_add(1, std::memory_order_relaxed);
                 continue;
             }
-            RayBatch& out = ctx.out(RayKind::Gather);
-            int jj = out.push(origin.x, origin.y, origin.z, wi.x, wi.y, wi.z, 0.0f, kInfinity);
-            out.pixel[jj] = target;
-            out.sample[jj] = prepass ? std::uint32_t(r) : b.sample[i]; // prepass: the stratum
-            out.wr[jj] = weight.x; out.wg[jj] = weight.y; out.wb[jj] = weight.z;
-            out.rngKey[jj] = kernels::hashCombine(key, std::uint64_t(r));
-            out.depth[jj] = b.depth[i];
-            out.specularDepth[jj] = 0;
-            out.flags[jj] = flags;
-            out.prevPdf[jj] = 0;
-            out.prevCos[jj] = 0;
+            // In the prepass the sample is the stratum (the gradients' layout).
+            pushGatherRay(ctx.out(RayKind::Gather), origin, wi, target,
+                          prepass ? std::uint32_t(r) : b.sample[i], weight,
+                          kernels::hashCombine(key, std::uint64_t(r)), b.depth[i], flags);
             ++spawned;
         }
     }

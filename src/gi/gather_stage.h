@@ -35,6 +35,27 @@ namespace rayproc {
 
 class PhotonMap;
 
+// Pushes a final-gather ray's first segment (RayKind::Gather, no specular bounce yet) from
+// `origin` along `wi`: the gather stage's own (a record's or the film's gather) and the cache
+// refinement's (gi/record_emitter.h). `target` is the pixel, or the request slot with
+// kFlagGatherRecord; `sample` the camera sample, or the record's stratum.
+inline void pushGatherRay(RayBatch& out, const Vec3& origin, const Vec3& wi, std::uint32_t target,
+                          std::uint32_t sample, const Vec3& weight, std::uint64_t rngKey,
+                          std::uint8_t depth, std::uint8_t flags) {
+    int j = out.push(origin.x, origin.y, origin.z, wi.x, wi.y, wi.z, 0.0f, kInfinity);
+    out.pixel[j] = target;
+    out.sample[j] = sample;
+    out.wr[j] = weight.x;
+    out.wg[j] = weight.y;
+    out.wb[j] = weight.z;
+    out.rngKey[j] = rngKey;
+    out.depth[j] = depth;
+    out.specularDepth[j] = 0;
+    out.flags[j] = flags;
+    out.prevPdf[j] = 0;
+    out.prevCos[j] = 0;
+}
+
 class GatherStage : public RetraceStage {
 public:
     explicit GatherStage(const RenderContext& rc) : m_rc(rc) {}

@@ -1,5 +1,6 @@
 #include "gi/record_emitter.h"
 
+#include "gi/gather_stage.h"
 #include "gi/gi_context.h"
 #include "gi/irradiance_cache.h"
 #include "kernels/random.h"
@@ -37,18 +38,11 @@ bool RecordEmitter::emit(StageContext& ctx) {
                 slot.rays.fetch_add(1, std::memory_order_relaxed);
                 continue;
             }
-            RayBatch& out = ctx.out(RayKind::Gather);
-            const Vec3& o = rec.gatherOrigin;
-            int j = out.push(o.x, o.y, o.z, wi.x, wi.y, wi.z, 0.0f, kInfinity);
-            out.pixel[j] = std::uint32_t(i - m_first);
-            out.sample[j] = ~0u; // no stratum of the record's gradients
-            out.wr[j] = out.wg[j] = out.wb[j] = 1.0f;
-            out.rngKey[j] = kernels::hashCombine(key, 0x100000u + std::uint64_t(r));
-            out.depth[j] = 0;
-            out.specularDepth[j] = 0;
-            out.flags[j] = kFlagGatherRecord;
-            out.prevPdf[j] = 0;
-            out.prevCos[j] = 0;
+            // Sample ~0: no stratum of the record's gradients.
+            pushGatherRay(ctx.out(RayKind::Gather), rec.gatherOrigin, wi,
+                          std::uint32_t(i - m_first), ~0u, Vec3(1.0f),
+                          kernels::hashCombine(key, 0x100000u + std::uint64_t(r)), 0,
+                          kFlagGatherRecord);
         }
     }
     return true;

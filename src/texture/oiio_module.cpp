@@ -29,10 +29,13 @@ std::vector<std::string> candidatePaths() {
 // Loads the first candidate that exists; the message lists every place and why it failed.
 OiioModule load() {
     std::string tried;
+    auto failed = [&](const std::string& path, const std::string& why) {
+        tried += (tried.empty() ? "" : "; ") + path + ": " + why;
+    };
     for (const std::string& path : candidatePaths()) {
         std::error_code ec;
         if (!std::filesystem::exists(path, ec)) {
-            tried += (tried.empty() ? "" : "; ") + path + ": no such file";
+            failed(path, "no such file");
             continue;
         }
         // RTLD_LOCAL: OpenImageIO's symbols stay the module's; RTLD_NOW: a broken install
@@ -40,7 +43,7 @@ OiioModule load() {
         void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
         if (!handle) {
             const char* why = dlerror();
-            tried += (tried.empty() ? "" : "; ") + path + ": " + (why ? why : "dlopen failed");
+            failed(path, why ? why : "dlopen failed");
             continue;
         }
         OiioModule m;
@@ -48,8 +51,7 @@ OiioModule load() {
         m.read = reinterpret_cast<RayprocOiioReadFn>(dlsym(handle, "rayproc_oiio_read"));
         m.close = reinterpret_cast<RayprocOiioCloseFn>(dlsym(handle, "rayproc_oiio_close"));
         if (!m.open || !m.read || !m.close) {
-            tried += (tried.empty() ? "" : "; ") + path +
-                     ": not a rayproc image module (no rayproc_oiio_* functions)";
+            failed(path, "not a rayproc image module (no rayproc_oiio_* functions)");
             dlclose(handle);
             continue;
         }
