@@ -39,6 +39,8 @@ std::string RenderConfig::settingsString() const {
         if (gi.causticPhotons != gi.photons) o << " caustic-photons=" << gi.causticPhotons;
         if (!gi.irradianceCache) o << " no-irradiance-cache";
         if (gi.icRefineRays != GiSettings{}.icRefineRays) o << " ic-refine-rays=" << gi.icRefineRays;
+        if (gi.icCorrectionRays != GiSettings{}.icCorrectionRays)
+            o << " ic-correction-rays=" << gi.icCorrectionRays;
         if (!gi.precomputedIrradiance) o << " no-precomputed-irradiance";
         if (!gi.lazyIrradiance) o << " no-lazy-irradiance";
         if (!gi.gatherDirect) o << " no-gather-direct";

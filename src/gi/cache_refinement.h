@@ -12,6 +12,20 @@
 // change. The film averages the passes, so an early pass's cruder records keep their share
 // (1 / passes) of the image.
 //
+// Correction (`GiSettings::icCorrectionRays`, off by default): the map's bias at the records,
+// taken out with the passes. Each record also traces that many RayKind::Correction rays per
+// pass (cosine strata from its gather origin); at a ray's far end the correction stage
+// subtracts the map's estimate exactly as a gather reads it and traces a path in its place
+// (path mode's vertex: one light sample, one BSDF sample, then gi's PathStage, as deep as the
+// photons go; the sun's and the sky's direct light, which the gather samples itself, left out
+// of both). What the paths find goes to the record's pixel of the pass's film. A control
+// variate: with C the sums of a record's corrections over its m correction rays so far,
+//   E_i = max(0, pi (S_0 + ... + S_p) / (n_0 + ... + n_p) + pi C / m),
+// whose expectation is the exact gather's irradiance, not the map's, once the clamp no longer
+// acts: the map's bias leaves the records as m grows, at the price of path tracing's noise in
+// C (docs/irradiance-cache.md, "Correcting the records"). Surfaces the map is not read at (mirrors, glass: the gather looks
+// through them) are not corrected.
+//
 // Consumes: the cache after its prepass, the pass index. Produces: the records' irradiance for
 // the pass (IrradianceCache::setIrradiance), between passes.
 // Deterministic: each ray's direction is a function of (seed, pass, record, ray), the sums are
@@ -43,6 +57,8 @@ public:
     // MPI (every rank calls it for every pass).
     void beginPass(int pass);
     std::uint64_t raysGathered() const { return m_rays; }
+    // Correction rays traced so far, over all records (those below a record's surface too).
+    std::uint64_t correctionRays() const { return m_correctionRays; }
 
 private:
     const Scene& m_scene;
@@ -57,6 +73,10 @@ private:
     std::vector<double> m_sums;
     std::vector<std::uint64_t> m_counts;
     std::uint64_t m_rays = 0;
+    // Per record: the sums of its corrections' radiance (per channel); the corrections each
+    // record has had (the same for all).
+    std::vector<double> m_corrections;
+    std::uint64_t m_correctionCount = 0, m_correctionRays = 0;
 };
 
 } // namespace rayproc

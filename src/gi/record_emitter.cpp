@@ -9,12 +9,12 @@
 namespace rayproc {
 
 RecordEmitter::RecordEmitter(const std::vector<IrradianceRecord>& records, std::size_t first,
-                             std::size_t last, int rays, bool stratify, std::uint64_t key,
-                             IcRequest* const* slots)
-    : m_records(records), m_first(first), m_last(last), m_rays(std::max(rays, 1)),
-      m_stratify(stratify), m_key(key), m_slots(slots) {
-    gatherStrata(m_rays, m_thetaCount, m_phiCount);
-    m_rays = m_thetaCount * m_phiCount;
+                             std::size_t last, int rays, int correctionRays, bool stratify,
+                             std::uint64_t key, IcRequest* const* slots)
+    : m_records(records), m_first(first), m_last(last), m_stratify(stratify), m_key(key),
+      m_slots(slots) {
+    if (rays > 0) gatherStrata(rays, m_gather.theta, m_gather.phi);
+    if (correctionRays > 0) gatherStrata(correctionRays, m_correction.theta, m_correction.phi);
 }
 
 bool RecordEmitter::emit(StageContext& ctx) {
@@ -23,26 +23,40 @@ bool RecordEmitter::emit(StageContext& ctx) {
     std::size_t end = std::min(m_last, begin + kRecordsPerUnit);
     for (std::size_t i = begin; i < end; ++i) {
         const IrradianceRecord& rec = m_records[i];
-        IcRequest& slot = *m_slots[i - m_first];
+        const std::uint32_t local = std::uint32_t(i - m_first);
         Vec3 tu, tv;
         orthonormalBasis(rec.normal, tu, tv);
-        const std::uint64_t key = kernels::hashCombine(m_key, std::uint64_t(i));
-        for (int r = 0; r < m_rays; ++r) {
+        // Ray r of `strata` from the record's stream `key`, or none below the geometric surface.
+        auto direction = [&](const Strata& strata, std::uint64_t key, int r, Vec3& wi) {
             Vec2 u{kernels::uniform(key, 2 * std::uint32_t(r)),
                    kernels::uniform(key, 2 * std::uint32_t(r) + 1)};
-            Vec3 l = kernels::cosineStratum(r / m_phiCount, r % m_phiCount, m_thetaCount,
-                                            m_phiCount, u, m_stratify);
-            Vec3 wi = normalize(tu * l.x + tv * l.y + rec.normal * l.z);
-            if (dot(wi, rec.geometricNormal) <= 0) {
+            Vec3 l = kernels::cosineStratum(r / strata.phi, r % strata.phi, strata.theta,
+                                            strata.phi, u, m_stratify);
+            wi = normalize(tu * l.x + tv * l.y + rec.normal * l.z);
+            return dot(wi, rec.geometricNormal) > 0;
+        };
+        const std::uint64_t key = kernels::hashCombine(m_key, std::uint64_t(i));
+        for (int r = 0; r < m_gather.count(); ++r) {
+            Vec3 wi;
+            if (!direction(m_gather, key, r, wi)) {
                 // Below the geometric surface: dark, as in the record's own gather.
-                slot.rays.fetch_add(1, std::memory_order_relaxed);
+                m_slots[local]->rays.fetch_add(1, std::memory_order_relaxed);
                 continue;
             }
             // Sample ~0: no stratum of the record's gradients.
-            pushGatherRay(ctx.out(RayKind::Gather), rec.gatherOrigin, wi,
-                          std::uint32_t(i - m_first), ~0u, Vec3(1.0f),
+            pushGatherRay(ctx.out(RayKind::Gather), rec.gatherOrigin, wi, local, ~0u, Vec3(1.0f),
                           kernels::hashCombine(key, 0x100000u + std::uint64_t(r)), 0,
                           kFlagGatherRecord);
+        }
+        // Correction rays: the far end's map estimate replaced by a path (a ray below the
+        // surface corrects nothing; the caller counts it all the same).
+        const std::uint64_t correctionKey = kernels::hashCombine(key, 0xc0ec7);
+        for (int r = 0; r < m_correction.count(); ++r) {
+            Vec3 wi;
+            if (!direction(m_correction, correctionKey, r, wi)) continue;
+            pushGatherRay(ctx.out(RayKind::Correction), rec.gatherOrigin, wi, local, ~0u,
+                          Vec3(1.0f), kernels::hashCombine(correctionKey, 0x100000u + std::uint64_t(r)),
+                          1, 0);
         }
     }
     return true;

@@ -5,6 +5,10 @@
 // slot in the pass's IcRequests, so the gather stage adds what it finds to that slot exactly as
 // in the cache's prepass. A ray's direction depends only on (seed, pass, record, ray), never on
 // the thread that emits it.
+// With correction rays, each record also gets that many RayKind::Correction rays (the same
+// cosine strata, their own jitter) whose pixel is the record's slot: the correction stage and
+// the paths it continues add what they find to that pixel of the refinement's film
+// (gi/cache_refinement.h).
 #pragma once
 
 #include "core/math.h"
@@ -21,18 +25,29 @@ struct IcRequest;
 
 class RecordEmitter : public Emitter {
 public:
-    // Records [first, last) of `records` (a distributed render's share), `rays` each; record i's
-    // sums go to slot i - first of `slots` (claimed by the caller in record order).
+    // Records [first, last) of `records` (a distributed render's share), `rays` gather rays
+    // (may be 0) and `correctionRays` correction rays each; record i's gather sums go to slot
+    // i - first of `slots` (claimed by the caller in record order), its corrections to pixel
+    // i - first.
     RecordEmitter(const std::vector<IrradianceRecord>& records, std::size_t first, std::size_t last,
-                  int rays, bool stratify, std::uint64_t key, IcRequest* const* slots);
+                  int rays, int correctionRays, bool stratify, std::uint64_t key,
+                  IcRequest* const* slots);
     bool emit(StageContext& ctx) override;
+    // The correction rays each record gets (the count rounded to whole M x N strata), those
+    // below its surface, which are not traced, included.
+    int correctionRaysPerRecord() const { return m_correction.count(); }
 
     static constexpr std::size_t kRecordsPerUnit = 16;
 
 private:
     const std::vector<IrradianceRecord>& m_records;
     std::size_t m_first, m_last;
-    int m_rays, m_thetaCount = 1, m_phiCount = 1;
+    // Rays per record: M x N strata of gather rays, and of correction rays.
+    struct Strata {
+        int theta = 0, phi = 0;
+        int count() const { return theta * phi; }
+    };
+    Strata m_gather, m_correction;
     bool m_stratify;
     std::uint64_t m_key;
     IcRequest* const* m_slots;

@@ -326,6 +326,7 @@ std::string GiSettings::toString() const {
       << " gather_strata=" << thetaCount << "x" << phiCount
       << " film_gather_rays=" << rayproc::filmGatherRays(*this)
       << " ic_accuracy=" << icAccuracy << " ic_refine_rays=" << icRefineRays
+      << " ic_correction_rays=" << icCorrectionRays
       << " irradiance_cache=" << (irradianceCache ? "on" : "off")
       << " ic_gradients=" << (icGradients ? "on" : "off")
       << " caustics=" << (caustics ? "on" : "off")
@@ -450,7 +451,8 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     // gather rays (cache refinement).
     Stats refineStats;
     std::optional<CacheRefinement> refinement;
-    if (s.irradianceCache && s.icRefineRays > 0 && plan.globalMap && cache.size() > 0 &&
+    if (s.irradianceCache && (s.icRefineRays > 0 || s.icCorrectionRays > 0) && plan.globalMap &&
+        cache.size() > 0 &&
         s.debugView == GiDebugView::None)
         refinement.emplace(scene, accel, lights, gi, cache, engine, cluster, refineStats);
     // Without diffuse surfaces the gather stage would never get work: not registered.
@@ -477,6 +479,8 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     extras.push_back({"gi/gather_rays", double(t.stages[int(StageId::Gather)].raysOut)});
     extras.push_back({"gi/correction_rays", double(t.stages[int(StageId::Correction)].raysOut)});
     extras.push_back({"gi/refine_rays", refinement ? double(refinement->raysGathered()) : 0.0});
+    extras.push_back({"gi/ic_correction_rays",
+                      refinement ? double(refinement->correctionRays()) : 0.0});
     extras.push_back({"gi/cache_lookups", double(t.cacheLookups)});
     extras.push_back({"gi/cache_hit_rate", t.cacheLookups ? double(t.cacheHits) / double(t.cacheLookups) : 0.0});
     double gatherSeconds = t.stages[int(StageId::Gather)].seconds;
