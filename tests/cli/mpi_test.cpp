@@ -75,6 +75,9 @@ TEST_CASE("A render over 1, 2 and 4 MPI ranks is bit-identical to one process, i
         {"raytrace", {"--spp", "4"}},
         {"path", {"--spp", "8"}},
         {"gi", {"--spp", "2", "--photons", "20000", "--caustic-photons", "20000"}},
+        // Each rank corrects its share of the cache's records; the sums are added.
+        {"gi", {"--spp", "3", "--photons", "20000", "--caustic-photons", "20000",
+                "--ic-correction-rays", "2"}},
         // Stop decisions made together: the same pass ends the render on every rank.
         {"path", {"--target-relmse", "0.05", "--spp", "64"}},
     }));
