@@ -3,9 +3,8 @@
 // the Cornell box with deliberately noisy records (4 prepass rays each) against the same render
 // with 256-ray records (same photon map: same seed and photons): with refinement the image's
 // error against it falls to a fraction; the rays added are exactly records x rays x passes; the
-// image does not depend on the thread count. With correction rays (GiSettings::icCorrectionRays)
-// the map's own bias leaves the records too: checked with a starved map against path mode.
-#include "image/metrics.h"
+// image does not depend on the thread count. (Correction rays, which take the map's own bias
+// out of the records: tests/gi/map_correction_test.cpp.)
 #include "test_util.h"
 
 using namespace rayproc;
@@ -54,51 +53,4 @@ TEST_CASE("Cache refinement: records gather on during the render and their noise
 
     RenderResult one = render(*scene, accel, 4, 8, 1);
     CHECK(one.image.pixels == refined.image.pixels);
-}
-
-namespace {
-
-// gi on the Cornell box with a global map far too sparse for it (500 photons: the 64-nearest
-// discs span a good part of a wall), records refined, with or without correction rays.
-RenderResult renderStarved(const Scene& scene, const EmbreeScene& accel, int correctionRays,
-                           int threads) {
-    EngineSettings engine;
-    engine.threads = threads;
-    engine.seed = 3;
-    engine.quiet = true;
-    GiSettings s = giSettings(scene, ModeOverrides{64, 0, 0});
-    s.photons = 500;
-    s.photonRounds = 1;
-    s.icCorrectionRays = correctionRays;
-    return renderGi(scene, accel, s, engine);
-}
-
-} // namespace
-
-TEST_CASE("Record correction: the records converge to the exact gather, not to the map's",
-          "[gi][cache]") {
-    auto scene = loadSceneAt("cornell-box", 32, 32);
-    EmbreeScene accel(*scene);
-    RenderOptions o;
-    o.mode = "path";
-    o.spp = 2048;
-    Image reference = render(*scene, accel, o).image;
-    RenderResult plain = renderStarved(*scene, accel, 0, 2);
-    RenderResult corrected = renderStarved(*scene, accel, 8, 2);
-    ImageMetrics before = compareImages(plain.image, reference);
-    ImageMetrics after = compareImages(corrected.image, reference);
-    INFO("mean error " << before.meanRel << " -> " << after.meanRel << ", block error "
-                       << before.blockRel << " -> " << after.blockRel);
-    CHECK(before.meanRel > 0.04);
-    CHECK(after.meanRel < before.meanRel / 3);
-    CHECK(after.blockRel < before.blockRel / 2);
-    // 8 correction rays per record wherever refinement adds its one gather ray (every record,
-    // before each pass after the first).
-    const double refineRays = extraStat(corrected, "gi/refine_rays");
-    CHECK(refineRays > 0);
-    CHECK(extraStat(corrected, "gi/ic_correction_rays") == 8 * refineRays);
-    CHECK(extraStat(plain, "gi/ic_correction_rays") == 0);
-
-    RenderResult one = renderStarved(*scene, accel, 8, 1);
-    CHECK(one.image.pixels == corrected.image.pixels);
 }

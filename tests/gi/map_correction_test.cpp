@@ -1,6 +1,8 @@
-// gi's map correction (GiSettings::mapCorrection, gi/correction_stage.h): with a global map far
-// too sparse for the scene, gi alone is biased; the correction takes that bias out of the image
-// (its expectation is path mode's), and the image stays independent of the thread count.
+// gi's map corrections, with a global map far too sparse for the scene, where gi alone is
+// biased: per pixel (GiSettings::mapCorrection, gi/correction_stage.h) the correction takes that
+// bias out of the image (its expectation is path mode's); per cache record
+// (GiSettings::icCorrectionRays, gi/cache_refinement.h) it takes it out of the records, which
+// then converge to the exact gather. Both leave the image independent of the thread count.
 #include "image/metrics.h"
 #include "test_util.h"
 
@@ -11,7 +13,12 @@ using namespace rayproc::test;
 
 namespace {
 
-RenderResult renderStarvedGi(const Scene& scene, const EmbreeScene& accel, bool correct,
+struct Correction {
+    bool perPixel = false;
+    int recordRays = 0;
+};
+
+RenderResult renderStarvedGi(const Scene& scene, const EmbreeScene& accel, Correction correct,
                              int threads) {
     EngineSettings engine;
     engine.threads = threads;
@@ -21,8 +28,16 @@ RenderResult renderStarvedGi(const Scene& scene, const EmbreeScene& accel, bool 
     // 500 photons for the Cornell box: the 64-nearest discs span a good part of a wall.
     s.photons = 500;
     s.photonRounds = 1;
-    s.mapCorrection = correct;
+    s.mapCorrection = correct.perPixel;
+    s.icCorrectionRays = correct.recordRays;
     return renderGi(scene, accel, s, engine);
+}
+
+Image pathReference(const Scene& scene, const EmbreeScene& accel) {
+    RenderOptions o;
+    o.mode = "path";
+    o.spp = 2048;
+    return render(scene, accel, o).image;
 }
 
 } // namespace
@@ -30,12 +45,9 @@ RenderResult renderStarvedGi(const Scene& scene, const EmbreeScene& accel, bool 
 TEST_CASE("gi's map correction takes a starved photon map's bias out of the image", "[gi]") {
     auto scene = loadSceneAt("cornell-box", 32, 32);
     EmbreeScene accel(*scene);
-    RenderOptions o;
-    o.mode = "path";
-    o.spp = 2048;
-    Image reference = render(*scene, accel, o).image;
-    RenderResult plain = renderStarvedGi(*scene, accel, false, 2);
-    RenderResult corrected = renderStarvedGi(*scene, accel, true, 2);
+    Image reference = pathReference(*scene, accel);
+    RenderResult plain = renderStarvedGi(*scene, accel, {}, 2);
+    RenderResult corrected = renderStarvedGi(*scene, accel, {true, 0}, 2);
     ImageMetrics before = compareImages(plain.image, reference);
     ImageMetrics after = compareImages(corrected.image, reference);
     INFO("mean error " << before.meanRel << " -> " << after.meanRel << ", block error "
@@ -52,9 +64,34 @@ TEST_CASE("gi's map correction takes a starved photon map's bias out of the imag
 TEST_CASE("gi's map correction renders the same image on 1 and 2 threads", "[gi][determinism]") {
     auto scene = loadSceneAt("cornell-box", 24, 24);
     EmbreeScene accel(*scene);
-    RenderResult one = renderStarvedGi(*scene, accel, true, 1);
-    RenderResult two = renderStarvedGi(*scene, accel, true, 2);
+    RenderResult one = renderStarvedGi(*scene, accel, {true, 0}, 1);
+    RenderResult two = renderStarvedGi(*scene, accel, {true, 0}, 2);
     REQUIRE(one.image.pixels.size() == two.image.pixels.size());
     CHECK(std::memcmp(one.image.pixels.data(), two.image.pixels.data(),
                       one.image.pixels.size() * sizeof(one.image.pixels[0])) == 0);
+}
+
+TEST_CASE("Record correction: the records converge to the exact gather, not to the map's",
+          "[gi][cache]") {
+    auto scene = loadSceneAt("cornell-box", 32, 32);
+    EmbreeScene accel(*scene);
+    Image reference = pathReference(*scene, accel);
+    RenderResult plain = renderStarvedGi(*scene, accel, {}, 2);
+    RenderResult corrected = renderStarvedGi(*scene, accel, {false, 8}, 2);
+    ImageMetrics before = compareImages(plain.image, reference);
+    ImageMetrics after = compareImages(corrected.image, reference);
+    INFO("mean error " << before.meanRel << " -> " << after.meanRel << ", block error "
+                       << before.blockRel << " -> " << after.blockRel);
+    CHECK(before.meanRel > 0.04);
+    CHECK(after.meanRel < before.meanRel / 3);
+    CHECK(after.blockRel < before.blockRel / 2);
+    // 8 correction rays per record wherever refinement adds its one gather ray (every record,
+    // before each pass after the first).
+    const double refineRays = extraStat(corrected, "gi/refine_rays");
+    CHECK(refineRays > 0);
+    CHECK(extraStat(corrected, "gi/ic_correction_rays") == 8 * refineRays);
+    CHECK(extraStat(plain, "gi/ic_correction_rays") == 0);
+
+    RenderResult one = renderStarvedGi(*scene, accel, {false, 8}, 1);
+    CHECK(one.image.pixels == corrected.image.pixels);
 }
