@@ -55,6 +55,20 @@ TEST_CASE("Inside-out furnace: Le / (1 - a) with GI, Le (1 + a) without", "[anal
         // offset origin (a photon starting on the surface could be stored at t ~ 0).
         checkMeanRadiance(renderGiMode(*scene, accel, 4).image, gi, kGiTolerance, "gi");
     }
+    SECTION("gi, the map corrected per pixel and per cache record") {
+        // The corrections' paths stand for the photons' light, so they go as deep as the
+        // photons: at gi's own depth limit (8, its specular chains') the albedo-0.8 channel
+        // came out 11% dark per pixel, 7% per record.
+        EngineSettings engine;
+        engine.threads = 2;
+        engine.seed = 1;
+        engine.quiet = true;
+        GiSettings s = giSettings(*scene, ModeOverrides{32, 0, 0});
+        s.mapCorrection = true;
+        s.icCorrectionRays = 4;
+        checkMeanRadiance(renderGi(*scene, accel, s, engine).image, gi, kGiTolerance,
+                          "gi corrected");
+    }
     SECTION("raytrace") {
         checkMeanRadiance(renderMode(*scene, accel, "raytrace", 4), direct, 0.01, "raytrace");
     }
