@@ -23,8 +23,8 @@
 //   E_i = max(0, pi (S_0 + ... + S_p) / (n_0 + ... + n_p) + pi C / m),
 // whose expectation is the exact gather's irradiance, not the map's, once the clamp no longer
 // acts: the map's bias leaves the records as m grows, at the price of path tracing's noise in
-// C (docs/irradiance-cache.md, "Correcting the records"). Surfaces the map is not read at (mirrors, glass: the gather looks
-// through them) are not corrected.
+// C (docs/irradiance-cache.md, "Correcting the records"). Surfaces the map is not read at
+// (mirrors, glass: the gather looks through them) are not corrected.
 //
 // Consumes: the cache after its prepass, the pass index. Produces: the records' irradiance for
 // the pass (IrradianceCache::setIrradiance), between passes.

@@ -37,7 +37,8 @@ class PhotonMap;
 
 // Pushes a final-gather ray's first segment (RayKind::Gather, no specular bounce yet) from
 // `origin` along `wi`: the gather stage's own (a record's or the film's gather) and the cache
-// refinement's (gi/record_emitter.h). `target` is the pixel, or the request slot with
+// refinement's (gi/record_emitter.h), which also pushes its correction rays with it
+// (RayKind::Correction, `out` being that kind's batch). `target` is the pixel, or the request slot with
 // kFlagGatherRecord; `sample` the camera sample, or the record's stratum.
 inline void pushGatherRay(RayBatch& out, const Vec3& origin, const Vec3& wi, std::uint32_t target,
                           std::uint32_t sample, const Vec3& weight, std::uint64_t rngKey,

@@ -54,9 +54,10 @@ bool RecordEmitter::emit(StageContext& ctx) {
         for (int r = 0; r < m_correction.count(); ++r) {
             Vec3 wi;
             if (!direction(m_correction, correctionKey, r, wi)) continue;
+            const std::uint64_t rayKey =
+                kernels::hashCombine(correctionKey, 0x100000u + std::uint64_t(r));
             pushGatherRay(ctx.out(RayKind::Correction), rec.gatherOrigin, wi, local, ~0u,
-                          Vec3(1.0f), kernels::hashCombine(correctionKey, 0x100000u + std::uint64_t(r)),
-                          1, 0);
+                          Vec3(1.0f), rayKey, 1, 0);
         }
     }
     return true;
