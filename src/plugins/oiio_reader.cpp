@@ -49,7 +49,20 @@ __attribute__((visibility("default"))) int rayproc_oiio_read(void* handle, float
                                                              char* error, std::size_t errorSize) {
     auto* in = static_cast<OIIO::ImageInput*>(handle);
     try {
-        if (in->read_image(0, 0, 0, in->spec().nchannels, OIIO::TypeDesc::FLOAT, pixels)) return 1;
+        const OIIO::ImageSpec& spec = in->spec();
+        if (spec.tile_width > 0) {
+            if (in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels)) return 1;
+        } else {
+            // Scanline files one row at a time: read_image converts them in chunks of many rows
+            // whatever the image's height, and a 291-byte Radiance file claiming 200,000 x 3
+            // pixels made it allocate 614 MB (the image fuzzer, stop 28).
+            const std::size_t row = std::size_t(spec.width) * std::size_t(spec.nchannels);
+            bool ok = true;
+            for (int y = 0; ok && y < spec.height; ++y)
+                ok = in->read_scanline(spec.y + y, spec.z, OIIO::TypeDesc::FLOAT,
+                                       pixels + std::size_t(y) * row);
+            if (ok) return 1;
+        }
         setError(error, errorSize, in->geterror());
     } catch (const std::exception& e) {
         setError(error, errorSize, e.what());
