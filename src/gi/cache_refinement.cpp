@@ -4,7 +4,6 @@
 #include "engine/cancel.h"
 #include "engine/film.h"
 #include "engine/intersect.h"
-#include "engine/path_stage.h"
 #include "engine/processor.h"
 #include "engine/shadow_stage.h"
 #include "gi/correction_stage.h"
@@ -56,9 +55,7 @@ void CacheRefinement::beginPass(int pass) {
     // pixel of this film (pixel i - first).
     Film film(correcting ? int(std::max<std::uint64_t>(last - first, 1)) : 1, 1);
     ShadingPolicy policy;
-    // The correction paths' depth limit: the photons' (the gather's specular chains keep
-    // their own, GiSettings::maxDepth), so a path reaches as far as the map it replaces.
-    policy.maxDepth = s.maxPhotonDepth;
+    policy.maxDepth = s.maxDepth;
     policy.icPrepass = true;
     policy.stratify = m_engine.stratification;
     policy.rouletteEnabled = s.roulette;
@@ -75,14 +72,13 @@ void CacheRefinement::beginPass(int pass) {
     Intersector intersector(m_accel.root(), m_engine.packetWidth);
     RayProcessor processor(intersector, m_stats, m_engine.threads);
     GatherStage gather(rc);
-    CorrectionStage correctionStage(rc, gather);
-    PathStage correctionPath(rc, CorrectionStage::kPathOutputs);
+    CorrectionStage correction(rc, gather);
     ShadowStage shadow(rc);
     processor.setStage(RayKind::Gather, &gather);
     processor.setStage(RayKind::GatherShadow, &gather);
     if (correcting) {
-        processor.setStage(RayKind::Correction, &correctionStage);
-        processor.setStage(RayKind::CorrectionPath, &correctionPath);
+        processor.setStage(RayKind::Correction, &correction);
+        processor.setStage(RayKind::CorrectionPath, &correction.pathStage());
         processor.setStage(RayKind::Shadow, &shadow);
     }
     const std::uint64_t key =

@@ -22,6 +22,13 @@ Vec2 uniform2(std::uint64_t key, std::uint32_t dim) {
 }
 } // namespace
 
+CorrectionStage::CorrectionStage(const RenderContext& rc, const GatherStage& gather)
+    : m_policy(rc.policy),
+      m_rc{rc.scene, rc.accel, rc.lights, m_policy, rc.film, rc.seed, rc.gi},
+      m_gather(gather), m_paths(m_rc, kPathOutputs) {
+    if (rc.gi) m_policy.maxDepth = rc.gi->settings.maxPhotonDepth;
+}
+
 void CorrectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ctx) const {
     const GiData& gi = *m_rc.gi;
     if (!gi.settings.mapCorrection || m_rc.policy.icPrepass ||

@@ -31,25 +31,32 @@ class GatherStage;
 
 class CorrectionStage : public RetraceStage {
 public:
-    CorrectionStage(const RenderContext& rc, const GatherStage& gather)
-        : m_rc(rc), m_gather(gather) {}
+    // `rc`: the render's (or the cache refinement's) context. The correction paths run in a
+    // copy of it whose policy's depth limit is the photons' (GiSettings::maxPhotonDepth): they
+    // stand for the light of the photons whose estimate they replace, while gi's own maxDepth
+    // limits its specular chains (at that depth, 8, the inside-out furnace's albedo-0.8 channel
+    // came out 11% dark).
+    CorrectionStage(const RenderContext& rc, const GatherStage& gather);
     // At the hits the gather stage takes in a render pass: one correction ray from each first
     // diffuse hit, the map replaced in place at those past a glossy bounce.
     void spawn(const RayBatch& parent, const HitList& hits, StageContext& ctx) const;
     void retrace(RayBatch& batch, StageContext& ctx) override;
-
-    // The kinds of the correction paths' rays, for the PathStage that traces them on.
-    static constexpr PathStage::Outputs kPathOutputs{RayKind::CorrectionPath,
-                                                     RayKind::CorrectionPath, RayKind::Shadow};
+    // The stage for RayKind::CorrectionPath rays: gi's PathStage, tracing the paths on.
+    RetraceStage& pathStage() { return m_paths; }
 
 private:
+    // The kinds of the correction paths' rays.
+    static constexpr PathStage::Outputs kPathOutputs{RayKind::CorrectionPath,
+                                                     RayKind::CorrectionPath, RayKind::Shadow};
     // The map's estimate at hit h of lane i of b replaced by a path vertex (above); `gatherEnd`:
     // a gather's far end, else a hit past a glossy bounce; `bsdfKey` the BSDF's stream gi used
     // there. Returns the rays spawned.
     std::uint64_t replaceMap(const RayBatch& b, int i, const SurfaceHit& h, bool gatherEnd,
                              std::uint64_t bsdfKey, StageContext& ctx) const;
-    const RenderContext& m_rc;
+    ShadingPolicy m_policy; // rc's, with the photons' depth limit
+    RenderContext m_rc;     // rc with m_policy
     const GatherStage& m_gather;
+    PathStage m_paths;
 };
 
 } // namespace rayproc

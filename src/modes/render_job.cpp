@@ -75,15 +75,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     ReflectionStage reflection(rc);
     RefractionStage refraction(rc);
     GatherStage gather(rc);
-    // gi: the photon map's correction rays, and the paths they trace on (gi/correction_stage.h),
-    // as deep as the photons whose estimate they replace go (gi's own maxDepth limits its
-    // specular chains; with it the inside-out furnace's albedo-0.8 channel came out 11% dark).
-    ShadingPolicy correctionPolicy = policy;
-    if (gi) correctionPolicy.maxDepth = gi->settings.maxPhotonDepth;
-    RenderContext correctionRc{scene, accel, lights, correctionPolicy, film, engine.seed};
-    correctionRc.gi = gi;
-    CorrectionStage correction(correctionRc, gather);
-    PathStage correctionPath(correctionRc, CorrectionStage::kPathOutputs);
+    // gi: the photon map's correction rays, and the paths they trace on (gi/correction_stage.h).
+    CorrectionStage correction(rc, gather);
     const bool correcting = gi && gi->settings.mapCorrection;
     SurfaceStage surface(rc, shadow, reflection, refraction, gi ? &gather : nullptr,
                          correcting ? &correction : nullptr);
@@ -100,7 +93,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     processor.setStage(RayKind::Gather, gi ? &gather : nullptr);
     processor.setStage(RayKind::GatherShadow, gi ? &gather : nullptr);
     processor.setStage(RayKind::Correction, correcting ? &correction : nullptr);
-    processor.setStage(RayKind::CorrectionPath, correcting ? &correctionPath : nullptr);
+    processor.setStage(RayKind::CorrectionPath, correcting ? &correction.pathStage() : nullptr);
 
     RenderResult result;
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> errorLog(nullptr, &std::fclose);
