@@ -17,8 +17,11 @@
 #include <openexr.h>
 
 #include <climits>
+#include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <new>
+#include <utility>
 
 namespace rayproc::image_detail {
 
@@ -84,6 +87,81 @@ std::string printable(const std::string& text, std::size_t limit = 40) {
     for (char c : text.substr(0, limit)) out += (c >= 32 && c < 127) ? c : '?';
     return text.size() > limit ? out + "..." : out;
 }
+
+std::uint32_t le32At(const std::string& bytes, std::size_t pos) {
+    return std::uint32_t(std::uint8_t(bytes[pos])) |
+           std::uint32_t(std::uint8_t(bytes[pos + 1])) << 8 |
+           std::uint32_t(std::uint8_t(bytes[pos + 2])) << 16 |
+           std::uint32_t(std::uint8_t(bytes[pos + 3])) << 24;
+}
+
+// The value sizes of the fixed-size attribute types the C++ library knows. It reads these many
+// bytes whatever the size field says, so a size field that disagrees moves it off the walk.
+int fixedAttributeSize(const std::string& type) {
+    static const std::pair<const char*, int> kSizes[] = {
+        {"box2i", 16},      {"box2f", 16},   {"chromaticities", 32},
+        {"compression", 1}, {"double", 8},   {"envmap", 1},
+        {"float", 4},       {"int", 4},      {"keycode", 28},
+        {"lineOrder", 1},   {"m33f", 36},    {"m33d", 72},
+        {"m44f", 64},       {"m44d", 128},   {"rational", 8},
+        {"tiledesc", 9},    {"timecode", 8}, {"v2i", 8},
+        {"v2f", 8},         {"v2d", 16},     {"v3i", 12},
+        {"v3f", 12},        {"v3d", 24},     {"deepImageState", 1}};
+    for (const auto& [name, size] : kSizes)
+        if (type == name) return size;
+    return -1;
+}
+
+// Scan lines per compressed chunk, by OpenEXR's compression code (NONE .. DWAB).
+constexpr int kLinesPerChunk[] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
+
+// Inflating one chunk: no codec OpenEXR has packs much more than deflate's 1032:1 into a byte
+// of the file; the slack admits small images in small files.
+constexpr double kMaxDecodedBytesPerFileByte = 1100.0;
+constexpr double kDecodeSlackBytes = 16.0 * 1024 * 1024;
+
+// What one part's header says about the buffers the C++ library will allocate for it.
+struct ExrPart {
+    bool hasWindow = false;
+    std::int64_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+    int compression = 0;
+    std::int64_t pixelBytes = 0; // bytes of one pixel over all channels (unsubsampled)
+    bool tiled = false;
+    std::int64_t tileW = 0, tileH = 0;
+};
+
+// Refuses a part whose chunk offset table, decoding buffer or image would be larger than the
+// file can account for: OpenEXR allocates these while opening the file (805 MB for a 16-row
+// ZIP buffer of a 4-million-pixel-wide window in a 300-byte file, found by the image fuzzer).
+void checkExrPart(const std::string& path, const ExrPart& part, std::uint64_t fileBytes) {
+    if (!part.hasWindow) return; // the library refuses a header without a data window
+    const std::int64_t w = part.x1 - part.x0 + 1, h = part.y1 - part.y0 + 1;
+    if (w <= 0 || h <= 0) throwReadError(path, "invalid EXR data window");
+    checkClaimedSize(path, w, h, fileBytes);
+    double chunks, chunkBytes;
+    if (part.tiled) {
+        if (part.tileW <= 0 || part.tileH <= 0)
+            throwReadError(path, "corrupt EXR header: a tile size of 0");
+        chunks = std::ceil(double(w) / double(part.tileW)) * std::ceil(double(h) / part.tileH);
+        chunkBytes = double(part.tileW) * double(part.tileH) * double(part.pixelBytes);
+    } else {
+        chunks = std::ceil(double(h) / kLinesPerChunk[part.compression]);
+        chunkBytes = double(w) * kLinesPerChunk[part.compression] * double(part.pixelBytes);
+    }
+    // The offset table (8 bytes a chunk, the first mip level's alone for tiled files) is in the
+    // file; every chunk's decoded bytes come from its compressed bytes in the file.
+    if (chunks * 8.0 > double(fileBytes))
+        throwReadError(path, "the header's data window needs " + std::to_string(int64_t(chunks)) +
+                                 " chunk offsets, more than a file of " +
+                                 std::to_string(fileBytes) +
+                                 " bytes can hold (corrupt or truncated file)");
+    if (chunkBytes > kMaxDecodedBytesPerFileByte * double(fileBytes) + kDecodeSlackBytes)
+        throwReadError(path, "the header claims chunks of " + std::to_string(int64_t(chunkBytes)) +
+                                 " decoded bytes, more than a file of " +
+                                 std::to_string(fileBytes) +
+                                 " bytes can hold (corrupt or truncated file)");
+}
+
 } // namespace
 
 void checkExrHeader(const std::string& path) {
@@ -95,10 +173,9 @@ void checkExrHeader(const std::string& path) {
         while ((n = std::fread(buf, 1, sizeof buf, in.get())) > 0) bytes.append(buf, n);
     }
     if (bytes.size() < 8 || bytes.compare(0, 4, "\x76\x2f\x31\x01") != 0) return;
-    const std::uint32_t flags = std::uint32_t(std::uint8_t(bytes[5])) |
-                                std::uint32_t(std::uint8_t(bytes[6])) << 8 |
-                                std::uint32_t(std::uint8_t(bytes[7])) << 16;
-    const bool multipart = (flags & 0x1000u) != 0; // bit 12 of the version field
+    const std::uint32_t flags = le32At(bytes, 4) >> 8;
+    const bool multipart = (flags & 0x10u) != 0; // bit 12 of the version field
+    const bool tiledFile = (flags & 0x02u) != 0; // bit 9: a single-part tiled file
     std::size_t pos = 8;
     auto cString = [&]() {
         std::size_t end = bytes.find('\0', pos);
@@ -109,39 +186,80 @@ void checkExrHeader(const std::string& path) {
     };
     for (;;) { // one header, or with multipart a list of headers closed by an empty one
         if (multipart && pos < bytes.size() && bytes[pos] == '\0') break;
+        ExrPart part;
+        part.tiled = tiledFile;
         for (;;) {
             std::string name = cString();
             if (name.empty()) break;
             std::string type = cString();
             if (bytes.size() - pos < 4) throwReadError(path, "truncated EXR header");
-            std::uint32_t size = std::uint32_t(std::uint8_t(bytes[pos])) |
-                                 std::uint32_t(std::uint8_t(bytes[pos + 1])) << 8 |
-                                 std::uint32_t(std::uint8_t(bytes[pos + 2])) << 16 |
-                                 std::uint32_t(std::uint8_t(bytes[pos + 3])) << 24;
+            const std::uint32_t size = le32At(bytes, pos);
             pos += 4;
+            const std::string what =
+                "the attribute \"" + printable(name) + "\" (" + printable(type) + ")";
             if (size > bytes.size() - pos)
-                throwReadError(path, "corrupt EXR header: the attribute \"" + printable(name) +
-                                         "\" (" + printable(type) + ") claims " +
-                                         std::to_string(size) +
-                                         " bytes, but the file has " +
+                throwReadError(path, "corrupt EXR header: " + what + " claims " +
+                                         std::to_string(size) + " bytes, but the file has " +
                                          std::to_string(bytes.size() - pos) + " left");
-            // The C++ library reads a channel list up to its terminating NUL, not by its size:
-            // the two must agree, or the library reads the attributes after it from other
-            // offsets (a 1.1 GB opaque attribute, found by the fuzzer).
-            if (type == "chlist") {
-                std::size_t end = pos + size, p = pos;
+            // The C++ library reads most types by their layout, not by the size field: the two
+            // must agree, or it reads the attributes after this one from other offsets (a 1.1
+            // GB opaque attribute, found by the fuzzer).
+            auto disagree = [&](const std::string& detail) {
+                throwReadError(path, "corrupt EXR header: " + what + " is " + std::to_string(size) +
+                                         " bytes long, but " + detail);
+            };
+            const std::size_t end = pos + size;
+            if (int fixed = fixedAttributeSize(type); fixed >= 0) {
+                if (size != std::uint32_t(fixed))
+                    disagree("a " + type + " is " + std::to_string(fixed) + " bytes");
+            } else if (type == "chlist") {
+                std::size_t p = pos;
                 while (p < end && bytes[p] != '\0') {
                     std::size_t nameEnd = bytes.find('\0', p);
-                    if (nameEnd == std::string::npos || nameEnd >= end) break;
-                    p = nameEnd + 1 + 16; // pixel type, pLinear, reserved, x and y sampling
+                    if (nameEnd == std::string::npos || nameEnd + 17 > end) break;
+                    // Pixel type (UINT, HALF, FLOAT), pLinear, reserved, x and y sampling.
+                    const std::uint32_t pixelType = le32At(bytes, nameEnd + 1);
+                    part.pixelBytes += pixelType == 1 ? 2 : 4;
+                    p = nameEnd + 1 + 16;
                 }
                 if (size == 0 || p != end - 1)
-                    throwReadError(path, "corrupt EXR header: the channel list's entries do not "
-                                         "end where its size (" + std::to_string(size) +
-                                         " bytes) says");
+                    disagree("the channel list's entries do not end there");
+            } else if (type == "stringvector") {
+                std::size_t p = pos;
+                while (p < end) {
+                    if (end - p < 4) break;
+                    p += 4 + std::size_t(le32At(bytes, p));
+                }
+                if (p != end) disagree("its strings do not end there");
+            } else if (type == "floatvector") {
+                if (size % 4 != 0) disagree("floats are 4 bytes each");
+            } else if (type == "preview") {
+                if (size < 8 ||
+                    std::uint64_t(le32At(bytes, pos)) * le32At(bytes, pos + 4) * 4 != size - 8)
+                    disagree("a preview image of that width and height is not");
+            } else if (type == "idmanifest") {
+                if (size < 8) disagree("a manifest has at least 8");
             }
-            pos += size;
+            if (type == "box2i" && name == "dataWindow") {
+                part.hasWindow = true;
+                part.x0 = std::int32_t(le32At(bytes, pos));
+                part.y0 = std::int32_t(le32At(bytes, pos + 4));
+                part.x1 = std::int32_t(le32At(bytes, pos + 8));
+                part.y1 = std::int32_t(le32At(bytes, pos + 12));
+            } else if (type == "compression" && name == "compression") {
+                part.compression = std::uint8_t(bytes[pos]);
+                if (part.compression >= int(std::size(kLinesPerChunk)))
+                    throwReadError(path, "corrupt EXR header: unknown compression " +
+                                             std::to_string(part.compression));
+            } else if (type == "tiledesc" && name == "tiles") {
+                part.tileW = le32At(bytes, pos);
+                part.tileH = le32At(bytes, pos + 4);
+            } else if (type == "string" && name == "type") {
+                part.tiled = bytes.compare(pos, size, "tiledimage") == 0;
+            }
+            pos = end;
         }
+        checkExrPart(path, part, bytes.size());
         if (!multipart) break;
     }
 
@@ -166,11 +284,11 @@ void checkExrHeader(const std::string& path) {
     exr_result_t r = exr_start_read(&ctx, path.c_str(), &init);
     if (ctx) exr_finish(&ctx);
     if (r != EXR_ERR_SUCCESS)
-        throwReadError(path, "corrupt EXR header: " +
-                                 printable(coreError.message.empty()
-                                               ? exr_get_default_error_message(r)
-                                               : coreError.message,
-                                           160));
+        throwReadError(path,
+                       "corrupt EXR header: " + printable(coreError.message.empty()
+                                                              ? exr_get_default_error_message(r)
+                                                              : coreError.message,
+                                                          160));
 }
 
 Image readExr(const std::string& path) {

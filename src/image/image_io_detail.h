@@ -28,8 +28,10 @@ std::uint64_t fileSize(const std::string& path);
 
 // Walks an OpenEXR file's header(s) before OpenEXR reads them: OpenEXR allocates whatever an
 // attribute's size field says (1.2 GB from a 160-byte file, found by tests/fuzz/image_fuzzer).
-// Throws a read error when an attribute claims more bytes than the file has left, or the header
-// runs past the end of the file. Returns normally for files without the EXR magic number.
+// Throws a read error when an attribute claims more bytes than the file has left or has a size
+// the C++ library would not read it by, when the header runs past the end of the file, or when
+// a part's chunk offset table or decoding buffer would be larger than the file accounts for.
+// Returns normally for files without the EXR magic number.
 void checkExrHeader(const std::string& path);
 
 // Writes a file under a temporary name in the destination's directory and renames it onto the

@@ -4,10 +4,21 @@
 
 #include <catch2/catch.hpp>
 
+#include <ImfBoxAttribute.h>
 #include <ImfChannelList.h>
+#include <ImfFloatVectorAttribute.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfKeyCodeAttribute.h>
+#include <ImfMatrixAttribute.h>
 #include <ImfOutputFile.h>
+#include <ImfPreviewImageAttribute.h>
+#include <ImfRationalAttribute.h>
+#include <ImfStandardAttributes.h>
+#include <ImfStringVectorAttribute.h>
+#include <ImfTiledOutputFile.h>
+#include <ImfTimeCodeAttribute.h>
+#include <ImfVecAttribute.h>
 
 #include <algorithm>
 #include <atomic>
@@ -415,8 +426,8 @@ TEST_CASE("Headers that claim more than their file holds are refused before allo
                                                 "1212747008 bytes, but the file has 2 left"));
     CHECK_THROWS_WITH(checkImageHeader(exrPath), Catch::Matchers::Contains("claims"));
     // A header cut short.
-    std::string cut = writeBytes("cut.exr", std::string("\x76\x2f\x31\x01\x02\x00\x00\x00", 8) +
-                                                "channels");
+    std::string cut =
+        writeBytes("cut.exr", std::string("\x76\x2f\x31\x01\x02\x00\x00\x00", 8) + "channels");
     CHECK_THROWS_WITH(readImage(cut), Catch::Matchers::Contains("truncated EXR header"));
 
     // PNG: an IHDR of 15000 x 15000 pixels (within stb_image's own 2^30-byte limit; it would
@@ -428,8 +439,8 @@ TEST_CASE("Headers that claim more than their file holds are refused before allo
         return s;
     };
     ihdr += be32(15000) + be32(15000) + std::string("\x08\x02\x00\x00\x00", 5);
-    std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + ihdr + be32(0) +
-                      be32(0) + "IEND" + be32(0);
+    std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + ihdr + be32(0) + be32(0) +
+                      "IEND" + be32(0);
     std::string pngPath = writeBytes("huge.png", png);
     CHECK_THROWS_WITH(readImage(pngPath),
                       Catch::Matchers::Contains("claims 15000x15000 pixels, more than a file of"));
@@ -461,4 +472,159 @@ TEST_CASE("Headers that claim more than their file holds are refused before allo
     writeImage(good, makeTestImage(5, 3));
     CHECK_NOTHROW(checkImageHeader(good));
     CHECK(readImage(good).width == 5);
+}
+
+namespace {
+
+// An EXR of w x h pixels (float R, G, B; value (x + 2y) / 64 in every channel) written by
+// OpenEXR itself with `compression` and, besides the standard ones, attributes of every kind
+// the library reads by their layout rather than by their size field.
+void writeExrWith(const std::string& path, int w, int h, Imf::Compression compression, bool tiled) {
+    Imf::Header header(w, h);
+    header.compression() = compression;
+    header.insert("names", Imf::StringVectorAttribute({"key", "", "fill light"}));
+    header.insert("weights", Imf::FloatVectorAttribute({0.5f, 2.0f}));
+    header.insert("box", Imf::Box2iAttribute(Imath::Box2i({1, 2}, {3, 4})));
+    header.insert("toWorld", Imf::M44dAttribute(Imath::M44d()));
+    header.insert("origin", Imf::V3dAttribute(Imath::V3d(1, 2, 3)));
+    header.insert("rate", Imf::RationalAttribute(Imf::Rational(24000, 1001)));
+    header.insert("frame", Imf::TimeCodeAttribute(Imf::TimeCode(1, 2, 3, 4)));
+    header.insert("film", Imf::KeyCodeAttribute(Imf::KeyCode()));
+    Imf::addChromaticities(header, Imf::Chromaticities());
+    Imf::PreviewImage preview(3, 2);
+    header.insert("preview", Imf::PreviewImageAttribute(preview));
+    std::vector<float> values(std::size_t(w) * h * 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c)
+                values[(std::size_t(y) * w + x) * 3 + c] = (x + 2 * y) / 64.f;
+    const char* const names[3] = {"R", "G", "B"};
+    Imf::FrameBuffer frameBuffer;
+    for (int c = 0; c < 3; ++c) {
+        header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
+        frameBuffer.insert(names[c],
+                           Imf::Slice::Make(Imf::FLOAT, values.data() + c, header.dataWindow(),
+                                            3 * sizeof(float), 3 * sizeof(float) * w));
+    }
+    if (tiled) {
+        // Mip-mapped 16 x 16 tiles; every level is written from the same buffer's top-left.
+        header.setTileDescription(Imf::TileDescription(16, 16, Imf::MIPMAP_LEVELS));
+        Imf::TiledOutputFile file(path.c_str(), header);
+        for (int level = 0; level < file.numLevels(); ++level) {
+            Imf::FrameBuffer levelBuffer;
+            const std::size_t rowBytes = 3 * sizeof(float) * file.levelWidth(level);
+            for (int c = 0; c < 3; ++c)
+                levelBuffer.insert(names[c], Imf::Slice(Imf::FLOAT,
+                                                        reinterpret_cast<char*>(values.data() + c),
+                                                        3 * sizeof(float), rowBytes));
+            file.setFrameBuffer(levelBuffer);
+            file.writeTiles(0, file.numXTiles(level) - 1, 0, file.numYTiles(level) - 1, level);
+        }
+        return;
+    }
+    Imf::OutputFile file(path.c_str(), header);
+    file.setFrameBuffer(frameBuffer);
+    file.writePixels(h);
+}
+
+std::string readAll(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void writeAll(const std::string& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary) << bytes;
+}
+
+// The offset of the value of the header attribute `name` of type `type` (its size field is the
+// four bytes before it).
+std::size_t attributeValue(const std::string& bytes, const std::string& name,
+                           const std::string& type) {
+    std::size_t at = bytes.find(name + std::string(1, '\0') + type + std::string(1, '\0'));
+    REQUIRE(at != std::string::npos);
+    return at + name.size() + type.size() + 2 + 4;
+}
+
+void putLe32(std::string& bytes, std::size_t at, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes[at + i] = char((v >> (8 * i)) & 0xff);
+}
+
+} // namespace
+
+TEST_CASE("EXR files of every compression, tiled or not, with attributes of every kind read back",
+          "[image]") {
+    // The header walk in front of OpenEXR (exr_io.cpp) must refuse nothing OpenEXR writes.
+    TempDir dir;
+    const Imf::Compression compressions[] = {
+        Imf::NO_COMPRESSION,   Imf::RLE_COMPRESSION,   Imf::ZIPS_COMPRESSION, Imf::ZIP_COMPRESSION,
+        Imf::PIZ_COMPRESSION,  Imf::PXR24_COMPRESSION, Imf::B44_COMPRESSION,  Imf::B44A_COMPRESSION,
+        Imf::DWAA_COMPRESSION, Imf::DWAB_COMPRESSION};
+    for (Imf::Compression compression : compressions)
+        for (bool tiled : {false, true}) {
+            const bool lossy =
+                compression == Imf::PXR24_COMPRESSION || compression == Imf::B44_COMPRESSION ||
+                compression == Imf::B44A_COMPRESSION || compression == Imf::DWAA_COMPRESSION ||
+                compression == Imf::DWAB_COMPRESSION;
+            CAPTURE(int(compression), tiled);
+            std::string path =
+                dir.file("c" + std::to_string(int(compression)) + (tiled ? "-tiled.exr" : ".exr"));
+            writeExrWith(path, 37, 21, compression, tiled);
+            REQUIRE_NOTHROW(checkImageHeader(path));
+            Image img = readImage(path);
+            REQUIRE(img.width == 37);
+            REQUIRE(img.height == 21);
+            float worst = 0.f;
+            for (int y = 0; y < 21; ++y)
+                for (int x = 0; x < 37; ++x)
+                    worst = std::max(worst, std::abs(img.at(x, y)[0] - (x + 2 * y) / 64.f));
+            CHECK(worst <= (lossy ? 0.05f : 0.f));
+        }
+}
+
+TEST_CASE("EXR headers whose fields disagree with what OpenEXR would allocate are refused",
+          "[image]") {
+    TempDir dir;
+    std::string base = dir.file("base.exr");
+    writeExrWith(base, 6, 1, Imf::ZIP_COMPRESSION, false);
+    const std::string good = readAll(base);
+    REQUIRE_NOTHROW(readImage(base));
+    auto refused = [&](const std::string& name, const std::string& bytes) {
+        std::string path = dir.file(name);
+        writeAll(path, bytes);
+        return ioErrorMessage([&] { readImage(path); });
+    };
+
+    // A one-row ZIP image 4,194,305 pixels wide in a file of a few hundred bytes: OpenEXR's
+    // 16-row decoding buffer would be 805 MB (found by the image fuzzer).
+    std::string wide = good;
+    putLe32(wide, attributeValue(wide, "dataWindow", "box2i") + 8, 4194304);
+    CHECK_THAT(refused("wide.exr", wide),
+               Catch::Contains("the header claims chunks of 805306560 decoded bytes"));
+
+    // A 1-pixel-wide image of 100,000 rows: its offset table alone would be 800 kB.
+    std::string tall = good;
+    putLe32(tall, attributeValue(tall, "dataWindow", "box2i") + 8, 0);
+    putLe32(tall, attributeValue(tall, "dataWindow", "box2i") + 12, 99999);
+    CHECK_THAT(refused("tall.exr", tall),
+               Catch::Contains("needs 6250 chunk offsets, more than a file of"));
+
+    // Size fields that disagree with the layout the library reads by: it would go on reading
+    // the attributes after them from other offsets.
+    std::string box = good;
+    putLe32(box, attributeValue(box, "box", "box2i") - 4, 12);
+    CHECK_THAT(refused("box.exr", box),
+               Catch::Contains("the attribute \"box\" (box2i) is 12 bytes long, but a box2i is "
+                               "16 bytes"));
+    std::string strings = good;
+    putLe32(strings, attributeValue(strings, "names", "stringvector"), 9); // "key" is 3 long
+    CHECK_THAT(refused("strings.exr", strings),
+               Catch::Contains("\"names\" (stringvector)") &&
+                   Catch::Contains("its strings do not end there"));
+    std::string floats = good;
+    putLe32(floats, attributeValue(floats, "weights", "floatvector") - 4, 7);
+    CHECK_THAT(refused("floats.exr", floats), Catch::Contains("floats are 4 bytes each"));
+    std::string preview = good;
+    putLe32(preview, attributeValue(preview, "preview", "preview"), 3000); // width
+    CHECK_THAT(refused("preview.exr", preview),
+               Catch::Contains("a preview image of that width and height is not"));
 }
