@@ -420,8 +420,9 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--ic-correction-rays", args->icCorrectionRays,
                     "gi: path-traced correction rays every cache record adds before each render "
                     "pass: the global photon map's bias leaves the records as passes accumulate "
-                    "(a control variate; consistent but noisy: the sunlit classroom gains, "
-                    "scenes whose map is right lose; default 0: off)")
+                    "(a control variate: the records converge to the exact final gather's "
+                    "irradiance, not the map's; default 4; 0: off, the records keep the map's "
+                    "bias)")
         ->check(CLI::Range(0, 65536));
     cmd->add_flag("--no-irradiance-cache", args->noCache,
                   "gi: final gather at every diffuse hit instead of interpolating cached records");

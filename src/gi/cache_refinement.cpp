@@ -13,6 +13,8 @@
 #include "gi/record_emitter.h"
 #include "kernels/random.h"
 
+#include <algorithm>
+
 namespace rayproc {
 
 CacheRefinement::CacheRefinement(const Scene& scene, const EmbreeScene& accel,
@@ -32,6 +34,39 @@ CacheRefinement::CacheRefinement(const Scene& scene, const EmbreeScene& accel,
         m_counts[i] = std::uint64_t(std::max(r.gatherRays, 1));
     }
     m_corrections.assign(3 * records.size(), 0.0);
+    m_correctionSquares.assign(records.size(), 0.0);
+}
+
+double shrinkageWeight(const std::vector<double>& means, const std::vector<double>& variances) {
+    double squares = 0.0, noise = 0.0;
+    for (std::size_t i = 0; i < means.size(); ++i) {
+        squares += means[i] * means[i];
+        noise += variances[i];
+    }
+    if (!(squares > 0.0)) return 0.0;
+    return std::clamp(1.0 - noise / squares, 0.0, 1.0);
+}
+
+namespace {
+double luminanceAt(const std::vector<double>& rgb, std::size_t i) {
+    return 0.2126 * rgb[3 * i] + 0.7152 * rgb[3 * i + 1] + 0.0722 * rgb[3 * i + 2];
+}
+} // namespace
+
+double CacheRefinement::estimateCorrectionWeight() const {
+    // Each record's mean correction per ray and that mean's variance, from the spread of its
+    // per-pass means: P passes give P - 1 degrees of freedom, so none before the second pass.
+    const std::uint64_t passes = m_correctionPasses;
+    if (passes < 2) return 0.0;
+    std::vector<double> means(m_correctionSquares.size()), variances(means.size());
+    for (std::size_t i = 0; i < means.size(); ++i) {
+        const double b = luminanceAt(m_corrections, i) / double(m_correctionCount);
+        const double spread =
+            std::max(0.0, m_correctionSquares[i] - double(passes) * b * b) / double(passes - 1);
+        means[i] = b;
+        variances[i] = spread / double(passes);
+    }
+    return shrinkageWeight(means, variances);
 }
 
 void CacheRefinement::beginPass(int pass) {
@@ -108,8 +143,16 @@ void CacheRefinement::beginPass(int pass) {
         for (std::size_t j = 0; j < 3 * std::size_t(last - first); ++j)
             corrections[3 * std::size_t(first) + j] = mine[j];
         m_cluster.sumAll(corrections);
-        m_correctionCount += std::uint64_t(emitter.correctionRaysPerRecord());
-        m_correctionRays += std::uint64_t(emitter.correctionRaysPerRecord()) * records.size();
+        const int perPass = std::max(emitter.correctionRaysPerRecord(), 1);
+        m_correctionCount += std::uint64_t(perPass);
+        m_correctionRays += std::uint64_t(perPass) * records.size();
+        ++m_correctionPasses;
+        for (std::size_t i = 0; i < records.size(); ++i) {
+            const double c = luminanceAt(corrections, i) / double(perPass);
+            m_correctionSquares[i] += c * c;
+        }
+        for (std::size_t j = 0; j < corrections.size(); ++j) m_corrections[j] += corrections[j];
+        m_correctionWeight = estimateCorrectionWeight();
     }
     for (std::size_t i = 0; i < records.size(); ++i) {
         const std::uint64_t rays = sums[4 * i + 3];
@@ -121,11 +164,9 @@ void CacheRefinement::beginPass(int pass) {
             double& sum = m_sums[3 * i + std::size_t(c)];
             sum += double(std::int64_t(sums[4 * i + std::size_t(c)])) / IcRequest::kScale;
             double irradiance = kPi * sum / double(m_counts[i]);
-            if (correcting) {
-                double& corrected = m_corrections[3 * i + std::size_t(c)];
-                corrected += corrections[3 * i + std::size_t(c)];
-                irradiance += kPi * corrected / double(m_correctionCount);
-            }
+            if (correcting)
+                irradiance += m_correctionWeight * kPi * m_corrections[3 * i + std::size_t(c)] /
+                              double(m_correctionCount);
             // Clamped at zero, the correction too: while it is noisy that biases the record up
             // (the sunlit room of the gather-direct test: +1% at 16 spp), but an unclamped one
             // made veach-mis's dark plates noisy (docs/irradiance-cache.md); once the record

@@ -12,7 +12,7 @@
 // change. The film averages the passes, so an early pass's cruder records keep their share
 // (1 / passes) of the image.
 //
-// Correction (`GiSettings::icCorrectionRays`, off by default): the map's bias at the records,
+// Correction (`GiSettings::icCorrectionRays`, 4 by default): the map's bias at the records,
 // taken out with the passes. Each record also traces that many RayKind::Correction rays per
 // pass (cosine strata from its gather origin); at a ray's far end the correction stage
 // subtracts the map's estimate exactly as a gather reads it and traces a path in its place
@@ -20,11 +20,15 @@
 // photons go; the sun's and the sky's direct light, which the gather samples itself, left out
 // of both). What the paths find goes to the record's pixel of the pass's film. A control
 // variate: with C the sums of a record's corrections over its m correction rays so far,
-//   E_i = max(0, pi (S_0 + ... + S_p) / (n_0 + ... + n_p) + pi C / m),
-// whose expectation is the exact gather's irradiance, not the map's, once the clamp no longer
-// acts: the map's bias leaves the records as m grows, at the price of path tracing's noise in
-// C (docs/irradiance-cache.md, "Correcting the records"). Surfaces the map is not read at
-// (mirrors, glass: the gather looks through them) are not corrected.
+//   E_i = max(0, pi (S_0 + ... + S_p) / (n_0 + ... + n_p) + w pi C / m),
+// whose expectation is the exact gather's irradiance, not the map's, once w = 1 and the clamp
+// no longer acts. w is one weight for the whole cache (shrinkageWeight below, on the records'
+// mean corrections and their variances across passes): where the map is right the corrections
+// are only noise and w stays near 0; where it is biased, or once the corrections' noise has
+// fallen, w goes to 1 (docs/irradiance-cache.md, "Correcting the records"). One weight for all
+// records selects none by its own noise (a per-record weight did, and biased the image).
+// Surfaces the map is not read at (mirrors, glass: the gather looks through them) are not
+// corrected.
 //
 // Consumes: the cache after its prepass, the pass index. Produces: the records' irradiance for
 // the pass (IrradianceCache::setIrradiance), between passes.
@@ -48,6 +52,13 @@ class IrradianceCache;
 struct LightSet;
 struct Scene;
 
+// The common weight w in [0, 1] for estimates b_i of quantities beta_i, given each estimate's
+// variance v_i: positive-part James-Stein towards zero with one weight for all,
+//   w = max(0, 1 - sum(v_i) / sum(b_i^2)),
+// which estimates the w minimising sum((w b_i - beta_i)^2), sum(beta^2) / (sum(beta^2) +
+// sum(v)), because E[b_i^2] = beta_i^2 + v_i. 0 when every b_i is 0.
+double shrinkageWeight(const std::vector<double>& means, const std::vector<double>& variances);
+
 class CacheRefinement {
 public:
     CacheRefinement(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
@@ -59,6 +70,8 @@ public:
     std::uint64_t raysGathered() const { return m_rays; }
     // Correction rays traced so far, over all records (those below a record's surface too).
     std::uint64_t correctionRays() const { return m_correctionRays; }
+    // The weight w the records' corrections are applied with in the current pass (0 to 1).
+    double correctionWeight() const { return m_correctionWeight; }
 
 private:
     const Scene& m_scene;
@@ -77,6 +90,13 @@ private:
     // record has had (the same for all).
     std::vector<double> m_corrections;
     std::uint64_t m_correctionCount = 0, m_correctionRays = 0;
+    // Per record: the sum over passes of its per-pass mean correction's luminance, squared;
+    // the passes that corrected; the weight the corrections are applied with.
+    std::vector<double> m_correctionSquares;
+    std::uint64_t m_correctionPasses = 0;
+    double m_correctionWeight = 0.0;
+
+    double estimateCorrectionWeight() const;
 };
 
 } // namespace rayproc

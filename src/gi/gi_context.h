@@ -80,10 +80,11 @@ struct GiSettings {
     int icRefineRays = 1;
     // Correction paths each cache record traces before every render pass after the first: a
     // control variate on the global map at the records (gi/cache_refinement.h), so the
-    // records converge to the exact gather, not to the map's biased one (the classroom at
-    // 90 s, 4 rays: mean 8% dark -> 1%, relMSE 0.016 -> 0.0091; as noisy as path where the
-    // map is right, so off by default); 0: off.
-    int icCorrectionRays = 0;
+    // records converge to the exact gather, not to the map's biased one. Applied with a
+    // cache-wide weight that grows as they prove larger than their noise (the classroom at
+    // 90 s: mean 8% dark -> 3%, relMSE 0.016 -> 0.009; where the map is already right they
+    // cost 3-9% of the time to relMSE 0.01: docs/irradiance-cache.md); 0: off.
+    int icCorrectionRays = 4;
     bool irradianceCache = true;
     bool icGradients = true;     // Ward & Heckbert's gradients in the cache's interpolation
     bool caustics = true;

@@ -480,6 +480,8 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     extras.push_back({"gi/refine_rays", refinement ? double(refinement->raysGathered()) : 0.0});
     extras.push_back({"gi/ic_correction_rays",
                       refinement ? double(refinement->correctionRays()) : 0.0});
+    extras.push_back({"gi/ic_correction_weight",
+                      refinement ? refinement->correctionWeight() : 0.0});
     extras.push_back({"gi/cache_lookups", double(t.cacheLookups)});
     extras.push_back({"gi/cache_hit_rate", t.cacheLookups ? double(t.cacheHits) / double(t.cacheLookups) : 0.0});
     double gatherSeconds = t.stages[int(StageId::Gather)].seconds;

@@ -5,7 +5,11 @@
 // error against it falls to a fraction; the rays added are exactly records x rays x passes; the
 // image does not depend on the thread count. (Correction rays, which take the map's own bias
 // out of the records: tests/gi/map_correction_test.cpp.)
+#include "gi/cache_refinement.h"
+#include "kernels/random.h"
 #include "test_util.h"
+
+#include <cmath>
 
 using namespace rayproc;
 using namespace rayproc::test;
@@ -23,6 +27,7 @@ RenderResult render(const Scene& scene, const EmbreeScene& accel, int gatherRays
     s.gatherRays = gatherRays;
     s.filmGatherRays = 64; // cache misses: the same gathers in every render
     s.icRefineRays = refineRays;
+    s.icCorrectionRays = 0; // refinement alone: the same map's exact gather is the target
     return renderGi(scene, accel, s, engine);
 }
 
@@ -53,4 +58,33 @@ TEST_CASE("Cache refinement: records gather on during the render and their noise
 
     RenderResult one = render(*scene, accel, 4, 8, 1);
     CHECK(one.image.pixels == refined.image.pixels);
+}
+
+TEST_CASE("Record corrections' weight: one James-Stein weight from the means and their noise",
+          "[gi][cache]") {
+    // Exact cases: 1 - sum(v) / sum(b^2).
+    CHECK(shrinkageWeight({3.0, 4.0}, {5.0, 0.0}) == Approx(0.8));
+    CHECK(shrinkageWeight({0.0, 0.0}, {1.0, 1.0}) == 0.0); // nothing to apply
+    CHECK(shrinkageWeight({}, {}) == 0.0);
+    CHECK(shrinkageWeight({1.0}, {2.0}) == 0.0);          // clamped at 0
+    CHECK(shrinkageWeight({-2.0, 2.0}, {0.0, 0.0}) == 1.0); // noiseless: all of it
+
+    // Simulated: 4000 means b_i = beta_i + noise of variance v. Pure noise (beta = 0) gets a
+    // weight near 0; a bias as large as the noise about half (the optimum beta^2 / (beta^2 +
+    // v) = 0.5); a bias 10 times the noise's deviation about 0.99.
+    auto weightFor = [](double beta, double v) {
+        std::vector<double> means, variances;
+        for (std::uint64_t i = 0; i < 4000; ++i) {
+            // A standard normal from two uniforms (Box-Muller).
+            double u1 = std::max(double(kernels::uniform(i, 0)), 1e-12);
+            double u2 = kernels::uniform(i, 1);
+            double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+            means.push_back(beta + std::sqrt(v) * z);
+            variances.push_back(v);
+        }
+        return shrinkageWeight(means, variances);
+    };
+    CHECK(weightFor(0.0, 1.0) < 0.1);
+    CHECK(weightFor(1.0, 1.0) == Approx(0.5).margin(0.05));
+    CHECK(weightFor(10.0, 1.0) == Approx(0.99).margin(0.005));
 }

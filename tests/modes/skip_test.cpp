@@ -59,6 +59,7 @@ struct Run {
     bool stratify = true;
     bool roulette = true;
     int spp = 4;
+    bool recordCorrections = true; // gi: GiSettings::icCorrectionRays as by default, else 0
 };
 
 RenderResult renderRun(const Scene& scene, const EmbreeScene& accel, const Run& r) {
@@ -81,6 +82,7 @@ RenderResult renderRun(const Scene& scene, const EmbreeScene& accel, const Run& 
         s.causticPhotons = 20000;
         s.gatherRays = 16;
         s.roulette = r.roulette;
+        if (!r.recordCorrections) s.icCorrectionRays = 0;
         return renderGi(scene, accel, s, e);
     }
     RaytraceSettings s = raytraceSettings(scene.render, o);
@@ -94,15 +96,19 @@ const StageCounters& stage(const RenderResult& r, StageId id) { return r.stats.t
 struct Pair {
     RenderResult analysed, full;
 };
-Pair renderBoth(const Scene& scene, const EmbreeScene& accel, const std::string& mode, int spp = 4) {
-    Run r;
-    r.mode = mode;
-    r.spp = spp;
+Pair renderBoth(const Scene& scene, const EmbreeScene& accel, Run r) {
     Pair p;
     p.analysed = renderRun(scene, accel, r);
     r.analysis = false;
     p.full = renderRun(scene, accel, r);
     return p;
+}
+
+Pair renderBoth(const Scene& scene, const EmbreeScene& accel, const std::string& mode, int spp = 4) {
+    Run r;
+    r.mode = mode;
+    r.spp = spp;
+    return renderBoth(scene, accel, r);
 }
 
 // Per pixel, the channel mean of a - b; pixels are independent estimates (their random
@@ -257,13 +263,22 @@ TEST_CASE("Scene analysis: zero-power lights are not sampled", "[skip]") {
     CHECK_FALSE(plan.deltaLightsOnly);
 
     // Raytrace, preview and gi sample every light by itself (photons pick lights by power, and
-    // zero power is never picked): bit-identical. Path mode picks one light per vertex
-    // uniformly: dropping two of three changes the picks, not the expectation.
+    // zero power is never picked): bit-identical. Path mode, and gi's record corrections (a
+    // path vertex each), pick one light per vertex uniformly: dropping two of three changes the
+    // picks, not the expectation.
     for (const std::string& mode : {"preview", "raytrace", "gi"}) {
         INFO("mode " << mode);
-        Pair p = renderBoth(*scene, accel, mode);
+        Run r;
+        r.mode = mode;
+        r.recordCorrections = false;
+        Pair p = renderBoth(*scene, accel, r);
         CHECK(p.analysed.image.pixels == p.full.image.pixels);
     }
+    Run corrected;
+    corrected.mode = "gi";
+    corrected.spp = 16;
+    Pair g = renderBoth(*scene, accel, corrected);
+    CHECK(std::abs(meanDifferenceZ(g.analysed.image, g.full.image)) < 4.0);
     Pair p = renderBoth(*scene, accel, "path", 16);
     CHECK(std::abs(meanDifferenceZ(p.analysed.image, p.full.image)) < 4.0);
     // Two of three picks wasted on nothing before: more shadow rays reach the real light now.
