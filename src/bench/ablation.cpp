@@ -80,7 +80,7 @@ RenderConfig baseConfig(const BenchScene& b, const BenchSuite& suite, const std:
         const GiVariant& v = suite.giVariants.front();
         c.gi.gatherRays = v.gatherRays;
         c.gi.icAccuracy = v.icAccuracy;
-        c.gi.photons = c.gi.causticPhotons = v.photons;
+        c.gi.photons = v.photons;
     }
     return c;
 }

@@ -38,7 +38,7 @@ std::vector<RenderConfig> ladderConfigs(const BenchScene& b, const BenchSuite& s
         RenderConfig c = base;
         c.gi.gatherRays = v.gatherRays;
         c.gi.icAccuracy = v.icAccuracy;
-        c.gi.photons = c.gi.causticPhotons = v.photons;
+        c.gi.photons = v.photons;
         configs.push_back(c);
     }
     return configs;

@@ -20,7 +20,9 @@ struct ModeLadder {
 struct GiVariant {
     int gatherRays = 64;
     float icAccuracy = 0.25f;
-    int photons = 200000; // global and caustic map alike
+    // The global map's photons per round. The caustic map keeps gi's default (one photon per
+    // pixel, 50,000 to 1,000,000 per pass), as `rayproc render` would use.
+    int photons = 200000;
 };
 
 // A scene of a suite. A reference shipped with the source tree (the golden path images of

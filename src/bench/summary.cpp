@@ -129,7 +129,7 @@ std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContex
           << "- Budgets (`--progressive`): each mode renders once with its defaults (gi: "
           << suite.giVariants.front().gatherRays << " gather rays, IC accuracy "
           << suite.giVariants.front().icAccuracy << ", " << suite.giVariants.front().photons
-          << " photons per map), in passes of 1 spp until its time limit (the settings' "
+          << " global photons per round, the caustic map's default), in passes of 1 spp until its time limit (the settings' "
              "`time-limit`), and its error is measured after every pass: each point of a curve "
              "is one pass of one render, as a user's time-limited render would show it. A "
              "curve is the render's lower envelope (the best error reached by each time).\n";
@@ -145,7 +145,8 @@ std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContex
         }
         o << ". A ladder stops before a render predicted to take longer than "
           << secs(ctx.timeCapSeconds > 0 ? ctx.timeCapSeconds : suite.timeCapSeconds) << ".\n"
-          << "- gi settings swept (gather rays, IC accuracy a, photons per map):";
+          << "- gi settings swept (gather rays, IC accuracy a, global photons per round; "
+             "caustic photons gi's default):";
         for (const GiVariant& v : suite.giVariants)
             o << " (" << v.gatherRays << ", " << v.icAccuracy << ", " << v.photons << ")";
         o << ". gi's curve is the lower envelope: at each time, the best of these.\n";
