@@ -128,12 +128,19 @@ struct ExrPart {
     std::int64_t pixelBytes = 0; // bytes of one pixel over all channels (unsubsampled)
     bool tiled = false;
     std::int64_t tileW = 0, tileH = 0;
+    std::int64_t chunkCount = -1; // a multi-part file's "chunkCount" attribute, if any
 };
 
 // Refuses a part whose chunk offset table, decoding buffer or image would be larger than the
 // file can account for: OpenEXR allocates these while opening the file (805 MB for a 16-row
 // ZIP buffer of a 4-million-pixel-wide window in a 300-byte file, found by the image fuzzer).
 void checkExrPart(const std::string& path, const ExrPart& part, std::uint64_t fileBytes) {
+    // A multi-part file states its parts' offset-table lengths, and the library allocates them.
+    if (part.chunkCount != -1 &&
+        (part.chunkCount < 0 || double(part.chunkCount) * 8.0 > double(fileBytes)))
+        throwReadError(path, "the header's chunkCount " + std::to_string(part.chunkCount) +
+                                 " does not fit a file of " + std::to_string(fileBytes) +
+                                 " bytes (corrupt file)");
     if (!part.hasWindow) return; // the library refuses a header without a data window
     const std::int64_t w = part.x1 - part.x0 + 1, h = part.y1 - part.y0 + 1;
     if (w <= 0 || h <= 0) throwReadError(path, "invalid EXR data window");
@@ -254,6 +261,8 @@ void checkExrHeader(const std::string& path) {
             } else if (type == "tiledesc" && name == "tiles") {
                 part.tileW = le32At(bytes, pos);
                 part.tileH = le32At(bytes, pos + 4);
+            } else if (type == "int" && name == "chunkCount") {
+                part.chunkCount = std::int32_t(le32At(bytes, pos));
             } else if (type == "string" && name == "type") {
                 part.tiled = bytes.compare(pos, size, "tiledimage") == 0;
             }

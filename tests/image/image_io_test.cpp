@@ -11,7 +11,10 @@
 #include <ImfHeader.h>
 #include <ImfKeyCodeAttribute.h>
 #include <ImfMatrixAttribute.h>
+#include <ImfMultiPartOutputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfOutputPart.h>
+#include <ImfPartType.h>
 #include <ImfPreviewImageAttribute.h>
 #include <ImfRationalAttribute.h>
 #include <ImfStandardAttributes.h>
@@ -623,6 +626,36 @@ TEST_CASE("EXR headers whose fields disagree with what OpenEXR would allocate ar
     std::string floats = good;
     putLe32(floats, attributeValue(floats, "weights", "floatvector") - 4, 7);
     CHECK_THAT(refused("floats.exr", floats), Catch::Contains("floats are 4 bytes each"));
+    // A two-part file reads (its first part); a chunkCount of 10 million in a small one does not
+    // (OpenEXR allocates the offset tables the parts' chunkCounts state).
+    std::string multi = dir.file("multi.exr");
+    {
+        std::vector<Imf::Header> headers(2, Imf::Header(6, 1));
+        std::vector<float> pixels(6 * 3, 0.25f);
+        Imf::FrameBuffer frameBuffer;
+        for (int c = 0; c < 3; ++c) {
+            const char* name = c == 0 ? "R" : c == 1 ? "G" : "B";
+            for (Imf::Header& h : headers) h.channels().insert(name, Imf::Channel(Imf::FLOAT));
+            frameBuffer.insert(name, Imf::Slice::Make(Imf::FLOAT, pixels.data() + c,
+                                                      headers[0].dataWindow(), 3 * sizeof(float),
+                                                      6 * 3 * sizeof(float)));
+        }
+        headers[0].setName("left");
+        headers[1].setName("right");
+        headers[0].setType(Imf::SCANLINEIMAGE);
+        headers[1].setType(Imf::SCANLINEIMAGE);
+        Imf::MultiPartOutputFile file(multi.c_str(), headers.data(), 2);
+        for (int part = 0; part < 2; ++part) {
+            Imf::OutputPart out(file, part);
+            out.setFrameBuffer(frameBuffer);
+            out.writePixels(1);
+        }
+    }
+    REQUIRE(readImage(multi).at(5, 0)[1] == 0.25f);
+    std::string chunks = readAll(multi);
+    putLe32(chunks, attributeValue(chunks, "chunkCount", "int"), 10000000);
+    CHECK_THAT(refused("chunks.exr", chunks),
+               Catch::Contains("the header's chunkCount 10000000 does not fit a file of"));
     std::string preview = good;
     putLe32(preview, attributeValue(preview, "preview", "preview"), 3000); // width
     CHECK_THAT(refused("preview.exr", preview),
