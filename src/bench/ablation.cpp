@@ -76,12 +76,7 @@ RenderConfig baseConfig(const BenchScene& b, const BenchSuite& suite, const std:
     int spp = mode == "gi" ? suite.ablationGiSpp : suite.ablationPathSpp;
     RenderConfig c = RenderConfig::forMode(*b.scene, mode, spp);
     c.engine.threads = threads;
-    if (mode == "gi" && !suite.giVariants.empty()) {
-        const GiVariant& v = suite.giVariants.front();
-        c.gi.gatherRays = v.gatherRays;
-        c.gi.icAccuracy = v.icAccuracy;
-        c.gi.photons = v.photons;
-    }
+    if (mode == "gi" && !suite.giVariants.empty()) applyGiVariant(c, suite.giVariants.front());
     return c;
 }
 

@@ -1,5 +1,6 @@
 #include "bench/bench_render.h"
 
+#include "bench/suite.h"
 #include "core/error.h"
 
 #include <chrono>
@@ -29,6 +30,12 @@ int RenderConfig::spp() const {
 
 void RenderConfig::setSpp(int spp) {
     preview.spp = raytrace.spp = gi.spp = path.spp = spp;
+}
+
+void applyGiVariant(RenderConfig& c, const GiVariant& variant) {
+    c.gi.gatherRays = variant.gatherRays;
+    c.gi.icAccuracy = variant.icAccuracy;
+    c.gi.photons = variant.photons;
 }
 
 std::string RenderConfig::settingsString() const {

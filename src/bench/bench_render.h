@@ -35,6 +35,10 @@ struct RenderConfig {
     std::string settingsString() const;
 };
 
+struct GiVariant;
+// `variant`'s swept gi settings (gather rays, IC accuracy, the global map's photons) on `c`.
+void applyGiVariant(RenderConfig& c, const GiVariant& variant);
+
 struct TimedRender {
     Image image;
     double seconds = 0;     // wall time of the mode driver's call

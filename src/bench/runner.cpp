@@ -36,9 +36,7 @@ std::vector<RenderConfig> ladderConfigs(const BenchScene& b, const BenchSuite& s
     if (ladder.mode != "gi") return {base};
     for (const GiVariant& v : suite.giVariants) {
         RenderConfig c = base;
-        c.gi.gatherRays = v.gatherRays;
-        c.gi.icAccuracy = v.icAccuracy;
-        c.gi.photons = v.photons;
+        applyGiVariant(c, v);
         configs.push_back(c);
     }
     return configs;

@@ -129,10 +129,11 @@ std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContex
           << "- Budgets (`--progressive`): each mode renders once with its defaults (gi: "
           << suite.giVariants.front().gatherRays << " gather rays, IC accuracy "
           << suite.giVariants.front().icAccuracy << ", " << suite.giVariants.front().photons
-          << " global photons per round, the caustic map's default), in passes of 1 spp until its time limit (the settings' "
-             "`time-limit`), and its error is measured after every pass: each point of a curve "
-             "is one pass of one render, as a user's time-limited render would show it. A "
-             "curve is the render's lower envelope (the best error reached by each time).\n";
+          << " global photons per round, the caustic map's default), in passes of 1 spp until "
+             "its time limit (the settings' `time-limit`), and its error is measured after "
+             "every pass: each point of a curve is one pass of one render, as a user's "
+             "time-limited render would show it. A curve is the render's lower envelope (the "
+             "best error reached by each time).\n";
     } else {
         o << " Times are the wall time of one mode driver call, from the start of the mode's "
              "work to the finished image: for gi the photon passes, precomputed irradiance and "
