@@ -145,13 +145,12 @@ void CacheRefinement::beginPass(int pass) {
         m_cluster.sumAll(corrections);
         const int perPass = std::max(emitter.correctionRaysPerRecord(), 1);
         m_correctionCount += std::uint64_t(perPass);
-        m_correctionRays += std::uint64_t(perPass) * records.size();
         ++m_correctionPasses;
         for (std::size_t i = 0; i < records.size(); ++i) {
             const double c = luminanceAt(corrections, i) / double(perPass);
             m_correctionSquares[i] += c * c;
+            for (std::size_t j = 3 * i; j < 3 * i + 3; ++j) m_corrections[j] += corrections[j];
         }
-        for (std::size_t j = 0; j < corrections.size(); ++j) m_corrections[j] += corrections[j];
         m_correctionWeight = estimateCorrectionWeight();
     }
     for (std::size_t i = 0; i < records.size(); ++i) {

@@ -69,7 +69,7 @@ public:
     void beginPass(int pass);
     std::uint64_t raysGathered() const { return m_rays; }
     // Correction rays traced so far, over all records (those below a record's surface too).
-    std::uint64_t correctionRays() const { return m_correctionRays; }
+    std::uint64_t correctionRays() const { return m_correctionCount * m_counts.size(); }
     // The weight w the records' corrections are applied with in the current pass (0 to 1).
     double correctionWeight() const { return m_correctionWeight; }
 
@@ -89,7 +89,7 @@ private:
     // Per record: the sums of its corrections' radiance (per channel); the corrections each
     // record has had (the same for all).
     std::vector<double> m_corrections;
-    std::uint64_t m_correctionCount = 0, m_correctionRays = 0;
+    std::uint64_t m_correctionCount = 0;
     // Per record: the sum over passes of its per-pass mean correction's luminance, squared;
     // the passes that corrected; the weight the corrections are applied with.
     std::vector<double> m_correctionSquares;
