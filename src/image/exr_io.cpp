@@ -319,7 +319,6 @@ Image readExr(const std::string& path) {
         std::int64_t h = std::int64_t(window.max.y) - window.min.y + 1;
         if (w <= 0 || h <= 0 || w > INT_MAX || h > INT_MAX)
             throwReadError(path, "invalid EXR data window");
-        checkClaimedSize(path, w, h, fileSize(path));
         Image img(static_cast<int>(w), static_cast<int>(h));
 
         // Any stored pixel type (HALF, FLOAT, UINT) is converted to float by the library.
