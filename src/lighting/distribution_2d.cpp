@@ -7,14 +7,35 @@ namespace rayproc {
 
 namespace {
 
+// Guide table of a cumulative sum of n entries: n + 1 entries, entry j the first index whose sum
+// is >= j / n of the total (n when none is), so a target in [j, j + 1) / n of the total lies in
+// the cells guide[j] .. guide[j + 1].
+void buildGuide(const double* cdf, int n, std::uint32_t* guide) {
+    const double total = cdf[n - 1];
+    int i = 0;
+    for (int j = 0; j <= n; ++j) {
+        double bound = total * (double(j) / double(n));
+        while (i < n && cdf[i] < bound) ++i;
+        guide[j] = std::uint32_t(i);
+    }
+}
+
 // The index whose cumulative interval holds `target` (first entry >= target with a positive
-// width), and the position of target inside it in [0, 1).
-int invert(const double* cdf, int n, double target, float& remainder) {
-    int i = int(std::lower_bound(cdf, cdf + n, target) - cdf);
+// width), and the position of target inside it in [0, 1). The guide narrows the search; when
+// rounding put target outside the guided range the search widens to what bisection would see,
+// so the index is the same as std::lower_bound over the whole sum.
+int invert(const double* cdf, const std::uint32_t* guide, int n, double target,
+           float& remainder) {
+    const double total = cdf[n - 1];
+    int j = total > 0 ? int(std::clamp(target / total * double(n), 0.0, double(n - 1))) : 0;
+    int lo = int(guide[j]), hi = std::min(int(guide[j + 1]), n - 1);
+    if (lo > 0 && cdf[lo - 1] >= target) lo = 0;
+    if (cdf[hi] < target) hi = n - 1;
+    int i = int(std::lower_bound(cdf + lo, cdf + hi + 1, target) - cdf);
     i = std::clamp(i, 0, n - 1);
     while (i < n - 1 && cdf[i] <= (i == 0 ? 0.0 : cdf[i - 1])) ++i; // skip empty cells
-    double lo = i == 0 ? 0.0 : cdf[i - 1], width = cdf[i] - lo;
-    remainder = width > 0 ? float(std::clamp((target - lo) / width, 0.0, 0.99999994)) : 0.5f;
+    double start = i == 0 ? 0.0 : cdf[i - 1], width = cdf[i] - start;
+    remainder = width > 0 ? float(std::clamp((target - start) / width, 0.0, 0.99999994)) : 0.5f;
     return i;
 }
 
@@ -37,13 +58,20 @@ Distribution2D::Distribution2D(std::vector<float> weights, int width, int height
         m_margCdf[std::size_t(y)] = total;
     }
     m_total = total;
+    m_rowGuide.resize(std::size_t(width + 1) * std::size_t(height));
+    for (int y = 0; y < height; ++y)
+        buildGuide(&m_rowCdf[std::size_t(y) * width], width,
+                   &m_rowGuide[std::size_t(y) * std::size_t(width + 1)]);
+    m_margGuide.resize(std::size_t(height) + 1);
+    buildGuide(m_margCdf.data(), height, m_margGuide.data());
 }
 
 Vec2 Distribution2D::sample(Vec2 u, float& pdf, int& cellX, int& cellY) const {
     float fy, fx;
-    cellY = invert(m_margCdf.data(), m_height, double(u.y) * m_total, fy);
+    cellY = invert(m_margCdf.data(), m_margGuide.data(), m_height, double(u.y) * m_total, fy);
     const double* row = &m_rowCdf[std::size_t(cellY) * m_width];
-    cellX = invert(row, m_width, double(u.x) * row[m_width - 1], fx);
+    const std::uint32_t* guide = &m_rowGuide[std::size_t(cellY) * std::size_t(m_width + 1)];
+    cellX = invert(row, guide, m_width, double(u.x) * row[m_width - 1], fx);
     pdf = pdfCell(cellX, cellY);
     return {(float(cellX) + fx) / float(m_width), (float(cellY) + fy) / float(m_height)};
 }

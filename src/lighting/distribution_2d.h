@@ -1,10 +1,14 @@
 // A piecewise-constant density on [0,1]^2 over a grid of cells (an image's pixels): sampling
 // picks a row by its marginal weight, then a cell within the row by its weight, then a uniform
 // point inside the cell (inversion of the two cumulative sums). pdf(p) = f(cell) / mean(f).
+// Each cumulative sum has a guide table (Chen & Asau's index table): entry j is the first cell
+// whose sum reaches j / n of the total, so inverting u starts between two neighbouring entries
+// instead of bisecting the whole row; the cell found is the one bisection finds.
 #pragma once
 
 #include "core/math.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace rayproc {
@@ -26,6 +30,8 @@ private:
     std::vector<float> m_weights;  // cell weights
     std::vector<double> m_rowCdf;  // per row: cumulative weights within it (width entries)
     std::vector<double> m_margCdf; // cumulative row totals (height entries)
+    // Guide tables: per row (width + 1 entries each), then the marginal's (height + 1).
+    std::vector<std::uint32_t> m_rowGuide, m_margGuide;
     double m_total = 0;
 };
 
