@@ -507,7 +507,8 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--time-limit", args->timeLimit,
                     "Stop after the first pass that ends past SECONDS (counted like the error "
                     "log's, gi's pre-passes included); passes are then 1 spp and --spp is the "
-                    "upper bound (give a large one). The log reports the spp done")
+                    "upper bound (give a large one). Progress and ETA follow the budget; the "
+                    "log reports the spp done")
         ->check(finiteNumber())
         ->check(CLI::PositiveNumber);
     cmd->add_option("--display-server", args->displayServer,

@@ -139,8 +139,17 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         totalUnits = std::uint64_t(std::max(camera.tilesInShare(), 1)) * std::uint64_t(spp);
     }
     std::atomic<double> targetFraction{0.0};
+    // Under a time limit the share of the budget spent, when it is ahead of the samples' (a
+    // render asked for 100,000 spp and 90 s said 0.1% done and an ETA of hours).
+    const auto budgetStart = start;
     auto fraction = [&] {
         double f = double(unitsBefore.load() + camera.unitsEmitted()) / double(totalUnits);
+        if (engine.timeLimitSeconds > 0) {
+            double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                         budgetStart)
+                               .count();
+            f = std::max(f, std::min(1.0, spent / engine.timeLimitSeconds));
+        }
         return engine.targetRelMse > 0 ? std::max(f, targetFraction.load()) : f;
     };
     auto raysSoFar = [&] { return std::uint64_t(stats.merged().raysTraced); };

@@ -6,6 +6,7 @@
 #include "image/metrics.h"
 
 #include <atomic>
+#include <functional>
 #include <cmath>
 
 using namespace rayproc;
@@ -181,4 +182,44 @@ TEST_CASE("EngineSettings::stop cancels a render without the process-wide interr
     CHECK_FALSE(r.cancelled);
     CHECK(r.samplesDone == 2);
     CHECK(r.stats.pixelsWithoutSamples == 0);
+}
+
+TEST_CASE("Under a time limit the progress fraction is the share of the budget spent",
+          "[modes]") {
+    // A time-limited render asks for far more samples than it will take: its progress (the
+    // terminal's line, rayproc serve's bar and ETA) follows the clock, not the samples.
+    auto scene = loadSceneAt("cornell-box", 16, 16);
+    EmbreeScene accel(*scene);
+    std::function<double()> fraction;
+    double atEnd = -1;
+    EngineSettings::Watcher watcher;
+    watcher.begin = [&](const Film&, std::function<double()> f, std::function<std::uint64_t()>) {
+        fraction = std::move(f);
+    };
+    watcher.end = [&] { atEnd = fraction(); };
+    EngineSettings engine;
+    engine.quiet = true;
+    engine.threads = 2;
+    engine.timeLimitSeconds = 0.3;
+    engine.watcher = &watcher;
+    PathSettings s;
+    s.spp = 10000000;
+    RenderResult r = renderPath(*scene, accel, s, engine);
+    REQUIRE(r.timeLimitReached);
+    INFO("spp done " << r.samplesDone << ", fraction at the end " << atEnd);
+    CHECK(double(r.samplesDone) / s.spp < 0.01);
+    CHECK(atEnd == 1.0);
+
+    // Without a limit it is the samples' share.
+    engine.timeLimitSeconds = 0;
+    s.spp = 4;
+    r = renderPath(*scene, accel, s, engine);
+    CHECK(atEnd >= 1.0); // (the last pass's units are counted twice after it: Progress clamps)
+    s.spp = 1000000;
+    int passesSeen = 0;
+    engine.stop = [&] { return ++passesSeen > 20; }; // cancel early: the fraction stays small
+    r = renderPath(*scene, accel, s, engine);
+    REQUIRE(r.cancelled);
+    INFO("fraction of a cancelled 1,000,000-spp render " << atEnd);
+    CHECK(atEnd < 0.01);
 }
