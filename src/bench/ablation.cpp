@@ -24,6 +24,8 @@ const std::vector<AblationSwitch>& ablationSwitches() {
          [](RenderConfig& c) { c.gi.icRefineRays = 0; }},
         {"record correction", "gi", "--ic-correction-rays 0",
          [](RenderConfig& c) { c.gi.icCorrectionRays = 0; }},
+        {"correction smoothing", "gi", "--no-ic-smoothing",
+         [](RenderConfig& c) { c.gi.icSmoothing = false; }},
         {"precomputed irradiance", "gi", "--no-precomputed-irradiance",
          [](RenderConfig& c) { c.gi.precomputedIrradiance = false; }},
         {"lazy precomputed irradiance", "gi", "--no-lazy-irradiance",

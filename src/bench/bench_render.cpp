@@ -48,6 +48,7 @@ std::string RenderConfig::settingsString() const {
         if (gi.icRefineRays != GiSettings{}.icRefineRays) o << " ic-refine-rays=" << gi.icRefineRays;
         if (gi.icCorrectionRays != GiSettings{}.icCorrectionRays)
             o << " ic-correction-rays=" << gi.icCorrectionRays;
+        if (!gi.icSmoothing) o << " no-ic-smoothing";
         if (!gi.precomputedIrradiance) o << " no-precomputed-irradiance";
         if (!gi.lazyIrradiance) o << " no-lazy-irradiance";
         if (!gi.gatherDirect) o << " no-gather-direct";

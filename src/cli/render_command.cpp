@@ -56,6 +56,7 @@ struct RenderArgs {
     int filmGatherRays = 0, icRefineRays = -1, icCorrectionRays = -1;
     float icAccuracy = 0;
     bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
+    bool noIcSmoothing = false;
     bool noProgressiveCaustics = false, noGatherDirect = false, noLazyIrradiance = false,
          mapCorrection = false;
     float causticAlpha = 0;
@@ -257,6 +258,7 @@ int runRender(const RenderArgs& a) {
         s.mapCorrection = a.mapCorrection;
         s.roulette = !a.noRoulette;
         s.icGradients = !a.noIcGradients;
+        s.icSmoothing = !a.noIcSmoothing;
         s.debugView = a.debugView == "photons"      ? GiDebugView::Photons
                       : a.debugView == "ic-records" ? GiDebugView::IcRecords
                       : a.debugView == "caustics"   ? GiDebugView::Caustics
@@ -479,6 +481,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_flag("--no-russian-roulette", args->noRoulette,
                   "raytrace, path, gi: paths (and gi's photons) end only at the maximum depth "
                   "or at zero throughput");
+    cmd->add_flag("--no-ic-smoothing", args->noIcSmoothing,
+                  "gi: apply each cache record's own corrections (--ic-correction-rays) instead "
+                  "of their average over its nearest records of the same facing, whose number "
+                  "Stein's unbiased risk estimate chooses before each pass");
     cmd->add_flag("--no-ic-gradients", args->noIcGradients,
                   "gi: interpolate cached irradiance without Ward & Heckbert's rotational and "
                   "translational gradients");

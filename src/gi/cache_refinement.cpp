@@ -35,6 +35,8 @@ CacheRefinement::CacheRefinement(const Scene& scene, const EmbreeScene& accel,
     }
     m_corrections.assign(3 * records.size(), 0.0);
     m_correctionSquares.assign(records.size(), 0.0);
+    if (gi.settings.icCorrectionRays > 0 && gi.settings.icSmoothing)
+        m_neighbours = RecordNeighbours(records);
 }
 
 double shrinkageWeight(const std::vector<double>& means, const std::vector<double>& variances) {
@@ -53,11 +55,14 @@ double luminanceAt(const std::vector<double>& rgb, std::size_t i) {
 }
 } // namespace
 
-double CacheRefinement::estimateCorrectionWeight() const {
+void CacheRefinement::estimateCorrection() {
     // Each record's mean correction per ray and that mean's variance, from the spread of its
     // per-pass means: P passes give P - 1 degrees of freedom, so none before the second pass.
     const std::uint64_t passes = m_correctionPasses;
-    if (passes < 2) return 0.0;
+    m_smoothing = 1;
+    m_correctionWeight = 0.0;
+    m_smoothed = m_corrections;
+    if (passes < 2) return;
     std::vector<double> means(m_correctionSquares.size()), variances(means.size());
     for (std::size_t i = 0; i < means.size(); ++i) {
         const double b = luminanceAt(m_corrections, i) / double(m_correctionCount);
@@ -66,7 +71,20 @@ double CacheRefinement::estimateCorrectionWeight() const {
         means[i] = b;
         variances[i] = spread / double(passes);
     }
-    return shrinkageWeight(means, variances);
+    if (m_neighbours.size() != means.size()) {
+        m_correctionWeight = shrinkageWeight(means, variances);
+        return;
+    }
+    // Smoothed over neighbouring records, as many as the risk estimate says; the weight is then
+    // the smoothed corrections' (their variance falls with the records averaged). Tried, not
+    // kept: smoothing fractions of each record's gathered light instead, with the risk in
+    // relative terms (docs/irradiance-cache.md).
+    m_smoothing = m_neighbours.chooseSize(means, variances);
+    std::vector<double> smoothMeans, smoothVariances;
+    m_neighbours.smooth(means, 1, m_smoothing, smoothMeans);
+    m_neighbours.smoothVariance(variances, m_smoothing, smoothVariances);
+    m_correctionWeight = shrinkageWeight(smoothMeans, smoothVariances);
+    if (m_smoothing > 1) m_neighbours.smooth(m_corrections, 3, m_smoothing, m_smoothed);
 }
 
 void CacheRefinement::beginPass(int pass) {
@@ -151,7 +169,7 @@ void CacheRefinement::beginPass(int pass) {
             m_correctionSquares[i] += c * c;
             for (std::size_t j = 3 * i; j < 3 * i + 3; ++j) m_corrections[j] += corrections[j];
         }
-        m_correctionWeight = estimateCorrectionWeight();
+        estimateCorrection();
     }
     for (std::size_t i = 0; i < records.size(); ++i) {
         const std::uint64_t rays = sums[4 * i + 3];
@@ -164,7 +182,7 @@ void CacheRefinement::beginPass(int pass) {
             sum += double(std::int64_t(sums[4 * i + std::size_t(c)])) / IcRequest::kScale;
             double irradiance = kPi * sum / double(m_counts[i]);
             if (correcting)
-                irradiance += m_correctionWeight * kPi * m_corrections[3 * i + std::size_t(c)] /
+                irradiance += m_correctionWeight * kPi * m_smoothed[3 * i + std::size_t(c)] /
                               double(m_correctionCount);
             // Clamped at zero, the correction too: while it is noisy that biases the record up
             // (the sunlit room of the gather-direct test: +1% at 16 spp), but an unclamped one

@@ -38,6 +38,7 @@
 #pragma once
 
 #include "engine/stats.h"
+#include "gi/correction_smoothing.h"
 #include "gi/gi_context.h"
 #include "modes/render_job.h"
 
@@ -72,6 +73,9 @@ public:
     std::uint64_t correctionRays() const { return m_correctionCount * m_counts.size(); }
     // The weight w the records' corrections are applied with in the current pass (0 to 1).
     double correctionWeight() const { return m_correctionWeight; }
+    // The records each correction is averaged over in the current pass (1: its own only;
+    // gi/correction_smoothing.h).
+    int correctionSmoothing() const { return m_smoothing; }
 
 private:
     const Scene& m_scene;
@@ -95,8 +99,14 @@ private:
     std::vector<double> m_correctionSquares;
     std::uint64_t m_correctionPasses = 0;
     double m_correctionWeight = 0.0;
+    // Smoothing of the corrections over neighbouring records (GiSettings::icSmoothing): the
+    // lists, the size chosen for this pass and the smoothed corrections' sums (per channel).
+    RecordNeighbours m_neighbours;
+    int m_smoothing = 1;
+    std::vector<double> m_smoothed;
 
-    double estimateCorrectionWeight() const;
+    // Chooses the smoothing and the weight for the corrections folded in so far.
+    void estimateCorrection();
 };
 
 } // namespace rayproc

@@ -85,6 +85,9 @@ struct GiSettings {
     // 90 s: mean 8% dark -> 3%, relMSE 0.016 -> 0.009; where the map is already right they
     // cost 3-9% of the time to relMSE 0.01: docs/irradiance-cache.md); 0: off.
     int icCorrectionRays = 4;
+    // Each record's correction averaged over its nearest records of the same facing, as many
+    // as Stein's unbiased risk estimate says before each pass (gi/correction_smoothing.h).
+    bool icSmoothing = true;
     bool irradianceCache = true;
     bool icGradients = true;     // Ward & Heckbert's gradients in the cache's interpolation
     bool caustics = true;

@@ -327,6 +327,7 @@ std::string GiSettings::toString() const {
       << " film_gather_rays=" << rayproc::filmGatherRays(*this)
       << " ic_accuracy=" << icAccuracy << " ic_refine_rays=" << icRefineRays
       << " ic_correction_rays=" << icCorrectionRays
+      << " ic_smoothing=" << (icSmoothing ? "on" : "off")
       << " irradiance_cache=" << (irradianceCache ? "on" : "off")
       << " ic_gradients=" << (icGradients ? "on" : "off")
       << " caustics=" << (caustics ? "on" : "off")
@@ -482,6 +483,8 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
                       refinement ? double(refinement->correctionRays()) : 0.0});
     extras.push_back({"gi/ic_correction_weight",
                       refinement ? refinement->correctionWeight() : 0.0});
+    extras.push_back({"gi/ic_correction_smoothing",
+                      refinement ? double(refinement->correctionSmoothing()) : 0.0});
     extras.push_back({"gi/cache_lookups", double(t.cacheLookups)});
     extras.push_back({"gi/cache_hit_rate", t.cacheLookups ? double(t.cacheHits) / double(t.cacheLookups) : 0.0});
     double gatherSeconds = t.stages[int(StageId::Gather)].seconds;

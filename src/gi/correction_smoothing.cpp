@@ -1,0 +1,125 @@
+#include "gi/correction_smoothing.h"
+
+#include "gi/photon_kdtree.h"
+
+#include <algorithm>
+#include <limits>
+#include <utility>
+
+namespace rayproc {
+
+namespace {
+
+struct RecordNode {
+    float pos[3];
+    std::uint8_t split = 0;
+    int axis() const { return split; }
+};
+
+} // namespace
+
+RecordNeighbours::RecordNeighbours(const std::vector<IrradianceRecord>& records) {
+    const std::size_t n = records.size();
+    m_lists.assign(n * kMaxSmoothing, 0);
+    m_counts.assign(n, 0);
+    if (n == 0) return;
+    std::vector<kdtree::BuildKey> keys(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3& p = records[i].position;
+        keys[i] = {{p.x, p.y, p.z}, std::uint32_t(i)};
+    }
+    std::vector<std::uint8_t> axis;
+    kdtree::build(keys, axis);
+    std::vector<RecordNode> nodes(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        for (int a = 0; a < 3; ++a) nodes[i].pos[a] = keys[i].p[a];
+        nodes[i].split = axis[i];
+    }
+    // The k nearest of the same facing, by (squared distance, index): a max-heap of the best so
+    // far whose top bounds the search once it is full.
+    std::vector<std::pair<float, std::uint32_t>> heap;
+    heap.reserve(kMaxSmoothing);
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3& normal = records[i].normal;
+        heap.clear();
+        float maxDist2 = std::numeric_limits<float>::infinity();
+        kdtree::search(nodes.data(), n, records[i].position, maxDist2,
+                       [&](std::size_t at, float d2) {
+                           const std::uint32_t j = keys[at].index;
+                           if (dot(records[j].normal, normal) < kNormalCos) return;
+                           std::pair<float, std::uint32_t> entry{d2, j};
+                           if (heap.size() == std::size_t(kMaxSmoothing)) {
+                               if (!(entry < heap.front())) return;
+                               std::pop_heap(heap.begin(), heap.end());
+                               heap.back() = entry;
+                           } else {
+                               heap.push_back(entry);
+                           }
+                           std::push_heap(heap.begin(), heap.end());
+                           if (heap.size() == std::size_t(kMaxSmoothing))
+                               maxDist2 = heap.front().first;
+                       });
+        std::sort(heap.begin(), heap.end());
+        // The record itself is at distance 0 with its own normal; another record at the same
+        // position could tie with it, so it is put first explicitly.
+        std::uint32_t* out = &m_lists[i * kMaxSmoothing];
+        int count = 0;
+        out[count++] = std::uint32_t(i);
+        for (const auto& [d2, j] : heap)
+            if (j != i && count < kMaxSmoothing) out[count++] = j;
+        m_counts[i] = count;
+    }
+}
+
+void RecordNeighbours::smooth(const std::vector<double>& values, int channels, int s,
+                              std::vector<double>& out) const {
+    const std::size_t n = size(), ch = std::size_t(channels);
+    out.assign(n * ch, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const int m = std::min(s, m_counts[i]);
+        const std::uint32_t* l = list(i);
+        for (std::size_t c = 0; c < ch; ++c) {
+            double sum = 0.0;
+            for (int k = 0; k < m; ++k) sum += values[std::size_t(l[k]) * ch + c];
+            out[i * ch + c] = sum / double(m);
+        }
+    }
+}
+
+void RecordNeighbours::smoothVariance(const std::vector<double>& v, int s,
+                                      std::vector<double>& out) const {
+    const std::size_t n = size();
+    out.assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const int m = std::min(s, m_counts[i]);
+        const std::uint32_t* l = list(i);
+        double sum = 0.0;
+        for (int k = 0; k < m; ++k) sum += v[l[k]];
+        out[i] = sum / (double(m) * double(m));
+    }
+}
+
+int RecordNeighbours::chooseSize(const std::vector<double>& c, const std::vector<double>& v,
+                                 std::vector<double>* risks) const {
+    if (risks) risks->clear();
+    int best = 1;
+    double bestRisk = 0.0;
+    std::vector<double> smoothed;
+    for (int s = 1; s <= kMaxSmoothing; s *= 2) {
+        smooth(c, 1, s, smoothed);
+        double risk = 0.0;
+        for (std::size_t i = 0; i < size(); ++i) {
+            const double d = smoothed[i] - c[i];
+            const int m = std::min(s, m_counts[i]);
+            risk += d * d - v[i] + 2.0 * v[i] / double(m);
+        }
+        if (risks) risks->push_back(risk);
+        if (s == 1 || risk < bestRisk) {
+            best = s;
+            bestRisk = risk;
+        }
+    }
+    return best;
+}
+
+} // namespace rayproc
