@@ -27,6 +27,9 @@
 // are only noise and w stays near 0; where it is biased, or once the corrections' noise has
 // fallen, w goes to 1 (docs/irradiance-cache.md, "Correcting the records"). One weight for all
 // records selects none by its own noise (a per-record weight did, and biased the image).
+// Before the weight, each record's correction is averaged over its nearest records, as many as
+// Stein's unbiased risk estimate says (gi/correction_smoothing.h; GiSettings::icSmoothing): wide
+// while the corrections are noisy, fading to the record's own as the passes add paths.
 // Surfaces the map is not read at (mirrors, glass: the gather looks through them) are not
 // corrected.
 //
