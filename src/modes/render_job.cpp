@@ -133,6 +133,9 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     int passes = (spp + passSpp - 1) / passSpp;
     std::atomic<int> passIndex{0};
     std::atomic<std::uint64_t> unitsBefore{0};
+    // Whether the camera's count is of a pass not yet in unitsBefore: between passes (gi's
+    // refinement runs there) the last pass counted twice without it.
+    std::atomic<bool> passInFlight{false};
     std::uint64_t totalUnits = 0;
     {
         // This rank's share: progress is rank 0's, which the others keep pace with.
@@ -143,7 +146,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     // render asked for 100,000 spp and 90 s said 0.1% done and an ETA of hours).
     const auto budgetStart = start;
     auto fraction = [&] {
-        double f = double(unitsBefore.load() + camera.unitsEmitted()) / double(totalUnits);
+        const std::uint64_t current = passInFlight.load() ? camera.unitsEmitted() : 0;
+        double f = double(unitsBefore.load() + current) / double(totalUnits);
         if (engine.timeLimitSeconds > 0) {
             double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                                          budgetStart)
@@ -174,8 +178,10 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         int count = std::min(passSpp, spp - first);
         if (beforePass) beforePass(pass);
         camera.beginPass(first, count);
+        passInFlight = true;
         processor.run(camera, [&] { return interruptRequested() || stopRequested(); });
         unitsBefore += std::min<std::uint64_t>(camera.unitsEmitted(), camera.unitsPerPass());
+        passInFlight = false;
         film.commitPass(pass % 2);
         if (film.hasHalfBuffers()) {
             std::vector<double> parts = film.relMseParts();
