@@ -1,10 +1,10 @@
 #include "gi/correction_smoothing.h"
 
+#include "gi/photon_heap.h"
 #include "gi/photon_kdtree.h"
 
 #include <algorithm>
 #include <limits>
-#include <utility>
 
 namespace rayproc {
 
@@ -35,38 +35,28 @@ RecordNeighbours::RecordNeighbours(const std::vector<IrradianceRecord>& records)
         for (int a = 0; a < 3; ++a) nodes[i].pos[a] = keys[i].p[a];
         nodes[i].split = axis[i];
     }
-    // The k nearest of the same facing, by (squared distance, index): a max-heap of the best so
-    // far whose top bounds the search once it is full.
-    std::vector<std::pair<float, std::uint32_t>> heap;
-    heap.reserve(kMaxSmoothing);
+    // The k nearest of the same facing, by (squared distance, record index): the photon map's
+    // k-nearest collector, handed record indices instead of tree positions.
+    std::uint64_t nearest[kMaxSmoothing];
     for (std::size_t i = 0; i < n; ++i) {
         const Vec3& normal = records[i].normal;
-        heap.clear();
         float maxDist2 = std::numeric_limits<float>::infinity();
+        photon_heap::KnnCollector collect{nearest, kMaxSmoothing, 0, maxDist2};
         kdtree::search(nodes.data(), n, records[i].position, maxDist2,
                        [&](std::size_t at, float d2) {
                            const std::uint32_t j = keys[at].index;
-                           if (dot(records[j].normal, normal) < kNormalCos) return;
-                           std::pair<float, std::uint32_t> entry{d2, j};
-                           if (heap.size() == std::size_t(kMaxSmoothing)) {
-                               if (!(entry < heap.front())) return;
-                               std::pop_heap(heap.begin(), heap.end());
-                               heap.back() = entry;
-                           } else {
-                               heap.push_back(entry);
-                           }
-                           std::push_heap(heap.begin(), heap.end());
-                           if (heap.size() == std::size_t(kMaxSmoothing))
-                               maxDist2 = heap.front().first;
+                           if (dot(records[j].normal, normal) >= kNormalCos) collect(j, d2);
                        });
-        std::sort(heap.begin(), heap.end());
+        std::sort(nearest, nearest + collect.count);
         // The record itself is at distance 0 with its own normal; another record at the same
         // position could tie with it, so it is put first explicitly.
         std::uint32_t* out = &m_lists[i * kMaxSmoothing];
         int count = 0;
         out[count++] = std::uint32_t(i);
-        for (const auto& [d2, j] : heap)
+        for (int k = 0; k < collect.count; ++k) {
+            const std::uint32_t j = photon_heap::keyIndex(nearest[k]);
             if (j != i && count < kMaxSmoothing) out[count++] = j;
+        }
         m_counts[i] = count;
     }
 }
