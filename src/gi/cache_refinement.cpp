@@ -61,7 +61,6 @@ void CacheRefinement::estimateCorrection() {
     const std::uint64_t passes = m_correctionPasses;
     m_smoothing = 1;
     m_correctionWeight = 0.0;
-    m_smoothed = m_corrections;
     if (passes < 2) return;
     std::vector<double> means(m_correctionSquares.size()), variances(means.size());
     for (std::size_t i = 0; i < means.size(); ++i) {
@@ -79,9 +78,8 @@ void CacheRefinement::estimateCorrection() {
     // the smoothed corrections' (their variance falls with the records averaged). Tried, not
     // kept: smoothing fractions of each record's gathered light instead, with the risk in
     // relative terms (docs/irradiance-cache.md).
-    m_smoothing = m_neighbours.chooseSize(means, variances);
     std::vector<double> smoothMeans, smoothVariances;
-    m_neighbours.smooth(means, 1, m_smoothing, smoothMeans);
+    m_smoothing = m_neighbours.chooseSize(means, variances, smoothMeans);
     m_neighbours.smoothVariance(variances, m_smoothing, smoothVariances);
     m_correctionWeight = shrinkageWeight(smoothMeans, smoothVariances);
     if (m_smoothing > 1) m_neighbours.smooth(m_corrections, 3, m_smoothing, m_smoothed);
@@ -171,6 +169,8 @@ void CacheRefinement::beginPass(int pass) {
         }
         estimateCorrection();
     }
+    // The corrections as applied: smoothed over neighbours, or each record's own.
+    const std::vector<double>& applied = m_smoothing > 1 ? m_smoothed : m_corrections;
     for (std::size_t i = 0; i < records.size(); ++i) {
         const std::uint64_t rays = sums[4 * i + 3];
         m_counts[i] += rays;
@@ -182,7 +182,7 @@ void CacheRefinement::beginPass(int pass) {
             sum += double(std::int64_t(sums[4 * i + std::size_t(c)])) / IcRequest::kScale;
             double irradiance = kPi * sum / double(m_counts[i]);
             if (correcting)
-                irradiance += m_correctionWeight * kPi * m_smoothed[3 * i + std::size_t(c)] /
+                irradiance += m_correctionWeight * kPi * applied[3 * i + std::size_t(c)] /
                               double(m_correctionCount);
             // Clamped at zero, the correction too: while it is noisy that biases the record up
             // (the sunlit room of the gather-direct test: +1% at 16 spp), but an unclamped one

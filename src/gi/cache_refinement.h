@@ -103,7 +103,8 @@ private:
     std::uint64_t m_correctionPasses = 0;
     double m_correctionWeight = 0.0;
     // Smoothing of the corrections over neighbouring records (GiSettings::icSmoothing): the
-    // lists, the size chosen for this pass and the smoothed corrections' sums (per channel).
+    // lists, the size chosen for this pass and, when it is above 1, the smoothed corrections'
+    // sums (per channel).
     RecordNeighbours m_neighbours;
     int m_smoothing = 1;
     std::vector<double> m_smoothed;

@@ -90,16 +90,16 @@ void RecordNeighbours::smoothVariance(const std::vector<double>& v, int s,
 }
 
 int RecordNeighbours::chooseSize(const std::vector<double>& c, const std::vector<double>& v,
-                                 std::vector<double>* risks) const {
+                                 std::vector<double>& smoothed, std::vector<double>* risks) const {
     if (risks) risks->clear();
     int best = 1;
     double bestRisk = 0.0;
-    std::vector<double> smoothed;
+    std::vector<double> trial;
     for (int s = 1; s <= kMaxSmoothing; s *= 2) {
-        smooth(c, 1, s, smoothed);
+        smooth(c, 1, s, trial);
         double risk = 0.0;
         for (std::size_t i = 0; i < size(); ++i) {
-            const double d = smoothed[i] - c[i];
+            const double d = trial[i] - c[i];
             const int m = std::min(s, m_counts[i]);
             risk += d * d - v[i] + 2.0 * v[i] / double(m);
         }
@@ -107,6 +107,7 @@ int RecordNeighbours::chooseSize(const std::vector<double>& c, const std::vector
         if (s == 1 || risk < bestRisk) {
             best = s;
             bestRisk = risk;
+            smoothed.swap(trial);
         }
     }
     return best;

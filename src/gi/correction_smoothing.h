@@ -45,9 +45,10 @@ public:
     int count(std::size_t i) const { return m_counts[i]; }
 
     // The neighbourhood size (1, 2, 4, ... kMaxSmoothing) of least estimated risk for means c
-    // with variances v (one per record); `risks`, when given, receives R(s) for each size tried.
+    // with variances v (one per record), and in `smoothed` c averaged at that size; `risks`,
+    // when given, receives R(s) for each size tried.
     int chooseSize(const std::vector<double>& c, const std::vector<double>& v,
-                   std::vector<double>* risks = nullptr) const;
+                   std::vector<double>& smoothed, std::vector<double>* risks = nullptr) const;
     // out_i = the mean of values over record i's first min(s, count(i)) neighbours, with
     // `channels` values per record (1: luminance, 3: RGB).
     void smooth(const std::vector<double>& values, int channels, int s,

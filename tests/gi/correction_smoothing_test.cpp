@@ -109,8 +109,12 @@ TEST_CASE("Stein's risk estimate: wide neighbourhoods for a smooth field under n
         std::vector<double> c(n), v(n, variance);
         for (std::size_t i = 0; i < n; ++i) c[i] = beta[i] + std::sqrt(variance) * gauss(rng);
         std::vector<double> risks;
-        int s = neighbours.chooseSize(c, v, &risks);
+        std::vector<double> chosen;
+        int s = neighbours.chooseSize(c, v, chosen, &risks);
         CHECK(s == expected);
+        std::vector<double> atSize;
+        neighbours.smooth(c, 1, s, atSize);
+        CHECK(chosen == atSize);    // the means averaged at the size chosen
         REQUIRE(risks.size() == 7); // 1, 2, 4, ..., 64
         // The estimate's own noise, from R - actual = sum(v(2/s - 1) + ... ): about
         // 2 n v^2 for the noise's squares, plus 4 v sum((S beta - beta)^2) for its cross term
@@ -143,7 +147,8 @@ TEST_CASE("Stein's risk estimate: wide neighbourhoods for a smooth field under n
     for (std::size_t i = 0; i < n; ++i) slope[i] = 10.0 * records[i].position.x;
     std::vector<double> c(n), v(n, 0.05), risks;
     for (std::size_t i = 0; i < n; ++i) c[i] = slope[i] + std::sqrt(0.05) * gauss(rng);
-    int s = neighbours.chooseSize(c, v, &risks);
+    std::vector<double> chosen;
+    int s = neighbours.chooseSize(c, v, chosen, &risks);
     INFO("gradient: size " << s);
     CHECK(s > 1);
     CHECK(s < kMaxSmoothing);
