@@ -58,7 +58,16 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
                           const EngineSettings& engine, RadianceStage radiance,
                           const GiData* gi, const std::function<void(int pass)>& beforePass) {
-    auto start = engine.workStart ? *engine.workStart : std::chrono::steady_clock::now();
+    // The mode's clock: seconds from the start of its work, less the time the error log has
+    // spent measuring; it decides the time limit, and the progress monitor's thread reads it.
+    using Clock = std::chrono::steady_clock;
+    std::atomic<Clock::rep> startTicks{
+        (engine.workStart ? *engine.workStart : Clock::now()).time_since_epoch().count()};
+    auto secondsAt = [&startTicks](Clock::time_point t) {
+        return std::chrono::duration<double>(t.time_since_epoch() -
+                                             Clock::duration(startTicks.load()))
+            .count();
+    };
     static const Cluster alone;
     const Cluster& cluster = engine.cluster ? *engine.cluster : alone;
     Film film(scene.camera.width, scene.camera.height);
@@ -144,16 +153,11 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     std::atomic<double> targetFraction{0.0};
     // Under a time limit the share of the budget spent, when it is ahead of the samples' (a
     // render asked for 100,000 spp and 90 s said 0.1% done and an ETA of hours).
-    const auto budgetStart = start;
     auto fraction = [&] {
         const std::uint64_t current = passInFlight.load() ? camera.unitsEmitted() : 0;
         double f = double(unitsBefore.load() + current) / double(totalUnits);
-        if (engine.timeLimitSeconds > 0) {
-            double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                                         budgetStart)
-                               .count();
-            f = std::max(f, std::min(1.0, spent / engine.timeLimitSeconds));
-        }
+        if (engine.timeLimitSeconds > 0)
+            f = std::max(f, std::min(1.0, secondsAt(Clock::now()) / engine.timeLimitSeconds));
         return engine.targetRelMse > 0 ? std::max(f, targetFraction.load()) : f;
     };
     auto raysSoFar = [&] { return std::uint64_t(stats.merged().raysTraced); };
@@ -194,7 +198,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         auto now = std::chrono::steady_clock::now();
         if (logging) {
             // The log's clock stops while the error is measured.
-            double seconds = std::chrono::duration<double>(now - start).count();
+            double seconds = secondsAt(now);
             Image whole = wholeImage();
             if (cluster.root() && (errorLog || engine.onPassError)) {
                 ImageMetrics m = compareImages(whole, *engine.reference);
@@ -207,7 +211,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
                     engine.onPassError({first + count, seconds, m.relmse, m.rmse,
                                         result.relMseEstimate, raysSoFar()});
             }
-            start += std::chrono::steady_clock::now() - now;
+            startTicks += (Clock::now() - now).count();
         }
         if (film.hasHalfBuffers() && std::isfinite(result.relMseEstimate) &&
             result.relMseEstimate > 0)
@@ -217,8 +221,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         std::uint32_t decision = interruptRequested() ? kDecideInterrupted : 0u;
         if (stopRequested()) decision |= kDecideStopped;
         if (cluster.root() && engine.timeLimitSeconds > 0 && pass + 1 < passes &&
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >=
-                engine.timeLimitSeconds)
+            secondsAt(Clock::now()) >= engine.timeLimitSeconds)
             decision |= kDecideTimeUp;
         if (cluster.root() && engine.onProgress && pass + 1 < passes &&
             std::chrono::duration<double>(now - lastProgressive).count() >= engine.progressiveSeconds)
@@ -258,8 +261,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     result.image = Film::resolve(film.width(), film.height(), sums, samples);
     result.stats.totals = stats.merged();
     sumToRoot(cluster, result.stats.totals);
-    result.stats.wallSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.stats.wallSeconds = secondsAt(Clock::now());
     result.stats.peakMemoryBytes = peakResidentBytes();
     result.stats.batchesAllocated = processor.batchesAllocated();
     result.stats.pixelsWithoutSamples = std::size_t(std::count(samples.begin(), samples.end(), 0));
