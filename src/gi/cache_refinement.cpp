@@ -23,17 +23,20 @@ CacheRefinement::CacheRefinement(const Scene& scene, const EmbreeScene& accel,
     : m_scene(scene), m_accel(accel), m_lights(lights), m_gi(gi), m_cache(cache), m_engine(engine),
       m_cluster(cluster), m_stats(stats) {
     // The prepass's gathers: S_0 = E_0 n_0 / pi.
+    // Both parities start from it.
     const std::vector<IrradianceRecord>& records = cache.records();
-    m_sums.resize(3 * records.size());
-    m_counts.resize(records.size());
+    m_sums[0].resize(3 * records.size());
+    m_counts[0].resize(records.size());
     for (std::size_t i = 0; i < records.size(); ++i) {
         const IrradianceRecord& r = records[i];
         const double n = double(std::max(r.gatherRays, 1));
         for (int c = 0; c < 3; ++c)
-            m_sums[3 * i + std::size_t(c)] = double(r.irradiance[c]) * n / kPi;
-        m_counts[i] = std::uint64_t(std::max(r.gatherRays, 1));
+            m_sums[0][3 * i + std::size_t(c)] = double(r.irradiance[c]) * n / kPi;
+        m_counts[0][i] = std::uint64_t(std::max(r.gatherRays, 1));
     }
-    m_corrections.assign(3 * records.size(), 0.0);
+    m_sums[1] = m_sums[0];
+    m_counts[1] = m_counts[0];
+    for (std::vector<double>& c : m_corrections) c.assign(3 * records.size(), 0.0);
     m_correctionSquares.assign(records.size(), 0.0);
     if (gi.settings.icCorrectionRays > 0 && gi.settings.icSmoothing)
         m_neighbours = RecordNeighbours(records);
@@ -55,16 +58,20 @@ double luminanceAt(const std::vector<double>& rgb, std::size_t i) {
 }
 } // namespace
 
-void CacheRefinement::estimateCorrection() {
+void CacheRefinement::estimateCorrection(int parity) {
     // Each record's mean correction per ray and that mean's variance, from the spread of its
     // per-pass means: P passes give P - 1 degrees of freedom, so none before the second pass.
+    // Both parities' passes count: the weight and the smoothing are those of the image, whose
+    // records are the mean of the two halves'.
     const std::uint64_t passes = m_correctionPasses;
     m_smoothing = 1;
     m_correctionWeight = 0.0;
     if (passes < 2) return;
+    const double count = double(m_correctionCounts[0] + m_correctionCounts[1]);
     std::vector<double> means(m_correctionSquares.size()), variances(means.size());
     for (std::size_t i = 0; i < means.size(); ++i) {
-        const double b = luminanceAt(m_corrections, i) / double(m_correctionCount);
+        const double b =
+            (luminanceAt(m_corrections[0], i) + luminanceAt(m_corrections[1], i)) / count;
         const double spread =
             std::max(0.0, m_correctionSquares[i] - double(passes) * b * b) / double(passes - 1);
         means[i] = b;
@@ -82,7 +89,7 @@ void CacheRefinement::estimateCorrection() {
     m_smoothing = m_neighbours.chooseSize(means, variances, smoothMeans);
     m_neighbours.smoothVariance(variances, m_smoothing, smoothVariances);
     m_correctionWeight = shrinkageWeight(smoothMeans, smoothVariances);
-    if (m_smoothing > 1) m_neighbours.smooth(m_corrections, 3, m_smoothing, m_smoothed);
+    if (m_smoothing > 1) m_neighbours.smooth(m_corrections[parity], 3, m_smoothing, m_smoothed);
 }
 
 void CacheRefinement::beginPass(int pass) {
@@ -92,6 +99,8 @@ void CacheRefinement::beginPass(int pass) {
     if ((s.icRefineRays <= 0 && !correcting) || records.empty() || stopped(m_cluster)) return;
     std::uint64_t first = 0, last = 0;
     shareOf(records.size(), m_cluster.rank(), m_cluster.size(), first, last);
+    // The film's half buffer this pass goes to (render_job.cpp: pass % 2).
+    const int parity = pass % 2;
 
     // This rank's records, one request slot each, claimed in record order.
     IcRequests requests;
@@ -160,30 +169,34 @@ void CacheRefinement::beginPass(int pass) {
             corrections[3 * std::size_t(first) + j] = mine[j];
         m_cluster.sumAll(corrections);
         const int perPass = std::max(emitter.correctionRaysPerRecord(), 1);
-        m_correctionCount += std::uint64_t(perPass);
+        m_correctionCounts[parity] += std::uint64_t(perPass);
         ++m_correctionPasses;
+        std::vector<double>& own = m_corrections[parity];
         for (std::size_t i = 0; i < records.size(); ++i) {
             const double c = luminanceAt(corrections, i) / double(perPass);
             m_correctionSquares[i] += c * c;
-            for (std::size_t j = 3 * i; j < 3 * i + 3; ++j) m_corrections[j] += corrections[j];
+            for (std::size_t j = 3 * i; j < 3 * i + 3; ++j) own[j] += corrections[j];
         }
-        estimateCorrection();
+        estimateCorrection(parity);
     }
-    // The corrections as applied: smoothed over neighbours, or each record's own.
-    const std::vector<double>& applied = m_smoothing > 1 ? m_smoothed : m_corrections;
+    // The corrections as applied: smoothed over neighbours, or each record's own; this
+    // parity's.
+    const std::vector<double>& applied = m_smoothing > 1 ? m_smoothed : m_corrections[parity];
+    const double correctionCount = double(std::max<std::uint64_t>(m_correctionCounts[parity], 1));
+    std::vector<double>& gathered = m_sums[parity];
+    std::vector<std::uint64_t>& counts = m_counts[parity];
     for (std::size_t i = 0; i < records.size(); ++i) {
         const std::uint64_t rays = sums[4 * i + 3];
-        m_counts[i] += rays;
+        counts[i] += rays;
         m_rays += rays;
-        if (rays == 0 && !correcting) continue;
         Vec3 e;
         for (int c = 0; c < 3; ++c) {
-            double& sum = m_sums[3 * i + std::size_t(c)];
+            double& sum = gathered[3 * i + std::size_t(c)];
             sum += double(std::int64_t(sums[4 * i + std::size_t(c)])) / IcRequest::kScale;
-            double irradiance = kPi * sum / double(m_counts[i]);
+            double irradiance = kPi * sum / double(counts[i]);
             if (correcting)
                 irradiance += m_correctionWeight * kPi * applied[3 * i + std::size_t(c)] /
-                              double(m_correctionCount);
+                              correctionCount;
             // Clamped at zero, the correction too: while it is noisy that biases the record up
             // (the sunlit room of the gather-direct test: +1% at 16 spp), but an unclamped one
             // made veach-mis's dark plates noisy (docs/irradiance-cache.md); once the record

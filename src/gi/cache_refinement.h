@@ -12,6 +12,14 @@
 // change. The film averages the passes, so an early pass's cruder records keep their share
 // (1 / passes) of the image.
 //
+// Two halves: the film puts even and odd passes into two half buffers, whose difference is the
+// relMSE estimate (--target-relmse, --error-log). Each record keeps its refinement's and its
+// corrections' sums per pass parity, and a pass reads only those of its own parity (and the
+// prepass's gather, which both share): so the two halves see independent record noise and the
+// estimate measures it, instead of the records' error being common to both halves and hidden
+// (docs/irradiance-cache.md, "Two halves"). The image is the mean of the halves, so a record's
+// noise in it is that of all its rays, as before.
+//
 // Correction (`GiSettings::icCorrectionRays`, 4 by default): the map's bias at the records,
 // taken out with the passes. Each record also traces that many RayKind::Correction rays per
 // pass (cosine strata from its gather origin); at a ray's far end the correction stage
@@ -73,7 +81,9 @@ public:
     void beginPass(int pass);
     std::uint64_t raysGathered() const { return m_rays; }
     // Correction rays traced so far, over all records (those below a record's surface too).
-    std::uint64_t correctionRays() const { return m_correctionCount * m_counts.size(); }
+    std::uint64_t correctionRays() const {
+        return (m_correctionCounts[0] + m_correctionCounts[1]) * m_counts[0].size();
+    }
     // The weight w the records' corrections are applied with in the current pass (0 to 1).
     double correctionWeight() const { return m_correctionWeight; }
     // The records each correction is averaged over in the current pass (1: its own only;
@@ -89,14 +99,15 @@ private:
     EngineSettings m_engine;
     const Cluster& m_cluster;
     Stats& m_stats;
-    // Per record: the radiance sums of all its gathers (per channel) and their ray count.
-    std::vector<double> m_sums;
-    std::vector<std::uint64_t> m_counts;
+    // Per pass parity, per record: the radiance sums of its gathers (per channel; the
+    // prepass's in both) and their ray count.
+    std::vector<double> m_sums[2];
+    std::vector<std::uint64_t> m_counts[2];
     std::uint64_t m_rays = 0;
-    // Per record: the sums of its corrections' radiance (per channel); the corrections each
-    // record has had (the same for all).
-    std::vector<double> m_corrections;
-    std::uint64_t m_correctionCount = 0;
+    // Per pass parity, per record: the sums of its corrections' radiance (per channel); the
+    // corrections each record has had in passes of that parity (the same for all records).
+    std::vector<double> m_corrections[2];
+    std::uint64_t m_correctionCounts[2] = {0, 0};
     // Per record: the sum over passes of its per-pass mean correction's luminance, squared;
     // the passes that corrected; the weight the corrections are applied with.
     std::vector<double> m_correctionSquares;
@@ -104,13 +115,14 @@ private:
     double m_correctionWeight = 0.0;
     // Smoothing of the corrections over neighbouring records (GiSettings::icSmoothing): the
     // lists, the size chosen for this pass and, when it is above 1, the smoothed corrections'
-    // sums (per channel).
+    // sums of the pass's parity (per channel).
     RecordNeighbours m_neighbours;
     int m_smoothing = 1;
     std::vector<double> m_smoothed;
 
-    // Chooses the smoothing and the weight for the corrections folded in so far.
-    void estimateCorrection();
+    // Chooses the smoothing and the weight for the corrections folded in so far (both
+    // parities'), and smooths those of `parity`.
+    void estimateCorrection(int parity);
 };
 
 } // namespace rayproc
