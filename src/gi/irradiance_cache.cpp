@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 
 namespace rayproc {
 
@@ -198,15 +199,25 @@ float IrradianceCache::weight(const Entry& e, const Vec3& p, const Vec3& n) cons
 
 // E_i'(p, n) = E_i + (n_i x n) . gradR + (p - p_i) . gradT per channel: the first-order
 // Taylor expansion of the record's irradiance in rotation and translation (Ward & Heckbert).
-// A steep gradient may extrapolate below zero; irradiance cannot, so it is clamped.
+// The translational step is limited to E_i |p - p_i| / R_i, the change the split-sphere model
+// (by which R_i was chosen: the distance term of Ward's error estimate) allows between p_i and
+// p. The gradients come from the prepass's one gather and are never refined, and the
+// translational one divides by hit distances: a gather that catches a sunlit gap close by in a
+// few of its strata made it tens of times steeper than that (docs/irradiance-cache.md, "Limiting
+// the translational gradient"). A steep gradient may still extrapolate below zero; irradiance
+// cannot, so the result is clamped there.
 Vec3 IrradianceCache::extrapolate(const IrradianceRecord& r, const Vec3& p, const Vec3& n) const {
     if (!m_settings.useGradients) return r.irradiance;
     Vec3 rotation = cross(r.normal, n);
     Vec3 translation = p - r.position;
+    const float distanceTerm = r.radius > 0
+                                   ? std::sqrt(dot(translation, translation)) / r.radius
+                                   : std::numeric_limits<float>::infinity();
     Vec3 e;
     for (int c = 0; c < 3; ++c) {
-        e[c] = std::max(0.0f,
-                        r.irradiance[c] + dot(rotation, r.gradR[c]) + dot(translation, r.gradT[c]));
+        const float bound = r.irradiance[c] > 0 ? distanceTerm * r.irradiance[c] : 0.0f;
+        const float step = std::clamp(dot(translation, r.gradT[c]), -bound, bound);
+        e[c] = std::max(0.0f, r.irradiance[c] + dot(rotation, r.gradR[c]) + step);
     }
     return e;
 }

@@ -296,6 +296,29 @@ TEST_CASE("Irradiance cache gradients reproduce a linear field", "[gi]") {
     }
 }
 
+TEST_CASE("Irradiance cache: a translational gradient steps at most the split sphere's change",
+          "[gi]") {
+    // A record of irradiance 1 and radius 1 whose gradient (40 per unit length, as a gather
+    // that saw a sunlit gap close by in a few strata gives) is far steeper than the split-sphere
+    // model that chose its radius allows: the step to p is limited to E_i |p - p_i| / R_i, up and
+    // down; a gradient within the limit is applied exactly.
+    const Vec3 up(0, 0, 1);
+    IrradianceRecord r = makeRecord(Vec3(0.5f), up, Vec3(1.0f, 2.0f, 0.5f), 1.0f);
+    r.gradT[0] = Vec3(40.0f, 0.0f, 0.0f);
+    r.gradT[1] = Vec3(-40.0f, 0.0f, 0.0f);
+    r.gradT[2] = Vec3(0.25f, 0.0f, 0.0f); // within the limit
+    IrradianceCache cache(kUnitBox, {0.5f, true});
+    cache.insert({r});
+    for (float d : {0.05f, 0.1f, 0.2f}) {
+        IrradianceCache::LookupResult out;
+        REQUIRE(cache.lookup(Vec3(0.5f + d, 0.5f, 0.5f), up, out));
+        INFO("distance " << d);
+        CHECK(out.irradiance.x == Approx(1.0f * (1.0f + d)).epsilon(1e-5)); // not 1 + 40 d
+        CHECK(out.irradiance.y == Approx(2.0f * (1.0f - d)).epsilon(1e-5)); // not below zero
+        CHECK(out.irradiance.z == Approx(0.5f + 0.25f * d).epsilon(1e-5));
+    }
+}
+
 TEST_CASE("Irradiance cache bookkeeping", "[gi]") {
     IrradianceCache cache(kUnitBox, {});
     IrradianceCache::LookupResult out;
