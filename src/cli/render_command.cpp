@@ -367,8 +367,9 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "Maximum bounces (raytrace default 8, preview 1, path 64)")
         ->check(CLI::Range(1, 255));
     cmd->add_option("--light-samples", args->lightSamples,
-                    "Stratified light samples per shading point, and of the sky (raytrace and "
-                    "gi, default 4): in all over the area lights when there are several (see "
+                    "Stratified light samples per shading point, and of the sky (raytrace: "
+                    "default 4; gi: default 2, whose cheaper passes reach a given error "
+                    "sooner): in all over the area lights when there are several (see "
                     "--no-light-choice); one more per point, spot or distant light")
         ->check(CLI::Range(1, 4096));
     cmd->add_option("--packet-width", args->packetWidth,

@@ -47,7 +47,9 @@ inline int defaultCausticPhotons(int width, int height) {
 struct GiSettings {
     int spp = 16;
     int maxDepth = 8;
-    int lightSamples = 4;
+    // 2, not raytrace's 4: gi's passes are cheaper and reach a given error sooner on the public
+    // scenes (docs/performance.md, "Light samples in gi").
+    int lightSamples = 2;
     // Photons emitted for the global map, and for the caustic map (each pass's with
     // progressive caustics; only L S+ D paths are kept). giSettings() sets the caustic count
     // from the image: defaultCausticPhotons().

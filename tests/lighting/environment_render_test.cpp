@@ -62,7 +62,9 @@ TEST_CASE("A diffuse sphere under a constant image sky renders as under the cons
         checkMeanRadiance(renderMode(*scene, accel, "path", 64), expected, 0.01, "path " + sky);
         checkMeanRadiance(renderMode(*scene, accel, "raytrace", 256), expected, 0.01,
                           "raytrace " + sky);
-        checkMeanRadiance(renderGiMode(*scene, accel, 64).image, expected, kGiTolerance,
+        // 128 spp: gi's 2 light samples (its default) leave the mean's standard error at 0.6%
+        // at 64 spp, above the quarter of the tolerance that makes the check meaningful.
+        checkMeanRadiance(renderGiMode(*scene, accel, 128).image, expected, kGiTolerance,
                           "gi " + sky);
     }
 }
