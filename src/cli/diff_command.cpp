@@ -30,6 +30,7 @@ constexpr int kExitError = 2;
 
 struct DiffArgs {
     std::string test, reference;
+    std::string relmseDenominator; // --relmse-denominator: relMSE's b from this image
     std::string output, heatmap;
     float scale = 1.0f;
     std::string heatmapMetric = "relmse";
@@ -90,7 +91,11 @@ void printText(const DiffArgs& a, const Image& img, const ImageMetrics& m, int f
     if (auto c = cropOf(a)) std::printf("crop     %d %d %d %d\n", c->x0, c->y0, c->x1, c->y1);
     std::printf("pixels   %zu\n", m.pixels);
     std::printf("rmse     %s\n", formatNumber(m.rmse).c_str());
-    std::printf("relmse   %s\n", formatNumber(m.relmse).c_str());
+    if (a.relmseDenominator.empty())
+        std::printf("relmse   %s\n", formatNumber(m.relmse).c_str());
+    else
+        std::printf("relmse   %s (denominators from %s)\n", formatNumber(m.relmse).c_str(),
+                    a.relmseDenominator.c_str());
     std::printf("psnr     %s dB\n", formatNumber(m.psnr).c_str());
     std::printf("mae      %s\n", formatNumber(m.mae).c_str());
     std::printf("max_abs  %s\n", formatNumber(m.maxAbs).c_str());
@@ -107,6 +112,7 @@ void printJson(const DiffArgs& a, const Image& img, const ImageMetrics& m, int f
     nlohmann::ordered_json j;
     j["test"] = a.test;
     j["reference"] = a.reference;
+    if (!a.relmseDenominator.empty()) j["relmse_denominator"] = a.relmseDenominator;
     j["width"] = img.width;
     j["height"] = img.height;
     if (auto c = cropOf(a)) j["crop"] = {c->x0, c->y0, c->x1, c->y1};
@@ -132,6 +138,7 @@ int runDiff(const DiffArgs& a) {
     if (!a.heatmap.empty()) imageFormatFromPath(a.heatmap);
     checkDistinctFiles({{"test", a.test, false},
                         {"reference", a.reference, false},
+                        {"--relmse-denominator", a.relmseDenominator, false},
                         {"-o", a.output, true},
                         {"--heatmap", a.heatmap, true}});
     checkOutputFile("-o", a.output);
@@ -150,7 +157,19 @@ int runDiff(const DiffArgs& a) {
             a.reference + " is " + std::to_string(reference.width) + "x" +
             std::to_string(reference.height) + " (not an integer multiple of the test's size)");
     if (factor > 1) reference = boxDownsample(reference, factor);
-    ImageMetrics m = compareImages(test, reference, cropOf(a)); // throws for a bad crop
+    std::optional<Image> denominator;
+    if (!a.relmseDenominator.empty()) {
+        denominator = readImage(a.relmseDenominator);
+        int f = downsampleFactor(test, *denominator);
+        if (f == 0)
+            throw ImageIoError("--relmse-denominator " + a.relmseDenominator + " is " +
+                               std::to_string(denominator->width) + "x" +
+                               std::to_string(denominator->height) +
+                               ", not the test's size or an integer multiple of it");
+        if (f > 1) denominator = boxDownsample(*denominator, f);
+    }
+    const Image* relmseB = denominator ? &*denominator : nullptr;
+    ImageMetrics m = compareImages(test, reference, cropOf(a), relmseB); // throws for a bad crop
 
     if (!a.output.empty()) writeImage(a.output, differenceImage(test, reference, a.scale));
     if (!a.heatmap.empty()) writeImage(a.heatmap, renderHeatmap(test, reference, hs));
@@ -186,6 +205,13 @@ std::function<int()> addDiffCommand(CLI::App& app) {
                     "is box-downsampled by f automatically (non-finite pixels left out of each "
                     "average)")
         ->required();
+    cmd->add_option("--relmse-denominator", args->relmseDenominator,
+                    "Take relMSE's b in (a-b)^2 / (b^2 + 0.01) from this image instead of the "
+                    "reference (the test's size or an integer multiple, downsampled like the "
+                    "reference); the other metrics are unchanged. For a render's noise alone: "
+                    "the reference a converged render of the same mode, the denominator the "
+                    "true (e.g. path-traced) reference")
+        ->type_name("IMAGE");
     cmd->add_flag("--json", args->json,
                   "Print the metrics as JSON: width, height, pixels, rmse, relmse, psnr (null "
                   "when the images are equal), mae, max_abs, mean_rel, block_rel, blocks, "
@@ -237,7 +263,8 @@ std::function<int()> addDiffCommand(CLI::App& app) {
         ->check(finiteNumber())
                                ->check(CLI::NonNegativeNumber);
     cmd->footer("Metrics (over pixels and R, G, B of the compared region; b = reference): "
-                "rmse = sqrt(mean (a-b)^2); relmse = mean (a-b)^2 / (b^2 + 0.01); "
+                "rmse = sqrt(mean (a-b)^2); relmse = mean (a-b)^2 / (b^2 + 0.01) (b there from "
+                "--relmse-denominator when given); "
                 "psnr = 10 log10(1 / mean (a-b)^2) dB, peak 1, inf when equal; "
                 "mae = mean |a-b|; max_abs = max |a-b|; mean_rel = max over R, G, B of "
                 "|mean a - mean b| / mean b; block_rel = mean over 32x32 blocks of |A-B| / B "

@@ -74,11 +74,13 @@ void biasMetrics(const Image& a, const Image& b, const CropRect& r, ImageMetrics
 
 } // namespace
 
-ImageMetrics compareImages(const Image& a, const Image& b, const std::optional<CropRect>& crop) {
-    if (a.width != b.width || a.height != b.height)
-        throw ImageIoError("images differ in size: " + std::to_string(a.width) + "x" +
-                           std::to_string(a.height) + " vs " + std::to_string(b.width) + "x" +
-                           std::to_string(b.height));
+ImageMetrics compareImages(const Image& a, const Image& b, const std::optional<CropRect>& crop,
+                           const Image* relmseDenominator) {
+    for (const Image* other : {&b, relmseDenominator})
+        if (other && (a.width != other->width || a.height != other->height))
+            throw ImageIoError("images differ in size: " + std::to_string(a.width) + "x" +
+                               std::to_string(a.height) + " vs " + std::to_string(other->width) +
+                               "x" + std::to_string(other->height));
     CropRect r{0, 0, a.width, a.height};
     if (crop) {
         r = *crop;
@@ -95,6 +97,7 @@ ImageMetrics compareImages(const Image& a, const Image& b, const std::optional<C
         for (int x = r.x0; x < r.x1; ++x) {
             const float* pa = a.at(x, y);
             const float* pb = b.at(x, y);
+            const float* pd = relmseDenominator ? relmseDenominator->at(x, y) : pb;
             if (!finitePixel(pb)) {
                 ++skipped;
                 continue;
@@ -102,7 +105,7 @@ ImageMetrics compareImages(const Image& a, const Image& b, const std::optional<C
             for (int c = 0; c < 3; ++c) {
                 double d = double(pa[c]) - double(pb[c]);
                 se += d * d;
-                rel += d * d / (double(pb[c]) * pb[c] + 0.01);
+                rel += d * d / (double(pd[c]) * pd[c] + 0.01);
                 ae += std::abs(d);
                 mx = std::isnan(d) || std::isnan(mx) ? std::numeric_limits<double>::quiet_NaN()
                                                      : std::max(mx, std::abs(d));

@@ -40,9 +40,14 @@ constexpr int kMetricBlock = 32;
 constexpr double kBlockFloor = 1e-3;
 
 // Pixels whose reference has a non-finite channel are left out of every sum.
+// relmseDenominator, when given, supplies relMSE's b in b^2 + 0.01 instead of the reference
+// (the other metrics are unchanged): a render's noise measured against a converged render of
+// the same estimator, in units of the full reference (docs/image-comparison.md); a non-finite
+// value there makes relMSE NaN.
 // Throws ImageIoError if the sizes differ or the crop is empty or outside the image.
 ImageMetrics compareImages(const Image& test, const Image& reference,
-                           const std::optional<CropRect>& crop = std::nullopt);
+                           const std::optional<CropRect>& crop = std::nullopt,
+                           const Image* relmseDenominator = nullptr);
 
 // The reference at 1/factor of its resolution: each output pixel is the average of a
 // factor x factor block, over the block's finite pixels (NaN if it has none, so the comparison

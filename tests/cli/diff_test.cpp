@@ -187,6 +187,41 @@ TEST_CASE("diff limits: exit 1 when exceeded, naming the limit - 0 otherwise", "
     CHECK(runRayproc({"diff", p.test, p.reference, "--max-rmse", "0.2"}, dir).status == 0);
 }
 
+TEST_CASE("diff --relmse-denominator takes relMSE's b from a third image", "[cli]") {
+    TempDir dir;
+    // Test 0.6 against a converged 0.5; the true reference 1.0, at twice the size.
+    Pair p = writePair(dir, "pfm", 8, 8, 0.5f, 0.1f);
+    writeImage(dir.file("full.exr"), constantImage(16, 16, 1.0f));
+    RunResult r =
+        runRayproc({"diff", p.test, p.reference, "--relmse-denominator", dir.file("full.exr")}, dir);
+    INFO(r.out << r.err);
+    CHECK(r.status == 0);
+    CHECK(printed(r.out, "relmse") == Approx(0.01 / (1.0 + 0.01)).epsilon(1e-5));
+    CHECK(printed(r.out, "rmse") == Approx(0.1).epsilon(1e-5));
+    CHECK(contains(r.out, "denominators from"));
+
+    RunResult j = runRayproc({"diff", p.test, p.reference, "--relmse-denominator",
+                              dir.file("full.exr"), "--json", "--max-relmse", "0.0098"},
+                             dir);
+    INFO(j.out << j.err);
+    CHECK(j.status == 1); // 0.0099 > 0.0098: the limit applies to the denominator's relMSE
+    nlohmann::json parsed = nlohmann::json::parse(j.out);
+    CHECK(parsed["relmse"].get<double>() == Approx(0.01 / 1.01).epsilon(1e-5));
+    CHECK(parsed["relmse_denominator"] == dir.file("full.exr"));
+
+    writeImage(dir.file("odd.pfm"), constantImage(12, 8, 1.0f));
+    RunResult bad =
+        runRayproc({"diff", p.test, p.reference, "--relmse-denominator", dir.file("odd.pfm")}, dir);
+    INFO(bad.err);
+    CHECK(bad.status == 2);
+    CHECK(contains(bad.err, "--relmse-denominator"));
+    CHECK(contains(bad.err, "12x8"));
+    RunResult missing = runRayproc(
+        {"diff", p.test, p.reference, "--relmse-denominator", dir.file("none.pfm")}, dir);
+    CHECK(missing.status == 2);
+    CHECK(contains(missing.err, "none.pfm"));
+}
+
 TEST_CASE("diff errors exit 2 with a clear message", "[cli]") {
     TempDir dir;
     Pair p = writePair(dir, "pfm", 8, 8, 0.5f, 0.1f);
@@ -231,7 +266,8 @@ TEST_CASE("diff --help explains every option and the exit codes", "[cli]") {
     CHECK(r.status == 0);
     for (const char* option :
          {"--json", "--output", "--scale", "--heatmap", "--heatmap-metric", "--heatmap-scale",
-          "--heatmap-range", "--no-legend", "--crop", "--max-relmse", "--max-rmse"}) {
+          "--heatmap-range", "--no-legend", "--crop", "--max-relmse", "--max-rmse",
+          "--relmse-denominator"}) {
         INFO("option " << option);
         CHECK(contains(r.out, std::string(option) + " "));
     }

@@ -92,6 +92,28 @@ TEST_CASE("relMSE divides by the reference, not by the test image", "[image]") {
     CHECK(compareImages(ref, test).relmse == Approx(0.5).epsilon(1e-6));
 }
 
+TEST_CASE("A relMSE denominator image replaces the reference in relMSE only", "[image]") {
+    // Test 0.3 against a "converged" 0.2: (0.1)^2 / (b^2 + 0.01) with b from the denominator.
+    Image test = constantImage(3, 2, 0.3f);
+    Image converged = constantImage(3, 2, 0.2f);
+    Image full = constantImage(3, 2, 0.4f);
+    ImageMetrics plain = compareImages(test, converged);
+    ImageMetrics m = compareImages(test, converged, std::nullopt, &full);
+    CHECK(plain.relmse == Approx(0.01 / (0.04 + 0.01)).epsilon(1e-6));
+    CHECK(m.relmse == Approx(0.01 / (0.16 + 0.01)).epsilon(1e-6));
+    CHECK(m.rmse == plain.rmse);
+    CHECK(m.mae == plain.mae);
+    CHECK(m.meanRel == plain.meanRel);
+    CHECK(m.blockRel == plain.blockRel);
+    // Per pixel: a brighter denominator in one pixel lowers only that pixel's term.
+    full.at(0, 0)[0] = 1.0f;
+    ImageMetrics one = compareImages(test, converged, std::nullopt, &full);
+    CHECK(one.relmse == Approx((17 * 0.01 / 0.17 + 0.01 / 1.01) / 18.0).epsilon(1e-6));
+    Image square = constantImage(3, 3, 0.4f);
+    CHECK_THROWS_WITH(compareImages(test, converged, std::nullopt, &square),
+                      Catch::Contains("3x2") && Catch::Contains("3x3"));
+}
+
 TEST_CASE("A crop restricts the comparison to its pixels", "[image]") {
     Image ref = constantImage(10, 8, 0.25f);
     Image test = ref;
