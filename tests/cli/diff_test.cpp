@@ -192,8 +192,8 @@ TEST_CASE("diff --relmse-denominator takes relMSE's b from a third image", "[cli
     // Test 0.6 against a converged 0.5; the true reference 1.0, at twice the size.
     Pair p = writePair(dir, "pfm", 8, 8, 0.5f, 0.1f);
     writeImage(dir.file("full.exr"), constantImage(16, 16, 1.0f));
-    RunResult r =
-        runRayproc({"diff", p.test, p.reference, "--relmse-denominator", dir.file("full.exr")}, dir);
+    const std::string full = dir.file("full.exr");
+    RunResult r = runRayproc({"diff", p.test, p.reference, "--relmse-denominator", full}, dir);
     INFO(r.out << r.err);
     CHECK(r.status == 0);
     CHECK(printed(r.out, "relmse") == Approx(0.01 / (1.0 + 0.01)).epsilon(1e-5));
@@ -210,8 +210,8 @@ TEST_CASE("diff --relmse-denominator takes relMSE's b from a third image", "[cli
     CHECK(parsed["relmse_denominator"] == dir.file("full.exr"));
 
     writeImage(dir.file("odd.pfm"), constantImage(12, 8, 1.0f));
-    RunResult bad =
-        runRayproc({"diff", p.test, p.reference, "--relmse-denominator", dir.file("odd.pfm")}, dir);
+    const std::string odd = dir.file("odd.pfm");
+    RunResult bad = runRayproc({"diff", p.test, p.reference, "--relmse-denominator", odd}, dir);
     INFO(bad.err);
     CHECK(bad.status == 2);
     CHECK(contains(bad.err, "--relmse-denominator"));

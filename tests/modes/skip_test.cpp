@@ -268,7 +268,7 @@ TEST_CASE("Scene analysis: zero-power lights are not sampled", "[skip]") {
     // zero power is never picked): bit-identical. Path mode, and gi's record corrections (a
     // path vertex each), pick one light per vertex uniformly: dropping two of three changes the
     // picks, not the expectation.
-    for (const std::string& mode : {"preview", "raytrace", "gi"}) {
+    for (const char* mode : {"preview", "raytrace", "gi"}) {
         INFO("mode " << mode);
         Run r;
         r.mode = mode;
@@ -321,7 +321,7 @@ TEST_CASE("Scene analysis: a light radiating away from every surface and the cam
     CHECK(previewPlan.sampledLightCount() == 1);
 
     // Raytrace and preview: the light's samples all fail the cosine test, so nothing changes.
-    for (const std::string& mode : {"preview", "raytrace"}) {
+    for (const char* mode : {"preview", "raytrace"}) {
         INFO("mode " << mode);
         Pair p = renderBoth(*up, accel, mode);
         CHECK(p.analysed.image.pixels == p.full.image.pixels);

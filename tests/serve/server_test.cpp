@@ -229,9 +229,10 @@ TEST_CASE("serve: only the server's own page may open a WebSocket - other origin
 TEST_CASE("serve: HTTP requests must name the server in Host (DNS rebinding)", "[serve]") {
     Served s;
     const std::string port = std::to_string(s.server.port());
-    for (const std::string& name : {"127.0.0.1", "localhost", "LOCALHOST", "[::1]"}) {
+    for (const char* name : {"127.0.0.1", "localhost", "LOCALHOST", "[::1]"}) {
         RawClient c(s.server.port());
-        CHECK(statusLine(c.request("/", {"Host: " + name + ":" + port})) == "HTTP/1.1 200 OK");
+        std::string host = std::string("Host: ") + name + ":" + port;
+        CHECK(statusLine(c.request("/", {host})) == "HTTP/1.1 200 OK");
     }
     for (const std::string& hostLine :
          {"Host: evil.example:" + port, std::string("Host: evil.example"),
