@@ -172,6 +172,7 @@ int runDiff(const DiffArgs& a) {
     ImageMetrics m = compareImages(test, reference, cropOf(a), relmseB); // throws for a bad crop
 
     if (!a.output.empty()) writeImage(a.output, differenceImage(test, reference, a.scale));
+    hs.relmseDenominator = relmseB;
     if (!a.heatmap.empty()) writeImage(a.heatmap, renderHeatmap(test, reference, hs));
 
     std::vector<Exceeded> exceeded;
@@ -208,9 +209,9 @@ std::function<int()> addDiffCommand(CLI::App& app) {
     cmd->add_option("--relmse-denominator", args->relmseDenominator,
                     "Take relMSE's b in (a-b)^2 / (b^2 + 0.01) from this image instead of the "
                     "reference (the test's size or an integer multiple, downsampled like the "
-                    "reference); the other metrics are unchanged. For a render's noise alone: "
-                    "the reference a converged render of the same mode, the denominator the "
-                    "true (e.g. path-traced) reference")
+                    "reference), in the relmse heatmap too; the other metrics are unchanged. For "
+                    "a render's noise alone: the reference a converged render of the same mode, "
+                    "the denominator the true (e.g. path-traced) reference")
         ->type_name("IMAGE");
     cmd->add_flag("--json", args->json,
                   "Print the metrics as JSON: width, height, pixels, rmse, relmse, psnr (null "

@@ -200,14 +200,17 @@ void outlineCrop(Image& out, const CropRect& c, int width, int height) {
 
 } // namespace
 
-std::vector<double> pixelErrors(const Image& a, const Image& b, HeatmapMetric metric) {
+std::vector<double> pixelErrors(const Image& a, const Image& b, HeatmapMetric metric,
+                                const Image* relmseDenominator) {
+    const Image& den = relmseDenominator ? *relmseDenominator : b;
     std::vector<double> e(std::size_t(a.width) * std::size_t(a.height));
     for (std::size_t i = 0; i < e.size(); ++i) {
         double sum = 0;
         for (std::size_t c = 0; c < 3; ++c) {
             double va = a.pixels[3 * i + c], vb = b.pixels[3 * i + c];
+            double vd = den.pixels[3 * i + c];
             double d = va - vb;
-            sum += metric == HeatmapMetric::RelMse ? d * d / (vb * vb + 0.01) : std::abs(d);
+            sum += metric == HeatmapMetric::RelMse ? d * d / (vd * vd + 0.01) : std::abs(d);
         }
         e[i] = sum / 3.0;
     }
@@ -247,8 +250,9 @@ HeatmapSize heatmapSize(int width, int height, const HeatmapSettings& s) {
 }
 
 Image renderHeatmap(const Image& a, const Image& b, const HeatmapSettings& s) {
-    compareImages(a, b, s.crop); // validates sizes and crop with the metrics' messages
-    std::vector<double> errors = pixelErrors(a, b, s.metric);
+    // Validates the sizes and the crop with the metrics' messages.
+    compareImages(a, b, s.crop, s.relmseDenominator);
+    std::vector<double> errors = pixelErrors(a, b, s.metric, s.relmseDenominator);
     HeatmapRange range = heatmapRange(errors, a.width, a.height, s);
     HeatmapSize size = heatmapSize(a.width, a.height, s);
     Image out(size.width, size.height);

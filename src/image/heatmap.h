@@ -28,6 +28,9 @@ struct HeatmapSettings {
     double lo = 0, hi = 0;
     bool legend = true;           // false: exactly the image's size, no colour bar
     std::optional<CropRect> crop; // outlined in green; the automatic range looks only inside it
+    // The relmse metric's b from this image (the test's size) instead of the reference, as
+    // compareImages' relmseDenominator; not owned.
+    const Image* relmseDenominator = nullptr;
 };
 
 // The colour range a heatmap uses.
@@ -35,9 +38,11 @@ struct HeatmapRange {
     double lo = 0, hi = 1;
 };
 
-// Per-pixel error of `test` against `reference` (same size), row-major, width * height values.
+// Per-pixel error of `test` against `reference` (same size), row-major, width * height values;
+// relmse's b from relmseDenominator when given (the same size too).
 // Non-finite inputs give a non-finite error.
-std::vector<double> pixelErrors(const Image& test, const Image& reference, HeatmapMetric metric);
+std::vector<double> pixelErrors(const Image& test, const Image& reference, HeatmapMetric metric,
+                                const Image* relmseDenominator = nullptr);
 
 // The settings' range, or the automatic one from the finite errors inside the crop: log scale:
 // [max(smallest positive, largest / 1e4), largest] widened to whole decades; linear scale:

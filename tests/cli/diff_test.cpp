@@ -210,6 +210,13 @@ TEST_CASE("diff --relmse-denominator takes relMSE's b from a third image", "[cli
     CHECK(parsed["relmse_denominator"] == dir.file("full.exr"));
 
     writeImage(dir.file("odd.pfm"), constantImage(12, 8, 1.0f));
+    // The heatmap takes the same denominators (tests/image/metrics_test.cpp checks the values).
+    RunResult heat = runRayproc({"diff", p.test, p.reference, "--relmse-denominator", full,
+                                 "--heatmap", dir.file("heat.pfm")},
+                                dir);
+    CHECK(heat.status == 0);
+    CHECK(std::filesystem::exists(dir.file("heat.pfm")));
+
     const std::string odd = dir.file("odd.pfm");
     RunResult bad = runRayproc({"diff", p.test, p.reference, "--relmse-denominator", odd}, dir);
     INFO(bad.err);

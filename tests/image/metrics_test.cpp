@@ -162,6 +162,16 @@ TEST_CASE("Heatmap per-pixel errors average to the printed metrics", "[image]") 
         for (double v : e) mean += v / double(e.size());
         CHECK(mean == Approx(metric == HeatmapMetric::RelMse ? m.relmse : m.mae).epsilon(1e-9));
     }
+    // With a relMSE denominator image, the relmse heatmap follows it; abs does not change.
+    Image den = constantImage(9, 4, 0.7f);
+    ImageMetrics md = compareImages(test, ref, std::nullopt, &den);
+    REQUIRE(md.relmse != Approx(m.relmse));
+    std::vector<double> e = pixelErrors(test, ref, HeatmapMetric::RelMse, &den);
+    double mean = 0;
+    for (double v : e) mean += v / double(e.size());
+    CHECK(mean == Approx(md.relmse).epsilon(1e-9));
+    CHECK(pixelErrors(test, ref, HeatmapMetric::Abs, &den) ==
+          pixelErrors(test, ref, HeatmapMetric::Abs));
 }
 
 TEST_CASE("Heatmap automatic ranges", "[image]") {
