@@ -133,6 +133,22 @@ void printJson(const DiffArgs& a, const Image& img, const ImageMetrics& m, int f
     std::printf("%s\n", j.dump(2).c_str());
 }
 
+// Reads an image to compare with `test`: its size, or an integer multiple of it (a
+// full-resolution reference for a fraction-resolution render), box-downsampled to the test's
+// size; `factor` receives the multiple. `label` names it in the error ("the reference").
+Image readAtTestSize(const std::string& label, const std::string& path, const Image& test,
+                     const std::string& testPath, int& factor) {
+    Image image = readImage(path);
+    factor = downsampleFactor(test, image);
+    if (factor == 0)
+        throw ImageIoError("cannot compare images of different sizes: " + testPath + " is " +
+                           std::to_string(test.width) + "x" + std::to_string(test.height) + ", " +
+                           label + " " + path + " is " + std::to_string(image.width) + "x" +
+                           std::to_string(image.height) +
+                           " (not an integer multiple of the test's size)");
+    return factor > 1 ? boxDownsample(image, factor) : image;
+}
+
 int runDiff(const DiffArgs& a) {
     if (!a.output.empty()) imageFormatFromPath(a.output); // throws for an unknown extension
     if (!a.heatmap.empty()) imageFormatFromPath(a.heatmap);
@@ -146,28 +162,12 @@ int runDiff(const DiffArgs& a) {
     HeatmapSettings hs = heatmapSettings(a);
 
     Image test = readImage(a.test);
-    Image reference = readImage(a.reference);
-    // A reference at an integer multiple of the test's size (a full-resolution reference for a
-    // fraction-resolution render) is box-downsampled to the test's size first.
-    int factor = downsampleFactor(test, reference);
-    if (factor == 0)
-        throw ImageIoError(
-            "cannot compare images of different sizes: " + a.test + " is " +
-            std::to_string(test.width) + "x" + std::to_string(test.height) + ", the reference " +
-            a.reference + " is " + std::to_string(reference.width) + "x" +
-            std::to_string(reference.height) + " (not an integer multiple of the test's size)");
-    if (factor > 1) reference = boxDownsample(reference, factor);
+    int factor = 1, denominatorFactor = 1;
+    Image reference = readAtTestSize("the reference", a.reference, test, a.test, factor);
     std::optional<Image> denominator;
-    if (!a.relmseDenominator.empty()) {
-        denominator = readImage(a.relmseDenominator);
-        int f = downsampleFactor(test, *denominator);
-        if (f == 0)
-            throw ImageIoError("--relmse-denominator " + a.relmseDenominator + " is " +
-                               std::to_string(denominator->width) + "x" +
-                               std::to_string(denominator->height) +
-                               ", not the test's size or an integer multiple of it");
-        if (f > 1) denominator = boxDownsample(*denominator, f);
-    }
+    if (!a.relmseDenominator.empty())
+        denominator = readAtTestSize("--relmse-denominator", a.relmseDenominator, test, a.test,
+                                     denominatorFactor);
     const Image* relmseB = denominator ? &*denominator : nullptr;
     ImageMetrics m = compareImages(test, reference, cropOf(a), relmseB); // throws for a bad crop
 
