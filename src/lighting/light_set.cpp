@@ -89,8 +89,8 @@ LightSource fromEmitter(const EmitterRecord& e) {
         }
         s.boundCenter = 0.5f * (lo + hi);
         s.boundRadius = 0.5f * length(hi - lo);
-        // One-sided and flat: every triangle's normal within 1e-4 of the first's.
-        if (!s.twoSided && s.triangles.size() >= 3) {
+        // Flat: every triangle's normal within 1e-4 of the first's.
+        if (s.triangles.size() >= 3) {
             auto normalOf = [&](std::size_t t) {
                 const Vec3* v = &s.triangles[t];
                 return normalize(cross(v[1] - v[0], v[2] - v[0]));
@@ -101,7 +101,7 @@ LightSource fromEmitter(const EmitterRecord& e) {
                 Vec3 n = normalOf(t);
                 flat = isFinite(n) && dot(n, n0) > 1.0f - 1e-4f;
             }
-            if (flat) s.planeNormal = n0;
+            if (flat) s.flatNormal = n0;
         }
         break;
     }
@@ -123,7 +123,7 @@ LightSource fromEmitter(const EmitterRecord& e) {
         s.area = kPi * s.radius * s.radius;
         s.boundCenter = s.center;
         s.boundRadius = s.radius;
-        if (!s.twoSided) s.planeNormal = s.normal;
+        s.flatNormal = s.normal;
         break;
     }
     return s;
@@ -286,12 +286,46 @@ Vec3 LightSource::power() const {
     }
 }
 
-float LightSource::selectionWeight(const Vec3& p) const {
-    Vec3 d = p - boundCenter;
-    // Behind the plane (with a margin for the rounding of p and of the vertices).
-    if (dot(d, planeNormal) < -1e-4f * boundRadius) return 0.0f;
-    float d2 = std::max(lengthSquared(d), boundRadius * boundRadius);
-    return d2 > 0 ? powerLuminance / d2 : 0.0f;
+LightBounds LightSource::makeBounds() const {
+    LightBounds b;
+    switch (kind) {
+    case Kind::Directional: return b; // no position: LightSampler's fixed share
+    case Kind::Point:
+    case Kind::Spot:
+        b.center = position;
+        b.phi = std::max(0.0f, luminance(power()));
+        if (kind == Kind::Spot) {
+            // As a point light of the spot's intensity (pbrt-v4's SpotLight::Bounds): inside
+            // its cone a spot lights a point as I / d^2 whatever the cone's width, and its
+            // total power would rate a narrow spot far below what it gives there (a glossy
+            // highlight of it was a firefly of 1 / pmf). The cone cuts the rest off.
+            b.phi = std::max(0.0f, luminance(intensity)) * 4 * kPi;
+            b.axis = direction;
+            b.thetaO = std::acos(std::clamp(cosCone, -1.0f, 1.0f));
+            b.thetaE = std::max(0.0f, std::acos(std::clamp(cosFalloff, -1.0f, 1.0f)) - b.thetaO);
+            // The smooth step's edge: at thetaO + thetaE the intensity is 0.
+        } else if (lobe) {
+            // I cos(theta): as a point light of intensity I, the cone's cosine the lobe.
+            b.phi = std::max(0.0f, luminance(intensity)) * 4 * kPi;
+            b.axis = lobeNormal;
+            b.thetaO = 0;
+            b.twoSided = lobeTwoSided;
+        }
+        b.updateCone();
+        return b;
+    default:
+        b.center = boundCenter;
+        b.radius = boundRadius * (1.0f + 1e-5f) + length(placementError);
+        b.phi = powerLuminance;
+        if (!isBlack(flatNormal)) {
+            // A Lambertian plane: the cone of its normal, thetaE = pi/2 beyond it.
+            b.axis = flatNormal;
+            b.thetaO = 0;
+            b.twoSided = twoSided;
+        }
+        b.updateCone();
+        return b;
+    }
 }
 
 float LightSet::effectiveLights(const float* weights, std::size_t count) {
@@ -354,7 +388,23 @@ LightSet LightSet::build(const Scene& scene, const EmbreeScene& accel) {
     }
     std::sort(set.m_areaIndex.begin(), set.m_areaIndex.end());
     for (std::size_t i = 0; i < set.lights.size(); ++i) set.lights[i].stream = std::uint32_t(i);
+    set.buildSampler();
     return set;
+}
+
+void LightSet::buildSampler() {
+    std::vector<LightBounds> bounds;
+    std::vector<bool> infinite;
+    for (LightSource& l : lights) {
+        l.bounds = l.makeBounds();
+        bounds.push_back(l.bounds);
+        infinite.push_back(l.kind == LightSource::Kind::Directional);
+    }
+    if (hasEnvironment()) {
+        bounds.emplace_back();
+        infinite.push_back(true);
+    }
+    sampler.build(bounds, infinite);
 }
 
 int LightSet::indexOf(const Shape* shape, int instance) const {
@@ -406,6 +456,7 @@ LightSet LightSet::buildPreview(const Scene& scene, const EmbreeScene& accel) {
         }
     }
     for (std::size_t i = 0; i < set.lights.size(); ++i) set.lights[i].stream = std::uint32_t(i);
+    set.buildSampler();
     return set;
 }
 
@@ -421,6 +472,7 @@ LightSet LightSet::subset(const std::vector<bool>& keep) const {
     }
     for (const auto& e : m_areaIndex)
         if (index[std::size_t(e.second)] >= 0) out.m_areaIndex.push_back({e.first, index[std::size_t(e.second)]});
+    out.buildSampler();
     return out;
 }
 

@@ -6,6 +6,8 @@
 #include "accel/embree_scene.h"
 #include "core/math.h"
 #include "lighting/environment.h"
+#include "lighting/light_bounds.h"
+#include "lighting/light_sampler.h"
 #include "image/image.h"
 #include "scene/scene.h"
 
@@ -61,15 +63,18 @@ public:
     // The light's index in the set it was built in: keys its random numbers, so a subset
     // samples each remaining light exactly as the full set does.
     std::uint32_t stream = 0;
-    // For choosing among area lights: a bounding sphere, the unit normal of a one-sided planar
-    // light (zero otherwise), and the luminance of the emitted power.
-    Vec3 boundCenter, planeNormal;
+    // For choosing among area lights: a bounding sphere, the unit normal of a planar light
+    // (zero otherwise), and the luminance of the emitted power.
+    Vec3 boundCenter, flatNormal;
     float boundRadius = 0, powerLuminance = 0;
-    // How much this area light can give the point p, up to a factor common to all lights: its
-    // power over the squared distance from p to its bound's centre (at least the bound's
-    // radius squared); 0 behind a one-sided planar light, which cannot light p. Every point it
-    // can light gets a weight > 0, so choosing lights by it is unbiased.
-    float selectionWeight(const Vec3& p) const;
+    // Where and in which directions the light emits, and how much (LightSampler's bounds);
+    // set by LightSet::build for every light with a position.
+    LightBounds bounds;
+    LightBounds makeBounds() const;
+    // How much this light can give the point p, up to a factor common to all lights
+    // (LightBounds::importance): 0 only where none of its points can face p, so choosing
+    // lights by it is unbiased.
+    float selectionWeight(const Vec3& p) const { return bounds.importance(p); }
     Vec3 placementError; // bound on the rounding of the world-space vertices / centre
 
     LightSample sample(const Vec3& p, Vec2 u) const;
@@ -84,9 +89,10 @@ struct LightSet {
     EnvironmentLight environment; // the sky; absent when no scene light is an environment
     bool hasEnvironment() const { return environment.present(); }
 
-    // Path mode picks one light per shading point, uniformly among the lights and the sky
-    // (the sky is choice number lights.size()).
+    // Path mode (and gi's correction rays) pick one light per shading point with `sampler`
+    // among the lights and the sky (the sky is choice number lights.size()).
     std::size_t choiceCount() const { return lights.size() + (hasEnvironment() ? 1 : 0); }
+    LightSampler sampler;
     // The area light an emissive leaf placement is, or -1.
     int indexOf(const Shape* shape, int instance) const;
 
@@ -127,6 +133,8 @@ struct LightSet {
     LightSet subset(const std::vector<bool>& keep) const;
 
 private:
+    // Fills every light's bounds and builds `sampler` over the lights and the sky.
+    void buildSampler();
     std::vector<std::pair<std::pair<const Shape*, int>, int>> m_areaIndex; // sorted
     std::size_t m_areaLights = 0;
 };

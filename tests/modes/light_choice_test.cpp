@@ -90,7 +90,8 @@ TEST_CASE("Light choice: selection weights, the lights that matter, and lights f
     CHECK(c.probability == 0.0f);
     // A two-sided light lights both sides.
     LightSource twoSided = lights.lights[up];
-    twoSided.planeNormal = Vec3(0.0f);
+    twoSided.twoSided = true;
+    twoSided.bounds = twoSided.makeBounds();
     CHECK(twoSided.selectionWeight(onFloor) > 0.0f);
 }
 
@@ -139,4 +140,32 @@ TEST_CASE("Light choice: along a row of lights it costs fewer shadow rays per un
     CHECK(shadowRays(on) * 3 < shadowRays(off));
     // Error times rays (variance per unit of work) at least 2x lower.
     CHECK(errOn * double(shadowRays(on)) < 0.5 * errOff * double(shadowRays(off)));
+}
+
+TEST_CASE("Light choice: path mode's hierarchy of many lights agrees with sampling every light",
+          "[modes][lights][mis]") {
+    // 20 lights of different power over a floor, more than LightSampler weighs one by one:
+    // path mode descends the hierarchy for its light sample and takes the same probability for
+    // the MIS weight of a BSDF ray that finds a light; raytrace without choice samples each.
+    std::string lights;
+    for (int k = 0; k < 20; ++k)
+        lights += downLight(-4.75f + 0.5f * float(k), 0.6f + 0.1f * float(k % 3), float(k % 2) - 0.5f,
+                            1.0f + float(k % 5));
+    const char* materials[] = {
+        R"({"type": "diffuse", "color": [0.5, 0.5, 0.5]})",
+        R"({"type": "conductor", "metal": "Ag", "roughness": 0.2, "remap_roughness": false})",
+    };
+    for (const char* material : materials) {
+        auto scene = sceneFromJson(floorScene(material, 10, lights, 16));
+        EmbreeScene accel(*scene);
+        LightSet set = LightSet::build(*scene, accel);
+        REQUIRE(set.sampler.usesHierarchy());
+        // The conductor measured at 8192 / 2048 spp: within 0.3% in every channel.
+        Vec3 path = imageMean(renderWith(*scene, accel, "path", 2048, true).image);
+        Vec3 every = imageMean(renderWith(*scene, accel, "raytrace", 256, false).image);
+        for (int c = 0; c < 3; ++c) {
+            INFO(material << " channel " << c << ": path " << path[c] << " every light " << every[c]);
+            CHECK(path[c] == Approx(every[c]).epsilon(0.02));
+        }
+    }
 }

@@ -1,0 +1,198 @@
+#include "lighting/light_sampler.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rayproc {
+
+namespace {
+
+// The bounds of two clusters together: a sphere around both spheres, the power summed, a cone
+// around both cones.
+LightBounds merge(const LightBounds& a, const LightBounds& b) {
+    if (!(a.phi > 0)) return b;
+    if (!(b.phi > 0)) return a;
+    LightBounds m;
+    Vec3 d = b.center - a.center;
+    float dist = length(d);
+    if (dist + b.radius <= a.radius) {
+        m.center = a.center;
+        m.radius = a.radius;
+    } else if (dist + a.radius <= b.radius) {
+        m.center = b.center;
+        m.radius = b.radius;
+    } else {
+        m.radius = 0.5f * (dist + a.radius + b.radius);
+        m.center = a.center + d * ((m.radius - a.radius) / dist);
+        m.radius *= 1.0f + 1e-5f; // rounding of the centre
+    }
+    m.phi = a.phi + b.phi;
+    unionCone(a.axis, a.thetaO, b.axis, b.thetaO, m.axis, m.thetaO);
+    m.thetaE = std::max(a.thetaE, b.thetaE);
+    m.twoSided = a.twoSided || b.twoSided;
+    m.updateCone();
+    return m;
+}
+
+} // namespace
+
+void LightSampler::build(const std::vector<LightBounds>& bounds, const std::vector<bool>& infinite) {
+    RAYPROC_CHECK(bounds.size() == infinite.size());
+    m_bounds = bounds;
+    m_infinite = infinite;
+    m_infiniteList.clear();
+    m_boundedList.clear();
+    m_nodes.clear();
+    m_trail.assign(bounds.size(), 0);
+    m_trailLen.assign(bounds.size(), 0);
+    for (std::size_t i = 0; i < bounds.size(); ++i)
+        (infinite[i] ? m_infiniteList : m_boundedList).push_back(i);
+    if (m_boundedList.size() > kExhaustiveLimit) {
+        std::vector<std::size_t> lights = m_boundedList;
+        m_nodes.reserve(2 * lights.size());
+        buildNode(lights, 0, lights.size(), 0, 0);
+    }
+}
+
+// Splits at the median of the centres along the widest axis of their box; a leaf per light.
+int LightSampler::buildNode(std::vector<std::size_t>& lights, std::size_t begin, std::size_t end,
+                            std::uint64_t trail, int depth) {
+    int index = int(m_nodes.size());
+    m_nodes.emplace_back();
+    if (end - begin == 1) {
+        std::size_t l = lights[begin];
+        m_nodes[std::size_t(index)].bounds = m_bounds[l];
+        m_nodes[std::size_t(index)].child[0] = int(l);
+        m_trail[l] = trail;
+        m_trailLen[l] = std::uint8_t(depth);
+        return index;
+    }
+    Vec3 lo(kInfinity), hi(-kInfinity);
+    for (std::size_t k = begin; k < end; ++k) {
+        lo = vmin(lo, m_bounds[lights[k]].center);
+        hi = vmax(hi, m_bounds[lights[k]].center);
+    }
+    Vec3 ext = hi - lo;
+    int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+    auto coord = [&](std::size_t l) { return m_bounds[l].center[axis]; };
+    std::size_t mid = begin + (end - begin) / 2;
+    std::nth_element(lights.begin() + std::ptrdiff_t(begin), lights.begin() + std::ptrdiff_t(mid),
+                     lights.begin() + std::ptrdiff_t(end), [&](std::size_t a, std::size_t b) {
+                         return coord(a) < coord(b) || (coord(a) == coord(b) && a < b);
+                     });
+    int left = buildNode(lights, begin, mid, trail, depth + 1);
+    int right = buildNode(lights, mid, end, trail | (std::uint64_t(1) << depth), depth + 1);
+    Node& n = m_nodes[std::size_t(index)];
+    n.child[0] = left;
+    n.child[1] = right;
+    n.bounds = merge(m_nodes[std::size_t(left)].bounds, m_nodes[std::size_t(right)].bounds);
+    return index;
+}
+
+float LightSampler::infiniteShare() const {
+    if (m_infiniteList.empty()) return 0.0f;
+    if (m_boundedList.empty()) return 1.0f;
+    return float(m_infiniteList.size()) / float(m_infiniteList.size() + 1);
+}
+
+LightSampler::Pick LightSampler::sample(const Vec3& p, float u) const {
+    Pick pick;
+    float share = infiniteShare();
+    if (u < share) {
+        std::size_t n = m_infiniteList.size();
+        std::size_t k = std::min(std::size_t(u / share * float(n)), n - 1);
+        pick.index = m_infiniteList[k];
+        pick.pmf = share / float(n);
+        return pick;
+    }
+    if (m_boundedList.empty()) return pick;
+    float rest = 1.0f - share;
+    pick = sampleBounded(p, std::min((u - share) / rest, 0.99999994f));
+    pick.pmf *= rest;
+    return pick;
+}
+
+float LightSampler::pmf(const Vec3& p, std::size_t index) const {
+    if (index >= m_bounds.size()) return 0.0f;
+    float share = infiniteShare();
+    if (m_infinite[index]) return share / float(m_infiniteList.size());
+    return (1.0f - share) * pmfBounded(p, index);
+}
+
+LightSampler::Pick LightSampler::sampleBounded(const Vec3& p, float u) const {
+    Pick pick;
+    if (m_boundedList.size() == 1) {
+        // One light: wherever it can light p it is the choice; where it cannot, its sample is
+        // invalid anyway (and a BSDF ray cannot meet its emitting side).
+        pick.index = m_boundedList[0];
+        pick.pmf = 1.0f;
+        return pick;
+    }
+    if (m_nodes.empty()) {
+        // Few lights: each by its own importance.
+        float weights[kExhaustiveLimit];
+        float total = 0;
+        for (std::size_t k = 0; k < m_boundedList.size(); ++k) {
+            weights[k] = m_bounds[m_boundedList[k]].importance(p);
+            total += weights[k];
+        }
+        if (!(total > 0)) return pick;
+        float target = u * total, below = 0;
+        for (std::size_t k = 0; k < m_boundedList.size(); ++k) {
+            if (!(weights[k] > 0)) continue;
+            pick.index = m_boundedList[k];
+            pick.pmf = weights[k] / total;
+            if (target < below + weights[k]) break;
+            below += weights[k];
+        }
+        return pick;
+    }
+    // Many: descend by the clusters' importance, reusing u within the chosen child.
+    int node = 0;
+    float pmf = 1;
+    while (m_nodes[std::size_t(node)].child[1] >= 0) {
+        const Node& n = m_nodes[std::size_t(node)];
+        float w0 = m_nodes[std::size_t(n.child[0])].bounds.importance(p);
+        float w1 = m_nodes[std::size_t(n.child[1])].bounds.importance(p);
+        if (!(w0 + w1 > 0)) return pick;
+        float p0 = w0 / (w0 + w1);
+        if (u < p0) {
+            u = std::min(u / p0, 0.99999994f);
+            pmf *= p0;
+            node = n.child[0];
+        } else {
+            u = std::min((u - p0) / (1 - p0), 0.99999994f);
+            pmf *= 1 - p0;
+            node = n.child[1];
+        }
+    }
+    pick.index = std::size_t(m_nodes[std::size_t(node)].child[0]);
+    pick.pmf = pmf;
+    return pick;
+}
+
+float LightSampler::pmfBounded(const Vec3& p, std::size_t index) const {
+    if (m_boundedList.size() == 1) return 1.0f;
+    if (m_nodes.empty()) {
+        float total = 0;
+        for (std::size_t l : m_boundedList) total += m_bounds[l].importance(p);
+        return total > 0 ? m_bounds[index].importance(p) / total : 0.0f;
+    }
+    // The same turns the descent would take to this light, each with its probability.
+    int node = 0;
+    float pmf = 1;
+    for (int level = 0; level < m_trailLen[index]; ++level) {
+        const Node& n = m_nodes[std::size_t(node)];
+        float w0 = m_nodes[std::size_t(n.child[0])].bounds.importance(p);
+        float w1 = m_nodes[std::size_t(n.child[1])].bounds.importance(p);
+        if (!(w0 + w1 > 0)) return 0.0f;
+        bool right = (m_trail[index] >> level) & 1u;
+        pmf *= (right ? w1 : w0) / (w0 + w1);
+        node = n.child[right ? 1 : 0];
+    }
+    return pmf;
+}
+
+} // namespace rayproc

@@ -1,0 +1,62 @@
+// The one light choice of every mode: which light (or the sky) a shading point samples, with a
+// probability that depends on the point. Lights without a position (directional lights, the
+// sky) share a fixed probability, as pbrt-v4's BVH light sampler gives them: each of the n such
+// lights 1 / (n + 1) when there are lights with a position, else 1 / n. The rest goes to the
+// lights with a position in proportion to LightBounds::importance at the point: exactly, light by
+// light, when there are few of them, and through a bounding hierarchy of lights when there are
+// many (Conty Estevez & Kulla 2018; pbrt-v4's BVHLightSampler), which descends by the
+// importance of each child's cluster and so costs O(log n) per choice.
+// pmf(p, i) is the probability that sample(p, .) picks choice i: path mode's multiple importance
+// sampling weighs a BSDF ray that finds a light with it, taken at the ray's origin.
+#pragma once
+
+#include "core/math.h"
+#include "lighting/light_bounds.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace rayproc {
+
+class LightSampler {
+public:
+    // Above this many lights with a position, the choice descends a hierarchy instead of
+    // weighing every light.
+    static constexpr std::size_t kExhaustiveLimit = 16;
+
+    // bounds[i]: light i's bounds, or nullptr-like (infinite[i] true) for a light without a
+    // position. Choice `choices - 1` is the sky when hasSky.
+    void build(const std::vector<LightBounds>& bounds, const std::vector<bool>& infinite);
+
+    struct Pick {
+        std::size_t index = 0;
+        float pmf = 0; // 0: nothing can be picked at p
+    };
+    // Picks a choice with u in [0, 1).
+    Pick sample(const Vec3& p, float u) const;
+    float pmf(const Vec3& p, std::size_t index) const;
+    std::size_t choices() const { return m_bounds.size(); }
+    bool usesHierarchy() const { return !m_nodes.empty(); }
+
+private:
+    struct Node {
+        LightBounds bounds;
+        // Children for an interior node; the light for a leaf (child[1] < 0).
+        int child[2] = {-1, -1};
+    };
+    float infiniteShare() const;
+    Pick sampleBounded(const Vec3& p, float u) const;
+    float pmfBounded(const Vec3& p, std::size_t index) const;
+    int buildNode(std::vector<std::size_t>& lights, std::size_t begin, std::size_t end,
+                  std::uint64_t trail, int depth);
+
+    std::vector<LightBounds> m_bounds; // per choice (unused for infinite ones)
+    std::vector<bool> m_infinite;
+    std::vector<std::size_t> m_infiniteList, m_boundedList;
+    std::vector<Node> m_nodes;            // the hierarchy, root first (many lights only)
+    std::vector<std::uint64_t> m_trail;   // per choice: the left/right turns from the root
+    std::vector<std::uint8_t> m_trailLen; // and how many
+};
+
+} // namespace rayproc
