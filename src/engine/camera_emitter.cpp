@@ -1,5 +1,7 @@
 #include "engine/camera_emitter.h"
 
+#include "kernels/sobol.h"
+
 #include "kernels/random.h"
 
 #include <algorithm>
@@ -82,10 +84,15 @@ bool CameraEmitter::emit(StageContext& ctx) {
         for (int x = x0; x < std::min(x0 + kTile, width); ++x) {
             std::uint32_t p = std::uint32_t(y) * std::uint32_t(width) + std::uint32_t(x);
             std::uint64_t pixelKey = kernels::pathKey(m_rc.seed, p, 0xffffffffu);
-            // Unstratified (--no-stratification): the same stream, one stratum per sample.
-            std::uint32_t strata = m_rc.policy.stratify ? std::uint32_t(m_totalSpp) : 1u;
-            Vec2 s = kernels::groupStratified2D(std::uint32_t(sample), strata, pixelKey);
             std::uint64_t key = kernels::pathKey(m_rc.seed, p, std::uint32_t(sample));
+            // The film position and the lens position: Owen-scrambled Sobol points over the
+            // pixel's samples, each pair its own sequence (kernels/sobol.h); independent
+            // numbers of the sample's stream with --no-stratification.
+            const bool sobol = m_rc.policy.stratify;
+            Vec2 s = sobol ? kernels::owenSobol2D(std::uint32_t(sample), pixelKey)
+                           : Vec2{kernels::uniform(key, 2), kernels::uniform(key, 3)};
+            Vec2 lens = sobol ? kernels::owenSobol2D(std::uint32_t(sample), kernels::mix64(pixelKey))
+                              : Vec2{kernels::uniform(key, 0), kernels::uniform(key, 1)};
             if (m_camera.filter.type == PixelFilter::Type::Box) {
                 // x + (0.5 - r) + 2 r s: for the default radius 0.5 exactly x + s, the film
                 // positions (and images) rayproc has always produced.
@@ -97,8 +104,8 @@ bool CameraEmitter::emit(StageContext& ctx) {
                 fx[n] = float(x) + 0.5f + fs.offset.x;
                 fy[n] = float(y) + 0.5f + fs.offset.y;
             }
-            lu[n] = kernels::uniform(key, 0);
-            lv[n] = kernels::uniform(key, 1);
+            lu[n] = lens.x;
+            lv[n] = lens.y;
             pix[n] = p;
             keys[n] = key;
             ++n;

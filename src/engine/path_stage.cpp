@@ -4,6 +4,7 @@
 #include "engine/material_bsdf.h"
 #include "kernels/bsdf_sampling.h"
 #include "kernels/sampling.h"
+#include "kernels/sobol.h"
 
 namespace rayproc {
 
@@ -11,28 +12,47 @@ namespace {
 
 
 // Random dimensions of one path vertex.
-enum PathDim : std::uint32_t { kDimLightPick = 20, kDimLight = 21, kDimBsdf = 23, kDimLobe = 25,
-                               kDimRr = 26, kDimLayered = 27 };
+// (kDimPickLobe: the light choice and the BSDF lobe's, as one pair.)
+enum PathDim : std::uint32_t { kDimPickLobe = 19, kDimLight = 21, kDimBsdf = 23, kDimRr = 26,
+                               kDimLayered = 27 };
 
-// Two numbers for dimension pair `dim` of a lane: at the first hit they are stratified over
-// the pixel's samples (padded: each pair has its own permutation), deeper they are independent.
-Vec2 sample2D(const RayBatch& b, int i, std::uint32_t dim, int spp, std::uint64_t seed) {
-    if (b.depth[i] == 0 && spp > 0) { // spp 0: --no-stratification
-        std::uint64_t key = kernels::hashCombine(kernels::pathKey(seed, b.pixel[i], 0xfffffffeu), dim);
-        return kernels::groupStratified2D(b.sample[i], std::uint32_t(spp), key);
+// A lane's random numbers at its vertex. Path mode's own paths take Owen-scrambled Sobol points
+// over the pixel's samples, a sequence of their own for every (pixel, depth, pair of
+// dimensions), so that at every depth a pixel's samples are stratified at every power-of-two
+// prefix (kernels/sobol.h); other paths (and --no-stratification) take independent numbers of
+// the lane's own stream.
+class VertexNumbers {
+public:
+    VertexNumbers(const RayBatch& b, int i, bool sobol, std::uint64_t seed)
+        : m_key(sobol ? kernels::hashCombine(kernels::pathKey(seed, b.pixel[i], 0xfffffffeu),
+                                             b.depth[i])
+                      : b.rngKey[i]),
+          m_sample(b.sample[i]), m_sobol(sobol) {}
+    Vec2 get2D(std::uint32_t dim) const {
+        if (m_sobol) return kernels::owenSobol2D(m_sample, m_key ^ (dim * 0x9e3779b97f4a7c15ULL));
+        return {kernels::uniform(m_key, dim), kernels::uniform(m_key, dim + 1)};
     }
-    return {kernels::uniform(b.rngKey[i], dim), kernels::uniform(b.rngKey[i], dim + 1)};
-}
+    float get1D(std::uint32_t dim) const {
+        if (m_sobol) return kernels::owenSobol1D(m_sample, m_key ^ (dim * 0x9e3779b97f4a7c15ULL));
+        return kernels::uniform(m_key, dim);
+    }
+
+private:
+    std::uint64_t m_key;
+    std::uint32_t m_sample;
+    bool m_sobol;
+};
 
 } // namespace
 
 bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const SurfaceHit& h,
                     const kernels::BsdfParams& bsdf, const Vec3& wo, const Vec3& w, Vec2 u,
                     float up, bool areaLightsOnly, RayBatch& out) {
-    const std::size_t choices = lights.choiceCount();
-    if (choices == 0) return false;
-    const float pickPdf = 1.0f / float(choices);
-    std::size_t pick = std::min(std::size_t(up * float(choices)), choices - 1);
+    if (lights.choiceCount() == 0) return false;
+    const LightSampler::Pick choice = lights.sampler.sample(h.p, up);
+    if (!(choice.pmf > 0)) return false;
+    const float pickPdf = choice.pmf;
+    const std::size_t pick = choice.index;
     Vec3 fg, fs;
     kernels::facingSide(wo, h.ng, h.ns, fg, fs);
     Vec3 wi;
@@ -117,8 +137,8 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
     const LightSet& lights = m_rc.lights;
     const ShadingPolicy& policy = m_rc.policy;
     const std::size_t choices = lights.choiceCount();
-    const float pickPdf = choices > 0 ? 1.0f / float(choices) : 0.0f;
-    const int strata = policy.stratify ? policy.sppTotal : 0;
+    const LightSampler& sampler = lights.sampler;
+    const bool sobol = policy.stratify && m_lowDiscrepancy;
     std::uint64_t shadowOut = 0, reflectOut = 0, refractOut = 0;
 
     for (int i = 0; i < b.count; ++i) {
@@ -133,7 +153,8 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             float envPdf = lights.environment.cosineSampled()
                                ? std::max(0.0f, b.prevCos[i]) * kInvPi
                                : lights.environment.pdf(d, Vec3(0.0f));
-            float mis = fromDelta ? 1.0f : kernels::powerHeuristic(b.prevPdf[i], pickPdf * envPdf);
+            float pick = sampler.pmf(o, lights.lights.size()); // the sky's fixed share
+            float mis = fromDelta ? 1.0f : kernels::powerHeuristic(b.prevPdf[i], pick * envPdf);
             m_rc.film.add(b.pixel[i], w * lights.environment.radiance(d) * mis, stats);
             continue;
         }
@@ -145,7 +166,10 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             float mis = 1.0f;
             if (!fromDelta) {
                 int li = lights.indexOf(h.shape, h.instance);
-                float pl = li >= 0 ? pickPdf * lights.lights[std::size_t(li)].pdf(o, h.p, h.ng) : 0.0f;
+                // The probability that the light sample at the ray's origin had come here.
+                float pl = li >= 0 ? sampler.pmf(o, std::size_t(li)) *
+                                         lights.lights[std::size_t(li)].pdf(o, h.p, h.ng)
+                                   : 0.0f;
                 mis = kernels::powerHeuristic(b.prevPdf[i], pl);
             }
             m_rc.film.add(b.pixel[i], w * le * mis, stats);
@@ -157,17 +181,17 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                                           kernels::hashCombine(b.rngKey[i], kDimLayered));
         const bool deltaMaterial =
             materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
+        const VertexNumbers u(b, i, sobol, m_rc.seed);
+        const Vec2 pickLobe = u.get2D(kDimPickLobe);
         // Next-event estimation: one light (or the sky), MIS-weighted against the BSDF.
         if (!deltaMaterial && choices > 0 &&
-            sampleOneLight(lights, b, i, h, bsdf, wo, w, sample2D(b, i, kDimLight, strata, m_rc.seed),
-                           kernels::uniform(b.rngKey[i], kDimLightPick), false,
+            sampleOneLight(lights, b, i, h, bsdf, wo, w, u.get2D(kDimLight), pickLobe.x, false,
                            ctx.out(m_outputs.shadow)))
             ++shadowOut;
 
         // Continue the path by sampling the BSDF.
-        switch (spawnBounce(policy, b, i, h, bsdf, wo, w, sample2D(b, i, kDimBsdf, strata, m_rc.seed),
-                            kernels::uniform(b.rngKey[i], kDimLobe),
-                            kernels::uniform(b.rngKey[i], kDimRr), 0, m_outputs, 3, ctx)) {
+        switch (spawnBounce(policy, b, i, h, bsdf, wo, w, u.get2D(kDimBsdf), pickLobe.y,
+                            u.get1D(kDimRr), 0, m_outputs, 3, ctx)) {
         case Bounce::Reflected: ++reflectOut; break;
         case Bounce::Transmitted: ++refractOut; break;
         case Bounce::None: break;

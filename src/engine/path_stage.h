@@ -3,7 +3,7 @@
 //  - adds the emission it lands on (or the sky it escapes to), weighted by multiple importance
 //    sampling against light sampling (Veach's power heuristic) unless the ray came off a
 //    delta lobe or the camera;
-//  - at non-delta surfaces samples one light (uniform choice among the lights and the sky)
+//  - at non-delta surfaces samples one light (LightSampler's choice among the lights and the sky)
 //    and emits a shadow ray carrying the MIS-weighted contribution (next-event estimation);
 //  - samples the BSDF for the next ray, with Russian roulette after `rrStartDepth` bounces;
 //    past the last vertex (depth == maxDepth) only a non-delta sample goes on, flagged
@@ -20,8 +20,9 @@
 namespace rayproc {
 
 // Next-event estimation at a path vertex, lane i of b at hit h (throughput w, BSDF bsdf, wo
-// towards the previous vertex): one light or the sky chosen uniformly (`up`) and sampled (`u`),
-// MIS-weighted against the BSDF by the power heuristic; an occlusion ray into `out` carries the
+// towards the previous vertex): one light or the sky chosen by LightSet::sampler at h.p (`up`)
+// and sampled (`u`), MIS-weighted against the BSDF by the power heuristic (both pdfs with the
+// choice's probability); an occlusion ray into `out` carries the
 // unoccluded contribution. `areaLightsOnly`: a delta light or the sky chosen adds nothing (gi's
 // correction paths leave their direct light to the gather). Whether a ray was spawned.
 bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const SurfaceHit& h,
@@ -35,13 +36,18 @@ public:
         RayKind reflected = RayKind::Reflection, transmitted = RayKind::Refraction;
         RayKind shadow = RayKind::Shadow;
     };
-    explicit PathStage(const RenderContext& rc) : m_rc(rc) {}
+    // Path mode's own paths: one per pixel sample, whose numbers are Owen-scrambled Sobol points
+    // over the pixel's samples at every depth (with stratification on).
+    explicit PathStage(const RenderContext& rc) : m_rc(rc), m_lowDiscrepancy(true) {}
+    // Paths that are not one per pixel sample (gi's correction paths: several per record and
+    // pass): independent numbers of each ray's own stream.
     PathStage(const RenderContext& rc, Outputs outputs) : m_rc(rc), m_outputs(outputs) {}
     void retrace(RayBatch& batch, StageContext& ctx) override;
 
 private:
     const RenderContext& m_rc;
     Outputs m_outputs;
+    bool m_lowDiscrepancy = false;
 };
 
 // The path's next ray at a vertex, lane i of b at hit h (throughput w, BSDF bsdf, wo towards the

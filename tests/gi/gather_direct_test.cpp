@@ -84,20 +84,27 @@ TEST_CASE("Gather direct light: gi's mean in a room lit through a hole matches p
     EmbreeScene accel(*scene);
     RenderOptions o;
     o.mode = "path";
-    o.spp = 1024;
+    o.spp = 2048;
     Vec3 path = imageMean(render(*scene, accel, o).image);
     EngineSettings engine;
     engine.threads = 2;
     engine.quiet = true;
-    GiSettings s = giSettings(*scene, ModeOverrides{16, 0, 0});
-    Vec3 on = imageMean(renderGi(*scene, accel, s, engine).image);
-    s.gatherDirect = false;
-    Vec3 off = imageMean(renderGi(*scene, accel, s, engine).image);
+    // gi's mean moves by 1-3% from seed to seed (its photon map and cache records): the mean
+    // over four seeds. Measured against path at 8192 spp: with direct light at gather hits
+    // -3.2%, -1.9%, +1.1%, -1.6% (seeds 1-4), without +7.1%, +9.1%, +19%, +8.0%.
+    Vec3 on(0.0f), off(0.0f);
+    for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+        GiSettings s = giSettings(*scene, ModeOverrides{16, 0, 0});
+        engine.seed = seed;
+        on += 0.25f * imageMean(renderGi(*scene, accel, s, engine).image);
+        s.gatherDirect = false;
+        off += 0.25f * imageMean(renderGi(*scene, accel, s, engine).image);
+    }
     double errOn = worstChannelError(on, path), errOff = worstChannelError(off, path);
     INFO("path " << path[0] << ", gi " << on[0] << " (error " << errOn << "), without direct "
                  << "light at gather hits " << off[0] << " (error " << errOff << ")");
     CHECK(errOn < 0.03);
-    CHECK(errOff > 0.1); // the map alone is far off here (measured: 0.0099 against 0.48)
+    CHECK(errOff > 0.06); // the map alone is far off here
 }
 
 // The gather's light samples add to cache records from any thread in any order, and the map

@@ -59,6 +59,7 @@ struct Run {
     bool stratify = true;
     bool roulette = true;
     int spp = 4;
+    std::uint64_t seed = 7;
     bool recordCorrections = true; // gi: GiSettings::icCorrectionRays as by default, else 0
     bool smoothing = true;         // gi: GiSettings::icSmoothing
 };
@@ -66,7 +67,7 @@ struct Run {
 RenderResult renderRun(const Scene& scene, const EmbreeScene& accel, const Run& r) {
     EngineSettings e;
     e.threads = 2;
-    e.seed = 7;
+    e.seed = r.seed;
     e.quiet = true;
     e.sceneAnalysis = r.analysis;
     e.stratification = r.stratify;
@@ -266,8 +267,9 @@ TEST_CASE("Scene analysis: zero-power lights are not sampled", "[skip]") {
 
     // Raytrace, preview and gi sample every light by itself (photons pick lights by power, and
     // zero power is never picked): bit-identical. Path mode, and gi's record corrections (a
-    // path vertex each), pick one light per vertex uniformly: dropping two of three changes the
-    // picks, not the expectation.
+    // path vertex each), pick one light per vertex with LightSampler, by power: a zero-power
+    // light is never picked either, but the subset is a sampler of its own (the expectation
+    // is the same, the picks may differ).
     for (const char* mode : {"preview", "raytrace", "gi"}) {
         INFO("mode " << mode);
         Run r;
@@ -288,8 +290,9 @@ TEST_CASE("Scene analysis: zero-power lights are not sampled", "[skip]") {
     CHECK(std::abs(meanDifferenceZ(g.analysed.image, g.full.image)) < 4.0);
     Pair p = renderBoth(*scene, accel, "path", 16);
     CHECK(std::abs(meanDifferenceZ(p.analysed.image, p.full.image)) < 4.0);
-    // Two of three picks wasted on nothing before: more shadow rays reach the real light now.
-    CHECK(stage(p.analysed, StageId::Shadow).raysOut > 2 * stage(p.full, StageId::Shadow).raysOut);
+    // No pick is wasted on a zero-power light, with the analysis or without (a uniform choice
+    // wasted two of three): as many shadow rays either way, one per diffuse vertex.
+    CHECK(stage(p.analysed, StageId::Shadow).raysOut == stage(p.full, StageId::Shadow).raysOut);
 }
 
 TEST_CASE("Scene analysis: a light radiating away from every surface and the camera is not "
@@ -392,14 +395,22 @@ TEST_CASE("Profiling switches: without stratification or Russian roulette path m
 
     // gi: photons without roulette carry their reduced power on to the maximum depth: more
     // photons stored, each weaker, the same expected irradiance. The gather is unstratified.
-    Run g;
-    g.mode = "gi";
-    RenderResult giRef = renderRun(*scene, accel, g);
-    g.roulette = false;
-    g.stratify = false;
-    RenderResult giA = renderRun(*scene, accel, g);
-    CHECK(extraStat(giA, "gi/photons_global") > 1.5 * extraStat(giRef, "gi/photons_global"));
-    CHECK(std::abs(meanValue(giA.image) / meanValue(giRef.image) - 1.0) < 0.05);
+    // At 4 spp one seed's mean moves by 3% (unstratified without roulette: 9%): the means over
+    // four seeds (measured at seeds 1-4: 0.3719 and 0.3751; path at 256 spp 0.372).
+    double giRef = 0, giA = 0;
+    for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+        Run g;
+        g.mode = "gi";
+        g.seed = seed;
+        RenderResult r = renderRun(*scene, accel, g);
+        g.roulette = false;
+        g.stratify = false;
+        RenderResult a = renderRun(*scene, accel, g);
+        CHECK(extraStat(a, "gi/photons_global") > 1.5 * extraStat(r, "gi/photons_global"));
+        giRef += meanValue(r.image);
+        giA += meanValue(a.image);
+    }
+    CHECK(std::abs(giA / giRef - 1.0) < 0.03);
 }
 
 TEST_CASE("Scene analysis: the render log and rayproc info say what is skipped and why", "[skip]") {

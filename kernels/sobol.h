@@ -1,0 +1,105 @@
+// Owen-scrambled Sobol points, one independent 2D (0,2)-sequence per pair of dimensions
+// ("padded", as pbrt-v4's PaddedSobolSampler): sample i of a pixel takes point
+// shuffle(i) of its pair's sequence. Scrambling and shuffling are nested uniform (Owen)
+// permutations computed by hashing (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020),
+// so every value is a pure function of (index, key): deterministic whatever thread or rank
+// traces the sample. For every power of two N, any N consecutive aligned indices give a (0,2)-net
+// in base 2: each of the N elementary intervals of area 1/N (1 x N, 2 x N/2, ..., N x 1) holds
+// exactly one point, so the first N samples of a pixel are stratified at every prefix.
+#pragma once
+
+#include "kernels/random.h"
+#include "core/math.h"
+
+#include <cstdint>
+
+namespace rayproc::kernels {
+
+inline std::uint32_t reverseBits(std::uint32_t v) {
+    v = __builtin_bswap32(v);
+    v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
+    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+    return ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+}
+
+// The second Sobol dimension (the first is the bit reversal of i): y = xor over the set bits k
+// of i of the direction number v_k, v_0 = 2^31 and v_(k+1) = v_k ^ (v_k >> 1) (the binary
+// Pascal matrix). Bit-reversed here, by byte: table b holds the xor for byte b of i.
+struct SobolSecondTables {
+    std::uint32_t byByte[4][256];
+    constexpr SobolSecondTables() : byByte{} {
+        std::uint32_t v[32] = {};
+        v[0] = 0x80000000u;
+        for (int k = 1; k < 32; ++k) v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+        for (int b = 0; b < 4; ++b)
+            for (std::uint32_t byte = 0; byte < 256; ++byte) {
+                std::uint32_t y = 0;
+                for (int k = 0; k < 8; ++k)
+                    if (byte & (1u << k)) y ^= v[8 * b + k];
+                // reversed
+                std::uint32_t r = 0;
+                for (int k = 0; k < 32; ++k)
+                    if (y & (1u << k)) r |= 1u << (31 - k);
+                byByte[b][byte] = r;
+            }
+    }
+};
+inline constexpr SobolSecondTables kSobolSecond{};
+inline std::uint32_t sobolSecondReversed(std::uint32_t i) {
+    const auto& t = kSobolSecond.byByte;
+    return t[0][i & 0xffu] ^ t[1][(i >> 8) & 0xffu] ^ t[2][(i >> 16) & 0xffu] ^ t[3][i >> 24];
+}
+inline std::uint32_t sobolSecond(std::uint32_t i) { return reverseBits(sobolSecondReversed(i)); }
+
+// Laine and Karras's permutation on bit-reversed values: each bit flipped by a hash of the
+// bits below it and the seed. A multiply by an even constant carries each bit only towards the
+// more significant ones.
+inline std::uint32_t laineKarras(std::uint32_t x, std::uint32_t seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+// A nested uniform scramble of the 32-bit fixed-point value x: each bit is flipped by a hash of
+// the seed and the bits above it (the more significant digits).
+inline std::uint32_t owenScramble(std::uint32_t x, std::uint32_t seed) {
+    return reverseBits(laineKarras(reverseBits(x), seed));
+}
+
+inline float fixedToUnit(std::uint32_t x) {
+    return float(x >> 8) * (1.0f / 16777216.0f); // 24 bits: exactly representable, below 1
+}
+
+// Three seeds from one key: the shuffle of the indices and the scrambles of x and y.
+struct SobolSeeds {
+    std::uint32_t shuffle, x, y;
+    explicit SobolSeeds(std::uint64_t key) {
+        std::uint64_t h = mix64(key);
+        shuffle = std::uint32_t(h);
+        x = std::uint32_t(h >> 32);
+        y = std::uint32_t((h ^ (h >> 29)) * 0xbf58476d1ce4e5b9ULL >> 32);
+    }
+};
+
+// Sample `index` of the pair of dimensions that `key` names. The shuffle is a nested scramble
+// of the index, so aligned blocks of 2^m indices map to aligned blocks: nets stay nets. The
+// first coordinate is the scrambled bit reversal of the shuffled index i:
+// owenScramble(reverseBits(i)) = reverseBits(laineKarras(i)).
+inline Vec2 owenSobol2D(std::uint32_t index, std::uint64_t key) {
+    SobolSeeds s(key);
+    std::uint32_t i = owenScramble(index, s.shuffle);
+    return {fixedToUnit(reverseBits(laineKarras(i, s.x))),
+            fixedToUnit(reverseBits(laineKarras(sobolSecondReversed(i), s.y)))};
+}
+
+// Sample `index` of one dimension (a scrambled van der Corput sequence).
+inline float owenSobol1D(std::uint32_t index, std::uint64_t key) {
+    SobolSeeds s(key);
+    std::uint32_t i = owenScramble(index, s.shuffle);
+    return fixedToUnit(reverseBits(laineKarras(i, s.x)));
+}
+
+} // namespace rayproc::kernels
