@@ -191,7 +191,7 @@ void Server::onReady(mg_connection* conn) {
     }
     Json s = m_session.state();
     s["type"] = "state";
-    sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, s.dump());
+    sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, toText(s));
     // The image so far, so a new tab does not start blank.
     Image img;
     std::uint64_t version = 0;
@@ -204,6 +204,20 @@ void Server::onReady(mg_connection* conn) {
 }
 
 int Server::onData(mg_connection* conn, int flags, const char* data, std::size_t length) {
+    // An exception must not unwind into civetweb's C code (it would end the process): a
+    // client's message can fail, the server cannot.
+    try {
+        return handleData(conn, flags, data, length);
+    } catch (const std::exception& e) {
+        Json error = {{"type", "error"}, {"message", std::string("the message failed: ") + e.what()}};
+        sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, toText(error));
+    } catch (...) {
+        sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, R"({"type": "error", "message": "the message failed"})");
+    }
+    return 1;
+}
+
+int Server::handleData(mg_connection* conn, int flags, const char* data, std::size_t length) {
     int opcode = flags & 0xf;
     bool final = (flags & 0x80) != 0; // FIN: the message's last (here: only) frame
     if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return 0;
@@ -228,7 +242,7 @@ int Server::onData(mg_connection* conn, int flags, const char* data, std::size_t
         return 1; // continuation frames, pings, pongs
     if (!refused.empty()) {
         Json error = {{"type", "error"}, {"message", refused}};
-        sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, error.dump());
+        sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, toText(error));
         return 1;
     }
     std::string reply = m_session.handle(std::string(data, length), client);
@@ -238,7 +252,7 @@ int Server::onData(mg_connection* conn, int flags, const char* data, std::size_t
     if (r["type"] == "edited" || r["type"] == "camera") {
         Json s = m_session.state();
         s["type"] = "state";
-        std::string text = s.dump();
+        std::string text = toText(s);
         broadcast(MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
     }
     return 1;

@@ -46,6 +46,7 @@ private:
     // (127.0.0.1, localhost or [::1] at its port), and a WebSocket's Origin, when there is one,
     // must be this server's own page.
     std::string refusal(const mg_connection* conn, bool websocket) const;
+    int handleData(mg_connection* conn, int flags, const char* data, std::size_t length);
     void broadcast(int opcode, const void* data, std::size_t length);
     void sendTo(mg_connection* conn, int opcode, const std::string& text);
 

@@ -94,6 +94,10 @@ std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
     return out;
 }
 
+std::string toText(const Json& json, int indent) {
+    return json.dump(indent, ' ', false, Json::error_handler_t::replace);
+}
+
 struct Session::Loaded {
     std::unique_ptr<Scene> scene;
     std::unique_ptr<EmbreeScene> accel;
@@ -188,8 +192,11 @@ std::string Session::handle(const std::string& message, int client) {
         out = {{"type", "error"}, {"message", e.what()}};
     } catch (const Json::exception& e) {
         out = {{"type", "error"}, {"message", std::string("malformed message: ") + e.what()}};
+    } catch (const std::exception& e) {
+        // Whatever else a message runs into is its error, never the server's end.
+        out = {{"type", "error"}, {"message", std::string("the message failed: ") + e.what()}};
     }
-    return out.dump();
+    return toText(out);
 }
 
 Json Session::applyEdit(const Json& m, const std::function<void(Json& doc)>& edit) {
@@ -363,7 +370,7 @@ Json Session::reply(const Json& m, int client) {
         {
             std::lock_guard<std::mutex> lk(m_mutex);
             if (!m_editable) refuse("save: only JSON scenes can be saved (" + m_path + " is not one)");
-            text = m_doc.dump(2) + "\n";
+            text = toText(m_doc, 2) + "\n";
         }
         try {
             writeFileAtomically(path, text);
@@ -515,7 +522,7 @@ void Session::waitIdle() {
 }
 
 void Session::sendText(const Json& json) const {
-    if (m_events.text) m_events.text(json.dump());
+    if (m_events.text) m_events.text(toText(json));
 }
 
 void Session::changed() {
