@@ -11,6 +11,7 @@
 #include "modes/modes.h"
 #include "modes/render_plan.h"
 #include "modes/render_watch.h"
+#include "scene/camera_check.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_loader_detail.h"
 
@@ -235,15 +236,9 @@ Json Session::reply(const Json& m, int client) {
         if (m.contains("position")) c.position = vec3(m["position"], "camera.position");
         if (m.contains("look_at")) c.lookAt = vec3(m["look_at"], "camera.look_at");
         if (m.contains("up")) c.up = vec3(m["up"], "camera.up");
-        if (m.contains("fov")) {
-            double fov = finite(m["fov"], "camera.fov");
-            if (!(fov > 0.5 && fov < 179.5)) refuse("camera.fov: expected degrees in (0.5, 179.5)");
-            c.fovY = float(fov);
-        }
-        Vec3 forward = c.lookAt - c.position;
-        if (!(length(forward) > 1e-6f)) refuse("camera: position and look_at must differ");
-        if (!(length(cross(forward, c.up)) > 1e-6f * length(forward) * length(c.up)))
-            refuse("camera: up must not be parallel to the viewing direction");
+        if (m.contains("fov")) c.fovY = float(finite(m["fov"], "camera.fov"));
+        // The check the scene loaders make: a camera serve accepts (and saves) renders.
+        if (auto problem = cameraProblem(c)) refuse("camera." + problem->field + ": " + problem->message);
         m_camera = c;
         if (m_editable) {
             Json& cam = m_doc["camera"];

@@ -1,7 +1,11 @@
 // rayproc serve against a careless or hostile client (docs/robustness.md, "rayproc serve's
-// clients"; issue 36): bytes that are not UTF-8. Each test drives the real server over a socket
-// (serve_client.h). Before the fix the first frame of them ended the process (status 134).
+// clients"; issue 36): bytes that are not UTF-8, cameras outside Embree's range. Each test
+// drives the real server over a socket (serve_client.h). Before the fixes both ended the
+// process (status 134).
 #include "serve/serve_client.h"
+
+#include "accel/embree_scene.h"
+#include "scene/scene_loader.h"
 
 #include <memory>
 
@@ -43,4 +47,35 @@ TEST_CASE("serve: a text frame that is not UTF-8 gets an error reply - the serve
     }
     c->sendFrame(1, "{\"type\": \"state\"}");
     CHECK(c->readText("state")["type"] == "state");
+}
+
+TEST_CASE("serve: cameras outside Embree's range are refused naming the position - what serve "
+          "saves, render loads",
+          "[serve]") {
+    Served s;
+    auto c = openPage(s);
+    auto camera = [](double z) {
+        return Json({{"type", "camera"}, {"position", {0, 1, z}}, {"look_at", {0, 1, 0}}}).dump();
+    };
+    // 1e19 aborted the preview inside Embree; 1e17 was accepted and saved, and render refused
+    // the file; 1e30 was refused as "up must not be parallel".
+    for (auto [z, printed] : {std::pair{1e19, "1e+19"}, {1e17, "1e+17"}, {1e30, "1e+30"}}) {
+        INFO(printed);
+        std::string message = errorAfter(*c, camera(z));
+        CHECK_THAT(message, Catch::Contains("camera.position") &&
+                                Catch::Contains("the camera is at a coordinate of " +
+                                                std::string(printed)));
+        CHECK_THAT(message, !Catch::Contains("parallel"));
+    }
+    // Far, but in range: accepted, saved, and the saved scene loads and builds for rendering.
+    c->sendFrame(1, camera(1e15));
+    REQUIRE(c->readText("camera")["type"] == "camera");
+    TempDir dir;
+    c->sendFrame(1, Json({{"type", "save"}, {"path", dir.file("far.json")}}).dump());
+    REQUIRE(c->readText("saved")["type"] == "saved");
+    std::unique_ptr<Scene> saved = loadScene(dir.file("far.json"));
+    CHECK(saved->camera.position.z == 1e15f);
+    CHECK_NOTHROW(EmbreeScene(*saved));
+    c->sendFrame(1, "{\"type\": \"pick\", \"x\": 0.5, \"y\": 0.5}");
+    CHECK(c->readText("picked")["type"] == "picked");
 }
