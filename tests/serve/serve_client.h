@@ -138,6 +138,8 @@ public:
         }
         return nullptr;
     }
+    // Bytes as they are (half a request, say).
+    void sendRaw(const std::string& bytes) { sendAll(bytes); }
     // True when the server closed the connection (nothing more to read).
     bool closedByServer() {
         while (receive()) {

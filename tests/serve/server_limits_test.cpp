@@ -1,7 +1,8 @@
-// rayproc serve against a careless or hostile client (docs/robustness.md, "rayproc serve's
-// clients"; issue 36): bytes that are not UTF-8, cameras outside Embree's range. Each test
-// drives the real server over a socket (serve_client.h). Before the fixes both ended the
-// process (status 134).
+// rayproc serve against a careless or hostile client (docs/serve.md, "Limits"; issue 36): bytes
+// that are not UTF-8, cameras outside Embree's range, many open pages, idle connections. Each
+// drives the real server over a socket (serve_client.h). Before the fixes the first two ended
+// the process (status 134) and the last two left requests unanswered for as long as the
+// sockets stayed open, or 30 s.
 #include "serve/serve_client.h"
 
 #include "accel/embree_scene.h"
@@ -78,4 +79,44 @@ TEST_CASE("serve: cameras outside Embree's range are refused naming the position
     CHECK_NOTHROW(EmbreeScene(*saved));
     c->sendFrame(1, "{\"type\": \"pick\", \"x\": 0.5, \"y\": 0.5}");
     CHECK(c->readText("picked")["type"] == "picked");
+}
+
+TEST_CASE("serve: pages still load with many WebSockets open - beyond the cap one is refused "
+          "with 503",
+          "[serve]") {
+    Served s;
+    std::vector<std::unique_ptr<RawClient>> pages;
+    for (std::size_t i = 0; i < Server::kMaxWebSockets; ++i) pages.push_back(openPage(s));
+    {
+        RawClient extra(s.server.port());
+        std::string head = extra.handshake({hostOf(s)});
+        CHECK(statusLine(head) == "HTTP/1.1 503 Service Unavailable");
+        CHECK(extra.closedByServer());
+    }
+    // 15 open sockets used to leave every page load unanswered.
+    for (const char* path : {"/", "/image.png"}) {
+        RawClient get(s.server.port());
+        CHECK(statusLine(get.request(path, {hostOf(s)})) == "HTTP/1.1 200 OK");
+    }
+    // A page closes: once the server has seen it, another may open.
+    pages.pop_back();
+    REQUIRE(clientsOnceSettled(s.server, Server::kMaxWebSockets - 1) ==
+            Server::kMaxWebSockets - 1);
+    pages.push_back(openPage(s));
+}
+
+TEST_CASE("serve: idle connections neither block requests nor stay open", "[serve]") {
+    Served s;
+    // More than civetweb's threads were (16): each idle connection held one for 30 s.
+    std::vector<std::unique_ptr<RawClient>> idle;
+    for (int i = 0; i < 24; ++i) idle.push_back(std::make_unique<RawClient>(s.server.port()));
+    RawClient get(s.server.port());
+    CHECK(statusLine(get.request("/", {hostOf(s)})) == "HTTP/1.1 200 OK");
+    // Dropped by the server well within the client's 20 s receive timeout (request_timeout_ms).
+    CHECK(idle.front()->closedByServer());
+    CHECK(idle.back()->closedByServer());
+    // A connection that sent half a request is dropped too.
+    RawClient half(s.server.port());
+    half.sendRaw("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n");
+    CHECK(half.closedByServer());
 }
