@@ -18,9 +18,9 @@ double maxAbs(const Vec3& v) {
 using pbrt::Vec3d;
 
 std::string beyondRange(const std::string& what, double reach) {
-    return what + " a coordinate of " + rangeNumber(reach) + "; rayproc handles coordinates up to " +
-           rangeNumber(kMaxWorldCoordinate) + " (Embree's rays must stay within " +
-           rangeNumber(kEmbreeRayLimit) + ")";
+    return what + " a coordinate of " + rangeNumber(reach) +
+           "; rayproc handles coordinates up to " + rangeNumber(kMaxWorldCoordinate) +
+           " (Embree's rays must stay within " + rangeNumber(kEmbreeRayLimit) + ")";
 }
 
 // The lens: its rays start up to the aperture radius around the position and aim at the focus
@@ -37,14 +37,15 @@ std::optional<CameraProblem> lensProblem(const Camera& c, double viewLength) {
     double f = c.focusDistance > 0 ? double(c.focusDistance) : viewLength;
     double tanHalf = std::tan(0.5 * double(c.fovY) * 3.14159265358979323846 / 180.0);
     double slope = tanHalf * (double(c.width) / double(c.height) + 1.0) + 1.0;
-    if (!std::isfinite(double(c.focusDistance)) || c.focusDistance < 0 ||
-        !(at + f * slope <= kMaxFocusReach))
-        return CameraProblem{"focus_distance",
-                             "the camera's focus distance (the distance to look_at when it is not "
-                             "given) of " + rangeNumber(f) + " puts the lens's focus point at up to " +
-                                 rangeNumber(at + f * slope) + "; at most " +
-                                 rangeNumber(kMaxFocusReach)};
-    return std::nullopt;
+    double reach = at + f * slope;
+    if (std::isfinite(double(c.focusDistance)) && c.focusDistance >= 0 && reach <= kMaxFocusReach)
+        return std::nullopt;
+    std::string what = "the camera's focus distance (the distance to look_at when it is not "
+                       "given) of " +
+                       rangeNumber(f);
+    return CameraProblem{"focus_distance", what + " puts the lens's focus point at up to " +
+                                               rangeNumber(reach) + "; at most " +
+                                               rangeNumber(kMaxFocusReach)};
 }
 
 } // namespace

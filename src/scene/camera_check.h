@@ -21,7 +21,7 @@ constexpr double kMaxWorldCoordinate = 1e16;
 constexpr double kMaxFocusReach = 1e18;
 
 struct CameraProblem {
-    std::string field;   // the JSON scene's key: position, look_at, up, fov, aperture, focus_distance
+    std::string field; // the JSON scene's key: position, look_at, up, fov, aperture, focus_distance
     std::string message; // what is wrong, a sentence that names the camera
 };
 

@@ -73,9 +73,11 @@ Server::Server(Session& session, int port) : m_session(session) {
         // alive, until the next one does (keep_alive_timeout_ms). WebSockets may hold at most
         // kMaxWebSockets of the threads; idle connections let go of theirs within seconds.
         // WebSockets themselves do not time out (civetweb waits for their frames without one).
-        const char* options[] = {"listening_ports", listen.c_str(), "num_threads", threads.c_str(),
-                                 "enable_keep_alive", "yes", "keep_alive_timeout_ms", "1000",
-                                 "request_timeout_ms", "5000", nullptr};
+        const char* options[] = {"listening_ports",       listen.c_str(),  //
+                                 "num_threads",           threads.c_str(), //
+                                 "enable_keep_alive",     "yes",           //
+                                 "keep_alive_timeout_ms", "1000",          //
+                                 "request_timeout_ms",    "5000",          nullptr};
         m_context = mg_start(&callbacks, this, options);
         if (m_context) m_port = p;
     }
@@ -233,10 +235,12 @@ int Server::onData(mg_connection* conn, int flags, const char* data, std::size_t
     try {
         return handleData(conn, flags, data, length);
     } catch (const std::exception& e) {
-        Json error = {{"type", "error"}, {"message", std::string("the message failed: ") + e.what()}};
+        Json error = {{"type", "error"},
+                      {"message", std::string("the message failed: ") + e.what()}};
         sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, toText(error));
     } catch (...) {
-        sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, R"({"type": "error", "message": "the message failed"})");
+        sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT,
+               R"({"type": "error", "message": "the message failed"})");
     }
     return 1;
 }

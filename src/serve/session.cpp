@@ -238,7 +238,8 @@ Json Session::reply(const Json& m, int client) {
         if (m.contains("up")) c.up = vec3(m["up"], "camera.up");
         if (m.contains("fov")) c.fovY = float(finite(m["fov"], "camera.fov"));
         // The check the scene loaders make: a camera serve accepts (and saves) renders.
-        if (auto problem = cameraProblem(c)) refuse("camera." + problem->field + ": " + problem->message);
+        if (auto problem = cameraProblem(c))
+            refuse("camera." + problem->field + ": " + problem->message);
         m_camera = c;
         if (m_editable) {
             Json& cam = m_doc["camera"];

@@ -105,7 +105,8 @@ TEST_CASE("diff --json stays JSON when a file name is not UTF-8", "[cli]") {
     INFO(r.out << r.err);
     REQUIRE(r.status == 0);
     auto j = nlohmann::json::parse(r.out);
-    CHECK(j["test"].get<std::string>() == dir.file("test-\xef\xbf\xbd\xef\xbf\xbd.pfm")); // U+FFFD each
+    CHECK(j["test"].get<std::string>() ==
+          dir.file("test-\xef\xbf\xbd\xef\xbf\xbd.pfm")); // U+FFFD each
     CHECK(j["reference"] == reference);
     CHECK(j["rmse"].get<double>() == Approx(0.25));
 }

@@ -40,7 +40,9 @@ bool isPbrt(const std::string& text) {
     return false;
 }
 
-bool inRange(float v) { return std::isfinite(v) && std::abs(double(v)) <= kEmbreeRayLimit; }
+bool inRange(float v) {
+    return std::isfinite(v) && std::abs(double(v)) <= kEmbreeRayLimit;
+}
 
 // Nine film points times three lens points, traced one by one.
 void traceCorners(const Scene& scene, const EmbreeScene& accel) {
@@ -76,7 +78,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         std::unique_ptr<Scene> scene;
         if (isPbrt(text)) {
             std::vector<std::string> warnings;
-            scene = loadPbrtSceneFromString(text, "/nonexistent/rayproc-fuzz/scene.pbrt", &warnings);
+            scene =
+                loadPbrtSceneFromString(text, "/nonexistent/rayproc-fuzz/scene.pbrt", &warnings);
         } else {
             scene = loadSceneFromString(text, "/nonexistent/rayproc-fuzz/scene.json");
         }

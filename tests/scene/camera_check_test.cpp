@@ -35,27 +35,29 @@ std::string pbrtErrorOf(const std::string& text) {
 } // namespace
 
 TEST_CASE("JSON cameras outside Embree's range are refused, naming the field", "[scene]") {
-    checkLoadError("cam-far.json", withCamera(R"({"position": [0, 0, 1e17]})"),
-                   "/camera/position", "the camera is at a coordinate of 1e+17");
+    checkLoadError("cam-far.json", withCamera(R"({"position": [0, 0, 1e17]})"), "/camera/position",
+                   "the camera is at a coordinate of 1e+17");
     // These aborted render and serve inside Embree (status 134).
     checkLoadError("cam-aperture.json", withCamera(R"({"position": [0, 0, 5], "aperture": 1e19})"),
                    "/camera/aperture", "aperture (lens radius) of 1e+19");
-    checkLoadError("cam-focus.json",
-                   withCamera(R"({"position": [0, 0, 5], "aperture": 0.1, "focus_distance": 1e30})"),
-                   "/camera/focus_distance", "focus point");
+    checkLoadError(
+        "cam-focus.json",
+        withCamera(R"({"position": [0, 0, 5], "aperture": 0.1, "focus_distance": 1e30})"),
+        "/camera/focus_distance", "focus point");
     // Without focus_distance the lens focuses at look_at: 1e30 away is as far.
-    checkLoadError("cam-lookat.json",
-                   withCamera(R"({"position": [0, 0, 5], "look_at": [0, 0, -1e30], "aperture": 0.1})"),
-                   "/camera/focus_distance", "distance to look_at");
+    checkLoadError(
+        "cam-lookat.json",
+        withCamera(R"({"position": [0, 0, 5], "look_at": [0, 0, -1e30], "aperture": 0.1})"),
+        "/camera/focus_distance", "distance to look_at");
     checkLoadError("cam-parallel.json",
                    withCamera(R"({"position": [0, 5, 0], "look_at": [0, 0, 0], "up": [0, 2, 0]})"),
                    "/camera/up", "parallel");
     checkLoadError("cam-same.json", withCamera(R"({"position": [1, 2, 3], "look_at": [1, 2, 3]})"),
                    "/camera/look_at", "coincides");
     // In range: a far camera, a wide lens, a pinhole looking at a point 1e30 away.
-    for (const char* fine : {R"({"position": [0, 0, 9e15]})",
-                             R"({"position": [0, 0, 5], "aperture": 1e15})",
-                             R"({"position": [0, 0, 5], "look_at": [0, 0, -1e30]})"}) {
+    for (const char* fine :
+         {R"({"position": [0, 0, 9e15]})", R"({"position": [0, 0, 5], "aperture": 1e15})",
+          R"({"position": [0, 0, 5], "look_at": [0, 0, -1e30]})"}) {
         INFO(fine);
         auto scene = loadSceneFromString(withCamera(fine), "fine.json");
         CHECK_FALSE(cameraProblem(scene->camera));
@@ -66,8 +68,9 @@ TEST_CASE("JSON cameras outside Embree's range are refused, naming the field", "
 TEST_CASE("pbrt cameras outside Embree's range are refused, naming the parameter", "[pbrt]") {
     CHECK_THAT(pbrtErrorOf(pbrtWith("0 0 5", R"("float lensradius" [1e30])")),
                Catch::Contains("camera \"lensradius\"") && Catch::Contains("1e+30"));
-    CHECK_THAT(pbrtErrorOf(pbrtWith("0 0 5", R"("float lensradius" [0.1] "float focaldistance" [1e35])")),
-               Catch::Contains("camera \"focaldistance\""));
+    CHECK_THAT(
+        pbrtErrorOf(pbrtWith("0 0 5", R"("float lensradius" [0.1] "float focaldistance" [1e35])")),
+        Catch::Contains("camera \"focaldistance\""));
     CHECK_THAT(pbrtErrorOf(pbrtWith("0 0 1e17", "")),
                Catch::Contains("camera transform") && Catch::Contains("1e+17"));
     // Far but in range: look_at stays ahead of the eye in float (one unit ahead rounded onto
@@ -86,6 +89,7 @@ TEST_CASE("EmbreeScene refuses a camera built in code by the same check", "[scen
         EmbreeScene accel(*scene);
         FAIL("expected an InputError");
     } catch (const InputError& e) {
-        CHECK_THAT(e.what(), Catch::Contains("the scene cannot be rendered: the camera's aperture"));
+        CHECK_THAT(e.what(),
+                   Catch::Contains("the scene cannot be rendered: the camera's aperture"));
     }
 }

@@ -15,7 +15,9 @@ using namespace rayproc::test;
 
 namespace {
 
-std::string hostOf(const Served& s) { return "Host: 127.0.0.1:" + std::to_string(s.server.port()); }
+std::string hostOf(const Served& s) {
+    return "Host: 127.0.0.1:" + std::to_string(s.server.port());
+}
 
 // A WebSocket to the server that has read its first state.
 std::unique_ptr<RawClient> openPage(const Served& s) {
@@ -63,9 +65,9 @@ TEST_CASE("serve: cameras outside Embree's range are refused naming the position
     for (auto [z, printed] : {std::pair{1e19, "1e+19"}, {1e17, "1e+17"}, {1e30, "1e+30"}}) {
         INFO(printed);
         std::string message = errorAfter(*c, camera(z));
-        CHECK_THAT(message, Catch::Contains("camera.position") &&
-                                Catch::Contains("the camera is at a coordinate of " +
-                                                std::string(printed)));
+        CHECK_THAT(message,
+                   Catch::Contains("camera.position") &&
+                       Catch::Contains("the camera is at a coordinate of " + std::string(printed)));
         CHECK_THAT(message, !Catch::Contains("parallel"));
     }
     // Far, but in range: accepted, saved, and the saved scene loads and builds for rendering.
@@ -100,8 +102,7 @@ TEST_CASE("serve: pages still load with many WebSockets open - beyond the cap on
     }
     // A page closes: once the server has seen it, another may open.
     pages.pop_back();
-    REQUIRE(clientsOnceSettled(s.server, Server::kMaxWebSockets - 1) ==
-            Server::kMaxWebSockets - 1);
+    REQUIRE(clientsOnceSettled(s.server, Server::kMaxWebSockets - 1) == Server::kMaxWebSockets - 1);
     pages.push_back(openPage(s));
 }
 
