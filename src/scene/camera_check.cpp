@@ -18,9 +18,16 @@ double maxAbs(const Vec3& v) {
 using pbrt::Vec3d;
 
 std::string beyondRange(const std::string& what, double reach) {
-    return what + " a coordinate of " + rangeNumber(reach) +
-           "; rayproc handles coordinates up to " + rangeNumber(kMaxWorldCoordinate) +
-           " (Embree's rays must stay within " + rangeNumber(kEmbreeRayLimit) + ")";
+    // 1e16 rounds up to 1.0000000272564224e16 in float: shown in full, it is seen to be beyond.
+    std::string shown = rangeNumber(reach);
+    if (shown == rangeNumber(kMaxWorldCoordinate)) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.17g (as a 32-bit float)", reach);
+        shown = buf;
+    }
+    return what + " a coordinate of " + shown + "; rayproc handles coordinates up to " +
+           rangeNumber(kMaxWorldCoordinate) + " (Embree's rays must stay within " +
+           rangeNumber(kEmbreeRayLimit) + ")";
 }
 
 // The lens: its rays start up to the aperture radius around the position and aim at the focus

@@ -37,6 +37,9 @@ std::string pbrtErrorOf(const std::string& text) {
 TEST_CASE("JSON cameras outside Embree's range are refused, naming the field", "[scene]") {
     checkLoadError("cam-far.json", withCamera(R"({"position": [0, 0, 1e17]})"), "/camera/position",
                    "the camera is at a coordinate of 1e+17");
+    // 1e16 itself rounds beyond 1e16 in float: the message shows by how much.
+    checkLoadError("cam-edge.json", withCamera(R"({"position": [0, 0, 1e16]})"), "/camera/position",
+                   "coordinate of 10000000272564224 (as a 32-bit float)");
     // These aborted render and serve inside Embree (status 134).
     checkLoadError("cam-aperture.json", withCamera(R"({"position": [0, 0, 5], "aperture": 1e19})"),
                    "/camera/aperture", "aperture (lens radius) of 1e+19");
