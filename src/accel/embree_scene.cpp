@@ -5,6 +5,7 @@
 #include "kernels/exact_triangle.h"
 #include "kernels/random.h"
 #include "kernels/ray_offset.h"
+#include "scene/camera_check.h"
 #include "texture/texture_eval.h"
 
 #include <algorithm>
@@ -43,12 +44,9 @@ Vec3 robustNormalize(const Vec3& n) {
     return normalize(n / m);
 }
 
-// Embree 3 asserts (and aborts the process) when a ray's origin or direction has a component
-// beyond 1.844e18 in the space it traverses. World coordinates are kept two orders of magnitude
-// below that (ray offsets, photon emission disks around the scene); in an instance's space a
-// ray's components are at most |inverse transform| (max row sum) times the world's.
-constexpr double kEmbreeRayLimit = 1.844e18;
-constexpr double kMaxWorldCoordinate = 1e16;
+// Embree's range (kEmbreeRayLimit, kMaxWorldCoordinate: scene/camera_check.h): in an
+// instance's space a ray's components are at most |inverse transform| (max row sum) times the
+// world's.
 
 // A triangle hit whose barycentric error bound exceeds this fraction of the magnitude of the
 // point and of the ray's origin is recomputed (EmbreeScene::surface). Ordinary meshes stay near
@@ -79,17 +77,11 @@ void checkRanges(const Scene& scene) {
     auto fail = [](const std::string& what) {
         throw InputError("the scene cannot be rendered: " + what);
     };
-    char buf[64];
-    auto num = [&](double v) {
-        std::snprintf(buf, sizeof buf, "%.3g", v);
-        return std::string(buf);
-    };
+    auto num = rangeNumber;
+    // The loaders refuse such a camera already; scenes built in code meet the same check.
+    if (auto problem = cameraProblem(scene.camera)) fail(problem->message);
     Bounds3 world = scene.worldBounds();
-    double reach = maxAbs(scene.camera.position);
-    if (!std::isfinite(reach) || reach > kMaxWorldCoordinate)
-        fail("the camera is at a coordinate of " + num(reach) + "; rayproc handles coordinates up to " +
-             num(kMaxWorldCoordinate) + " (Embree's rays must stay within " + num(kEmbreeRayLimit) +
-             ")");
+    double reach = maxAbs(scene.camera.position) + double(scene.camera.apertureRadius);
     if (!world.empty()) {
         double extent = std::max(maxAbs(world.lo), maxAbs(world.hi));
         if (!std::isfinite(extent) || extent > kMaxWorldCoordinate)

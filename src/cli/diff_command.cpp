@@ -130,7 +130,10 @@ void printJson(const DiffArgs& a, const Image& img, const ImageMetrics& m, int f
     j["reference_downsample"] = factor;
     j["exceeded"] = nlohmann::ordered_json::array();
     for (const Exceeded& e : exceeded) j["exceeded"].push_back(e.metric);
-    std::printf("%s\n", j.dump(2).c_str());
+    // A file name need not be UTF-8 (Linux allows any bytes): its invalid bytes print as
+    // U+FFFD, so the output stays JSON (nlohmann's dump would throw type_error 316).
+    std::printf("%s\n",
+                j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace).c_str());
 }
 
 // Reads an image to compare with `test`: its size, or an integer multiple of it (a

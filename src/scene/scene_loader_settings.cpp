@@ -2,6 +2,7 @@
 // lights). Each key is optional unless noted; the defaults are those of scene.h.
 #include "core/error.h"
 #include "image/image.h"
+#include "scene/camera_check.h"
 #include "scene/metals.h"
 #include "scene/scene_loader_detail.h"
 #include "texture/texture_image.h"
@@ -96,14 +97,14 @@ Camera parseCamera(const JsonRef& v) {
     if (v.has("focus_distance")) c.focusDistance = nonNegative(v["focus_distance"]);
     if (v.has("filter")) c.filter = parseFilter(v["filter"]);
 
-    // A view direction must exist and must not be parallel to up.
-    Vec3 view = c.lookAt - c.position;
-    if (lengthSquared(view) == 0)
-        v.child("look_at").fail("look_at coincides with the camera position (zero-length view)");
-    if (length(cross(normalize(view), normalize(c.up))) < 1e-6f)
-        v.child("up").fail(v.has("up") ? "up is parallel to the view direction"
-                                       : "the default up [0, 1, 0] is parallel to the view "
-                                         "direction; give \"up\"");
+    // What serve's camera message and EmbreeScene check too: a view, an up not parallel to
+    // it, a position and lens within Embree's range.
+    if (auto problem = cameraProblem(c)) {
+        if (problem->field == "up" && !v.has("up"))
+            v.child("up").fail("the default up [0, 1, 0] is parallel to the view direction; "
+                               "give \"up\"");
+        v.child(problem->field).fail(problem->message);
+    }
     return c;
 }
 

@@ -67,8 +67,17 @@ Server::Server(Session& session, int port) : m_session(session) {
     int first = port > 0 ? port : 8080, last = port > 0 ? port : 8180;
     for (int p = first; p <= last && !m_context; ++p) {
         std::string listen = "127.0.0.1:" + std::to_string(p);
-        const char* options[] = {"listening_ports", listen.c_str(), "num_threads", "16",
-                                 "enable_keep_alive", "yes", nullptr};
+        const std::string threads = std::to_string(kThreads);
+        // civetweb gives each connection a thread for as long as it is open: a WebSocket for
+        // its life, an HTTP connection until its request arrives (request_timeout_ms) or, kept
+        // alive, until the next one does (keep_alive_timeout_ms). WebSockets may hold at most
+        // kMaxWebSockets of the threads; idle connections let go of theirs within seconds.
+        // WebSockets themselves do not time out (civetweb waits for their frames without one).
+        const char* options[] = {"listening_ports",       listen.c_str(),  //
+                                 "num_threads",           threads.c_str(), //
+                                 "enable_keep_alive",     "yes",           //
+                                 "keep_alive_timeout_ms", "1000",          //
+                                 "request_timeout_ms",    "5000",          nullptr};
         m_context = mg_start(&callbacks, this, options);
         if (m_context) m_port = p;
     }
@@ -136,14 +145,24 @@ std::string Server::refusal(const mg_connection* conn, bool websocket) const {
 
 int Server::onConnect(const mg_connection* conn) {
     std::string why = refusal(conn, true);
-    if (why.empty()) return 0; // civetweb goes on with the handshake
+    const char* status = "403 Forbidden";
+    if (why.empty()) {
+        std::lock_guard<std::mutex> lk(m_mutex);
+        if (m_clients.size() + m_opening.size() < kMaxWebSockets) {
+            m_opening.insert(conn);
+            return 0; // civetweb goes on with the handshake
+        }
+        status = "503 Service Unavailable";
+        why = "too many open pages: rayproc serve takes " + std::to_string(kMaxWebSockets) +
+              " WebSockets at once; close a tab and reload";
+    }
     // civetweb sends nothing when the handshake is refused: the client is told why.
     why += "\n";
     auto* c = const_cast<mg_connection*>(conn);
     mg_printf(c,
-              "HTTP/1.1 403 Forbidden\r\nContent-Type: text/plain\r\nContent-Length: %zu\r\n"
+              "HTTP/1.1 %s\r\nContent-Type: text/plain\r\nContent-Length: %zu\r\n"
               "Connection: close\r\n\r\n",
-              why.size());
+              status, why.size());
     mg_write(c, why.data(), why.size());
     return 1;
 }
@@ -163,6 +182,12 @@ int Server::onRequest(mg_connection* conn, const std::string& uri) {
         mg_write(conn, body.data(), body.size());
         return status;
     };
+    {
+        // civetweb reuses a thread's connection: a handshake it left unfinished there (no
+        // ready or close callback) is over and no longer counts against the cap.
+        std::lock_guard<std::mutex> lk(m_mutex);
+        m_opening.erase(conn);
+    }
     std::string why = refusal(conn, false);
     if (!why.empty()) return send(403, "text/plain", why + "\n");
     if (uri == "/" || uri == "/index.html") return send(200, "text/html; charset=utf-8", kPage);
@@ -187,11 +212,12 @@ int Server::onRequest(mg_connection* conn, const std::string& uri) {
 void Server::onReady(mg_connection* conn) {
     {
         std::lock_guard<std::mutex> lk(m_mutex);
+        m_opening.erase(conn);
         m_clients[conn] = m_nextClient++;
     }
     Json s = m_session.state();
     s["type"] = "state";
-    sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, s.dump());
+    sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, toText(s));
     // The image so far, so a new tab does not start blank.
     Image img;
     std::uint64_t version = 0;
@@ -204,6 +230,22 @@ void Server::onReady(mg_connection* conn) {
 }
 
 int Server::onData(mg_connection* conn, int flags, const char* data, std::size_t length) {
+    // An exception must not unwind into civetweb's C code (it would end the process): a
+    // client's message can fail, the server cannot.
+    try {
+        return handleData(conn, flags, data, length);
+    } catch (const std::exception& e) {
+        Json error = {{"type", "error"},
+                      {"message", std::string("the message failed: ") + e.what()}};
+        sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, toText(error));
+    } catch (...) {
+        sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT,
+               R"({"type": "error", "message": "the message failed"})");
+    }
+    return 1;
+}
+
+int Server::handleData(mg_connection* conn, int flags, const char* data, std::size_t length) {
     int opcode = flags & 0xf;
     bool final = (flags & 0x80) != 0; // FIN: the message's last (here: only) frame
     if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return 0;
@@ -228,7 +270,7 @@ int Server::onData(mg_connection* conn, int flags, const char* data, std::size_t
         return 1; // continuation frames, pings, pongs
     if (!refused.empty()) {
         Json error = {{"type", "error"}, {"message", refused}};
-        sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, error.dump());
+        sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, toText(error));
         return 1;
     }
     std::string reply = m_session.handle(std::string(data, length), client);
@@ -238,7 +280,7 @@ int Server::onData(mg_connection* conn, int flags, const char* data, std::size_t
     if (r["type"] == "edited" || r["type"] == "camera") {
         Json s = m_session.state();
         s["type"] = "state";
-        std::string text = s.dump();
+        std::string text = toText(s);
         broadcast(MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
     }
     return 1;
@@ -248,6 +290,7 @@ void Server::onClose(const mg_connection* conn) {
     int client = -1;
     {
         std::lock_guard<std::mutex> lk(m_mutex);
+        m_opening.erase(conn);
         auto it = m_clients.find(conn);
         if (it != m_clients.end()) {
             client = it->second;

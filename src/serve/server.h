@@ -14,6 +14,7 @@
 
 #include <map>
 #include <mutex>
+#include <set>
 #include <string>
 
 struct mg_context;
@@ -25,6 +26,11 @@ extern const char* const kPage; // the page's HTML, CSS and JavaScript
 
 class Server {
 public:
+    // civetweb's worker threads, and how many of them WebSockets (open pages) may hold: the
+    // rest answer page loads and downloads. A WebSocket beyond the cap is refused with 503.
+    static constexpr int kThreads = 64;
+    static constexpr std::size_t kMaxWebSockets = 32;
+
     // Listens on 127.0.0.1:port (0: the first free port from 8080 up); throws InputError when
     // the port is taken.
     Server(Session& session, int port);
@@ -46,6 +52,7 @@ private:
     // (127.0.0.1, localhost or [::1] at its port), and a WebSocket's Origin, when there is one,
     // must be this server's own page.
     std::string refusal(const mg_connection* conn, bool websocket) const;
+    int handleData(mg_connection* conn, int flags, const char* data, std::size_t length);
     void broadcast(int opcode, const void* data, std::size_t length);
     void sendTo(mg_connection* conn, int opcode, const std::string& text);
 
@@ -54,6 +61,8 @@ private:
     int m_port = 0;
     mutable std::mutex m_mutex;
     std::map<const mg_connection*, int> m_clients; // connection -> client id
+    // Handshakes accepted whose ready callback has not come yet (they count against the cap).
+    std::set<const mg_connection*> m_opening;
     int m_nextClient = 1;
 };
 

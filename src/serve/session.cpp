@@ -11,6 +11,7 @@
 #include "modes/modes.h"
 #include "modes/render_plan.h"
 #include "modes/render_watch.h"
+#include "scene/camera_check.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_loader_detail.h"
 
@@ -92,6 +93,10 @@ std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
         out[h + p * 4 + 3] = 255;
     }
     return out;
+}
+
+std::string toText(const Json& json, int indent) {
+    return json.dump(indent, ' ', false, Json::error_handler_t::replace);
 }
 
 struct Session::Loaded {
@@ -188,8 +193,11 @@ std::string Session::handle(const std::string& message, int client) {
         out = {{"type", "error"}, {"message", e.what()}};
     } catch (const Json::exception& e) {
         out = {{"type", "error"}, {"message", std::string("malformed message: ") + e.what()}};
+    } catch (const std::exception& e) {
+        // Whatever else a message runs into is its error, never the server's end.
+        out = {{"type", "error"}, {"message", std::string("the message failed: ") + e.what()}};
     }
-    return out.dump();
+    return toText(out);
 }
 
 Json Session::applyEdit(const Json& m, const std::function<void(Json& doc)>& edit) {
@@ -228,15 +236,10 @@ Json Session::reply(const Json& m, int client) {
         if (m.contains("position")) c.position = vec3(m["position"], "camera.position");
         if (m.contains("look_at")) c.lookAt = vec3(m["look_at"], "camera.look_at");
         if (m.contains("up")) c.up = vec3(m["up"], "camera.up");
-        if (m.contains("fov")) {
-            double fov = finite(m["fov"], "camera.fov");
-            if (!(fov > 0.5 && fov < 179.5)) refuse("camera.fov: expected degrees in (0.5, 179.5)");
-            c.fovY = float(fov);
-        }
-        Vec3 forward = c.lookAt - c.position;
-        if (!(length(forward) > 1e-6f)) refuse("camera: position and look_at must differ");
-        if (!(length(cross(forward, c.up)) > 1e-6f * length(forward) * length(c.up)))
-            refuse("camera: up must not be parallel to the viewing direction");
+        if (m.contains("fov")) c.fovY = float(finite(m["fov"], "camera.fov"));
+        // The check the scene loaders make: a camera serve accepts (and saves) renders.
+        if (auto problem = cameraProblem(c))
+            refuse("camera." + problem->field + ": " + problem->message);
         m_camera = c;
         if (m_editable) {
             Json& cam = m_doc["camera"];
@@ -363,7 +366,7 @@ Json Session::reply(const Json& m, int client) {
         {
             std::lock_guard<std::mutex> lk(m_mutex);
             if (!m_editable) refuse("save: only JSON scenes can be saved (" + m_path + " is not one)");
-            text = m_doc.dump(2) + "\n";
+            text = toText(m_doc, 2) + "\n";
         }
         try {
             writeFileAtomically(path, text);
@@ -515,7 +518,7 @@ void Session::waitIdle() {
 }
 
 void Session::sendText(const Json& json) const {
-    if (m_events.text) m_events.text(json.dump());
+    if (m_events.text) m_events.text(toText(json));
 }
 
 void Session::changed() {

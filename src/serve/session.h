@@ -42,6 +42,10 @@ constexpr std::size_t kFrameHeaderBytes = 20;
 std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
                                       std::uint64_t version);
 
+// JSON text for the pages. Bytes that are not UTF-8 in a string (a client's malformed message
+// quoted in an error, a file name) become U+FFFD: nlohmann's dump would throw (type_error 316).
+std::string toText(const Json& json, int indent = -1);
+
 class Session {
 public:
     struct Events {

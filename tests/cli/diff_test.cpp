@@ -95,6 +95,22 @@ TEST_CASE("diff --json has every key - identical images give psnr null", "[cli]"
     CHECK(contains(text.out, "psnr     inf"));
 }
 
+TEST_CASE("diff --json stays JSON when a file name is not UTF-8", "[cli]") {
+    // Linux file names are bytes: this one printed nlohmann's type_error 316 instead of JSON.
+    TempDir dir;
+    std::string test = dir.file("test-\xff\xfe.pfm"), reference = dir.file("reference.pfm");
+    writeImage(test, constantImage(4, 4, 0.5f));
+    writeImage(reference, constantImage(4, 4, 0.25f));
+    RunResult r = runRayproc({"diff", test, reference, "--json"}, dir);
+    INFO(r.out << r.err);
+    REQUIRE(r.status == 0);
+    auto j = nlohmann::json::parse(r.out);
+    CHECK(j["test"].get<std::string>() ==
+          dir.file("test-\xef\xbf\xbd\xef\xbf\xbd.pfm")); // U+FFFD each
+    CHECK(j["reference"] == reference);
+    CHECK(j["rmse"].get<double>() == Approx(0.25));
+}
+
 TEST_CASE("diff reads PNG (decoded to linear) and compares it with EXR", "[cli]") {
     TempDir dir;
     std::string png = dir.file("test.png"), exr = dir.file("reference.exr");

@@ -1,7 +1,9 @@
 #include "scene/pbrt/pbrt_camera.h"
 
+#include "scene/camera_check.h"
 #include "scene/scene_loader.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rayproc::pbrt {
@@ -61,6 +63,14 @@ double tanHalfVertical(const CameraDirective& cam, const Scene& scene, Warnings&
     return std::tan(0.5 * fov * kPiD / 180.0) * 0.5 * (y1 - y0);
 }
 
+// The shared check's message under pbrt's names: lensradius, focaldistance, the transform.
+std::string pbrtCameraProblem(const CameraProblem& p) {
+    if (p.field == "aperture") return "camera \"lensradius\": " + p.message;
+    if (p.field == "focus_distance") return "camera \"focaldistance\": " + p.message;
+    if (p.field == "fov") return "camera \"fov\": " + p.message;
+    return "the camera transform (LookAt, Transform, ...): " + p.message;
+}
+
 } // namespace
 
 Mat4 convertCamera(const CameraDirective& cam, const FilmDirective& film, Scene& scene,
@@ -93,7 +103,10 @@ Mat4 convertCamera(const CameraDirective& cam, const FilmDirective& film, Scene&
 
     Camera& c = scene.camera;
     c.position = eye.toFloat();
-    c.lookAt = (eye + normalize(forward)).toFloat();
+    // A look_at one unit ahead rounds onto the eye in float beyond ~1e7: it is set far enough
+    // ahead that float keeps the direction.
+    double ahead = std::max({1.0, std::fabs(eye.x), std::fabs(eye.y), std::fabs(eye.z)});
+    c.lookAt = (eye + normalize(forward) * ahead).toFloat();
     c.up = normalize(up).toFloat();
     c.fovY = float(2.0 * std::atan(tanHalfY) * 180.0 / kPiD);
     double lens = cam.params.getFloat("lensradius", 0.0);
@@ -102,6 +115,8 @@ Mat4 convertCamera(const CameraDirective& cam, const FilmDirective& film, Scene&
     if (lens > 0 && !(focus > 0)) failAt(loc, "camera \"focaldistance\" must be positive");
     c.apertureRadius = float(lens);
     c.focusDistance = lens > 0 ? float(focus) : 0.0f;
+    // The limits a JSON scene and serve's camera message meet (scene/camera_check.h).
+    if (auto problem = cameraProblem(c)) failAt(loc, pbrtCameraProblem(*problem));
     cam.params.ignore({"shutteropen", "shutterclose"}); // no motion blur: nothing moves
     if (cam.type != "perspective") // the camera itself was reported, not its parameters
         for (const Param& p : cam.params.all()) p.used = true;
