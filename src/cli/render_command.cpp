@@ -377,7 +377,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "(default 16). Every width gives the same image")
         ->check(CLI::IsMember({1, 4, 8, 16}));
     cmd->add_option("--exposure", args->exposure, "Exposure in stops for PNG output (default 0)")
-        ->check(finiteNumber());
+        ->check(finiteFloat());
     cmd->add_option("--tonemap", args->tonemap, "PNG tone map: clamp (default), reinhard, aces")
         ->check(CLI::IsMember({"clamp", "reinhard", "aces"}));
     cmd->add_option("--photons", args->photons,
@@ -413,7 +413,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--ic-accuracy", args->icAccuracy,
                     "gi: Ward's accuracy a of the irradiance cache; smaller = more records "
                     "(default 0.25)")
-        ->check(finiteNumber())
+        ->check(finiteFloat())
         ->check(CLI::Range(0.001, 10.0));
     cmd->add_option("--ic-refine-rays", args->icRefineRays,
                     "gi: gather rays every cache record adds before each render pass, so the "
@@ -438,7 +438,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "gi: progressive caustics' radius reduction alpha: each pass's squared radius "
                     "is the last one's times (i + alpha) / (i + 1) (default 0.667; smaller "
                     "shrinks faster: less bias, more noise)")
-        ->check(finiteNumber())
+        ->check(finiteFloat())
         ->check(CLI::Range(0.01, 1.0));
     cmd->add_flag("--no-precomputed-irradiance", args->noPrecomputed,
                   "gi: gather rays estimate the global map's irradiance from scratch instead of "
