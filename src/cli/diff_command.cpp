@@ -165,6 +165,7 @@ int runDiff(const DiffArgs& a) {
     Image test = readImage(a.test);
     int factor = 1, denominatorFactor = 1;
     Image reference = readAtTestSize("the reference", a.reference, test, a.test, factor);
+    nonFiniteReferencePixels(reference, a.reference); // none finite: nothing to compare
     std::optional<Image> denominator;
     if (!a.relmseDenominator.empty())
         denominator = readAtTestSize("--relmse-denominator", a.relmseDenominator, test, a.test,

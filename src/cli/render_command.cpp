@@ -9,6 +9,7 @@
 #include "engine/memory_budget.h"
 #include "image/display_client.h"
 #include "image/image.h"
+#include "image/metrics.h"
 #include "modes/modes.h"
 #include "modes/render_watch.h"
 #include "scene/scene_loader.h"
@@ -168,6 +169,13 @@ int runRender(const RenderArgs& a) {
                              "x" + std::to_string(reference.height) + " but the render is " +
                              std::to_string(scene->camera.width) + "x" +
                              std::to_string(scene->camera.height));
+        // Left out of the error log as diff leaves them out; none finite is an error.
+        std::size_t bad = nonFiniteReferencePixels(reference, a.reference);
+        if (bad > 0 && !a.quiet)
+            std::fprintf(stderr,
+                         "rayproc: warning: --reference: %zu pixels are NaN or infinite; the "
+                         "error log leaves them out\n",
+                         bad);
         engine.reference = &reference;
         engine.errorLogPath = a.errorLog;
     }

@@ -405,3 +405,14 @@ TEST_CASE("Box downsampling averages finite pixels - the factor must divide both
     CHECK(downsampleFactor(Image(4, 3), Image(16, 9)) == 0); // different factors per axis
     CHECK(downsampleFactor(Image(4, 3), Image(10, 6)) == 0);
 }
+
+TEST_CASE("A reference's non-finite pixels are counted; none finite is an error", "[image]") {
+    Image img(4, 2);
+    CHECK(nonFiniteReferencePixels(img, "x.pfm") == 0);
+    img.pixels[3 * 3 + 2] = std::numeric_limits<float>::infinity();
+    img.pixels[5 * 3] = std::nanf("");
+    CHECK(nonFiniteReferencePixels(img, "x.pfm") == 2);
+    for (float& v : img.pixels) v = std::nanf("");
+    CHECK_THROWS_WITH(nonFiniteReferencePixels(img, "x.pfm"),
+                      Catch::Contains("x.pfm") && Catch::Contains("no pixel"));
+}
