@@ -313,7 +313,7 @@ int runRender(const RenderArgs& a) {
         std::fprintf(stderr,
                      "rayproc: warning: %llu contributions beyond the film's range (|radiance| > "
                      "%.3g) were clamped to it; the image is darker than the scene there\n",
-                     (unsigned long long)result.stats.totals.clampedSamples, Film::kFixedLimit);
+                     (unsigned long long)result.stats.totals.clampedSamples, result.filmLimit);
     if (result.stats.totals.invalidSamples > 0)
         std::fprintf(stderr,
                      "rayproc: warning: %llu NaN or infinite contributions were discarded\n",

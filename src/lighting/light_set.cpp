@@ -286,6 +286,24 @@ Vec3 LightSource::power() const {
     }
 }
 
+double LightSet::radianceScale(const Bounds3& sceneBounds) const {
+    double r2 = 1;
+    if (!sceneBounds.empty()) {
+        double dx = double(sceneBounds.hi.x) - sceneBounds.lo.x,
+               dy = double(sceneBounds.hi.y) - sceneBounds.lo.y,
+               dz = double(sceneBounds.hi.z) - sceneBounds.lo.z;
+        r2 = std::max(0.25 * (dx * dx + dy * dy + dz * dz), 1e-300);
+    }
+    double brightest = 0;
+    for (const LightSource& l : lights) {
+        bool delta = l.kind == LightSource::Kind::Point || l.kind == LightSource::Kind::Spot;
+        Vec3 v = delta || l.kind == LightSource::Kind::Directional ? l.intensity : l.radiance;
+        brightest = std::max(brightest, double(maxComponent(v)) / (delta ? r2 : 1.0));
+    }
+    if (hasEnvironment()) brightest = std::max(brightest, double(maxComponent(environment.average())));
+    return brightest;
+}
+
 float LightSource::selectionWeight(const Vec3& p) const {
     Vec3 d = p - boundCenter;
     // Behind the plane (with a margin for the rounding of p and of the vertices).
