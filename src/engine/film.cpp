@@ -6,6 +6,17 @@
 
 namespace rayproc {
 
+namespace {
+
+// A pixel's mean in float: one beyond float's range (a light of 3.4e38 and a little more) is
+// the largest float of its sign, never Inf.
+float toPixel(double v) {
+    constexpr double kLargest = std::numeric_limits<float>::max();
+    return float(std::clamp(v, -kLargest, kLargest));
+}
+
+} // namespace
+
 Film::Film(int width, int height, int exponent)
     : m_width(width), m_height(height), m_exponent(exponent), m_scale(std::ldexp(1.0, exponent)),
       m_limit(std::ldexp(1.0, 96 - exponent)), m_passLow(std::size_t(width) * height * 3),
@@ -119,7 +130,7 @@ Image Film::resolveInProgress() const {
             std::size_t i = p * 3 + std::size_t(c);
             __int128 pass = (static_cast<__int128>(m_passHigh[i].load(std::memory_order_relaxed)) << 64) |
                             static_cast<__int128>(m_passLow[i].load(std::memory_order_relaxed));
-            img.pixels[i] = float((m_sum[i] + double(pass) / m_scale) / double(n));
+            img.pixels[i] = toPixel((m_sum[i] + double(pass) / m_scale) / double(n));
         }
     }
     return img;
@@ -131,7 +142,7 @@ Image Film::resolve(int width, int height, const std::vector<double>& sums,
     for (std::size_t p = 0; p < samples.size(); ++p) {
         if (samples[p] == 0) continue;
         double inv = 1.0 / double(samples[p]);
-        for (int c = 0; c < 3; ++c) img.pixels[p * 3 + c] = float(sums[p * 3 + c] * inv);
+        for (int c = 0; c < 3; ++c) img.pixels[p * 3 + c] = toPixel(sums[p * 3 + c] * inv);
     }
     return img;
 }

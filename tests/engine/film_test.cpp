@@ -358,3 +358,24 @@ TEST_CASE("Film sums dim and bright scenes' contributions exactly and in any ord
         CHECK(wrong32 == kW * kH * 3);
     }
 }
+
+TEST_CASE("Film pixels whose mean passes float's range are the largest float, not Inf",
+          "[engine][film]") {
+    Film film(2, 1, Film::exponentFor(3e38)); // a light at float's limit: no clamped sample
+    ThreadStats stats;
+    film.addSample(0);
+    film.addSample(1);
+    film.add(0, Vec3(3e38f, 3e38f, 1e30f), stats); // one sample of 6e38 in all
+    film.add(0, Vec3(3e38f, -3e38f, 0.0f), stats);
+    film.add(1, Vec3(-3e38f, 0.0f, 0.0f), stats);
+    film.add(1, Vec3(-3e38f, 0.0f, 0.0f), stats);
+    film.commitPass();
+    CHECK(stats.clampedSamples == 0);
+    Image img = film.resolve();
+    const float largest = std::numeric_limits<float>::max();
+    CHECK(img.at(0, 0)[0] == largest);
+    CHECK(img.at(0, 0)[1] == 0.0f);
+    CHECK(img.at(0, 0)[2] == Approx(1e30).epsilon(0.01)); // 2^-36 of 3e38 is 4e27
+    CHECK(img.at(1, 0)[0] == -largest);
+    CHECK(sameBits(film.resolveInProgress(), img));
+}
