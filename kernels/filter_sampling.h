@@ -52,6 +52,12 @@ inline float mitchell1D(float t, float b, float c) {
     return 0;
 }
 
+// The cubic divided by size >= 1. It is affine in (B, C), m = m(0, 0) + B m_B + C m_C, so
+// m / size = m(B / size, C / size) - (1 - 1 / size) m(0, 0): finite for any finite B and C.
+inline float mitchell1DScaled(float t, float b, float c, float size) {
+    return mitchell1D(t, b / size, c / size) - (1 - 1 / size) * mitchell1D(t, 0, 0);
+}
+
 inline float sinc(float x) {
     if (std::abs(x) < 1e-5f) return 1 - kPi * kPi * x * x / 6; // Taylor: avoids 0 / 0
     return std::sin(kPi * x) / (kPi * x);
@@ -82,9 +88,17 @@ inline float evalFilter(const FilterShape& s, Vec2 p) {
         return std::max(0.0f,
                         detail::gaussian1D(p.x, s.sigma) - detail::gaussian1D(s.rx, s.sigma)) *
                std::max(0.0f, detail::gaussian1D(p.y, s.sigma) - detail::gaussian1D(s.ry, s.sigma));
-    case FilterType::Mitchell:
+    case FilterType::Mitchell: {
+        // The cubic is linear in (1, B, C): for |B| or |C| > 1 it is evaluated divided by their
+        // size, so B = 1e30 keeps its shape instead of overflowing (a product of two 1e20s is
+        // already beyond float). Sampling uses only the shape; B, C within [-1, 1] are as given.
+        float size = std::max({1.0f, std::abs(s.b), std::abs(s.c)});
+        if (size > 1)
+            return detail::mitchell1DScaled(2 * p.x / s.rx, s.b, s.c, size) *
+                   detail::mitchell1DScaled(2 * p.y / s.ry, s.b, s.c, size);
         return detail::mitchell1D(2 * p.x / s.rx, s.b, s.c) *
                detail::mitchell1D(2 * p.y / s.ry, s.b, s.c);
+    }
     case FilterType::Lanczos:
         return detail::windowedSinc(p.x, s.rx, s.tau) * detail::windowedSinc(p.y, s.ry, s.tau);
     }

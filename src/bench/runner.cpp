@@ -120,6 +120,7 @@ std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions
             throw InputError("--reference " + spec + ": " + file + ": no such file");
         // The scene renders at its reference's size.
         auto image = std::make_shared<const Image>(readImage(file));
+        nonFiniteReferencePixels(*image, file); // some left out of the error; none is an error
         job->width = image->width;
         job->height = image->height;
         job->givenImage = image;

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -37,6 +38,25 @@ inline CLI::Validator finiteNumber() {
                 std::size_t used = 0;
                 double v = std::stod(text, &used);
                 if (!std::isfinite(v)) return "must be a finite number, got " + text;
+            } catch (const std::exception&) {
+                return {}; // not a number at all: the option's own conversion says so
+            }
+            return {};
+        },
+        "");
+}
+
+// finiteNumber for an option stored as a float: also refuses magnitudes beyond float's range
+// (3.4e38), which are finite as text and in double but become infinite once stored.
+inline CLI::Validator finiteFloat() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            try {
+                std::size_t used = 0;
+                double v = std::stod(text, &used);
+                if (!std::isfinite(v)) return "must be a finite number, got " + text;
+                if (std::abs(v) > double(std::numeric_limits<float>::max()))
+                    return "must be at most 3.4e38 in magnitude (a float), got " + text;
             } catch (const std::exception&) {
                 return {}; // not a number at all: the option's own conversion says so
             }

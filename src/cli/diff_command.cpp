@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <new>
 #include <optional>
@@ -167,6 +168,7 @@ int runDiff(const DiffArgs& a) {
     Image test = readImage(a.test);
     int factor = 1, denominatorFactor = 1;
     Image reference = readAtTestSize("the reference", a.reference, test, a.test, factor);
+    nonFiniteReferencePixels(reference, a.reference); // none finite: nothing to compare
     std::optional<Image> denominator;
     if (!a.relmseDenominator.empty())
         denominator = readAtTestSize("--relmse-denominator", a.relmseDenominator, test, a.test,
@@ -174,7 +176,15 @@ int runDiff(const DiffArgs& a) {
     const Image* relmseB = denominator ? &*denominator : nullptr;
     ImageMetrics m = compareImages(test, reference, cropOf(a), relmseB); // throws for a bad crop
 
-    if (!a.output.empty()) writeImage(a.output, differenceImage(test, reference, a.scale));
+    if (!a.output.empty()) {
+        std::size_t clamped = 0;
+        writeImage(a.output, differenceImage(test, reference, a.scale, &clamped));
+        if (clamped > 0)
+            std::fprintf(stderr,
+                         "rayproc: warning: %zu values of the difference image times --scale %g "
+                         "exceed float's range; clamped to %g\n",
+                         clamped, double(a.scale), double(std::numeric_limits<float>::max()));
+    }
     hs.relmseDenominator = relmseB;
     if (!a.heatmap.empty()) writeImage(a.heatmap, renderHeatmap(test, reference, hs));
 
@@ -225,8 +235,9 @@ std::function<int()> addDiffCommand(CLI::App& app) {
                     "Write the difference image |test - reference| per channel, times --scale "
                     "(.pfm/.exr/.hdr: linear values; .png: clamped to 1, sRGB-encoded)");
     cmd->add_option("--scale", args->scale,
-                    "Multiply the difference image by this factor (default 1)")
-        ->check(finiteNumber())
+                    "Multiply the difference image by this factor (default 1; values beyond "
+                    "float's range are clamped to 3.4e38, with a warning)")
+        ->check(finiteFloat())
         ->check(CLI::PositiveNumber);
     cmd->add_option("--heatmap", args->heatmap,
                     "Write a false-colour map of the per-pixel error (inferno: black = none; "

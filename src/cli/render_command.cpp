@@ -9,6 +9,7 @@
 #include "engine/memory_budget.h"
 #include "image/display_client.h"
 #include "image/image.h"
+#include "image/metrics.h"
 #include "modes/modes.h"
 #include "modes/render_watch.h"
 #include "scene/scene_loader.h"
@@ -168,6 +169,13 @@ int runRender(const RenderArgs& a) {
                              "x" + std::to_string(reference.height) + " but the render is " +
                              std::to_string(scene->camera.width) + "x" +
                              std::to_string(scene->camera.height));
+        // Left out of the error log as diff leaves them out; none finite is an error.
+        std::size_t bad = nonFiniteReferencePixels(reference, a.reference);
+        if (bad > 0 && !a.quiet)
+            std::fprintf(stderr,
+                         "rayproc: warning: --reference: %zu pixels are NaN or infinite; the "
+                         "error log leaves them out\n",
+                         bad);
         engine.reference = &reference;
         engine.errorLogPath = a.errorLog;
     }
@@ -305,7 +313,7 @@ int runRender(const RenderArgs& a) {
         std::fprintf(stderr,
                      "rayproc: warning: %llu contributions beyond the film's range (|radiance| > "
                      "%.3g) were clamped to it; the image is darker than the scene there\n",
-                     (unsigned long long)result.stats.totals.clampedSamples, Film::kFixedLimit);
+                     (unsigned long long)result.stats.totals.clampedSamples, result.filmLimit);
     if (result.stats.totals.invalidSamples > 0)
         std::fprintf(stderr,
                      "rayproc: warning: %llu NaN or infinite contributions were discarded\n",
@@ -377,7 +385,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "(default 16). Every width gives the same image")
         ->check(CLI::IsMember({1, 4, 8, 16}));
     cmd->add_option("--exposure", args->exposure, "Exposure in stops for PNG output (default 0)")
-        ->check(finiteNumber());
+        ->check(finiteFloat());
     cmd->add_option("--tonemap", args->tonemap, "PNG tone map: clamp (default), reinhard, aces")
         ->check(CLI::IsMember({"clamp", "reinhard", "aces"}));
     cmd->add_option("--photons", args->photons,
@@ -413,7 +421,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--ic-accuracy", args->icAccuracy,
                     "gi: Ward's accuracy a of the irradiance cache; smaller = more records "
                     "(default 0.25)")
-        ->check(finiteNumber())
+        ->check(finiteFloat())
         ->check(CLI::Range(0.001, 10.0));
     cmd->add_option("--ic-refine-rays", args->icRefineRays,
                     "gi: gather rays every cache record adds before each render pass, so the "
@@ -438,7 +446,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "gi: progressive caustics' radius reduction alpha: each pass's squared radius "
                     "is the last one's times (i + alpha) / (i + 1) (default 0.667; smaller "
                     "shrinks faster: less bias, more noise)")
-        ->check(finiteNumber())
+        ->check(finiteFloat())
         ->check(CLI::Range(0.01, 1.0));
     cmd->add_flag("--no-precomputed-irradiance", args->noPrecomputed,
                   "gi: gather rays estimate the global map's irradiance from scratch instead of "

@@ -6,11 +6,30 @@
 
 namespace rayproc {
 
-Film::Film(int width, int height)
-    : m_width(width), m_height(height), m_passLow(std::size_t(width) * height * 3),
+namespace {
+
+// A pixel's mean in float: one beyond float's range (a light of 3.4e38 and a little more) is
+// the largest float of its sign, never Inf.
+float toPixel(double v) {
+    constexpr double kLargest = std::numeric_limits<float>::max();
+    return float(std::clamp(v, -kLargest, kLargest));
+}
+
+} // namespace
+
+Film::Film(int width, int height, int exponent)
+    : m_width(width), m_height(height), m_exponent(exponent), m_scale(std::ldexp(1.0, exponent)),
+      m_limit(std::ldexp(1.0, 96 - exponent)), m_passLow(std::size_t(width) * height * 3),
       m_passHigh(std::size_t(width) * height * 3),
       m_passSamples(std::size_t(width) * height), m_sum(std::size_t(width) * height * 3, 0.0),
       m_samples(std::size_t(width) * height, 0) {}
+
+int Film::exponentFor(double brightest) {
+    if (!(brightest > 0) || !std::isfinite(brightest)) return kDefaultExponent;
+    // 2^e <= brightest < 2^(e+1) maps to [2^36, 2^37) units: 36 - e = 32 for 16 <= brightest
+    // < 32 (the Cornell box's 17).
+    return kBrightestExponent - std::ilogb(brightest);
+}
 
 void Film::add(std::uint32_t pixel, const Vec3& radiance, ThreadStats& stats) {
     if (!isFinite(radiance)) {
@@ -20,13 +39,13 @@ void Film::add(std::uint32_t pixel, const Vec3& radiance, ThreadStats& stats) {
     for (int c = 0; c < 3; ++c) {
         double v = double(radiance[c]);
         if (v == 0.0) continue;
-        if (std::abs(v) > kFixedLimit) {
+        if (std::abs(v) > m_limit) {
             ++stats.clampedSamples;
-            v = std::copysign(kFixedLimit, v);
+            v = std::copysign(m_limit, v);
         }
-        // |v| * 2^32 <= 2^96 fits a signed 128-bit integer; beyond 2^53 the double is already
-        // an integer, below it rounding to nearest is the fixed-point quantisation.
-        auto fixed = static_cast<__int128>(std::nearbyint(v * kFixedScale));
+        // |v| * 2^exponent <= 2^96 fits a signed 128-bit integer; beyond 2^53 the double is
+        // already an integer, below it rounding to nearest is the fixed-point quantisation.
+        auto fixed = static_cast<__int128>(std::nearbyint(v * m_scale));
         auto low = static_cast<std::uint64_t>(fixed);
         auto high = static_cast<std::int64_t>(fixed >> 64);
         std::size_t i = std::size_t(pixel) * 3 + c;
@@ -93,8 +112,8 @@ void Film::commitPass(int half) {
             std::uint64_t low = m_passLow[p * 3 + c].exchange(0, std::memory_order_relaxed);
             std::int64_t high = m_passHigh[p * 3 + c].exchange(0, std::memory_order_relaxed);
             __int128 v = (static_cast<__int128>(high) << 64) | static_cast<__int128>(low);
-            m_sum[p * 3 + c] += double(v) / kFixedScale;
-            if (halves) m_halfSum[half][p * 3 + c] += double(v) / kFixedScale;
+            m_sum[p * 3 + c] += double(v) / m_scale;
+            if (halves) m_halfSum[half][p * 3 + c] += double(v) / m_scale;
         }
     }
 }
@@ -111,7 +130,7 @@ Image Film::resolveInProgress() const {
             std::size_t i = p * 3 + std::size_t(c);
             __int128 pass = (static_cast<__int128>(m_passHigh[i].load(std::memory_order_relaxed)) << 64) |
                             static_cast<__int128>(m_passLow[i].load(std::memory_order_relaxed));
-            img.pixels[i] = float((m_sum[i] + double(pass) / kFixedScale) / double(n));
+            img.pixels[i] = toPixel((m_sum[i] + double(pass) / m_scale) / double(n));
         }
     }
     return img;
@@ -123,7 +142,7 @@ Image Film::resolve(int width, int height, const std::vector<double>& sums,
     for (std::size_t p = 0; p < samples.size(); ++p) {
         if (samples[p] == 0) continue;
         double inv = 1.0 / double(samples[p]);
-        for (int c = 0; c < 3; ++c) img.pixels[p * 3 + c] = float(sums[p * 3 + c] * inv);
+        for (int c = 0; c < 3; ++c) img.pixels[p * 3 + c] = toPixel(sums[p * 3 + c] * inv);
     }
     return img;
 }

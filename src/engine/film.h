@@ -4,6 +4,12 @@
 // double precision in pixel order. The 128-bit sum is two 64-bit atomics: a low word that
 // wraps and a high word that receives the low word's carries, so a pixel's sum cannot wrap
 // for any count of contributions a pass can make.
+//
+// The fixed point's unit follows the scene's brightness (exponentFor): the brightest light's
+// radiance is 2^36 to 2^37 units, so a scene's image is the same whether its emission is 1e-30
+// or 1e30, and times a power of two it is the image times that power to the bit (a fixed unit
+// of 2^-32 rounded the Cornell box's dim pixels by 6.8% at 1e-6 of its emission and to black
+// at 1e-15). Every rank and thread uses the same exponent: determinism is unchanged.
 #pragma once
 
 #include "core/math.h"
@@ -19,13 +25,25 @@ namespace rayproc {
 
 class Film {
 public:
-    // 2^32 units per radiance unit: resolution 2.3e-10. One contribution is clamped to
-    // +-2^64 radiance (1.8e19; the sun's luminance is 1.6e9) and counted; a pixel's pass sum
-    // holds 2^31 such contributions before the 128-bit sum could wrap.
+    // By default 2^32 units per radiance unit: resolution 2.3e-10. One contribution is clamped
+    // to +-2^96 units (by default 2^64 radiance, 1.8e19; the sun's luminance is 1.6e9) and
+    // counted; a pixel's pass sum holds 2^31 such contributions before the 128-bit sum could
+    // wrap.
+    static constexpr int kDefaultExponent = 32;
     static constexpr double kFixedScale = 4294967296.0;
     static constexpr double kFixedLimit = 18446744073709551616.0;
 
-    Film(int width, int height);
+    // 2^exponent units per radiance unit.
+    Film(int width, int height, int exponent = kDefaultExponent);
+    // The exponent for a scene whose lights give radiance of about `brightest`
+    // (LightSet::radianceScale): brightest is 2^36 to 2^37 units (exponent 32 for 16 <=
+    // brightest < 32, the Cornell box); resolution 2^-36 of the brightest light, room for 2^59
+    // times it in one contribution. kDefaultExponent when there is no light.
+    static constexpr int kBrightestExponent = 36;
+    static int exponentFor(double brightest);
+    int exponent() const { return m_exponent; }
+    // The largest |radiance| one contribution may carry; beyond, it is clamped and counted.
+    double fixedLimit() const { return m_limit; }
     int width() const { return m_width; }
     int height() const { return m_height; }
 
@@ -74,6 +92,8 @@ public:
 
 private:
     int m_width, m_height;
+    int m_exponent;
+    double m_scale, m_limit; // 2^exponent, 2^(96 - exponent)
     std::vector<std::atomic<std::uint64_t>> m_passLow;    // 3 per pixel, fixed point, low word
     std::vector<std::atomic<std::int64_t>> m_passHigh;    // 3 per pixel, high word and carries
     std::vector<std::atomic<std::uint32_t>> m_passSamples; // per pixel

@@ -104,6 +104,8 @@ void CacheRefinement::beginPass(int pass) {
 
     // This rank's records, one request slot each, claimed in record order.
     IcRequests requests;
+    const int filmExponent = Film::exponentFor(m_lights.radianceScale(m_scene.worldBounds()));
+    requests.setRadianceScale(IcRequest::radianceScale(filmExponent));
     requests.beginLevel(std::size_t(last - first));
     std::vector<IcRequest*> slots(std::size_t(last - first));
     for (IcRequest*& slot : slots) {
@@ -113,7 +115,7 @@ void CacheRefinement::beginPass(int pass) {
 
     // Gather rays add to a record's slot; correction rays and their paths to the record's
     // pixel of this film (pixel i - first).
-    Film film(correcting ? int(std::max<std::uint64_t>(last - first, 1)) : 1, 1);
+    Film film(correcting ? int(std::max<std::uint64_t>(last - first, 1)) : 1, 1, filmExponent);
     ShadingPolicy policy;
     policy.maxDepth = s.maxDepth;
     policy.icPrepass = true;
@@ -192,7 +194,7 @@ void CacheRefinement::beginPass(int pass) {
         Vec3 e;
         for (int c = 0; c < 3; ++c) {
             double& sum = gathered[3 * i + std::size_t(c)];
-            sum += double(std::int64_t(sums[4 * i + std::size_t(c)])) / IcRequest::kScale;
+            sum += double(std::int64_t(sums[4 * i + std::size_t(c)])) / requests.radianceScale();
             double irradiance = kPi * sum / double(counts[i]);
             if (correcting)
                 irradiance += m_correctionWeight * kPi * applied[3 * i + std::size_t(c)] /

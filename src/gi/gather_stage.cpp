@@ -62,7 +62,8 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
 void GatherStage::deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const {
     if (isBlack(l)) return;
     if (b.flags[i] & kFlagGatherRecord) {
-        (*m_rc.gi->requests)[b.pixel[i]].add(b.sample[i], l);
+        IcRequests& requests = *m_rc.gi->requests;
+        requests[b.pixel[i]].add(b.sample[i], l, requests.radianceScale());
     } else {
         m_rc.film.add(b.pixel[i], l, stats);
     }

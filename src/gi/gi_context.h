@@ -139,12 +139,21 @@ struct IcRequest {
     std::vector<std::array<std::int64_t, 3>> strataRadiance;
     std::vector<float> strataDistance;
 
-    static constexpr double kScale = 1048576.0; // 2^20 fixed-point units per unit
+    // 2^20 fixed-point units per unit of inverse distance, and of radiance in ordinary scenes;
+    // the radiance's unit follows the scene's brightness as the film's does (radianceScale).
+    static constexpr double kScale = 1048576.0;
+    // Units per unit of radiance for a film of 2^filmExponent units (Film::exponentFor): 2^20
+    // at the film's default 2^32, moved with it, so that dim and bright scenes keep their
+    // records' precision (a fixed 2^20 read 1e-10 of the Cornell box's light as 0, and 1e15 of
+    // it wrapped the 64-bit sums).
+    static double radianceScale(int filmExponent) { return std::ldexp(kScale, filmExponent - 32); }
     // Adds radiance l that stratum's ray brought: its ray, continuations and the shadow rays of
-    // its light samples add in any order, from any thread.
-    void add(std::uint32_t stratum, const Vec3& l) {
+    // its light samples add in any order, from any thread. `scale`: units per unit radiance.
+    void add(std::uint32_t stratum, const Vec3& l, double scale) {
         for (int c = 0; c < 3; ++c) {
-            std::int64_t units = std::llround(double(l[c]) * kScale);
+            // Clamped where the 64-bit sum could not hold it (llround's range).
+            double v = std::clamp(double(l[c]) * scale, -0x1p62, 0x1p62);
+            std::int64_t units = std::llround(v);
             radiance[c].fetch_add(units, std::memory_order_relaxed);
             if (stratum < strataRadiance.size())
                 std::atomic_ref<std::int64_t>(strataRadiance[stratum][std::size_t(c)])
@@ -206,8 +215,12 @@ public:
     }
     // The slots this level claimed (after its pass).
     std::size_t claimed() const { return std::min<std::size_t>(m_used.load(), m_capacity); }
+    // Units per unit radiance of the requests' sums (IcRequest::radianceScale).
+    void setRadianceScale(double scale) { m_radianceScale = scale; }
+    double radianceScale() const { return m_radianceScale; }
 
 private:
+    double m_radianceScale = IcRequest::kScale;
     static constexpr std::size_t kChunk = 256;
     struct Chunk {
         IcRequest slots[kChunk];

@@ -6,20 +6,68 @@
 #include "kernels/sampling.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace rayproc {
 
 namespace {
 
-// Power leaving a light, RGB (W). Directional lights and the sky are measured through a disk
-// of radius r that covers the scene.
-Vec3 emittedPower(const LightSource& l, float r) {
-    if (l.kind == LightSource::Kind::Directional) return l.intensity * (kPi * r * r);
-    return l.power();
+// Power leaving a light, RGB (W), in double: it can pass float's range though every factor is
+// within it (radiance 3e37 over a few m^2; a directional light over a 1e15-wide scene).
+// Directional lights and the sky are measured through a disk of radius r covering the scene.
+std::array<double, 3> emittedPower(const LightSource& l, double r) {
+    double factor = 0;
+    Vec3 base = l.kind == LightSource::Kind::AreaMesh || l.kind == LightSource::Kind::AreaSphere ||
+                        l.kind == LightSource::Kind::AreaDisk
+                    ? l.radiance
+                    : l.intensity;
+    switch (l.kind) {
+    case LightSource::Kind::Point: factor = 4 * kPi * double(l.goniometricMean); break;
+    case LightSource::Kind::Spot:
+        factor = 2 * kPi * (1 - 0.5 * (double(l.cosCone) + double(l.cosFalloff)));
+        break;
+    case LightSource::Kind::Directional: factor = kPi * r * r; break;
+    default: factor = kPi * double(l.area) * (l.twoSided ? 2.0 : 1.0); break;
+    }
+    return {double(base.x) * factor, double(base.y) * factor, double(base.z) * factor};
+}
+
+std::array<double, 3> environmentPower(const LightSet& lights, double r) {
+    Vec3 avg = lights.environment.average(); // radiance from every direction through the disk
+    double factor = 4 * kPi * kPi * r * r;
+    return {double(avg.x) * factor, double(avg.y) * factor, double(avg.z) * factor};
+}
+
+Vec3 scaled(const Vec3& v, double factor) {
+    return {float(double(v.x) * factor), float(double(v.y) * factor), float(double(v.z) * factor)};
+}
+
+// In units of `unit` (a power of two): the float power as it was computed before units existed
+// where it is finite, so the same photons to the bit; the double one where float overflowed.
+Vec3 inUnits(const Vec3& asFloat, const std::array<double, 3>& asDouble, double unit) {
+    if (isFinite(asFloat)) return scaled(asFloat, 1 / unit);
+    return {float(asDouble[0] / unit), float(asDouble[1] / unit), float(asDouble[2] / unit)};
+}
+
+double luminanceOf(const std::array<double, 3>& p) {
+    return std::max(0.0, 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]);
+}
+
+float diskRadius(const Bounds3& bounds) {
+    return bounds.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(bounds.diagonal()));
 }
 
 } // namespace
+
+double PhotonEmitter::powerUnit(const LightSet& lights, const Bounds3& sceneBounds) {
+    double r = diskRadius(sceneBounds), total = 0;
+    for (const LightSource& l : lights.lights) total += luminanceOf(emittedPower(l, r));
+    if (lights.hasEnvironment()) total += luminanceOf(environmentPower(lights, r));
+    if (!(total > 0) || !std::isfinite(total)) return 1.0;
+    int e = std::ilogb(total);
+    return std::abs(e) <= kWattsRange ? 1.0 : std::ldexp(1.0, e);
+}
 
 PhotonEmitter::PhotonEmitter(const LightSet& lights, const Bounds3& bounds, std::uint32_t count,
                              std::uint64_t seed, std::uint64_t tag, const Bounds3& focus,
@@ -27,7 +75,8 @@ PhotonEmitter::PhotonEmitter(const LightSet& lights, const Bounds3& bounds, std:
     : m_lights(lights), m_count(count), m_key(kernels::hashCombine(kernels::mix64(seed), tag)) {
     m_last = count;
     m_center = bounds.empty() ? Vec3(0.0f) : bounds.center();
-    m_radius = bounds.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(bounds.diagonal()));
+    m_radius = diskRadius(bounds);
+    m_unit = powerUnit(lights, bounds);
     if (!focus.empty() && focusShare > 0) {
         m_focusCenter = focus.center();
         m_focusRadius = 0.5f * length(focus.diagonal());
@@ -41,9 +90,15 @@ PhotonEmitter::PhotonEmitter(const LightSet& lights, const Bounds3& bounds, std:
         total += std::max(0.0f, luminance(p));
         m_cdf.push_back(total);
     };
-    for (const LightSource& l : lights.lights) add(emittedPower(l, m_radius));
+    for (const LightSource& l : lights.lights) {
+        Vec3 p = l.kind == LightSource::Kind::Directional
+                     ? l.intensity * (kPi * m_radius * m_radius)
+                     : l.power();
+        add(inUnits(p, emittedPower(l, m_radius), m_unit));
+    }
     if (lights.hasEnvironment()) // radiance L from every direction through a disk of radius r
-        add(lights.environment.average() * (4 * kPi * kPi * m_radius * m_radius));
+        add(inUnits(lights.environment.average() * (4 * kPi * kPi * m_radius * m_radius),
+                    environmentPower(lights, m_radius), m_unit));
     if (total <= 0) m_cdf.clear();
 }
 
@@ -117,7 +172,11 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
         if (!s.valid) return e;
         e.direction = -s.wi;
         e.origin = disk(e.direction, uPos);
-        e.power = s.weight * (diskArea / (pChoice * float(m_count)));
+        // L / pdf can pass float's range where L does not: then it is made in double.
+        Vec3 weight = isFinite(s.weight)
+                          ? scaled(s.weight, 1 / m_unit)
+                          : scaled(m_lights.environment.radiance(s.wi), 1 / (double(s.pdf) * m_unit));
+        e.power = weight * (diskArea / (pChoice * float(m_count)));
         e.valid = isFinite(e.power);
         return e;
     }
@@ -140,7 +199,7 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
                   : std::clamp((cosT - l.cosFalloff) / (l.cosCone - l.cosFalloff), 0.0f, 1.0f);
         float f = t * t * (3 - 2 * t);
         float solid = 2 * kPi * (1 - l.cosFalloff);
-        e.power = l.intensity * (f * solid / (pChoice * float(m_count)));
+        e.power = scaled(l.intensity, 1 / m_unit) * (f * solid / (pChoice * float(m_count)));
         e.valid = f > 0;
         break;
     }

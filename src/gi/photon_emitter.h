@@ -33,7 +33,15 @@ public:
     // Photons of the range handed to the processor so far, and the range's size (progress).
     std::uint64_t photonsEmitted() const;
     std::uint64_t photonsInRange() const { return m_last - m_first; }
-    Vec3 totalPower() const { return m_totalPower; }
+    // Photon powers are in units of powerUnit() (W): 1 when the lights' total luminance power
+    // lies within 2^-kWattsRange .. 2^kWattsRange W (every ordinary scene: its photons are as
+    // they always were), else the power of two nearest below that total, so that a light of
+    // 3e37 W/m^2/sr, a directional light over a 1e15-wide scene or one of 1e-30 gives finite,
+    // normal photon powers. PhotonMap::setPowerUnit turns estimates back into W; scaling by a
+    // power of two is exact.
+    static constexpr int kWattsRange = 60;
+    static double powerUnit(const LightSet& lights, const Bounds3& sceneBounds);
+    Vec3 totalPower() const { return m_totalPower; } // in powerUnit()s
     bool empty() const { return m_cdf.empty(); }
 
 private:
@@ -50,6 +58,7 @@ private:
     const LightSet& m_lights;
     Vec3 m_center;
     float m_radius;
+    double m_unit = 1; // powerUnit()
     Vec3 m_focusCenter{0, 0, 0};
     float m_focusRadius = 0.0f;
     float m_focusShare = 0.0f; // 0: every photon uniform on the whole disk

@@ -77,13 +77,14 @@ Vec3 PhotonMap::coneEstimate(const Vec3& p, const Vec3& n, int k, float maxDista
 }
 
 Vec3 PhotonMap::irradiance(const Vec3& p, const Vec3& n, int k, float maxDistance) const {
-    return coneEstimate(p, n, k, maxDistance, [](const StoredPhoton&) { return Vec3(1.0f); });
+    return inWatts(
+        coneEstimate(p, n, k, maxDistance, [](const StoredPhoton&) { return Vec3(1.0f); }));
 }
 
 Vec3 PhotonMap::radiance(const Vec3& p, const Vec3& n, int k, float maxDistance,
                          const std::function<Vec3(const Vec3& wi)>& f) const {
-    return coneEstimate(p, n, k, maxDistance,
-                        [&](const StoredPhoton& s) { return f(decodeDirection(s.direction)); });
+    return inWatts(coneEstimate(
+        p, n, k, maxDistance, [&](const StoredPhoton& s) { return f(decodeDirection(s.direction)); }));
 }
 
 Vec3 PhotonMap::irradianceWithin(const Vec3& p, const Vec3& n, float radius) const {
@@ -92,7 +93,7 @@ Vec3 PhotonMap::irradianceWithin(const Vec3& p, const Vec3& n, float radius) con
     ConeSum sum(p, n, radius, radius2);
     kdtree::search(m_photons.data(), m_photons.size(), p, radius2,
                    [&](std::size_t i, float d2) { sum.add(m_photons[i], d2); });
-    return sum.irradiance();
+    return inWatts(sum.irradiance());
 }
 
 float PhotonMap::medianNeighbourRadius(int k, float maxDistance, int samples) const {
@@ -165,8 +166,9 @@ PhotonMap::PrecomputedPhoton PhotonMap::subsetPhoton(const StoredPhoton& s) {
 Rgbe PhotonMap::subsetEstimate(const PrecomputedPhoton& s, int k, float maxDistance) const {
     // decodeNormal reads the low 14 bits: the photon's normal, whether or not the top two
     // already hold this tree's split axis.
-    return encodeRgbe(
-        irradiance(Vec3(s.pos[0], s.pos[1], s.pos[2]), decodeNormal(s.normalAxis), k, maxDistance));
+    // In units (setPowerUnit): RGBE saturates at 1.7e38.
+    return encodeRgbe(coneEstimate(Vec3(s.pos[0], s.pos[1], s.pos[2]), decodeNormal(s.normalAxis),
+                                   k, maxDistance, [](const StoredPhoton&) { return Vec3(1.0f); }));
 }
 
 void PhotonMap::buildPrecomputedTree(std::vector<PrecomputedPhoton> subset) {
@@ -236,7 +238,7 @@ Vec3 PhotonMap::irradianceFast(const Vec3& p, const Vec3& n, int k, float maxDis
                            bestDist2 = d2;
                            radius2 = d2;
                        });
-        if (best < m_precomputed.size()) return decodeRgbe(precomputedIrradiance(best));
+        if (best < m_precomputed.size()) return inWatts(decodeRgbe(precomputedIrradiance(best)));
     }
     return irradiance(p, n, k, maxDistance);
 }

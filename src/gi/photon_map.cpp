@@ -104,7 +104,7 @@ void PhotonMap::nearest(const Vec3& p, int k, float maxDistance, Neighbours& out
 
 PhotonRecord PhotonMap::photon(std::uint32_t i) const {
     const StoredPhoton& s = m_photons[i];
-    return {Vec3(s.pos[0], s.pos[1], s.pos[2]), decodeRgbe(s.power), decodeDirection(s.direction),
+    return {Vec3(s.pos[0], s.pos[1], s.pos[2]), inWatts(decodeRgbe(s.power)), decodeDirection(s.direction),
             decodeNormal(s.normalAxis)};
 }
 

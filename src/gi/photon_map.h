@@ -156,7 +156,19 @@ public:
     // is none, or nothing was precomputed, irradiance(p, n, k, maxDistance).
     Vec3 irradianceFast(const Vec3& p, const Vec3& n, int k, float maxDistance) const;
 
+    // The flux one unit of stored power stands for (W; default 1). The photon emitter gives
+    // photons in units of PhotonEmitter::powerUnit() so that no power overflows float; every
+    // estimate above and photon() are multiplied back by it (in double; exact, a power of two).
+    // The stored photons and the precomputed irradiance stay in units.
+    void setPowerUnit(double unit) { m_unit = unit; }
+    double powerUnit() const { return m_unit; }
+
 private:
+    Vec3 inWatts(const Vec3& v) const {
+        if (m_unit == 1) return v;
+        return {float(double(v.x) * m_unit), float(double(v.y) * m_unit),
+                float(double(v.z) * m_unit)};
+    }
     // Queries with k up to this keep their candidates on the stack.
     static constexpr int kStackCandidates = 128;
 
@@ -198,6 +210,7 @@ private:
     Rgbe precomputedIrradiance(std::size_t i) const;
 
     std::vector<StoredPhoton> m_photons;
+    double m_unit = 1; // setPowerUnit
     std::vector<PrecomputedPhoton> m_precomputed;
     bool m_hasPrecomputed = false;
     // deferIrradiance: per precomputed photon, 0 until made, then 2^32 | the RGBE's bits.

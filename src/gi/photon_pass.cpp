@@ -115,6 +115,9 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
                      [](const PhotonRecord& p) { return p.sampledDirect == 0; });
         if (!indirect->build(std::move(scattered), stop)) return done;
     }
+    double unit = PhotonEmitter::powerUnit(lights, scene.worldBounds());
+    if (indirect) indirect->setPowerUnit(unit);
+    map.setPowerUnit(unit);
     map.build(std::move(photons), stop);
     return done;
 }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 
 namespace rayproc {
 
@@ -268,11 +269,22 @@ Image renderHeatmap(const Image& a, const Image& b, const HeatmapSettings& s) {
     return out;
 }
 
-Image differenceImage(const Image& a, const Image& b, float scale) {
+Image differenceImage(const Image& a, const Image& b, float scale, std::size_t* clamped) {
     compareImages(a, b);
     Image out(a.width, a.height);
-    for (std::size_t i = 0; i < out.pixels.size(); ++i)
-        out.pixels[i] = std::abs(a.pixels[i] - b.pixels[i]) * scale;
+    constexpr double kLargest = std::numeric_limits<float>::max();
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < out.pixels.size(); ++i) {
+        // In double: a finite difference times a large scale must not become Inf (or NaN
+        // where the difference is 0 and the scale has overflowed).
+        double d = std::abs(double(a.pixels[i]) - double(b.pixels[i])) * double(scale);
+        if (std::isfinite(d) && d > kLargest) {
+            d = kLargest;
+            ++n;
+        }
+        out.pixels[i] = float(d);
+    }
+    if (clamped) *clamped = n;
     return out;
 }
 

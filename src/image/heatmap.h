@@ -11,6 +11,7 @@
 #include "image/image.h"
 #include "image/metrics.h"
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -62,8 +63,11 @@ HeatmapSize heatmapSize(int width, int height, const HeatmapSettings& settings);
 // ImageIoError on a size mismatch or a crop outside the image.
 Image renderHeatmap(const Image& test, const Image& reference, const HeatmapSettings& settings);
 
-// Per-channel |test - reference| * scale, linear; the paper's difference image.
-Image differenceImage(const Image& test, const Image& reference, float scale = 1.0f);
+// Per-channel |test - reference| * scale, linear; the paper's difference image. Computed in
+// double: a value beyond float's range is clamped to the largest float and counted in
+// `clamped` (optional); a non-finite input pixel stays non-finite.
+Image differenceImage(const Image& test, const Image& reference, float scale = 1.0f,
+                      std::size_t* clamped = nullptr);
 
 // The label printed at a tick of the colour bar ("0.01", "1e-5", "2.5e+4"): only the characters
 // the built-in font has (0-9 . e - +).

@@ -74,6 +74,15 @@ void biasMetrics(const Image& a, const Image& b, const CropRect& r, ImageMetrics
 
 } // namespace
 
+std::size_t nonFiniteReferencePixels(const Image& reference, const std::string& what) {
+    std::size_t pixels = std::size_t(reference.width) * std::size_t(reference.height), bad = 0;
+    for (std::size_t p = 0; p < pixels; ++p) bad += !finitePixel(&reference.pixels[p * 3]);
+    if (pixels > 0 && bad == pixels)
+        throw ImageIoError(what + ": no pixel of the reference is finite (every one has a NaN or "
+                                  "infinite channel): there is nothing to compare against");
+    return bad;
+}
+
 ImageMetrics compareImages(const Image& a, const Image& b, const std::optional<CropRect>& crop,
                            const Image* relmseDenominator) {
     for (const Image* other : {&b, relmseDenominator})

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
 
 namespace rayproc {
 
@@ -48,6 +49,10 @@ constexpr double kBlockFloor = 1e-3;
 ImageMetrics compareImages(const Image& test, const Image& reference,
                            const std::optional<CropRect>& crop = std::nullopt,
                            const Image* relmseDenominator = nullptr);
+
+// The pixels of a reference with a non-finite channel (compareImages leaves them out). Throws
+// ImageIoError naming `what` (the file) when no pixel is finite: every metric would be NaN.
+std::size_t nonFiniteReferencePixels(const Image& reference, const std::string& what);
 
 // The reference at 1/factor of its resolution: each output pixel is the average of a
 // factor x factor block, over the block's finite pixels (NaN if it has none, so the comparison

@@ -328,6 +328,24 @@ LightBounds LightSource::makeBounds() const {
     }
 }
 
+double LightSet::radianceScale(const Bounds3& sceneBounds) const {
+    double r2 = 1;
+    if (!sceneBounds.empty()) {
+        double dx = double(sceneBounds.hi.x) - sceneBounds.lo.x,
+               dy = double(sceneBounds.hi.y) - sceneBounds.lo.y,
+               dz = double(sceneBounds.hi.z) - sceneBounds.lo.z;
+        r2 = std::max(0.25 * (dx * dx + dy * dy + dz * dz), 1e-300);
+    }
+    double brightest = 0;
+    for (const LightSource& l : lights) {
+        bool delta = l.kind == LightSource::Kind::Point || l.kind == LightSource::Kind::Spot;
+        Vec3 v = delta || l.kind == LightSource::Kind::Directional ? l.intensity : l.radiance;
+        brightest = std::max(brightest, double(maxComponent(v)) / (delta ? r2 : 1.0));
+    }
+    if (hasEnvironment()) brightest = std::max(brightest, double(maxComponent(environment.average())));
+    return brightest;
+}
+
 float LightSet::effectiveLights(const float* weights, std::size_t count) {
     double sum = 0, sumSq = 0;
     for (std::size_t l = 0; l < count; ++l) {

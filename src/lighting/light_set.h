@@ -123,6 +123,11 @@ struct LightSet {
     // light with a weight when rounding carries u past the sum.
     static std::size_t pickByWeight(const std::vector<float>& weights, float total, float u);
 
+    // The radiance the lights give, roughly (the film's range follows it: Film::exponentFor):
+    // the largest channel of any area light's or the sky's radiance, a directional light's
+    // irradiance, a point or spot light's intensity over the squared radius of the scene.
+    double radianceScale(const Bounds3& sceneBounds) const;
+
     // Every scene light as it is: area lights stay area lights.
     static LightSet build(const Scene& scene, const EmbreeScene& accel);
     // The paper's preview approximation: each quad light becomes a point light per corner,

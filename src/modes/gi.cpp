@@ -155,6 +155,8 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
                                 Stats& stats) {
     const Camera& full = scene.camera;
     IcRequests requests;
+    const int filmExponent = Film::exponentFor(lights.radianceScale(scene.worldBounds()));
+    requests.setRadianceScale(IcRequest::radianceScale(filmExponent));
     std::size_t inserted = 0;
     constexpr int kScales[] = {16, 8, 4, 2, 1};
     auto levelCamera = [&](int scale) {
@@ -185,7 +187,7 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         Camera cam = levelCamera(scale);
         requests.beginLevel(std::size_t(cam.width) * cam.height * 2);
 
-        Film film(cam.width, cam.height);
+        Film film(cam.width, cam.height, filmExponent);
         ShadingPolicy policy;
         policy.maxDepth = gi.settings.maxDepth;
         policy.icPrepass = true;
@@ -237,7 +239,7 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
             for (std::size_t s = 0; s < r.strataRadiance.size(); ++s)
                 for (int c = 0; c < 3; ++c)
                     g.strataRadiance[s][c] =
-                        float(double(r.strataRadiance[s][std::size_t(c)]) / IcRequest::kScale);
+                        float(double(r.strataRadiance[s][std::size_t(c)]) / requests.radianceScale());
             g.strataDistance = r.strataDistance;
             made.push_back(std::move(g));
         }
@@ -260,7 +262,7 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
             rec.gatherRays = r.rays;
             // Cosine-weighted gather: E = pi / N * sum L.
             for (int c = 0; c < 3; ++c)
-                rec.irradiance[c] = float(kPi * double(r.radiance[c]) / IcRequest::kScale / rays);
+                rec.irradiance[c] = float(kPi * double(r.radiance[c]) / requests.radianceScale() / rays);
             double inv = double(r.inverseDistance) / IcRequest::kScale;
             float harmonic = inv > 0 ? float(rays / inv) : gi.icMaxRadius;
             rec.radius = std::clamp(harmonic, gi.icMinRadius, gi.icMaxRadius);

@@ -70,7 +70,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     };
     static const Cluster alone;
     const Cluster& cluster = engine.cluster ? *engine.cluster : alone;
-    Film film(scene.camera.width, scene.camera.height);
+    Film film(scene.camera.width, scene.camera.height,
+              Film::exponentFor(lights.radianceScale(scene.worldBounds())));
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
     rc.gi = gi;
 
@@ -259,6 +260,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     cluster.sumToRoot(sums);
     cluster.sumToRoot(samples);
     result.image = Film::resolve(film.width(), film.height(), sums, samples);
+    result.filmLimit = film.fixedLimit();
     result.stats.totals = stats.merged();
     sumToRoot(cluster, result.stats.totals);
     result.stats.wallSeconds = secondsAt(Clock::now());

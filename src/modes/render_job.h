@@ -110,6 +110,9 @@ struct RenderResult {
     // Set when the error log (--error-log) could not be written (a full disk, say): the log
     // stopped there, the render went on; the caller reports it and fails.
     std::string errorLogFailure;
+    // The largest |radiance| one contribution could carry (Film::fixedLimit: it follows the
+    // scene's brightness); stats.totals.clampedSamples counts those beyond.
+    double filmLimit = 18446744073709551616.0; // Film::kFixedLimit, the default
 };
 
 // beforePass (optional) runs before each pass with its index, on every rank (gi's progressive

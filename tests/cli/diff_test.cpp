@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <limits>
 #include <regex>
 
 using namespace rayproc;
@@ -243,6 +245,26 @@ TEST_CASE("diff --relmse-denominator takes relMSE's b from a third image", "[cli
         {"diff", p.test, p.reference, "--relmse-denominator", dir.file("none.pfm")}, dir);
     CHECK(missing.status == 2);
     CHECK(contains(missing.err, "none.pfm"));
+}
+
+TEST_CASE("diff --scale beyond float's range is an error, an overflowing product a warning",
+          "[cli]") {
+    TempDir dir;
+    Pair p = writePair(dir, "pfm", 4, 4, 0.5f, 4.0f);
+    std::string out = dir.file("diff.pfm");
+    RunResult big = runRayproc({"diff", p.test, p.reference, "-o", out, "--scale", "1e39"}, dir);
+    INFO(big.err);
+    CHECK(big.status == 2);
+    CHECK(contains(big.err, "--scale"));
+    CHECK_FALSE(std::filesystem::exists(out));
+
+    RunResult clamp = runRayproc({"diff", p.test, p.reference, "-o", out, "--scale", "3e38"}, dir);
+    INFO(clamp.err);
+    REQUIRE(clamp.status == 0);
+    CHECK(contains(clamp.err, "warning"));
+    CHECK(contains(clamp.err, "clamped"));
+    Image d = readImage(out);
+    for (float v : d.pixels) CHECK(v == std::numeric_limits<float>::max());
 }
 
 TEST_CASE("diff errors exit 2 with a clear message", "[cli]") {

@@ -297,3 +297,85 @@ TEST_CASE("Film shows the current pass while it runs, for display only", "[engin
     CHECK(film.resolveInProgress().pixels[0] == 4.0f);
     CHECK(film.resolve().pixels[0] == 3.0f);
 }
+
+TEST_CASE("Film's unit follows the scene's brightness: its brightest light is 2^36 units",
+          "[engine][film]") {
+    CHECK(Film::exponentFor(17.0) == Film::kDefaultExponent);        // the Cornell box
+    CHECK(Film::exponentFor(16.0) == 32);
+    CHECK(Film::exponentFor(31.99) == 32);
+    CHECK(Film::exponentFor(32.0) == 31);
+    CHECK(Film::exponentFor(15.99) == 33);
+    CHECK(Film::exponentFor(1.0) == 36);
+    CHECK(Film::exponentFor(1e-30) == 36 + 100);                     // 1e-30 ~ 2^-99.7
+    CHECK(Film::exponentFor(1e30) == 36 - 99);                       // 1e30 ~ 2^99.7
+    CHECK(Film::exponentFor(0.0) == Film::kDefaultExponent);         // no light
+    CHECK(Film::exponentFor(std::numeric_limits<double>::quiet_NaN()) == Film::kDefaultExponent);
+    CHECK(Film::exponentFor(std::numeric_limits<double>::infinity()) == Film::kDefaultExponent);
+    Film film(1, 1, 40);
+    CHECK(film.exponent() == 40);
+    CHECK(film.fixedLimit() == std::ldexp(1.0, 56));
+    CHECK(Film(1, 1).fixedLimit() == Film::kFixedLimit);
+}
+
+TEST_CASE("Film sums dim and bright scenes' contributions exactly and in any order",
+          "[engine][film]") {
+    // The random contributions of the first test (1e-4 .. 1e3) times 1e-25 and 1e25, on films
+    // whose unit follows that brightness: the same relative precision, the same determinism.
+    constexpr int kW = 4, kH = 4;
+    auto cs = randomContributions(5000, kW * kH, 777);
+    for (double scale : {1e-25, 1e25}) {
+        INFO("contributions times " << scale);
+        auto scaled = cs;
+        for (Contribution& c : scaled) c.radiance = c.radiance * float(scale);
+        auto reversed = scaled;
+        std::reverse(reversed.begin(), reversed.end());
+        int e = Film::exponentFor(1e3 * scale);
+        Film a(kW, kH, e), b(kW, kH, e), fixed32(kW, kH);
+        ThreadStats sa, sb, s32;
+        addAll(a, scaled, sa);
+        addAll(b, reversed, sb);
+        addAll(fixed32, scaled, s32);
+        a.commitPass();
+        b.commitPass();
+        fixed32.commitPass();
+        Image ia = a.resolve(), ib = b.resolve(), i32 = fixed32.resolve();
+        CHECK(sameBits(ia, ib));
+        CHECK(sa.clampedSamples == 0);
+        std::vector<double> exact(kW * kH * 3, 0.0);
+        std::vector<int> samples(kW * kH, 0);
+        for (const Contribution& c : scaled) {
+            ++samples[c.pixel];
+            for (int ch = 0; ch < 3; ++ch) exact[c.pixel * 3 + ch] += double(c.radiance[ch]);
+        }
+        int wrong32 = 0;
+        for (int p = 0; p < kW * kH; ++p)
+            for (int ch = 0; ch < 3; ++ch) {
+                double expected = exact[p * 3 + ch] / samples[p];
+                CHECK(ia.pixels[p * 3 + ch] == Approx(expected).epsilon(1e-6));
+                wrong32 += !(std::abs(i32.pixels[p * 3 + ch] / expected - 1) < 1e-6);
+            }
+        // The test has teeth: a fixed unit of 2^-32 radiance reads 1e-25 as 0 and clamps 1e25.
+        CHECK(wrong32 == kW * kH * 3);
+    }
+}
+
+TEST_CASE("Film pixels whose mean passes float's range are the largest float, not Inf",
+          "[engine][film]") {
+    Film film(2, 1, Film::exponentFor(3e38)); // a light at float's limit: no clamped sample
+    ThreadStats stats;
+    film.addSample(0);
+    film.addSample(1);
+    film.add(0, Vec3(3e38f, 3e38f, 1e30f), stats); // one sample of 6e38 in all
+    film.add(0, Vec3(3e38f, -3e38f, 0.0f), stats);
+    film.add(1, Vec3(-3e38f, 0.0f, 0.0f), stats);
+    film.add(1, Vec3(-3e38f, 0.0f, 0.0f), stats);
+    film.commitPass();
+    CHECK(stats.clampedSamples == 0);
+    Image img = film.resolve();
+    const float largest = std::numeric_limits<float>::max();
+    CHECK(img.at(0, 0)[0] == largest);
+    CHECK(img.at(0, 0)[1] == 0.0f);
+    CHECK(img.at(0, 0)[2] == Approx(1e30).epsilon(0.01)); // 2^-36 of 3e38 is 4e27
+    CHECK(img.at(1, 0)[0] == -largest);
+    CHECK(sameBits(film.resolveInProgress(), img));
+}

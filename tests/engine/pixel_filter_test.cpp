@@ -169,3 +169,39 @@ TEST_CASE("JSON: the camera's filter key", "[filter]") {
     CHECK_THROWS_AS(loadSceneFromString(jsonWithFilter(R"({"type": "cubic"})"), "/tmp/f.json"),
                     InputError);
 }
+
+TEST_CASE("Mitchell with B or C of 1e20 or 1e30 renders its limit shape, not black",
+          "[filter]") {
+    // B and C enter the cubic linearly: as B grows its shape tends to B's term alone, and
+    // B = 1e4 (1e8 at the pixel centre: within float) is already that shape to 1e-4. Renders
+    // with B or C of 1e20 and 1e30 (1e40 and 1e60: beyond float, all black before) must give
+    // the image B = 1e4 gives.
+    auto scene = loadSceneAt("cornell-box", 16, 16);
+    EmbreeScene accel(*scene);
+    RenderOptions o;
+    o.mode = "preview";
+    o.spp = 4;
+    auto renderWith = [&](float b, float c) {
+        scene->camera.filter.type = PixelFilter::Type::Mitchell;
+        scene->camera.filter.radius = {2, 2};
+        scene->camera.filter.b = b;
+        scene->camera.filter.c = c;
+        return render(*scene, accel, o).image;
+    };
+    Image bLimit = renderWith(1e4f, 1.0f / 3), cLimit = renderWith(1.0f / 3, 1e4f);
+    REQUIRE(meanValue(bLimit) > 0);
+    REQUIRE(meanValue(cLimit) > 0);
+    struct Case {
+        float b, c;
+        const Image& limit;
+    };
+    for (const Case& k : {Case{1e20f, 1.0f / 3, bLimit}, Case{1e30f, -1e20f, bLimit},
+                          Case{1.0f / 3, 1e30f, cLimit}, Case{1e10f, 1e30f, cLimit}}) {
+        Image img = renderWith(k.b, k.c);
+        INFO("B " << k.b << " C " << k.c << ": mean " << meanValue(img) << " against "
+                  << meanValue(k.limit) << ", relMSE " << relMse(img, k.limit));
+        CHECK(allFinite(img));
+        CHECK(meanValue(img) == Approx(meanValue(k.limit)).epsilon(0.01));
+        CHECK(relMse(img, k.limit) < 1e-3);
+    }
+}

@@ -274,6 +274,19 @@ TEST_CASE("Difference image is |a - b| times the scale", "[image]") {
     CHECK_THROWS_AS(differenceImage(test, constantImage(5, 4, 0.0f)), ImageIoError);
 }
 
+TEST_CASE("Difference image clamps values beyond float's range and counts them", "[image]") {
+    Image ref = constantImage(3, 1, 0.0f);
+    Image test = ref;
+    test.at(0, 0)[0] = 4.0f;  // 4 * 3e38 overflows float
+    test.at(1, 0)[1] = 0.5f;  // 1.5e38 fits
+    std::size_t clamped = 99;
+    Image d = differenceImage(test, ref, 3e38f, &clamped);
+    CHECK(clamped == 1);
+    CHECK(d.at(0, 0)[0] == std::numeric_limits<float>::max());
+    CHECK(d.at(1, 0)[1] == Approx(1.5e38));
+    for (float v : d.pixels) CHECK(std::isfinite(v)); // 0 * scale stays 0, never NaN
+}
+
 TEST_CASE("Heatmap tick labels use only the built-in glyphs", "[image]") {
     CHECK(heatmapTickLabel(0) == "0");
     CHECK(heatmapTickLabel(1) == "1");
@@ -391,4 +404,15 @@ TEST_CASE("Box downsampling averages finite pixels - the factor must divide both
     CHECK(downsampleFactor(Image(4, 3), Image(4, 3)) == 1);
     CHECK(downsampleFactor(Image(4, 3), Image(16, 9)) == 0); // different factors per axis
     CHECK(downsampleFactor(Image(4, 3), Image(10, 6)) == 0);
+}
+
+TEST_CASE("A reference's non-finite pixels are counted; none finite is an error", "[image]") {
+    Image img(4, 2);
+    CHECK(nonFiniteReferencePixels(img, "x.pfm") == 0);
+    img.pixels[3 * 3 + 2] = std::numeric_limits<float>::infinity();
+    img.pixels[5 * 3] = std::nanf("");
+    CHECK(nonFiniteReferencePixels(img, "x.pfm") == 2);
+    for (float& v : img.pixels) v = std::nanf("");
+    CHECK_THROWS_WITH(nonFiniteReferencePixels(img, "x.pfm"),
+                      Catch::Contains("x.pfm") && Catch::Contains("no pixel"));
 }

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 using namespace rayproc;
@@ -186,4 +187,46 @@ TEST_CASE("Filter definitions: known values", "[filter]") {
     CHECK(evalFilter(l, {0, 0}) == Approx(1.0));
     CHECK(evalFilter(l, {1, 0}) == Approx(0.0).margin(1e-6));
     CHECK(evalFilter(l, {2.5f, 0}) == 0.0f);
+}
+
+TEST_CASE("Mitchell with huge B or C keeps its shape: finite values and samples", "[filter]") {
+    // B and C enter linearly, so for B -> inf the filter tends to B m_B(x) m_B(y) with
+    // m_B(t) = (-9 t^3 + 12 t^2 - 2) / 6 on |t| <= 1 and (2 - t)^3 / 6 on 1 < |t| <= 2: its
+    // shape is m_B(x) m_B(y) / m_B(0)^2 (B = 1e20 made 1e40, beyond float: an all-black image).
+    auto mB = [](double t) {
+        t = std::abs(t);
+        return t <= 1 ? (-9 * t * t * t + 12 * t * t - 2) / 6 : std::pow(2 - t, 3) / 6;
+    };
+    for (float big : {1e20f, 1e30f, 3e38f}) {
+        FilterShape m = shape(FilterType::Mitchell, 2, 2);
+        m.b = big;
+        m.c = 0;
+        float centre = evalFilter(m, {0, 0});
+        REQUIRE(std::isfinite(centre));
+        REQUIRE(centre != 0);
+        for (float x : {0.25f, 0.5f, 1.0f, 1.5f})
+            for (float y : {0.0f, 0.75f, 1.25f}) {
+                double expected = mB(x) * mB(y) / (mB(0) * mB(0));
+                CHECK(evalFilter(m, {x, y}) / centre == Approx(expected).margin(1e-5));
+            }
+        FilterSampler sampler(m, true);
+        int nonZero = 0;
+        for (int i = 0; i < 64; ++i) {
+            FilterSample fs = sampler.sample({(i % 8 + 0.5f) / 8, (i / 8 + 0.5f) / 8});
+            CHECK(std::isfinite(fs.offset.x));
+            CHECK(std::isfinite(fs.offset.y));
+            nonZero += fs.weight == 1.0f;
+        }
+        CHECK(nonZero == 64);
+    }
+    // C huge too, and both, with either sign.
+    for (auto [b, c] : {std::pair{0.0f, 1e30f}, std::pair{-1e30f, 1e20f}}) {
+        FilterShape m = shape(FilterType::Mitchell, 2, 2);
+        m.b = b;
+        m.c = c;
+        FilterSampler sampler(m, true);
+        FilterSample fs = sampler.sample({0.3f, 0.6f});
+        CHECK(std::isfinite(fs.offset.x));
+        CHECK(fs.weight == 1.0f);
+    }
 }
