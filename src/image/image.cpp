@@ -122,6 +122,7 @@ void writeImage(const std::string& path, const Image& img, const ToneMapSettings
 }
 
 void checkImageHeader(const std::string& path) {
+    if (!image_detail::checkInputFile(path)) return; // the reader says why it cannot open it
     image_detail::checkExrHeader(path);
 }
 
@@ -130,7 +131,9 @@ void checkImageDimensions(const std::string& path, std::int64_t width, std::int6
 }
 
 Image readImage(const std::string& path) {
-    switch (imageFormatFromPath(path)) {
+    const ImageFormat format = imageFormatFromPath(path);
+    image_detail::checkInputFile(path);
+    switch (format) {
     case ImageFormat::Png:
         return readPng(path);
     case ImageFormat::Exr:
