@@ -124,6 +124,8 @@ void writeImage(const std::string& path, const Image& img, const ToneMapSettings
 void checkImageHeader(const std::string& path) {
     if (!image_detail::checkInputFile(path)) return; // the reader says why it cannot open it
     image_detail::checkExrHeader(path);
+    image_detail::checkExrChecksum(path);
+    image_detail::checkPngFile(path);
 }
 
 void checkImageDimensions(const std::string& path, std::int64_t width, std::int64_t height) {

@@ -44,6 +44,18 @@ bool checkInputFile(const std::string& path);
 // Returns normally for files without the EXR magic number.
 void checkExrHeader(const std::string& path);
 
+// For readers other than readExr (the texture loader's OpenImageIO): an EXR file that carries
+// rayproc's pixel checksum is decoded once here and refused when its pixels do not match it
+// (exr_checksum.h). Other files, and EXRs without the checksum, pass. Call after
+// checkExrHeader.
+void checkExrChecksum(const std::string& path);
+
+// A PNG file's integrity, before a decoder sees it: every chunk's length fits in the file, every
+// chunk's CRC-32 matches, the IDAT chunks' zlib stream inflates to its end (its Adler-32
+// matches) and an IEND chunk closes the file. Throws a read error naming the chunk; returns
+// normally for files without the PNG signature.
+void checkPngFile(const std::string& path);
+
 // Writes a file under a temporary name in the destination's directory and renames it onto the
 // destination only once every byte is flushed and fsynced. Until commit() succeeds the
 // destination is untouched; the destructor removes the temporary file if commit() was not

@@ -27,8 +27,8 @@ std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
         return ImageIoError("cannot read the texture \"" + path + "\": " + why);
     };
     // Before OpenImageIO sees the file: it must be a regular file (its fallback reader seeks
-    // through /dev/zero forever), and an EXR header must not make OpenEXR allocate more than
-    // the file holds. A missing file is OpenImageIO's to say.
+    // through /dev/zero forever), an EXR header must not make OpenEXR allocate more than the
+    // file holds, a PNG must pass its checksums. A missing file is OpenImageIO's to say.
     checkImageHeader(path);
     const OiioModule* module = nullptr;
     try {
