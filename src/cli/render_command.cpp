@@ -75,6 +75,15 @@ std::string joinModes() {
     return s;
 }
 
+// The files a render reads and writes, for checkDistinctFiles.
+std::vector<NamedPath> renderFiles(const RenderArgs& a, const std::string& output) {
+    return {{"scene", a.scene, false},
+            {"--reference", a.reference, false},
+            {a.output.empty() ? "the output (default)" : "-o", output, true},
+            {"--stats-json", a.statsJson, true},
+            {"--error-log", a.errorLog, true}};
+}
+
 int runRender(const RenderArgs& a) {
     // Under mpirun every rank runs this with the same arguments; rank 0 writes the files
     // (docs/distributed.md), the others render their share quietly.
@@ -91,11 +100,8 @@ int runRender(const RenderArgs& a) {
     if (a.reference.empty() && !a.errorLog.empty())
         throw InputError("--error-log needs --reference IMAGE");
     if (!a.displayServer.empty()) checkDisplayServer(a.displayServer);
-    checkDistinctFiles({{"scene", a.scene, false},
-                        {"--reference", a.reference, false},
-                        {a.output.empty() ? "the output (default)" : "-o", output, true},
-                        {"--stats-json", a.statsJson, true},
-                        {"--error-log", a.errorLog, true}});
+    std::vector<NamedPath> files = renderFiles(a, output);
+    checkDistinctFiles(files);
     if (writer) {
         checkOutputFile(a.output.empty() ? "the output (default)" : "-o", output);
         checkOutputFile("--stats-json", a.statsJson);
@@ -108,6 +114,10 @@ int runRender(const RenderArgs& a) {
     std::optional<tbb::global_control> threadLimit;
     if (a.threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(a.threads));
     std::unique_ptr<Scene> scene = loadScene(a.scene);
+    // The images the scene reads (textures, the sky) are inputs too, known once it is loaded.
+    for (const std::string& image : scene->imageFiles())
+        files.push_back({"the scene's image", image, false});
+    checkDistinctFiles(files);
     if (a.width > 0) scene->camera.width = a.width;
     if (a.height > 0) scene->camera.height = a.height;
     // Each side is range-checked by CLI11; the product must also stay within the scene limit.

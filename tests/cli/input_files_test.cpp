@@ -1,6 +1,7 @@
-// The files a scene reads besides itself, through the real binary: an image that is a device, a
-// FIFO or absurdly large is refused with its name, never handed to a reader that would spin or
-// block.
+// The files a scene reads besides itself, through the real binary: an output may not replace an
+// image the scene reads (environment map, texture), whatever the spelling; an image that is a
+// device, a FIFO or absurdly large is refused with its name, never handed to a reader that
+// would spin or block.
 #include "test_util.h"
 
 #include "image/image.h"
@@ -42,6 +43,46 @@ void writeGrey(const std::string& path, int size, float value) {
 }
 
 } // namespace
+
+TEST_CASE("No output may replace an image the scene reads - environment map or texture, any "
+          "spelling",
+          "[cli][bad-input]") {
+    TempDir dir, logs;
+    const std::string env = dir.file("env.pfm"), tex = dir.file("tex.png");
+    writeGrey(env, 4, 0.5f);
+    writeGrey(tex, 4, 0.25f);
+    const std::string scene = dir.file("scene.json");
+    writeText(scene, texturedSkyScene("tex.png", "env.pfm"));
+    const std::string envBytes = readText(env), texBytes = readText(tex);
+    std::filesystem::create_hard_link(env, dir.file("env-hard-link.pfm"));
+    std::filesystem::create_symlink(tex, dir.file("tex-link.png"));
+
+    // The scene itself renders: the refusals below are for the outputs alone.
+    RunResult ok = runRayproc({"render", scene, "--mode", "preview", "--quiet", "-o",
+                               dir.file("out.pfm")},
+                              logs);
+    INFO(ok.err);
+    REQUIRE(ok.status == 0);
+
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"-o", env}, "-o " + env + " is the same file as the scene's image " + env},
+        {{"-o", dir.path.string() + "/./tex.png"}, "is the same file as the scene's image " + tex},
+        {{"-o", dir.file("env-hard-link.pfm")}, "the scene's image " + env},
+        {{"-o", dir.file("tex-link.png")}, "the scene's image " + tex},
+        {{"-o", dir.file("b.pfm"), "--stats-json", env}, "--stats-json " + env},
+    };
+    for (const auto& [options, message] : cases) {
+        std::vector<std::string> args{"render", scene, "--mode", "preview", "--quiet"};
+        args.insert(args.end(), options.begin(), options.end());
+        RunResult r = runRayproc(args, logs);
+        INFO(options[1] << "\n" << r.err);
+        CHECK(r.status == 1);
+        CHECK(contains(r.err, message));
+        CHECK(contains(r.err, "(an input): writing it would destroy the input"));
+        CHECK(readText(env) == envBytes);
+        CHECK(readText(tex) == texBytes);
+    }
+}
 
 TEST_CASE("A scene image that is a device, a FIFO or absurdly large is refused by name, at once",
           "[cli][bad-input]") {
