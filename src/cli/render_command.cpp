@@ -325,6 +325,13 @@ int runRender(const RenderArgs& a) {
         if (!display->connected())
             std::fprintf(stderr, "rayproc: warning: --display-server: %s\n", display->error().c_str());
     }
+    // Interrupted before any pixel had a sample (gi's photon pass or cache prepass): an image
+    // of nothing must not replace what the output held.
+    if (result.cancelled && result.stats.pixelsWithoutSamples >= std::size_t(pixels)) {
+        std::fprintf(stderr, "rayproc: interrupted before any pixel had a sample: nothing was "
+                             "written (%s is as it was)\n", output.c_str());
+        return interruptExitStatus();
+    }
     writeImage(output, result.image, tm);
     if (a.stats) std::fputs(result.stats.toTable().c_str(), stderr);
     if (!a.statsJson.empty()) writeFileAtomically(a.statsJson, result.stats.toJson() + "\n");
@@ -545,8 +552,8 @@ std::function<int()> addRenderCommand(CLI::App& app) {
         ->check(finiteNumber())
         ->check(CLI::PositiveNumber);
     cmd->footer("Exit status: 0 done, 1 bad input or I/O error, 130 interrupted by Ctrl-C, 143 by "
-                "SIGTERM, 129 by SIGHUP (each writes the partial image; a second signal exits at "
-                "once).");
+                "SIGTERM, 129 by SIGHUP (each writes the partial image, or nothing before the first "
+                "sample; a second signal exits at once).");
     return [args] { return runRender(*args); };
 }
 
