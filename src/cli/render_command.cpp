@@ -7,6 +7,7 @@
 #include "engine/film.h"
 #include "engine/intersect.h"
 #include "engine/memory_budget.h"
+#include "engine/thread_budget.h"
 #include "image/display_client.h"
 #include "image/image.h"
 #include "modes/modes.h"
@@ -108,11 +109,18 @@ int runRender(const RenderArgs& a) {
         checkOutputFile("--error-log", a.errorLog);
     }
 
+    // Under an address-space limit, no more threads than their stacks fit in: TBB aborts the
+    // process when it cannot create one (engine/thread_budget.h).
+    const ThreadBudget budget = applyThreadBudget(a.threads);
+    if (writer && !budget.warning.empty())
+        std::fprintf(stderr, "rayproc: warning: %s\n", budget.warning.c_str());
+    tbb::global_control stackSize(tbb::global_control::thread_stack_size, kWorkerStackBytes);
     // --threads bounds every phase, not only the ray processor's: the BVH build, photon map
     // builds, precomputation and sorts run in TBB's global arena (and so do, under mpirun,
     // the ranks that share a machine).
     std::optional<tbb::global_control> threadLimit;
-    if (a.threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(a.threads));
+    if (budget.threads > 0)
+        threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(budget.threads));
     std::unique_ptr<Scene> scene = loadScene(a.scene);
     // The images the scene reads (textures, the sky) are inputs too, known once it is loaded.
     for (const std::string& image : scene->imageFiles())
@@ -137,7 +145,7 @@ int runRender(const RenderArgs& a) {
 
 
     EngineSettings engine;
-    engine.threads = a.threads;
+    engine.threads = budget.threads;
     engine.packetWidth = a.packetWidth;
     engine.seed = a.seed >= 0 ? std::uint64_t(a.seed)
                   : scene->render.seed >= 0 ? std::uint64_t(scene->render.seed)
