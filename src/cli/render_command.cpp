@@ -107,6 +107,11 @@ int runRender(const RenderArgs& a) {
         checkOutputFile(a.output.empty() ? "the output (default)" : "-o", output);
         checkOutputFile("--stats-json", a.statsJson);
         checkOutputFile("--error-log", a.errorLog);
+        // What a run killed while writing this output (kill -9) left: its temporary files.
+        std::size_t stale = removeStaleTemporaries(output);
+        if (stale > 0 && !a.quiet)
+            std::fprintf(stderr, "rayproc: removed %zu temporary file(s) of %s left by a run "
+                                 "that was killed\n", stale, output.c_str());
     }
 
     // Under an address-space limit, no more threads than their stacks fit in: TBB aborts the

@@ -61,6 +61,11 @@ void writeImage(const std::string& path, const Image& img, const ToneMapSettings
 // neither a temporary file nor a changed destination.
 void writeFileAtomically(const std::string& path, const std::string& bytes);
 
+// Removes "<path>.tmp.<pid>.<n>" files that a writer of `path` left when it was killed (kill -9
+// during --progressive-output) and whose process no longer exists on this machine; files of
+// live processes and of other names stay. Returns how many were removed. Never throws.
+std::size_t removeStaleTemporaries(const std::string& path);
+
 // Checks on an image file for readers outside src/image (the texture loader's OpenImageIO):
 // the file is a regular file of a sane size (not /dev/zero, a FIFO), the EXR header's attribute
 // sizes against the file (OpenEXR allocates what they claim), a PNG's chunk CRCs and zlib

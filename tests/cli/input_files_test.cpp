@@ -1,7 +1,7 @@
 // The files a scene reads besides itself, through the real binary: an output may not replace an
 // image the scene reads (environment map, texture), whatever the spelling; an image that is a
 // device, a FIFO or absurdly large is refused with its name, never handed to a reader that
-// would spin or block.
+// would spin or block; and temporary files a killed run left next to its output are removed.
 #include "test_util.h"
 
 #include "image/image.h"
@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -40,6 +41,15 @@ void writeGrey(const std::string& path, int size, float value) {
     Image img(size, size);
     std::fill(img.pixels.begin(), img.pixels.end(), value);
     writeImage(path, img);
+}
+
+// A process id that no process has now: a child that has exited and been reaped.
+pid_t deadPid() {
+    pid_t pid = ::fork();
+    if (pid == 0) ::_exit(0);
+    int st = 0;
+    ::waitpid(pid, &st, 0);
+    return pid;
 }
 
 } // namespace
@@ -114,4 +124,29 @@ TEST_CASE("A scene image that is a device, a FIFO or absurdly large is refused b
         CHECK(r.seconds < 10.0);
         CHECK_FALSE(std::filesystem::exists(dir.file("out.pfm")));
     }
+}
+
+TEST_CASE("A render removes the temporary files of its output that a killed run left behind",
+          "[cli]") {
+    TempDir dir, logs;
+    const std::string scene = dir.file("scene.json");
+    writeGrey(dir.file("env.pfm"), 4, 0.5f);
+    writeGrey(dir.file("tex.png"), 4, 0.25f);
+    writeText(scene, texturedSkyScene("tex.png", "env.pfm"));
+    const std::string dead = std::to_string(deadPid()), live = std::to_string(::getpid());
+    const std::string stale = dir.file("out.pfm.tmp." + dead + ".3");
+    const std::string alive = dir.file("out.pfm.tmp." + live + ".0");
+    const std::string other = dir.file("other.pfm.tmp." + dead + ".0");
+    const std::string notOurs = dir.file("out.pfm.tmp." + dead + ".x");
+    for (const std::string& f : {stale, alive, other, notOurs}) writeText(f, "partial");
+    RunResult r = runRayproc({"render", scene, "--mode", "preview", "-o", dir.file("out.pfm")},
+                             logs);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(contains(r.err, "removed 1 temporary file(s) of " + dir.file("out.pfm")));
+    CHECK_FALSE(std::filesystem::exists(stale));
+    CHECK(std::filesystem::exists(alive));   // a live process may still be writing it
+    CHECK(std::filesystem::exists(other));   // another output's
+    CHECK(std::filesystem::exists(notOurs)); // not a name AtomicFileWriter makes
+    CHECK(readImage(dir.file("out.pfm")).width == 8);
 }
