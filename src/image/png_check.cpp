@@ -92,13 +92,13 @@ void checkPngFile(const std::string& path) {
     std::vector<unsigned char> block(65536);
     ZlibCheck zlib(path);
     bool inIdat = false;
-    while (pos + 12 <= size && std::fread(head, 1, 8, f) == 8) {
+    while (pos + 8 <= size && std::fread(head, 1, 8, f) == 8) {
         const std::uint32_t length = be32(head);
         std::string type(reinterpret_cast<const char*>(head + 4), 4);
         for (char& c : type)
             if (c < 32 || c > 126) c = '?';
-        const std::uint64_t left = size - pos - 12;
-        if (length > left)
+        const std::uint64_t left = size - pos - 8; // the data and the CRC
+        if (std::uint64_t(length) + 4 > left)
             throwReadError(path, "corrupt PNG file: the " + type + " chunk claims " +
                                      std::to_string(length) + " bytes, but the file has " +
                                      std::to_string(left) + " left");
