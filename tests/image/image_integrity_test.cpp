@@ -222,7 +222,7 @@ TEST_CASE("rayproc's EXR files carry a pixel checksum: no flipped bit reads as o
     }
 }
 
-TEST_CASE("A corrupt rayproc EXR is refused by the texture loader too; EXRs of other writers "
+TEST_CASE("A corrupt rayproc EXR is refused by the texture loader too - EXRs of other writers "
           "still read",
           "[image][corrupt]") {
     TempDir dir;
