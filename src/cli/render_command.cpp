@@ -7,6 +7,7 @@
 #include "engine/film.h"
 #include "engine/intersect.h"
 #include "engine/memory_budget.h"
+#include "engine/thread_budget.h"
 #include "image/display_client.h"
 #include "image/image.h"
 #include "image/metrics.h"
@@ -76,6 +77,15 @@ std::string joinModes() {
     return s;
 }
 
+// The files a render reads and writes, for checkDistinctFiles.
+std::vector<NamedPath> renderFiles(const RenderArgs& a, const std::string& output) {
+    return {{"scene", a.scene, false},
+            {"--reference", a.reference, false},
+            {a.output.empty() ? "the output (default)" : "-o", output, true},
+            {"--stats-json", a.statsJson, true},
+            {"--error-log", a.errorLog, true}};
+}
+
 int runRender(const RenderArgs& a) {
     // Under mpirun every rank runs this with the same arguments; rank 0 writes the files
     // (docs/distributed.md), the others render their share quietly.
@@ -92,23 +102,36 @@ int runRender(const RenderArgs& a) {
     if (a.reference.empty() && !a.errorLog.empty())
         throw InputError("--error-log needs --reference IMAGE");
     if (!a.displayServer.empty()) checkDisplayServer(a.displayServer);
-    checkDistinctFiles({{"scene", a.scene, false},
-                        {"--reference", a.reference, false},
-                        {a.output.empty() ? "the output (default)" : "-o", output, true},
-                        {"--stats-json", a.statsJson, true},
-                        {"--error-log", a.errorLog, true}});
+    std::vector<NamedPath> files = renderFiles(a, output);
+    checkDistinctFiles(files);
     if (writer) {
         checkOutputFile(a.output.empty() ? "the output (default)" : "-o", output);
         checkOutputFile("--stats-json", a.statsJson);
         checkOutputFile("--error-log", a.errorLog);
+        // What a run killed while writing this output (kill -9) left: its temporary files.
+        std::size_t stale = removeStaleTemporaries(output);
+        if (stale > 0 && !a.quiet)
+            std::fprintf(stderr, "rayproc: removed %zu temporary file(s) of %s left by a run "
+                                 "that was killed\n", stale, output.c_str());
     }
 
+    // Under an address-space limit, no more threads than their stacks fit in: TBB aborts the
+    // process when it cannot create one (engine/thread_budget.h).
+    const ThreadBudget budget = applyThreadBudget(a.threads);
+    if (writer && !budget.warning.empty())
+        std::fprintf(stderr, "rayproc: warning: %s\n", budget.warning.c_str());
+    tbb::global_control stackSize(tbb::global_control::thread_stack_size, kWorkerStackBytes);
     // --threads bounds every phase, not only the ray processor's: the BVH build, photon map
     // builds, precomputation and sorts run in TBB's global arena (and so do, under mpirun,
     // the ranks that share a machine).
     std::optional<tbb::global_control> threadLimit;
-    if (a.threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(a.threads));
+    if (budget.threads > 0)
+        threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(budget.threads));
     std::unique_ptr<Scene> scene = loadScene(a.scene);
+    // The images the scene reads (textures, the sky) are inputs too, known once it is loaded.
+    for (const std::string& image : scene->imageFiles())
+        files.push_back({"the scene's image", image, false});
+    checkDistinctFiles(files);
     if (a.width > 0) scene->camera.width = a.width;
     if (a.height > 0) scene->camera.height = a.height;
     // Each side is range-checked by CLI11; the product must also stay within the scene limit.
@@ -128,7 +151,7 @@ int runRender(const RenderArgs& a) {
 
 
     EngineSettings engine;
-    engine.threads = a.threads;
+    engine.threads = budget.threads;
     engine.packetWidth = a.packetWidth;
     engine.seed = a.seed >= 0 ? std::uint64_t(a.seed)
                   : scene->render.seed >= 0 ? std::uint64_t(scene->render.seed)
@@ -322,6 +345,13 @@ int runRender(const RenderArgs& a) {
         display->show(result.image); // the final image, every rank's tiles
         if (!display->connected())
             std::fprintf(stderr, "rayproc: warning: --display-server: %s\n", display->error().c_str());
+    }
+    // Interrupted before any pixel had a sample (gi's photon pass or cache prepass): an image
+    // of nothing must not replace what the output held.
+    if (result.cancelled && result.stats.pixelsWithoutSamples >= std::size_t(pixels)) {
+        std::fprintf(stderr, "rayproc: interrupted before any pixel had a sample: nothing was "
+                             "written (%s is as it was)\n", output.c_str());
+        return interruptExitStatus();
     }
     writeImage(output, result.image, tm);
     if (a.stats) std::fputs(result.stats.toTable().c_str(), stderr);
@@ -543,8 +573,8 @@ std::function<int()> addRenderCommand(CLI::App& app) {
         ->check(finiteNumber())
         ->check(CLI::PositiveNumber);
     cmd->footer("Exit status: 0 done, 1 bad input or I/O error, 130 interrupted by Ctrl-C, 143 by "
-                "SIGTERM, 129 by SIGHUP (each writes the partial image; a second signal exits at "
-                "once).");
+                "SIGTERM, 129 by SIGHUP (each writes the partial image, or nothing before the first "
+                "sample; a second signal exits at once).");
     return [args] { return runRender(*args); };
 }
 

@@ -175,9 +175,9 @@ std::vector<std::uint8_t> Cluster::gatherAll(const std::vector<std::uint8_t>& mi
 }
 
 bool agreeInterrupted(const Cluster& cluster) {
-    bool any = cluster.orAll(interruptRequested() ? 1u : 0u) != 0;
-    if (any && !interruptRequested()) requestInterrupt();
-    return any;
+    std::uint32_t bits = cluster.orAll(interruptBits());
+    adoptInterrupt(bits); // with the signal a rank received: rank 0 exits 143 for a SIGTERM
+    return bits != 0;
 }
 
 // A new counter in ThreadStats must be added to the list below.

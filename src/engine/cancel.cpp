@@ -43,6 +43,27 @@ int interruptExitStatus() {
 }
 int interruptSignal() { return g_signal.load(); }
 void requestInterrupt() { g_interrupts.store(1); }
+namespace {
+constexpr int kStopSignals[] = {SIGINT, SIGTERM, SIGHUP}; // bits 1, 2, 3 of interruptBits()
+} // namespace
+
+std::uint32_t interruptBits() {
+    if (!interruptRequested()) return 0;
+    std::uint32_t bits = kInterruptBit;
+    for (int i = 0; i < 3; ++i)
+        if (g_signal.load() == kStopSignals[i]) bits |= 2u << i;
+    return bits;
+}
+
+void adoptInterrupt(std::uint32_t bits) {
+    if (!(bits & kInterruptBit)) return;
+    for (int i = 0; i < 3; ++i) {
+        int expected = 0;
+        if (bits & (2u << i)) g_signal.compare_exchange_strong(expected, kStopSignals[i]);
+    }
+    if (!interruptRequested()) requestInterrupt();
+}
+
 void quietInterruptMessages() { g_quiet.store(true); }
 void clearRequestedInterrupt() {
     if (g_signal.load() == 0) g_interrupts.store(0);

@@ -4,7 +4,8 @@
 // OpenEXR writes the line-offset table from ~OutputFile() and swallows any exception there, so
 // a by-name write could silently lose a "disk full" at that point; our stream records it in the
 // writer instead, and commit() refuses to publish the file. Iex exceptions are rethrown as
-// ImageIoError naming the file.
+// ImageIoError naming the file. The header carries a checksum of the pixels (exr_checksum.h).
+#include "image/exr_checksum.h"
 #include "image/image_io_detail.h"
 
 #include <Iex.h>
@@ -63,6 +64,7 @@ void writeExr(const std::string& path, const Image& img) {
     try {
         Imf::Header header(img.width, img.height);
         header.compression() = Imf::ZIP_COMPRESSION;
+        addExrChecksum(header, img); // OpenEXR has none of its own (exr_checksum.h)
         Imf::FrameBuffer frameBuffer;
         for (int c = 0; c < 3; ++c) {
             header.channels().insert(kChannels[c], Imf::Channel(Imf::FLOAT));
@@ -329,6 +331,7 @@ Image readExr(const std::string& path) {
                                                 kPixelStride, kPixelStride * img.width));
         file.setFrameBuffer(frameBuffer);
         file.readPixels(window.min.y, window.max.y);
+        verifyExrChecksum(path, header, img);
         return img;
     } catch (const ImageIoError&) {
         throw;

@@ -58,6 +58,27 @@ std::uint64_t fileSize(const std::string& path) {
     return ::stat(path.c_str(), &st) == 0 ? std::uint64_t(st.st_size) : 0;
 }
 
+bool checkInputFile(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) return false;
+    if (S_ISDIR(st.st_mode)) throwReadError(path, errnoText(EISDIR));
+    if (!S_ISREG(st.st_mode)) {
+        const char* kind = S_ISCHR(st.st_mode)    ? "a character device"
+                           : S_ISBLK(st.st_mode)  ? "a block device"
+                           : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
+                           : S_ISSOCK(st.st_mode) ? "a socket"
+                                                  : "not a regular file";
+        throwReadError(path, std::string("it is ") + kind +
+                                 ", not a regular file; images are read from regular files only");
+    }
+    if (std::uint64_t(st.st_size) > kMaxImageFileBytes)
+        throwReadError(path, "the file has " + std::to_string(st.st_size) +
+                                 " bytes, more than the " +
+                                 std::to_string(kMaxImageFileBytes >> 30) +
+                                 " GiB an image file may have");
+    return true;
+}
+
 void checkClaimedSize(const std::string& path, std::int64_t width, std::int64_t height,
                       std::uint64_t fileBytes) {
     double pixels = double(width) * double(height);

@@ -122,7 +122,10 @@ void writeImage(const std::string& path, const Image& img, const ToneMapSettings
 }
 
 void checkImageHeader(const std::string& path) {
+    if (!image_detail::checkInputFile(path)) return; // the reader says why it cannot open it
     image_detail::checkExrHeader(path);
+    image_detail::checkExrChecksum(path);
+    image_detail::checkPngFile(path);
 }
 
 void checkImageDimensions(const std::string& path, std::int64_t width, std::int64_t height) {
@@ -130,7 +133,9 @@ void checkImageDimensions(const std::string& path, std::int64_t width, std::int6
 }
 
 Image readImage(const std::string& path) {
-    switch (imageFormatFromPath(path)) {
+    const ImageFormat format = imageFormatFromPath(path);
+    image_detail::checkInputFile(path);
+    switch (format) {
     case ImageFormat::Png:
         return readPng(path);
     case ImageFormat::Exr:

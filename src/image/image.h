@@ -61,14 +61,22 @@ void writeImage(const std::string& path, const Image& img, const ToneMapSettings
 // neither a temporary file nor a changed destination.
 void writeFileAtomically(const std::string& path, const std::string& bytes);
 
+// Removes "<path>.tmp.<pid>.<n>" files that a writer of `path` left when it was killed (kill -9
+// during --progressive-output) and whose process no longer exists on this machine; files of
+// live processes and of other names stay. Returns how many were removed. Never throws.
+std::size_t removeStaleTemporaries(const std::string& path);
+
 // Checks on an image file for readers outside src/image (the texture loader's OpenImageIO):
-// the EXR header's attribute sizes against the file (OpenEXR allocates what they claim), and a
-// claimed width x height against what a file of its size can hold. Throw ImageIoError.
+// the file is a regular file of a sane size (not /dev/zero, a FIFO), the EXR header's attribute
+// sizes against the file (OpenEXR allocates what they claim), a PNG's chunk CRCs and zlib
+// checksum, and a claimed width x height against what a file of its size can hold. Throw
+// ImageIoError. A file that cannot be examined (missing) passes: its reader reports that.
 void checkImageHeader(const std::string& path);
 void checkImageDimensions(const std::string& path, std::int64_t width, std::int64_t height);
 
 // Reads an image as linear RGB floats, in the format given by the extension of `path`.
-// PNG is decoded from sRGB to linear; greyscale inputs are replicated to RGB.
+// PNG is decoded from sRGB to linear; greyscale inputs are replicated to RGB. Devices, FIFOs,
+// files over 4 GiB and corrupt files (a PNG chunk's CRC, a zlib checksum) throw ImageIoError.
 Image readImage(const std::string& path);
 
 // 8-bit sRGB conversion used by PNG, exposed for tests: exposure, tone map, sRGB OETF, round to

@@ -26,6 +26,16 @@ void checkClaimedSize(const std::string& path, std::int64_t width, std::int64_t 
                       std::uint64_t fileBytes);
 std::uint64_t fileSize(const std::string& path);
 
+// No image rayproc reads needs a file this large (a 2^28-pixel float RGBA EXR, the texture
+// limit, is 4 GiB uncompressed); the EXR header check reads the whole file.
+constexpr std::uint64_t kMaxImageFileBytes = std::uint64_t(4) << 30;
+// Refuses, naming the file, what no reader may be handed: a character or block device, a FIFO
+// or a socket (/dev/zero made OpenImageIO's fallback reader seek forever; opening a FIFO
+// blocks until a writer comes) and files larger than kMaxImageFileBytes. Opens nothing.
+// Returns false when the path cannot be examined (missing, no permission): the reader then
+// reports why it cannot open it.
+bool checkInputFile(const std::string& path);
+
 // Walks an OpenEXR file's header(s) before OpenEXR reads them: OpenEXR allocates whatever an
 // attribute's size field says (1.2 GB from a 160-byte file, found by tests/fuzz/image_fuzzer).
 // Throws a read error when an attribute claims more bytes than the file has left or has a size
@@ -33,6 +43,18 @@ std::uint64_t fileSize(const std::string& path);
 // a part's chunk offset table or decoding buffer would be larger than the file accounts for.
 // Returns normally for files without the EXR magic number.
 void checkExrHeader(const std::string& path);
+
+// For readers other than readExr (the texture loader's OpenImageIO): an EXR file that carries
+// rayproc's pixel checksum is decoded once here and refused when its pixels do not match it
+// (exr_checksum.h). Other files, and EXRs without the checksum, pass. Call after
+// checkExrHeader.
+void checkExrChecksum(const std::string& path);
+
+// A PNG file's integrity, before a decoder sees it: every chunk's length fits in the file, every
+// chunk's CRC-32 matches, the IDAT chunks' zlib stream inflates to its end (its Adler-32
+// matches) and an IEND chunk closes the file. Throws a read error naming the chunk; returns
+// normally for files without the PNG signature.
+void checkPngFile(const std::string& path);
 
 // Writes a file under a temporary name in the destination's directory and renames it onto the
 // destination only once every byte is flushed and fsynced. Until commit() succeeds the

@@ -3,7 +3,8 @@
 // Writing applies the display transform (toSrgb8) and streams stb's output through a callback
 // into the AtomicFileWriter, which checks every write. Reading decodes sRGB back to linear with
 // the exact inverse of the OETF, from a FILE* we opened ourselves so that open failures carry
-// the errno text.
+// the errno text, after png_check.cpp has verified the chunk lengths, CRCs and zlib checksum
+// (stb_image checks none of them).
 #include "image/image_io_detail.h"
 
 #include <stb_image.h>
@@ -53,43 +54,13 @@ void writePng(const std::string& path, const Image& img, const ToneMapSettings& 
     out.commit();
 }
 
-namespace {
-
-// stb_image grows its buffer to whatever an IDAT chunk's length field says (1.2 GB from a small
-// file, found by tests/fuzz/image_fuzzer), so the chunk lengths are walked first: each must fit
-// in what is left of the file.
-void checkPngChunks(const std::string& path, std::FILE* f) {
-    long start = std::ftell(f);
-    std::uint64_t size = fileSize(path);
-    std::uint64_t pos = 8; // after the signature
-    unsigned char head[8];
-    while (pos + 8 <= size) {
-        if (std::fseek(f, long(pos), SEEK_SET) != 0 || std::fread(head, 1, 8, f) != 8) break;
-        std::uint32_t length = std::uint32_t(head[0]) << 24 | std::uint32_t(head[1]) << 16 |
-                               std::uint32_t(head[2]) << 8 | std::uint32_t(head[3]);
-        std::string type(reinterpret_cast<const char*>(head + 4), 4);
-        for (char& c : type)
-            if (c < 32 || c > 126) c = '?';
-        std::uint64_t left = size - pos - 8;
-        if (length > left)
-            throwReadError(path, "corrupt PNG file: the " + type + " chunk claims " +
-                                     std::to_string(length) + " bytes, but the file has " +
-                                     std::to_string(left) + " left");
-        if (type == "IEND") break;
-        pos += 12 + std::uint64_t(length); // length, type, data, CRC
-    }
-    std::fseek(f, start, SEEK_SET);
-}
-
-} // namespace
-
 Image readPng(const std::string& path) {
     FileReader in(path);
     // Without this check stb would also decode a Radiance file here (it accepts any format it
     // was built with), silently tone-mapping it.
     if (!hasPngSignature(in.get()))
         throwReadError(path, "not a PNG file (the PNG signature is missing)");
-    checkPngChunks(path, in.get());
+    checkPngFile(path);
     int w = 0, h = 0, channels = 0;
     long start = std::ftell(in.get());
     if (stbi_info_from_file(in.get(), &w, &h, &channels))

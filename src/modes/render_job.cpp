@@ -47,10 +47,12 @@ constexpr int kMinTargetPasses = 8;
 
 // What the ranks of a distributed render decide together after each pass.
 enum PassDecision : std::uint32_t {
-    kDecideInterrupted = 1, // some rank was interrupted: all stop
     kDecideTimeUp = 2,      // rank 0's clock passed the time limit
     kDecideProgressive = 4, // rank 0 writes the progressive image now
     kDecideStopped = 8,     // some rank's EngineSettings::stop said so: all stop
+    // interruptBits() from bit 4 on: some rank was interrupted (all stop), and by which signal.
+    kDecideSignalShift = 4,
+    kDecideInterrupted = kInterruptBit << kDecideSignalShift,
 };
 } // namespace
 
@@ -219,7 +221,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             // The variance part falls as 1/spp: the share of the work done is target/estimate.
             targetFraction = std::min(1.0, engine.targetRelMse / result.relMseEstimate);
         // Rank 0's clock and progressive schedule rule; an interrupt anywhere stops every rank.
-        std::uint32_t decision = interruptRequested() ? kDecideInterrupted : 0u;
+        std::uint32_t decision = interruptBits() << kDecideSignalShift;
         if (stopRequested()) decision |= kDecideStopped;
         if (cluster.root() && engine.timeLimitSeconds > 0 && pass + 1 < passes &&
             secondsAt(Clock::now()) >= engine.timeLimitSeconds)
@@ -229,7 +231,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             decision |= kDecideProgressive;
         if (cluster.distributed()) decision = cluster.orAll(decision);
         if (decision & kDecideInterrupted) {
-            if (!interruptRequested()) requestInterrupt();
+            adoptInterrupt(decision >> kDecideSignalShift); // and the signal some rank received
             stop = true;
         }
         if (decision & kDecideStopped) stop = stopped = true;

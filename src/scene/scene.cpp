@@ -29,6 +29,15 @@ int Scene::findMaterial(const std::string& name) const {
     return -1;
 }
 
+std::vector<std::string> Scene::imageFiles() const {
+    std::vector<std::string> files;
+    for (const Texture& t : textures)
+        if (t.type == TextureType::Image && t.image) files.push_back(t.filename);
+    for (const Light& l : lights)
+        if (l.image && !l.imageFile.empty()) files.push_back(l.imageFile);
+    return files;
+}
+
 namespace {
 Bounds3 computeNodeBounds(Node& n) {
     Bounds3 local;

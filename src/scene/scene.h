@@ -88,6 +88,7 @@ struct Light {
     // direction w is intensity * image(lookup(toWorld^-1 w)). Goniometric: intensity * image
     // in the equal-area parameterisation of the emitted direction (pbrt-v4).
     std::shared_ptr<const Image> image;
+    std::string imageFile; // the file `image` was read from (outputs must not replace it)
     EnvironmentMapping mapping = EnvironmentMapping::EqualArea;
     Affine toWorld;
 };
@@ -135,6 +136,9 @@ struct Scene {
     SceneRenderSettings render;
 
     int findMaterial(const std::string& name) const; // -1 if absent
+    // Every image file the scene was read with (image textures, environment and goniometric
+    // light images), as the loader resolved them: an output must not replace one of them.
+    std::vector<std::string> imageFiles() const;
     void computeBounds(); // fills Node::bounds bottom-up
     Bounds3 worldBounds() const;
 };

@@ -382,6 +382,7 @@ void parseLightImage(const JsonRef& l, Light& light, bool allowLatLong) {
     if (p.is_relative()) p = std::filesystem::path(l.file()).parent_path() / p;
     try {
         light.image = std::make_shared<const Image>(readImage(p.string()));
+        light.imageFile = p.string();
     } catch (const ImageIoError& e) {
         file.fail(e.what());
     }

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <map>
 #include <mutex>
 
@@ -24,12 +23,13 @@ float decode(float v, const TextureEncoding& e) {
 
 std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
                                                const TextureEncoding& encoding) {
-    // Before OpenImageIO hands an EXR header to OpenEXR; a missing file is OpenImageIO's to say.
-    std::error_code ec;
-    if (std::filesystem::is_regular_file(path, ec)) checkImageHeader(path);
     auto fail = [&](const std::string& why) {
         return ImageIoError("cannot read the texture \"" + path + "\": " + why);
     };
+    // Before OpenImageIO sees the file: it must be a regular file (its fallback reader seeks
+    // through /dev/zero forever), an EXR header must not make OpenEXR allocate more than the
+    // file holds, a PNG must pass its checksums. A missing file is OpenImageIO's to say.
+    checkImageHeader(path);
     const OiioModule* module = nullptr;
     try {
         module = &OiioModule::get();

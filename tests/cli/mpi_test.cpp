@@ -159,6 +159,42 @@ TEST_CASE("SIGTERM to mpirun writes the partial image gathered from every rank",
     CHECK(right > 0);
 }
 
+// Each rank runs under a shell that records the rank's pid and exit status, so that one rank can
+// be signalled and rank 0's own status seen (mpirun reports one status for all of them).
+TEST_CASE("SIGTERM to one rank during gi's photon pass keeps the old image and every rank exits 143",
+          "[cli][mpi]") {
+    TempDir dir;
+    const std::string out = dir.file("old.pfm");
+    Image old(24, 24);
+    std::fill(old.pixels.begin(), old.pixels.end(), 0.5f);
+    writeImage(out, old);
+    const std::string before = readText(out);
+    const std::string d = dir.path.string();
+    const std::string script = "\"$0\" \"$@\" & echo $! > " + d + "/pid.$OMPI_COMM_WORLD_RANK; " +
+                               "wait $!; echo $? > " + d + "/status.$OMPI_COMM_WORLD_RANK";
+    const std::vector<std::string> render{
+        "render", scenePath("cornell-box"), "--mode", "gi", "--photons", "4000000", "--spp", "1",
+        "--width", "24", "--height", "24", "--threads", "1", "-o", out};
+    std::vector<std::string> args = mpirunArgs(2, {});
+    args.back() = "sh"; // in place of the rayproc binary, which the shell runs as "$0"
+    args.insert(args.end(), {"-c", script, rayprocBinary()});
+    args.insert(args.end(), render.begin(), render.end());
+    Child child(args, dir.file("stdout.txt"), dir.file("stderr.txt"), RAYPROC_MPIEXEC);
+    REQUIRE(child.started());
+    REQUIRE(child.waitForErr("mode=gi", 60.0));
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    const std::string rank1 = readText(d + "/pid.1");
+    REQUIRE_FALSE(rank1.empty());
+    ::kill(pid_t(std::stoi(rank1)), SIGTERM); // not rank 0: it learns of it from rank 1
+    bool finished = child.wait(90.0);
+    INFO(child.err());
+    REQUIRE(finished);
+    CHECK(readText(d + "/status.1") == "143\n");
+    CHECK(readText(d + "/status.0") == "143\n"); // was 130, as if Ctrl-C had been pressed
+    CHECK(contains(child.err(), "interrupted before any pixel had a sample: nothing was written"));
+    CHECK(readText(out) == before); // was replaced by a black image
+}
+
 TEST_CASE("A rank that dies ends the job with a clear error, not a hang", "[cli][mpi]") {
     TempDir dir;
     Child child(mpirunArgs(2, {"render", scenePath("cornell-box"), "--mode", "path", "--spp",

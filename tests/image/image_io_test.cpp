@@ -3,6 +3,7 @@
 #include "image/image.h"
 
 #include <catch2/catch.hpp>
+#include <zlib.h>
 
 #include <ImfBoxAttribute.h>
 #include <ImfChannelList.h>
@@ -441,9 +442,14 @@ TEST_CASE("Headers that claim more than their file holds are refused before allo
         for (int i = 0; i < 4; ++i) s[i] = char((v >> (8 * (3 - i))) & 0xff);
         return s;
     };
+    // Each chunk with its right CRC: the readers check them before the sizes.
+    auto crc = [&](const std::string& typeAndData) {
+        return be32(std::uint32_t(crc32(0, reinterpret_cast<const Bytef*>(typeAndData.data()),
+                                        uInt(typeAndData.size()))));
+    };
     ihdr += be32(15000) + be32(15000) + std::string("\x08\x02\x00\x00\x00", 5);
-    std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + ihdr + be32(0) + be32(0) +
-                      "IEND" + be32(0);
+    std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + ihdr + crc(ihdr) +
+                      be32(0) + "IEND" + crc("IEND");
     std::string pngPath = writeBytes("huge.png", png);
     CHECK_THROWS_WITH(readImage(pngPath),
                       Catch::Matchers::Contains("claims 15000x15000 pixels, more than a file of"));
@@ -452,7 +458,7 @@ TEST_CASE("Headers that claim more than their file holds are refused before allo
     // PNG: a 4x3 header, then an IDAT chunk whose length says 1.2 GB (stb_image reallocated
     // its buffer to that; found by the image fuzzer).
     std::string small = "IHDR" + be32(4) + be32(3) + std::string("\x08\x02\x00\x00\x00", 5);
-    std::string idat = std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + small + be32(0) +
+    std::string idat = std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + small + crc(small) +
                        be32(1229539657u) + "IDAT" + "xyz";
     CHECK_THROWS_WITH(readImage(writeBytes("huge-idat.png", idat)),
                       Catch::Matchers::Contains("the IDAT chunk claims 1229539657 bytes, but "

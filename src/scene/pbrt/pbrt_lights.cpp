@@ -35,16 +35,19 @@ Vec3d direction(const Mat4& toWorld, const Vec3& from, const Vec3& to, const Sou
 
 // The image a light's "string filename" names, relative to the directory of the file that
 // names it (pbrt-v4 resolves against the scene's directory; the two agree unless an Include'd
-// file in another directory names an image). Read failures are input errors at `loc`.
-std::shared_ptr<const Image> readLightImage(const ParamList& params, const SourceLoc& loc) {
+// file in another directory names an image). Read failures are input errors at `loc`. Sets
+// l.image and l.imageFile; leaves them empty without "filename".
+void readLightImage(const ParamList& params, const SourceLoc& loc, Light& l) {
     std::string name = params.getString("filename", "");
-    if (name.empty()) return nullptr;
+    if (name.empty()) return;
     std::filesystem::path dir =
         loc.file ? std::filesystem::path(*loc.file).parent_path() : std::filesystem::path();
+    const std::string path = resolvePath(name, dir, dir).string();
     try {
-        auto img = std::make_shared<Image>(readImage(resolvePath(name, dir, dir).string()));
+        auto img = std::make_shared<Image>(readImage(path));
         if (img->width <= 0 || img->height <= 0) failAt(loc, quote(name) + ": the image is empty");
-        return img;
+        l.image = std::move(img);
+        l.imageFile = path;
     } catch (const ImageIoError& e) {
         failAt(loc, e.what());
     }
@@ -86,7 +89,7 @@ void convertInfinite(const ParamList& params, const Mat4& toWorld, const ValueRe
     Vec3 L = values.color(params, "L", SpectrumUse::Illuminant, Vec3(1.0f));
     double scale = params.getFloat("scale", 1.0);
     double illuminance = params.getFloat("illuminance", -1.0);
-    l.image = readLightImage(params, loc);
+    readLightImage(params, loc, l);
     if (!l.image) {
         if (illuminance > 0) scale *= illuminance / kPiD; // a uniform sky gives E = pi L
         l.intensity = L * float(scale);
@@ -116,7 +119,7 @@ void convertGoniometric(const ParamList& params, const Mat4& toWorld, const Valu
                         Warnings& warnings, const SourceLoc& loc, Light& l) {
     l.type = LightType::Goniometric;
     Vec3 I = values.color(params, "I", SpectrumUse::Illuminant, Vec3(1.0f));
-    l.image = readLightImage(params, loc);
+    readLightImage(params, loc, l);
     double scale = params.getFloat("scale", 1.0), power = params.getFloat("power", -1.0);
     double mean = 1;
     if (!l.image) {
