@@ -406,7 +406,7 @@ TEST_CASE("Box downsampling averages finite pixels - the factor must divide both
     CHECK(downsampleFactor(Image(4, 3), Image(10, 6)) == 0);
 }
 
-TEST_CASE("A reference's non-finite pixels are counted; none finite is an error", "[image]") {
+TEST_CASE("A reference's non-finite pixels are counted, and none finite is an error", "[image]") {
     Image img(4, 2);
     CHECK(nonFiniteReferencePixels(img, "x.pfm") == 0);
     img.pixels[3 * 3 + 2] = std::numeric_limits<float>::infinity();
