@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "kernels/light_importance.h"
 
 #include <algorithm>
 #include <cmath>
@@ -35,32 +36,19 @@ struct LightBounds {
     }
 
     // An upper bound on what this light can give p, up to a factor common to all lights:
-    // phi cos(theta') / d^2, with d at least the radius and theta' = max(0, thetaW - thetaO -
-    // thetaB) the smallest angle between the emission cone and the directions from the bound to
-    // p (thetaW: from the axis to p, thetaB: the bound's half-angle seen from p); 0 where
-    // theta' >= thetaE, where no emitting point of the bound can face p. The angle differences
-    // by their cosines and sines, without inverse trigonometry.
-    float importance(const Vec3& p) const {
-        if (!(phi > 0)) return 0.0f;
-        Vec3 d = p - center;
-        float dist2 = lengthSquared(d);
-        float r2 = radius * radius;
-        float clamped = std::max(dist2, r2);
-        if (!(clamped > 0)) return phi; // a point light at p itself: any light will do
-        if (thetaO >= kPi || dist2 <= r2) return phi / clamped;
-        float cosW = dot(axis, d) / std::sqrt(dist2);
-        if (twoSided) cosW = std::abs(cosW);
-        if (cosW >= cosO) return phi / clamped; // p is inside the cone
-        float sinW = std::sqrt(std::max(0.0f, 1 - cosW * cosW));
-        float cosWO = cosW * cosO + sinW * sinO, sinWO = sinW * cosO - cosW * sinO;
-        float sinB2 = r2 / dist2;
-        float cosB = std::sqrt(std::max(0.0f, 1 - sinB2)), sinB = std::sqrt(sinB2);
-        if (cosWO >= cosB) return phi / clamped; // the bound reaches into the cone
-        float cosT = cosWO * cosB + sinWO * sinB;
-        if (cosT <= cosE) return 0.0f;
-        return phi * cosT / clamped;
-    }
+    // phi cos(theta') / d^2, with d at least the radius (and d^2 at least 1e-30: with phi at most
+    // 1, as LightSet scales it, no overflow) and theta' = max(0, thetaW - thetaO - thetaB) the
+    // smallest angle between the emission cone and the directions from the bound to p (thetaW:
+    // from the axis to p, thetaB: the bound's half-angle seen from p); 0 where theta' >= thetaE,
+    // where no emitting point of the bound can face p. The angle differences by their cosines
+    // and sines, without inverse trigonometry.
+    float importance(const Vec3& p) const;
 };
+
+inline float LightBounds::importance(const Vec3& p) const {
+    return kernels::boundsImportance(p.x, p.y, p.z, center.x, center.y, center.z, radius * radius, phi,
+                            axis.x, axis.y, axis.z, cosO, sinO, cosE, twoSided ? 1.0f : 0.0f);
+}
 
 // The smallest cone found by pbrt-v4's DirectionCone::Union of two emission cones (axis and
 // half-angle), for a cluster of lights.

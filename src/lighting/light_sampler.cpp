@@ -49,6 +49,26 @@ void LightSampler::build(const std::vector<LightBounds>& bounds, const std::vect
     m_trailLen.assign(bounds.size(), 0);
     for (std::size_t i = 0; i < bounds.size(); ++i)
         (infinite[i] ? m_infiniteList : m_boundedList).push_back(i);
+    m_soa = Components{};
+    for (std::size_t l : m_boundedList) {
+        const LightBounds& b = bounds[l];
+        m_soa.cx.push_back(b.center.x);
+        m_soa.cy.push_back(b.center.y);
+        m_soa.cz.push_back(b.center.z);
+        m_soa.r2.push_back(b.radius * b.radius);
+        m_soa.phi.push_back(b.phi);
+        m_soa.ax.push_back(b.axis.x);
+        m_soa.ay.push_back(b.axis.y);
+        m_soa.az.push_back(b.axis.z);
+        m_soa.cosO.push_back(b.cosO);
+        m_soa.sinO.push_back(b.sinO);
+        m_soa.cosE.push_back(b.cosE);
+        m_soa.twoSided.push_back(b.twoSided ? 1.0f : 0.0f);
+    }
+    for (std::vector<float>* v : {&m_soa.cx, &m_soa.cy, &m_soa.cz, &m_soa.r2, &m_soa.phi, &m_soa.ax,
+                                  &m_soa.ay, &m_soa.az, &m_soa.cosO, &m_soa.sinO, &m_soa.cosE,
+                                  &m_soa.twoSided})
+        v->resize((v->size() + 7) / 8 * 8, 0.0f);
     if (m_boundedList.size() > kExhaustiveLimit) {
         std::vector<std::size_t> lights = m_boundedList;
         m_nodes.reserve(2 * lights.size());
@@ -132,12 +152,8 @@ LightSampler::Pick LightSampler::sampleBounded(const Vec3& p, float u) const {
     }
     if (m_nodes.empty()) {
         // Few lights: each by its own importance.
-        float weights[kExhaustiveLimit];
-        float total = 0;
-        for (std::size_t k = 0; k < m_boundedList.size(); ++k) {
-            weights[k] = m_bounds[m_boundedList[k]].importance(p);
-            total += weights[k];
-        }
+        alignas(32) float weights[kExhaustiveLimit];
+        float total = boundedImportances(p, weights);
         if (!(total > 0)) return pick;
         float target = u * total, below = 0;
         for (std::size_t k = 0; k < m_boundedList.size(); ++k) {
@@ -173,12 +189,29 @@ LightSampler::Pick LightSampler::sampleBounded(const Vec3& p, float u) const {
     return pick;
 }
 
+// Eight lights at a time (kernels/light_importance.h): the components are padded to a multiple
+// of 8 with lights of no power.
+float LightSampler::boundedImportances(const Vec3& p, float* weights) const {
+    const Components& c = m_soa;
+    const kernels::BoundsLanes lanes{c.cx.data(),  c.cy.data(),   c.cz.data(),   c.r2.data(),
+                                     c.phi.data(), c.ax.data(),   c.ay.data(),   c.az.data(),
+                                     c.cosO.data(), c.sinO.data(), c.cosE.data(), c.twoSided.data()};
+    const std::size_t n = m_boundedList.size();
+    for (std::size_t k = 0; k < n; k += 8) kernels::boundsImportance8(p.x, p.y, p.z, lanes, int(k), weights + k);
+    float total = 0;
+    for (std::size_t k = 0; k < n; ++k) total += weights[k];
+    return total;
+}
+
 float LightSampler::pmfBounded(const Vec3& p, std::size_t index) const {
     if (m_boundedList.size() == 1) return 1.0f;
     if (m_nodes.empty()) {
-        float total = 0;
-        for (std::size_t l : m_boundedList) total += m_bounds[l].importance(p);
-        return total > 0 ? m_bounds[index].importance(p) / total : 0.0f;
+        alignas(32) float weights[kExhaustiveLimit];
+        float total = boundedImportances(p, weights);
+        if (!(total > 0)) return 0.0f;
+        std::size_t k = std::size_t(std::lower_bound(m_boundedList.begin(), m_boundedList.end(), index) -
+                                    m_boundedList.begin());
+        return weights[k] / total;
     }
     // The same turns the descent would take to this light, each with its probability.
     int node = 0;

@@ -51,7 +51,14 @@ private:
     int buildNode(std::vector<std::size_t>& lights, std::size_t begin, std::size_t end,
                   std::uint64_t trail, int depth);
 
+    // The importance of every light with a position at p, into weights (few lights); their sum.
+    float boundedImportances(const Vec3& p, float* weights) const;
+
     std::vector<LightBounds> m_bounds; // per choice (unused for infinite ones)
+    // The lights with a position, their bounds by component (boundedImportances' loop).
+    struct Components {
+        std::vector<float> cx, cy, cz, r2, phi, ax, ay, az, cosO, sinO, cosE, twoSided;
+    } m_soa;
     std::vector<bool> m_infinite;
     std::vector<std::size_t> m_infiniteList, m_boundedList;
     std::vector<Node> m_nodes;            // the hierarchy, root first (many lights only)

@@ -286,46 +286,56 @@ Vec3 LightSource::power() const {
     }
 }
 
-LightBounds LightSource::makeBounds() const {
-    LightBounds b;
+namespace {
+double luminanceD(const Vec3& c) {
+    return std::max(0.0, 0.2126 * double(c.x) + 0.7152 * double(c.y) + 0.0722 * double(c.z));
+}
+} // namespace
+
+double LightSource::boundsPower() const {
     switch (kind) {
-    case Kind::Directional: return b; // no position: LightSampler's fixed share
+    case Kind::Directional: return 0;
+    // A spot as a point light of its intensity (pbrt-v4's SpotLight::Bounds): inside its cone
+    // it lights a point as I / d^2 whatever the cone's width, and its total power would rate a
+    // narrow spot far below what it gives there (a glossy highlight of it was a firefly of
+    // 1 / pmf); the cone cuts the rest off. A lobe point light I cos(theta) likewise, the
+    // cone's cosine its lobe.
+    case Kind::Spot: return luminanceD(intensity) * 4 * double(kPi);
     case Kind::Point:
-    case Kind::Spot:
+        return luminanceD(intensity) * 4 * double(kPi) * (lobe ? 1.0 : double(goniometricMean));
+    default:
+        return luminanceD(radiance) * double(kPi) * double(area) * (twoSided ? 2.0 : 1.0);
+    }
+}
+
+LightBounds LightSource::makeBounds(double powerScale) const {
+    LightBounds b;
+    if (kind == Kind::Directional) return b; // no position: LightSampler's fixed share
+    b.phi = float(boundsPower() * powerScale);
+    if (kind == Kind::Point || kind == Kind::Spot) {
         b.center = position;
-        b.phi = std::max(0.0f, luminance(power()));
         if (kind == Kind::Spot) {
-            // As a point light of the spot's intensity (pbrt-v4's SpotLight::Bounds): inside
-            // its cone a spot lights a point as I / d^2 whatever the cone's width, and its
-            // total power would rate a narrow spot far below what it gives there (a glossy
-            // highlight of it was a firefly of 1 / pmf). The cone cuts the rest off.
-            b.phi = std::max(0.0f, luminance(intensity)) * 4 * kPi;
             b.axis = direction;
             b.thetaO = std::acos(std::clamp(cosCone, -1.0f, 1.0f));
-            b.thetaE = std::max(0.0f, std::acos(std::clamp(cosFalloff, -1.0f, 1.0f)) - b.thetaO);
             // The smooth step's edge: at thetaO + thetaE the intensity is 0.
+            b.thetaE = std::max(0.0f, std::acos(std::clamp(cosFalloff, -1.0f, 1.0f)) - b.thetaO);
         } else if (lobe) {
-            // I cos(theta): as a point light of intensity I, the cone's cosine the lobe.
-            b.phi = std::max(0.0f, luminance(intensity)) * 4 * kPi;
             b.axis = lobeNormal;
             b.thetaO = 0;
             b.twoSided = lobeTwoSided;
         }
-        b.updateCone();
-        return b;
-    default:
+    } else {
         b.center = boundCenter;
         b.radius = boundRadius * (1.0f + 1e-5f) + length(placementError);
-        b.phi = powerLuminance;
         if (!isBlack(flatNormal)) {
             // A Lambertian plane: the cone of its normal, thetaE = pi/2 beyond it.
             b.axis = flatNormal;
             b.thetaO = 0;
             b.twoSided = twoSided;
         }
-        b.updateCone();
-        return b;
     }
+    b.updateCone();
+    return b;
 }
 
 double LightSet::radianceScale(const Bounds3& sceneBounds) const {
@@ -399,7 +409,6 @@ LightSet LightSet::build(const Scene& scene, const EmbreeScene& accel) {
         // A light without area (degenerate triangles, radius 0) emits nothing and cannot be
         // sampled (its pdf would be 1/0); rays cannot hit it either.
         if (!(a.area > 0) || !std::isfinite(a.area)) continue;
-        a.powerLuminance = std::max(0.0f, luminance(a.power()));
         set.m_areaIndex.push_back({{e.shape, e.instance}, int(set.lights.size())});
         set.lights.push_back(std::move(a));
         ++set.m_areaLights;
@@ -411,10 +420,16 @@ LightSet LightSet::build(const Scene& scene, const EmbreeScene& accel) {
 }
 
 void LightSet::buildSampler() {
+    // Powers relative to the strongest light's (in double), so that lights up to float's limit
+    // weigh without overflowing.
+    double strongest = 0;
+    for (const LightSource& l : lights)
+        if (std::isfinite(l.boundsPower())) strongest = std::max(strongest, l.boundsPower());
+    const double scale = strongest > 0 ? 1.0 / strongest : 1.0;
     std::vector<LightBounds> bounds;
     std::vector<bool> infinite;
     for (LightSource& l : lights) {
-        l.bounds = l.makeBounds();
+        l.bounds = l.makeBounds(scale);
         bounds.push_back(l.bounds);
         infinite.push_back(l.kind == LightSource::Kind::Directional);
     }

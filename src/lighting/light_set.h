@@ -63,14 +63,17 @@ public:
     // The light's index in the set it was built in: keys its random numbers, so a subset
     // samples each remaining light exactly as the full set does.
     std::uint32_t stream = 0;
-    // For choosing among area lights: a bounding sphere, the unit normal of a planar light
-    // (zero otherwise), and the luminance of the emitted power.
+    // For choosing among area lights: a bounding sphere and the unit normal of a planar light
+    // (zero otherwise).
     Vec3 boundCenter, flatNormal;
-    float boundRadius = 0, powerLuminance = 0;
+    float boundRadius = 0;
     // Where and in which directions the light emits, and how much (LightSampler's bounds);
     // set by LightSet::build for every light with a position.
     LightBounds bounds;
-    LightBounds makeBounds() const;
+    // The power the bounds weigh the light by (in double: up to float's limit of radiance), and
+    // the bounds with it times powerScale (LightSet::buildSampler: 1 / the strongest light's).
+    double boundsPower() const;
+    LightBounds makeBounds(double powerScale) const;
     // How much this light can give the point p, up to a factor common to all lights
     // (LightBounds::importance): 0 only where none of its points can face p, so choosing
     // lights by it is unbiased.

@@ -154,3 +154,33 @@ TEST_CASE("LightBounds: importance is 0 only where no emitting point can face th
     CHECK(sphere.importance(Vec3(5, 0, 0)) == Approx(8.0f / 16.0f));
     CHECK(sphere.importance(Vec3(1.1f, 0, 0)) == Approx(8.0f / 0.25f));
 }
+
+TEST_CASE("Light importance: eight lights at a time agree with one at a time to the bit",
+          "[lighting][lights][kernels]") {
+    std::vector<LightBounds> bounds = scatteredLights(16, 17);
+    std::vector<float> c[12];
+    for (const LightBounds& b : bounds) {
+        float v[12] = {b.center.x, b.center.y, b.center.z, b.radius * b.radius, b.phi, b.axis.x,
+                       b.axis.y,   b.axis.z,   b.cosO,     b.sinO,              b.cosE,
+                       b.twoSided ? 1.0f : 0.0f};
+        for (int k = 0; k < 12; ++k) c[k].push_back(v[k]);
+    }
+    kernels::BoundsLanes lanes{c[0].data(), c[1].data(), c[2].data(),  c[3].data(),
+                               c[4].data(), c[5].data(), c[6].data(),  c[7].data(),
+                               c[8].data(), c[9].data(), c[10].data(), c[11].data()};
+    std::uint64_t state = 5;
+    int zeros = 0;
+    for (int point = 0; point < 2000; ++point) {
+        Vec3 p = randomPoint(state, 7);
+        if (point == 0) p = bounds[3].center; // at a light's centre
+        float wide[16];
+        kernels::boundsImportance8(p.x, p.y, p.z, lanes, 0, wide);
+        kernels::boundsImportance8(p.x, p.y, p.z, lanes, 8, wide + 8);
+        for (std::size_t i = 0; i < 16; ++i) {
+            REQUIRE(wide[i] == bounds[i].importance(p));
+            REQUIRE(std::isfinite(wide[i]));
+            zeros += wide[i] == 0;
+        }
+    }
+    CHECK(zeros > 0); // the one-sided lights' backs were among the points
+}

@@ -91,7 +91,7 @@ TEST_CASE("Light choice: selection weights, the lights that matter, and lights f
     // A two-sided light lights both sides.
     LightSource twoSided = lights.lights[up];
     twoSided.twoSided = true;
-    twoSided.bounds = twoSided.makeBounds();
+    twoSided.bounds = twoSided.makeBounds(1.0);
     CHECK(twoSided.selectionWeight(onFloor) > 0.0f);
 }
 
