@@ -84,21 +84,26 @@ struct SobolSeeds {
     }
 };
 
-// Sample `index` of the pair of dimensions that `key` names. The shuffle is a nested scramble
-// of the index, so aligned blocks of 2^m indices map to aligned blocks: nets stay nets. The
-// first coordinate is the scrambled bit reversal of the shuffled index i:
-// owenScramble(reverseBits(i)) = reverseBits(laineKarras(i)).
-inline Vec2 owenSobol2D(std::uint32_t index, std::uint64_t key) {
+// Sample of the pair of dimensions that `key` names, for the index whose bit reversal is
+// `reversedIndex` (reverseBits(index): callers drawing several pairs for one sample reverse it
+// once). The shuffle is a nested scramble of the index, so aligned blocks of 2^m indices map to
+// aligned blocks: nets stay nets. With r the shuffled index reversed, the first coordinate is
+// the scrambled bit reversal of the shuffled index i = reverseBits(r):
+// owenScramble(r) = reverseBits(laineKarras(i)); the second reads i's bytes from r's.
+inline Vec2 owenSobol2DReversed(std::uint32_t reversedIndex, std::uint64_t key) {
     SobolSeeds s(key);
-    std::uint32_t i = owenScramble(index, s.shuffle);
+    std::uint32_t i = reverseBits(laineKarras(reversedIndex, s.shuffle));
     return {fixedToUnit(reverseBits(laineKarras(i, s.x))),
             fixedToUnit(reverseBits(laineKarras(sobolSecondReversed(i), s.y)))};
+}
+inline Vec2 owenSobol2D(std::uint32_t index, std::uint64_t key) {
+    return owenSobol2DReversed(reverseBits(index), key);
 }
 
 // Sample `index` of one dimension (a scrambled van der Corput sequence).
 inline float owenSobol1D(std::uint32_t index, std::uint64_t key) {
     SobolSeeds s(key);
-    std::uint32_t i = owenScramble(index, s.shuffle);
+    std::uint32_t i = reverseBits(laineKarras(reverseBits(index), s.shuffle));
     return fixedToUnit(reverseBits(laineKarras(i, s.x)));
 }
 

@@ -91,8 +91,10 @@ bool CameraEmitter::emit(StageContext& ctx) {
             const bool sobol = m_rc.policy.stratify;
             Vec2 s = sobol ? kernels::owenSobol2D(std::uint32_t(sample), pixelKey)
                            : Vec2{kernels::uniform(key, 2), kernels::uniform(key, 3)};
-            Vec2 lens = sobol ? kernels::owenSobol2D(std::uint32_t(sample), kernels::mix64(pixelKey))
-                              : Vec2{kernels::uniform(key, 0), kernels::uniform(key, 1)};
+            Vec2 lens;
+            if (m_frame.lensRadius > 0)
+                lens = sobol ? kernels::owenSobol2D(std::uint32_t(sample), kernels::mix64(pixelKey))
+                             : Vec2{kernels::uniform(key, 0), kernels::uniform(key, 1)};
             if (m_camera.filter.type == PixelFilter::Type::Box) {
                 // x + (0.5 - r) + 2 r s: for the default radius 0.5 exactly x + s, the film
                 // positions (and images) rayproc has always produced.

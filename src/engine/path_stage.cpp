@@ -20,26 +20,25 @@ enum PathDim : std::uint32_t { kDimPickLobe = 19, kDimLight = 21, kDimBsdf = 23,
 // over the pixel's samples, a sequence of their own for every (pixel, depth, pair of
 // dimensions), so that at every depth a pixel's samples are stratified at every power-of-two
 // prefix (kernels/sobol.h); other paths (and --no-stratification) take independent numbers of
-// the lane's own stream.
+// the lane's own stream. Pairs only: the light choice and the BSDF's lobe choice share one.
 class VertexNumbers {
 public:
-    VertexNumbers(const RayBatch& b, int i, bool sobol, std::uint64_t seed)
-        : m_key(sobol ? kernels::hashCombine(kernels::pathKey(seed, b.pixel[i], 0xfffffffeu),
-                                             b.depth[i])
+    // seedKey: mix64 of the render's seed, hashed once per batch.
+    VertexNumbers(const RayBatch& b, int i, bool sobol, std::uint64_t seedKey)
+        : m_key(sobol ? kernels::mix64(seedKey ^ ((std::uint64_t(b.pixel[i]) << 8 | b.depth[i]) *
+                                                  0x9e3779b97f4a7c15ULL))
                       : b.rngKey[i]),
-          m_sample(b.sample[i]), m_sobol(sobol) {}
+          m_reversedSample(kernels::reverseBits(b.sample[i])), m_sobol(sobol) {}
     Vec2 get2D(std::uint32_t dim) const {
-        if (m_sobol) return kernels::owenSobol2D(m_sample, m_key ^ (dim * 0x9e3779b97f4a7c15ULL));
+        if (m_sobol)
+            return kernels::owenSobol2DReversed(m_reversedSample,
+                                                m_key ^ (dim * 0x9e3779b97f4a7c15ULL));
         return {kernels::uniform(m_key, dim), kernels::uniform(m_key, dim + 1)};
-    }
-    float get1D(std::uint32_t dim) const {
-        if (m_sobol) return kernels::owenSobol1D(m_sample, m_key ^ (dim * 0x9e3779b97f4a7c15ULL));
-        return kernels::uniform(m_key, dim);
     }
 
 private:
     std::uint64_t m_key;
-    std::uint32_t m_sample;
+    std::uint32_t m_reversedSample;
     bool m_sobol;
 };
 
@@ -139,6 +138,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
     const std::size_t choices = lights.choiceCount();
     const LightSampler& sampler = lights.sampler;
     const bool sobol = policy.stratify && m_lowDiscrepancy;
+    const std::uint64_t seedKey = kernels::mix64(m_rc.seed ^ 0x5851f42d4c957f2dULL);
     std::uint64_t shadowOut = 0, reflectOut = 0, refractOut = 0;
 
     for (int i = 0; i < b.count; ++i) {
@@ -181,7 +181,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                                           kernels::hashCombine(b.rngKey[i], kDimLayered));
         const bool deltaMaterial =
             materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
-        const VertexNumbers u(b, i, sobol, m_rc.seed);
+        const VertexNumbers u(b, i, sobol, seedKey);
         const Vec2 pickLobe = u.get2D(kDimPickLobe);
         // Next-event estimation: one light (or the sky), MIS-weighted against the BSDF.
         if (!deltaMaterial && choices > 0 &&
@@ -190,8 +190,9 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             ++shadowOut;
 
         // Continue the path by sampling the BSDF.
+        // Russian roulette's number: the path's own stream (stratifying it buys nothing).
         switch (spawnBounce(policy, b, i, h, bsdf, wo, w, u.get2D(kDimBsdf), pickLobe.y,
-                            u.get1D(kDimRr), 0, m_outputs, 3, ctx)) {
+                            kernels::uniform(b.rngKey[i], kDimRr), 0, m_outputs, 3, ctx)) {
         case Bounce::Reflected: ++reflectOut; break;
         case Bounce::Transmitted: ++refractOut; break;
         case Bounce::None: break;
