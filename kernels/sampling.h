@@ -11,8 +11,8 @@ namespace rayproc::kernels {
 // Sample `index` of `count` stratified over the unit square, one sample per stratum:
 // a jittered grid when count is a perfect square, Latin hypercube (N-rooks) otherwise.
 // The stratum order is permuted by `key`: a prefix of the sequence is a random subset of the
-// strata, which for a large count is no better spread than independent samples (see
-// groupStratified2D).
+// strata, which for a large count is no better spread than independent samples (the camera and
+// path mode take kernels/sobol.h's points, stratified at every power-of-two prefix).
 inline Vec2 stratified2D(std::uint32_t index, std::uint32_t count, std::uint64_t key) {
     float jx = uniform(key, 2 * index), jy = uniform(key, 2 * index + 1);
     if (count <= 1) return {jx, jy};
@@ -24,22 +24,6 @@ inline Vec2 stratified2D(std::uint32_t index, std::uint32_t count, std::uint64_t
     std::uint32_t sx = permute(index, count, key);
     std::uint32_t sy = permute(index, count, mix64(key));
     return {(float(sx) + jx) / float(count), (float(sy) + jy) / float(count)};
-}
-
-// Sample `index` of `count` such that every prefix is stratified too: the samples come in
-// groups of kStratumGroup (8 x 8 strata), each group stratified2D over itself with its own
-// permutation (group 0 with `key`, group g with hashCombine(key, g)), the last group over what
-// is left. A render under a time limit asks 100,000 samples and stops after a few hundred:
-// with stratified2D over all 100,000 those were as good as random (a tiny bright light in a
-// pixel's filter footprint was hit 2 times in 40 samples where 0.05 was expected); here they
-// are complete 8 x 8 sets. count <= kStratumGroup: exactly stratified2D(index, count, key).
-constexpr std::uint32_t kStratumGroup = 64;
-inline Vec2 groupStratified2D(std::uint32_t index, std::uint32_t count, std::uint64_t key) {
-    if (count <= kStratumGroup) return stratified2D(index, count, key);
-    std::uint32_t group = index / kStratumGroup;
-    std::uint32_t first = group * kStratumGroup;
-    std::uint32_t size = count - first < kStratumGroup ? count - first : kStratumGroup;
-    return stratified2D(index - first, size, group == 0 ? key : hashCombine(key, group));
 }
 
 // Cosine-weighted direction around +z (Malley's method on Shirley's concentric disk).
