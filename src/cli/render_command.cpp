@@ -515,8 +515,8 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_flag("--no-light-choice", args->noLightChoice,
                   "raytrace, gi: with several area lights, take --light-samples samples of "
                   "every one of them at each hit instead of --light-samples in all, each "
-                  "choosing a light by its power over its squared distance (slower per sample "
-                  "in scenes of many lights)");
+                  "choosing a light by what its power, extent and emission cone can give the "
+                  "point (slower per sample in scenes of many lights)");
     cmd->add_flag("--no-russian-roulette", args->noRoulette,
                   "raytrace, path, gi: paths (and gi's photons) end only at the maximum depth "
                   "or at zero throughput");
