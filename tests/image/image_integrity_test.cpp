@@ -6,6 +6,8 @@
 #include "image/image.h"
 #include "texture/texture_image.h"
 
+#include "test_util.h"
+
 #include <catch2/catch.hpp>
 #include <zlib.h>
 
@@ -30,21 +32,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static std::atomic<int> counter{0};
-        path = fs::temp_directory_path() / ("rayproc_integrity_test_" + std::to_string(::getpid()) +
-                                            "_" + std::to_string(counter++));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
+using test::TempDir;
 
 std::string readBytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
