@@ -564,7 +564,11 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "display server (tev listens on 127.0.0.1:14158 by default), refreshed every "
                     "second and at the end; an unreachable viewer is a warning");
     cmd->add_flag("--quiet,-q", args->quiet, "No progress and no render log on stderr");
-    cmd->add_flag("--stats", args->stats, "Print per-stage statistics on stderr at the end");
+    cmd->add_flag("--stats", args->stats,
+                  "Print per-stage statistics on stderr at the end; path mode adds where the "
+                  "image and its noise come from: per light (and the sky) its light samples' and "
+                  "its BSDF-found emission's share of the image, of the contributions' summed "
+                  "squares, and the largest contribution");
     cmd->add_option("--stats-json", args->statsJson, "Write the statistics as JSON to this file");
     cmd->add_flag("--progressive-output", args->progressive,
                   "Rewrite the output image while rendering (atomically, between passes)");

@@ -180,8 +180,12 @@ bool agreeInterrupted(const Cluster& cluster) {
     return bits != 0;
 }
 
-// A new counter in ThreadStats must be added to the list below.
-static_assert(sizeof(ThreadStats) == sizeof(StageCounters) * kStageCount + 10 * sizeof(std::uint64_t));
+// A new counter in ThreadStats must be added to the list below. The contributions by strategy
+// (path mode's --stats breakdown) are not summed: rank 0 reports its own pixels' (its shares
+// are of those).
+static_assert(sizeof(ThreadStats) == sizeof(StageCounters) * kStageCount +
+                                         10 * sizeof(std::uint64_t) +
+                                         sizeof(std::vector<ContributionMoments>));
 
 void sumToRoot(const Cluster& cluster, ThreadStats& s) {
     if (!cluster.distributed()) return;

@@ -88,6 +88,8 @@ bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const Surf
     // A transmitted light sample leaves from the other side.
     Vec3 side = dot(wi, fg) > 0 ? fg : -fg;
     spawnShadowRay(out, b, i, h, side, wi, ls.valid ? &ls : nullptr, c);
+    // The shadow stage files the contribution under this choice's light samples (--stats).
+    out.rngKey[out.count - 1] = 1 + contributionOfLightSample(pick);
     return true;
 }
 
@@ -155,7 +157,10 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                                : lights.environment.pdf(d, Vec3(0.0f));
             float pick = sampler.pmf(o, lights.lights.size()); // the sky's fixed share
             float mis = fromDelta ? 1.0f : kernels::powerHeuristic(b.prevPdf[i], pick * envPdf);
-            m_rc.film.add(b.pixel[i], w * lights.environment.radiance(d) * mis, stats);
+            Vec3 sky = w * lights.environment.radiance(d) * mis;
+            stats.addContribution(fromDelta ? 0 : contributionOfBsdfHit(lights.lights.size()),
+                                  luminance(sky));
+            m_rc.film.add(b.pixel[i], sky, stats);
             continue;
         }
         SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
@@ -164,14 +169,16 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
         Vec3 le = emittedRadiance(*h.shape, h.ng, wo);
         if (!isBlack(le)) {
             float mis = 1.0f;
+            int li = lights.indexOf(h.shape, h.instance);
             if (!fromDelta) {
-                int li = lights.indexOf(h.shape, h.instance);
                 // The probability that the light sample at the ray's origin had come here.
                 float pl = li >= 0 ? sampler.pmf(o, std::size_t(li)) *
                                          lights.lights[std::size_t(li)].pdf(o, h.p, h.ng)
                                    : 0.0f;
                 mis = kernels::powerHeuristic(b.prevPdf[i], pl);
             }
+            stats.addContribution(fromDelta || li < 0 ? 0 : contributionOfBsdfHit(std::size_t(li)),
+                                  luminance(w * le * mis));
             m_rc.film.add(b.pixel[i], w * le * mis, stats);
         }
         if (b.flags[i] & kFlagEmissionOnly) continue; // the last vertex's BSDF sample

@@ -183,8 +183,13 @@ void ShadowStage::retrace(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, StageId::Shadow);
     stats.stages[int(StageId::Shadow)].raysIn += std::uint64_t(b.count);
-    for (int i = 0; i < b.count; ++i)
-        if (!b.occluded(i)) m_rc.film.add(b.pixel[i], laneThroughput(b, i), stats);
+    for (int i = 0; i < b.count; ++i) {
+        if (b.occluded(i)) continue;
+        // Path mode's light samples carry their category (1 + it) in the key they do not use.
+        if (b.rngKey[i] != 0)
+            stats.addContribution(std::size_t(b.rngKey[i] - 1), luminance(laneThroughput(b, i)));
+        m_rc.film.add(b.pixel[i], laneThroughput(b, i), stats);
+    }
 }
 
 } // namespace rayproc

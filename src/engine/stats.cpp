@@ -43,6 +43,8 @@ ThreadStats Stats::merged() const {
         t.cacheHits += s.cacheHits;
         t.causticLookups += s.causticLookups;
         t.globalLookups += s.globalLookups;
+        if (t.contributions.size() < s.contributions.size()) t.contributions.resize(s.contributions.size());
+        for (std::size_t c = 0; c < s.contributions.size(); ++c) t.contributions[c].merge(s.contributions[c]);
     }
     return t;
 }

@@ -36,6 +36,32 @@ struct StageCounters {
     double seconds = 0;
 };
 
+// Path mode's contributions to the film by how they were sampled (--stats, "path/..."): their
+// count, the sum and the sum of squares of their luminance, and the largest. The sums of squares
+// say which strategy's samples the noise comes from: a firefly is one huge square.
+struct ContributionMoments {
+    std::uint64_t count = 0;
+    double sum = 0, sumSquares = 0, largest = 0;
+    void add(double v) {
+        ++count;
+        sum += v;
+        sumSquares += v * v;
+        largest = v > largest ? v : largest;
+    }
+    void merge(const ContributionMoments& o) {
+        count += o.count;
+        sum += o.sum;
+        sumSquares += o.sumSquares;
+        largest = o.largest > largest ? o.largest : largest;
+    }
+};
+
+// The categories: 0, emission or sky reached from the camera through delta lobes only; for
+// light k (k = the number of lights: the sky), 1 + 2k its light samples and 2 + 2k BSDF rays
+// that found it.
+inline std::size_t contributionOfLightSample(std::size_t k) { return 1 + 2 * k; }
+inline std::size_t contributionOfBsdfHit(std::size_t k) { return 2 + 2 * k; }
+
 struct ThreadStats {
     std::array<StageCounters, kStageCount> stages{};
     std::uint64_t raysTraced = 0;     // every ray handed to Embree
@@ -47,6 +73,12 @@ struct ThreadStats {
     std::uint64_t photonsStored = 0;
     std::uint64_t cacheLookups = 0, cacheHits = 0;
     std::uint64_t causticLookups = 0, globalLookups = 0;
+    // path mode (and gi's correction paths): by category, see contributionOfLightSample
+    std::vector<ContributionMoments> contributions;
+    void addContribution(std::size_t category, double luminance) {
+        if (contributions.size() <= category) contributions.resize(category + 1);
+        contributions[category].add(luminance);
+    }
 };
 
 struct RenderStats {

@@ -19,6 +19,52 @@ PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides&
     return s;
 }
 
+namespace {
+
+const char* lightKindName(const LightSource& l) {
+    switch (l.kind) {
+    case LightSource::Kind::Point: return "point";
+    case LightSource::Kind::Spot: return "spot";
+    case LightSource::Kind::Directional: return "directional";
+    case LightSource::Kind::AreaMesh: return "mesh";
+    case LightSource::Kind::AreaSphere: return "sphere";
+    case LightSource::Kind::AreaDisk: return "disk";
+    }
+    return "light";
+}
+
+// Where the image's light and its noise come from, by strategy (ThreadStats::contributions):
+// each category's share of the contributions' summed luminance (the image), of their summed
+// squares (the noise: a firefly is one huge square) and its largest contribution. Emission seen
+// through delta lobes only ("direct": a light in view) takes no share of the squares: its
+// squares are its brightness, not noise.
+void addContributionStats(const LightSet& lights, RenderResult& r) {
+    const std::vector<ContributionMoments>& c = r.stats.totals.contributions;
+    double sum = 0, squares = 0;
+    for (std::size_t k = 0; k < c.size(); ++k) {
+        sum += c[k].sum;
+        if (k > 0) squares += c[k].sumSquares;
+    }
+    for (std::size_t k = 0; k < c.size(); ++k) {
+        if (c[k].count == 0) continue;
+        std::string label = "direct";
+        if (k > 0) {
+            std::size_t light = (k - 1) / 2;
+            label = light < lights.lights.size()
+                        ? "light" + std::to_string(light) + "_" + lightKindName(lights.lights[light])
+                        : std::string("sky");
+            label += (k % 2 == 1) ? "_samples" : "_found";
+        }
+        r.stats.extras.push_back({"path/" + label + "_image_share", sum > 0 ? c[k].sum / sum : 0.0});
+        if (k > 0)
+            r.stats.extras.push_back(
+                {"path/" + label + "_squares_share", squares > 0 ? c[k].sumSquares / squares : 0.0});
+        r.stats.extras.push_back({"path/" + label + "_largest", c[k].largest});
+    }
+}
+
+} // namespace
+
 RenderResult renderPath(const Scene& scene, const EmbreeScene& accel, const PathSettings& s,
                         const EngineSettings& engine) {
     // The path stage picks one light per vertex among the sampled lights: a light the
@@ -36,7 +82,10 @@ RenderResult renderPath(const Scene& scene, const EmbreeScene& accel, const Path
     policy.stratify = engine.stratification;
     plan.apply(policy);
     policy.reflectionStage = true; // path mode's bounces are all reflection-kind rays
-    return runRenderJob("path", scene, accel, lights, policy, s.spp, engine, RadianceStage::Path);
+    RenderResult r =
+        runRenderJob("path", scene, accel, lights, policy, s.spp, engine, RadianceStage::Path);
+    addContributionStats(lights, r);
+    return r;
 }
 
 } // namespace rayproc
