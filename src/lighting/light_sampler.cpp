@@ -49,6 +49,18 @@ void LightSampler::build(const std::vector<LightBounds>& bounds, const std::vect
     m_trailLen.assign(bounds.size(), 0);
     for (std::size_t i = 0; i < bounds.size(); ++i)
         (infinite[i] ? m_infiniteList : m_boundedList).push_back(i);
+    // Among the lights without a position: by phi (the irradiance each can give a point), or
+    // alike when none has a positive, finite one.
+    m_infiniteCdf.clear();
+    double total = 0;
+    for (std::size_t l : m_infiniteList) {
+        double w = std::isfinite(bounds[l].phi) ? std::max(0.0f, bounds[l].phi) : 0.0;
+        total += w;
+        m_infiniteCdf.push_back(total);
+    }
+    if (!(total > 0))
+        for (std::size_t k = 0; k < m_infiniteCdf.size(); ++k) m_infiniteCdf[k] = double(k + 1);
+    for (double& c : m_infiniteCdf) c /= m_infiniteCdf.empty() ? 1.0 : m_infiniteCdf.back();
     m_soa = Components{};
     for (std::size_t l : m_boundedList) {
         const LightBounds& b = bounds[l];
@@ -117,15 +129,22 @@ float LightSampler::infiniteShare() const {
     return float(m_infiniteList.size()) / float(m_infiniteList.size() + 1);
 }
 
+float LightSampler::infiniteProbability(std::size_t k) const {
+    return float(m_infiniteCdf[k] - (k == 0 ? 0.0 : m_infiniteCdf[k - 1]));
+}
+
 LightSampler::Pick LightSampler::sample(const Vec3& p, float u) const {
     Pick pick;
     float share = infiniteShare();
     if (u < share) {
-        std::size_t n = m_infiniteList.size();
-        std::size_t k = std::min(std::size_t(u / share * float(n)), n - 1);
+        double v = double(u) / double(share);
+        std::size_t k = 0;
+        while (k + 1 < m_infiniteCdf.size() && !(v < m_infiniteCdf[k])) ++k;
         pick.index = m_infiniteList[k];
-        pick.pmf = share / float(n);
-        return pick;
+        pick.pmf = share * infiniteProbability(k);
+        if (pick.pmf > 0) return pick;
+        // A light of no weight picked by rounding: nothing (unbiased, a lost sample).
+        return Pick{};
     }
     if (m_boundedList.empty()) return pick;
     float rest = 1.0f - share;
@@ -137,7 +156,11 @@ LightSampler::Pick LightSampler::sample(const Vec3& p, float u) const {
 float LightSampler::pmf(const Vec3& p, std::size_t index) const {
     if (index >= m_bounds.size()) return 0.0f;
     float share = infiniteShare();
-    if (m_infinite[index]) return share / float(m_infiniteList.size());
+    if (m_infinite[index]) {
+        std::size_t k = std::size_t(std::find(m_infiniteList.begin(), m_infiniteList.end(), index) -
+                                    m_infiniteList.begin());
+        return share * infiniteProbability(k);
+    }
     return (1.0f - share) * pmfBounded(p, index);
 }
 

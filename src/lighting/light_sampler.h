@@ -1,7 +1,10 @@
 // The one light choice of every mode: which light (or the sky) a shading point samples, with a
 // probability that depends on the point. Lights without a position (directional lights, the
-// sky) share a fixed probability, as pbrt-v4's BVH light sampler gives them: each of the n such
-// lights 1 / (n + 1) when there are lights with a position, else 1 / n. The rest goes to the
+// sky) share a fixed probability, as pbrt-v4's BVH light sampler gives them: n / (n + 1) for n
+// such lights when there are lights with a position, else 1; within it each by the irradiance
+// it can give a point (LightBounds::phi: a directional light's irradiance, the sky's pi times
+// its mean radiance), where pbrt-v4 takes them alike (a sun giving most of an interior's light
+// got half the picks). The rest goes to the
 // lights with a position in proportion to LightBounds::importance at the point: exactly, light by
 // light, when there are few of them, and through a bounding hierarchy of lights when there are
 // many (Conty Estevez & Kulla 2018; pbrt-v4's BVHLightSampler), which descends by the
@@ -46,6 +49,7 @@ private:
         int child[2] = {-1, -1};
     };
     float infiniteShare() const;
+    float infiniteProbability(std::size_t k) const; // of m_infiniteList[k], within the share
     Pick sampleBounded(const Vec3& p, float u) const;
     float pmfBounded(const Vec3& p, std::size_t index) const;
     int buildNode(std::vector<std::size_t>& lights, std::size_t begin, std::size_t end,
@@ -61,6 +65,7 @@ private:
     } m_soa;
     std::vector<bool> m_infinite;
     std::vector<std::size_t> m_infiniteList, m_boundedList;
+    std::vector<double> m_infiniteCdf; // cumulative weights of m_infiniteList, last 1
     std::vector<Node> m_nodes;            // the hierarchy, root first (many lights only)
     std::vector<std::uint64_t> m_trail;   // per choice: the left/right turns from the root
     std::vector<std::uint8_t> m_trailLen; // and how many

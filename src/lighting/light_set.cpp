@@ -433,10 +433,22 @@ void LightSet::buildSampler() {
         bounds.push_back(l.bounds);
         infinite.push_back(l.kind == LightSource::Kind::Directional);
     }
+    // Lights without a position weigh by the irradiance they can give a point (a directional
+    // light's own, the sky's pi times its mean radiance), relative to the largest (in double).
+    std::vector<double> irradiance(lights.size(), 0.0);
+    for (std::size_t i = 0; i < lights.size(); ++i)
+        if (infinite[i]) irradiance[i] = luminanceD(lights[i].intensity);
     if (hasEnvironment()) {
         bounds.emplace_back();
         infinite.push_back(true);
+        irradiance.push_back(double(kPi) * luminanceD(environment.average()));
     }
+    double largest = 0;
+    for (double e : irradiance)
+        if (std::isfinite(e)) largest = std::max(largest, e);
+    for (std::size_t i = 0; i < bounds.size(); ++i)
+        if (infinite[i] && largest > 0)
+            bounds[i].phi = std::isfinite(irradiance[i]) ? float(irradiance[i] / largest) : 1.0f;
     sampler.build(bounds, infinite);
 }
 

@@ -107,6 +107,27 @@ TEST_CASE("LightSampler: picks each choice as often as its pmf says, few lights 
     checkSampler(0, 3);
 }
 
+TEST_CASE("LightSampler: lights without a position share n / (n + 1), each by its phi",
+          "[lighting][lights]") {
+    std::vector<LightBounds> bounds = scatteredLights(3, 9);
+    std::vector<bool> infinite(3, false);
+    for (float phi : {1.0f, 3.0f}) {
+        bounds.emplace_back();
+        bounds.back().phi = phi;
+        infinite.push_back(true);
+    }
+    LightSampler sampler;
+    sampler.build(bounds, infinite);
+    Vec3 p(0.5f, 0.2f, -0.3f);
+    CHECK(sampler.pmf(p, 3) == Approx(2.0 / 3.0 * 0.25));
+    CHECK(sampler.pmf(p, 4) == Approx(2.0 / 3.0 * 0.75));
+    // No weights: alike.
+    bounds[3].phi = bounds[4].phi = 0;
+    sampler.build(bounds, infinite);
+    CHECK(sampler.pmf(p, 3) == Approx(1.0 / 3.0));
+    checkSampler(3, 2); // and the picks follow pmf()
+}
+
 TEST_CASE("LightSampler: a cluster's importance bounds its lights', so the hierarchy keeps every "
           "light that can shine", "[lighting][lights]") {
     std::vector<LightBounds> bounds = scatteredLights(64, 5);

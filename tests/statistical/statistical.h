@@ -11,9 +11,9 @@ namespace rayproc::test {
 // (microfacet_bsdf_test.cpp); coated diffuse 4 weighted-histogram tests
 // (coated_diffuse_bsdf_test.cpp); the analytic coat 4 (tests/kernels/coated_analytic_test.cpp);
 // pixel filters 11 (filter_sampling_test.cpp); sphere mappings and image skies
-// (tests/lighting/), counted generously; the light sampler 36 (tests/lighting/
+// (tests/lighting/), counted generously; the light sampler 42 (tests/lighting/
 // light_sampler_test.cpp). A correct suite fails by chance with probability 1%.
-constexpr int kChiSquareTests = 108;
+constexpr int kChiSquareTests = 114;
 constexpr double kOverallSignificance = 0.01;
 inline double testSignificance() { return sidakSignificance(kOverallSignificance, kChiSquareTests); }
 
