@@ -94,7 +94,7 @@ void cameraKernel(benchmark::State& state, std::string sceneName) {
 
 void cameraEmit(benchmark::State& state, std::string sceneName) {
     StageRig rig(sceneName, raytracePolicy());
-    CameraEmitter camera(rig.rc, 1);
+    CameraEmitter camera(rig.rc);
     for (auto _ : state) {
         camera.beginPass(0, 1);
         while (camera.emit(rig.ctx)) rig.drain(RayKind::Count, 0);
@@ -322,7 +322,7 @@ const SceneCache& sceneCache(const std::string& sceneName) {
     policy.icPrepass = true;
     {
         StageRig rig(sceneName, policy, &gi);
-        CameraEmitter camera(rig.rc, 1, &coarse);
+        CameraEmitter camera(rig.rc, &coarse);
         camera.beginPass(0, 1);
         while (camera.emit(rig.ctx)) {
             // Trace every queued batch and hand it to its stage until nothing is left.

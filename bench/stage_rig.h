@@ -102,7 +102,7 @@ struct StageRig {
 
     // Camera batches (tiles) of one pass, spread evenly over the image, untraced.
     Batches cameraBatches(std::size_t count) {
-        CameraEmitter camera(rc, 1);
+        CameraEmitter camera(rc);
         camera.beginPass(0, 1);
         std::uint64_t units = camera.unitsPerPass();
         std::uint64_t stride = std::max<std::uint64_t>(1, units / count);

@@ -45,9 +45,9 @@ kernels::FilterShape filterShape(const PixelFilter& f) {
     return s;
 }
 
-CameraEmitter::CameraEmitter(const RenderContext& rc, int totalSpp, const Camera* camera)
+CameraEmitter::CameraEmitter(const RenderContext& rc, const Camera* camera)
     : m_rc(rc), m_camera(camera ? *camera : rc.scene.camera), m_frame(cameraFrame(m_camera)),
-      m_filter(filterShape(m_camera.filter), /*positivePart=*/true), m_totalSpp(totalSpp) {
+      m_filter(filterShape(m_camera.filter), /*positivePart=*/true) {
     const Camera& cam = m_camera;
     m_tilesX = (cam.width + kTile - 1) / kTile;
     m_tilesY = (cam.height + kTile - 1) / kTile;

@@ -23,7 +23,7 @@ public:
     static constexpr int kTile = 16; // kTile * kTile == kBatchSize
 
     // `camera` overrides the scene's (gi's cache prepass renders at lower resolutions).
-    CameraEmitter(const RenderContext& rc, int totalSpp, const Camera* camera = nullptr);
+    CameraEmitter(const RenderContext& rc, const Camera* camera = nullptr);
     // A distributed render's share (cluster/cluster.h): this emitter takes the tiles t with
     // t % size == rank (interleaved, so every rank gets a like mix of cheap and costly
     // regions). Each pixel's samples do not depend on which process renders them.
@@ -45,7 +45,6 @@ private:
     // Signed weights (mitchell's and lanczos's negative lobes) would have to travel with each
     // path to the film; until the stages carry them, the positive part of the filter is used.
     kernels::FilterSampler m_filter;
-    int m_totalSpp;
     int m_tilesX, m_tilesY;
     int m_shareRank = 0, m_shareSize = 1;
     int m_firstSample = 0, m_passCount = 0;

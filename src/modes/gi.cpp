@@ -209,7 +209,7 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         processor.setStage(RayKind::Shadow, &shadow);
         processor.setStage(RayKind::Gather, &gather);
         processor.setStage(RayKind::GatherShadow, &gather);
-        CameraEmitter camera(rc, 1, &cam);
+        CameraEmitter camera(rc, &cam);
         camera.setShare(cluster.rank(), cluster.size()); // each rank gathers for its tiles
         camera.beginPass(0, 1);
         currentPixels = double(cam.width) * cam.height;

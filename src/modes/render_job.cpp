@@ -81,7 +81,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     Stats stats;
     Intersector intersector(accel.root(), engine.packetWidth);
     RayProcessor processor(intersector, stats, engine.threads);
-    CameraEmitter camera(rc, spp);
+    CameraEmitter camera(rc);
     camera.setShare(cluster.rank(), cluster.size());
     ShadowStage shadow(rc);
     ReflectionStage reflection(rc);
