@@ -100,11 +100,4 @@ inline Vec2 owenSobol2D(std::uint32_t index, std::uint64_t key) {
     return owenSobol2DReversed(reverseBits(index), key);
 }
 
-// Sample `index` of one dimension (a scrambled van der Corput sequence).
-inline float owenSobol1D(std::uint32_t index, std::uint64_t key) {
-    SobolSeeds s(key);
-    std::uint32_t i = reverseBits(laineKarras(reverseBits(index), s.shuffle));
-    return fixedToUnit(reverseBits(laineKarras(i, s.x)));
-}
-
 } // namespace rayproc::kernels

@@ -40,7 +40,6 @@ LightBounds merge(const LightBounds& a, const LightBounds& b) {
 
 void LightSampler::build(const std::vector<LightBounds>& bounds, const std::vector<bool>& infinite) {
     RAYPROC_CHECK(bounds.size() == infinite.size());
-    m_bounds = bounds;
     m_infinite = infinite;
     m_infiniteList.clear();
     m_boundedList.clear();
@@ -84,18 +83,18 @@ void LightSampler::build(const std::vector<LightBounds>& bounds, const std::vect
     if (m_boundedList.size() > kExhaustiveLimit) {
         std::vector<std::size_t> lights = m_boundedList;
         m_nodes.reserve(2 * lights.size());
-        buildNode(lights, 0, lights.size(), 0, 0);
+        buildNode(bounds, lights, 0, lights.size(), 0, 0);
     }
 }
 
 // Splits at the median of the centres along the widest axis of their box; a leaf per light.
-int LightSampler::buildNode(std::vector<std::size_t>& lights, std::size_t begin, std::size_t end,
-                            std::uint64_t trail, int depth) {
+int LightSampler::buildNode(const std::vector<LightBounds>& bounds, std::vector<std::size_t>& lights,
+                            std::size_t begin, std::size_t end, std::uint64_t trail, int depth) {
     int index = int(m_nodes.size());
     m_nodes.emplace_back();
     if (end - begin == 1) {
         std::size_t l = lights[begin];
-        m_nodes[std::size_t(index)].bounds = m_bounds[l];
+        m_nodes[std::size_t(index)].bounds = bounds[l];
         m_nodes[std::size_t(index)].child[0] = int(l);
         m_trail[l] = trail;
         m_trailLen[l] = std::uint8_t(depth);
@@ -103,19 +102,19 @@ int LightSampler::buildNode(std::vector<std::size_t>& lights, std::size_t begin,
     }
     Vec3 lo(kInfinity), hi(-kInfinity);
     for (std::size_t k = begin; k < end; ++k) {
-        lo = vmin(lo, m_bounds[lights[k]].center);
-        hi = vmax(hi, m_bounds[lights[k]].center);
+        lo = vmin(lo, bounds[lights[k]].center);
+        hi = vmax(hi, bounds[lights[k]].center);
     }
     Vec3 ext = hi - lo;
     int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-    auto coord = [&](std::size_t l) { return m_bounds[l].center[axis]; };
+    auto coord = [&](std::size_t l) { return bounds[l].center[axis]; };
     std::size_t mid = begin + (end - begin) / 2;
     std::nth_element(lights.begin() + std::ptrdiff_t(begin), lights.begin() + std::ptrdiff_t(mid),
                      lights.begin() + std::ptrdiff_t(end), [&](std::size_t a, std::size_t b) {
                          return coord(a) < coord(b) || (coord(a) == coord(b) && a < b);
                      });
-    int left = buildNode(lights, begin, mid, trail, depth + 1);
-    int right = buildNode(lights, mid, end, trail | (std::uint64_t(1) << depth), depth + 1);
+    int left = buildNode(bounds, lights, begin, mid, trail, depth + 1);
+    int right = buildNode(bounds, lights, mid, end, trail | (std::uint64_t(1) << depth), depth + 1);
     Node& n = m_nodes[std::size_t(index)];
     n.child[0] = left;
     n.child[1] = right;
@@ -154,7 +153,7 @@ LightSampler::Pick LightSampler::sample(const Vec3& p, float u) const {
 }
 
 float LightSampler::pmf(const Vec3& p, std::size_t index) const {
-    if (index >= m_bounds.size()) return 0.0f;
+    if (index >= m_infinite.size()) return 0.0f;
     float share = infiniteShare();
     if (m_infinite[index]) {
         std::size_t k = std::size_t(std::find(m_infiniteList.begin(), m_infiniteList.end(), index) -

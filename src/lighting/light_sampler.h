@@ -39,7 +39,7 @@ public:
     // Picks a choice with u in [0, 1).
     Pick sample(const Vec3& p, float u) const;
     float pmf(const Vec3& p, std::size_t index) const;
-    std::size_t choices() const { return m_bounds.size(); }
+    std::size_t choices() const { return m_infinite.size(); }
     bool usesHierarchy() const { return !m_nodes.empty(); }
 
 private:
@@ -52,13 +52,12 @@ private:
     float infiniteProbability(std::size_t k) const; // of m_infiniteList[k], within the share
     Pick sampleBounded(const Vec3& p, float u) const;
     float pmfBounded(const Vec3& p, std::size_t index) const;
-    int buildNode(std::vector<std::size_t>& lights, std::size_t begin, std::size_t end,
-                  std::uint64_t trail, int depth);
+    int buildNode(const std::vector<LightBounds>& bounds, std::vector<std::size_t>& lights,
+                  std::size_t begin, std::size_t end, std::uint64_t trail, int depth);
 
     // The importance of every light with a position at p, into weights (few lights); their sum.
     float boundedImportances(const Vec3& p, float* weights) const;
 
-    std::vector<LightBounds> m_bounds; // per choice (unused for infinite ones)
     // The lights with a position, their bounds by component (boundedImportances' loop).
     struct Components {
         std::vector<float> cx, cy, cz, r2, phi, ax, ay, az, cosO, sinO, cosE, twoSided;

@@ -101,12 +101,12 @@ TEST_CASE("Sobol: every power-of-two prefix and aligned block of a pixel's sampl
     }
 }
 
-TEST_CASE("Sobol: 1D points are stratified, and different keys give different sequences",
+TEST_CASE("Sobol: each coordinate alone is stratified, and different keys give different sequences",
           "[kernels][sobol]") {
     for (int m = 0; m <= 12; ++m) {
         std::uint32_t n = 1u << m;
         std::vector<int> strata(n, 0);
-        for (std::uint32_t i = 0; i < n; ++i) ++strata[std::uint32_t(owenSobol1D(i, 5) * float(n))];
+        for (std::uint32_t i = 0; i < n; ++i) ++strata[std::uint32_t(owenSobol2D(i, 5).x * float(n))];
         for (int c : strata) REQUIRE(c == 1);
     }
     // Two pairs of one pixel (keys differ) are independent scrambles: their x's are not the
