@@ -64,6 +64,9 @@ struct RenderArgs {
     float causticAlpha = 0;
     double timeLimit = 0;
     double targetRelMse = 0;
+    // Adaptive sampling: on with --target-relmse unless --no-adaptive, on with --adaptive.
+    bool adaptive = false, noAdaptive = false;
+    int adaptiveMinSpp = 16;
     std::string debugView = "none";
     // profiling switches
     bool noSceneAnalysis = false, noStratification = false, noRoulette = false;
@@ -165,6 +168,8 @@ int runRender(const RenderArgs& a) {
     engine.lightChoice = !a.noLightChoice;
     engine.timeLimitSeconds = a.timeLimit;
     engine.targetRelMse = a.targetRelMse;
+    engine.adaptiveSampling = !a.noAdaptive && (a.adaptive || a.targetRelMse > 0);
+    engine.adaptiveMinSpp = a.adaptiveMinSpp;
     ToneMapSettings tm;
     tm.exposure = a.exposure;
     tm.op = a.tonemap == "reinhard" ? ToneMap::Reinhard
@@ -549,9 +554,22 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "only the noise that differs between the halves (the cache records'): the "
                     "photon map and the records' positions are common to both, so gi's error "
                     "can be several times the target (the classroom: 3.4x). Stops at "
-                    "--time-limit too")
+                    "--time-limit too. Adaptive sampling is on unless --no-adaptive")
         ->check(finiteNumber())
         ->check(CLI::PositiveNumber);
+    cmd->add_flag("--adaptive", args->adaptive,
+                  "Adaptive sampling: after --adaptive-min-spp samples in every pixel, pairs of "
+                  "passes go to the pixels whose noise (estimated from two half buffers) needs "
+                  "them, as n proportional to the square root of the pixel's noise per sample "
+                  "(the least image relMSE for the samples); --spp is then the mean over the "
+                  "image, and no pixel takes more than 16 times it. On with --target-relmse "
+                  "(where --spp caps each pixel)");
+    cmd->add_flag("--no-adaptive", args->noAdaptive,
+                  "Uniform sampling under --target-relmse: every pixel takes every pass")
+        ->excludes("--adaptive");
+    cmd->add_option("--adaptive-min-spp", args->adaptiveMinSpp,
+                    "Samples every pixel takes before adaptive sampling decides (default 16)")
+        ->check(CLI::Range(2, 1 << 20));
     cmd->add_option("--time-limit", args->timeLimit,
                     "Stop after the first pass that ends past SECONDS (counted like the error "
                     "log's, gi's pre-passes included); passes are then 1 spp and --spp is the "

@@ -62,6 +62,16 @@ void CameraEmitter::beginPass(int firstSample, int count) {
     m_firstSample = firstSample;
     m_passCount = count;
     m_next.store(0);
+    m_tiles.clear();
+    const int width = m_camera.width, height = m_camera.height;
+    for (int tile = m_shareRank; tile < m_tilesX * m_tilesY; tile += m_shareSize) {
+        bool any = !m_mask;
+        const int x0 = (tile % m_tilesX) * kTile, y0 = (tile / m_tilesX) * kTile;
+        for (int y = y0; y < std::min(y0 + kTile, height) && !any; ++y)
+            for (int x = x0; x < std::min(x0 + kTile, width) && !any; ++x)
+                any = (*m_mask)[std::size_t(y) * std::size_t(width) + std::size_t(x)] != 0;
+        if (any) m_tiles.push_back(tile);
+    }
 }
 
 // Unit u covers the share's tile (u / passCount) for sample (firstSample + u % passCount): all the
@@ -71,18 +81,22 @@ bool CameraEmitter::emit(StageContext& ctx) {
     if (unit >= unitsPerPass()) return false;
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, StageId::CameraEmit);
-    int tile = m_shareRank + m_shareSize * int(unit / m_passCount);
-    int sample = m_firstSample + int(unit % m_passCount);
+    const int tile = m_tiles[std::size_t(unit / m_passCount)];
+    const int ofPass = int(unit % m_passCount);
     int x0 = (tile % m_tilesX) * kTile, y0 = (tile / m_tilesX) * kTile;
     int width = m_camera.width, height = m_camera.height;
 
     alignas(64) float fx[kBatchSize], fy[kBatchSize], lu[kBatchSize], lv[kBatchSize];
-    std::uint32_t pix[kBatchSize];
+    std::uint32_t pix[kBatchSize], samples[kBatchSize];
     std::uint64_t keys[kBatchSize];
     int n = 0;
     for (int y = y0; y < std::min(y0 + kTile, height); ++y) {
         for (int x = x0; x < std::min(x0 + kTile, width); ++x) {
             std::uint32_t p = std::uint32_t(y) * std::uint32_t(width) + std::uint32_t(x);
+            if (m_mask && !(*m_mask)[p]) continue;
+            // Adaptive passes continue each pixel's own sequence from its committed count.
+            const int sample = m_mask ? int(m_rc.film.samplesOf(p)) + ofPass
+                                      : m_firstSample + ofPass;
             std::uint64_t pixelKey = kernels::pathKey(m_rc.seed, p, 0xffffffffu);
             std::uint64_t key = kernels::pathKey(m_rc.seed, p, std::uint32_t(sample));
             // The film position and the lens position: Owen-scrambled Sobol points over the
@@ -109,6 +123,7 @@ bool CameraEmitter::emit(StageContext& ctx) {
             lu[n] = lens.x;
             lv[n] = lens.y;
             pix[n] = p;
+            samples[n] = std::uint32_t(sample);
             keys[n] = key;
             ++n;
         }
@@ -127,7 +142,7 @@ bool CameraEmitter::emit(StageContext& ctx) {
         batch->tnear[i] = 0.0f;
         batch->tfar[i] = kInfinity;
         batch->pixel[i] = pix[i];
-        batch->sample[i] = std::uint32_t(sample);
+        batch->sample[i] = samples[i];
         batch->prevPdf[i] = 0.0f;
         batch->prevCos[i] = 0.0f;
         batch->wr[i] = batch->wg[i] = batch->wb[i] = 1.0f;

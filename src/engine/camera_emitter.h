@@ -10,6 +10,8 @@
 #include "kernels/filter_sampling.h"
 
 #include <atomic>
+#include <cstdint>
+#include <vector>
 
 namespace rayproc {
 
@@ -30,9 +32,14 @@ public:
     void setShare(int rank, int size);
     // Prepares the emission of samples [first, first + count) of every pixel of the share.
     void beginPass(int firstSample, int count);
+    // Adaptive sampling (engine/adaptive_sampler.h): from the next beginPass on, only the
+    // pixels with mask[p] set are sampled, each with its own next samples [n_p, n_p + count)
+    // (n_p: the film's committed samples of p), and tiles without such pixels are skipped.
+    // Null: every pixel, samples [first, first + count).
+    void setMask(const std::vector<std::uint8_t>* mask) { m_mask = mask; }
     bool emit(StageContext& ctx) override;
     std::uint64_t unitsEmitted() const { return m_next.load(); }
-    std::uint64_t unitsPerPass() const { return std::uint64_t(tilesInShare()) * m_passCount; }
+    std::uint64_t unitsPerPass() const { return std::uint64_t(m_tiles.size()) * m_passCount; }
     int tilesInShare() const {
         int tiles = m_tilesX * m_tilesY;
         return tiles / m_shareSize + (m_shareRank < tiles % m_shareSize ? 1 : 0);
@@ -48,6 +55,8 @@ private:
     int m_tilesX, m_tilesY;
     int m_shareRank = 0, m_shareSize = 1;
     int m_firstSample = 0, m_passCount = 0;
+    const std::vector<std::uint8_t>* m_mask = nullptr;
+    std::vector<int> m_tiles; // the pass's tiles: the share's, less those the mask leaves out
     std::atomic<std::uint64_t> m_next{0};
 };
 

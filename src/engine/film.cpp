@@ -75,20 +75,28 @@ std::vector<double> Film::relMseParts() const {
             for (int y = ty * kTile; y < std::min((ty + 1) * kTile, m_height); ++y)
                 for (int x = tx * kTile; x < std::min((tx + 1) * kTile, m_width); ++x) {
                     std::size_t p = std::size_t(y) * std::size_t(m_width) + std::size_t(x);
-                    std::uint32_t na = m_halfSamples[0][p], nb = m_halfSamples[1][p];
-                    if (na == 0 || nb == 0) continue;
-                    for (int c = 0; c < 3; ++c) {
-                        double a = m_halfSum[0][p * 3 + c] / na, b = m_halfSum[1][p * 3 + c] / nb;
-                        double f = 0.5 * (a + b);
-                        sum += 0.25 * (a - b) * (a - b) / (f * f + 0.01);
-                        count += 1;
-                    }
+                    double e = pixelRelMse(p);
+                    if (std::isnan(e)) continue;
+                    sum += 3 * e;
+                    count += 3;
                 }
             std::size_t t = std::size_t(ty) * std::size_t(tilesX) + std::size_t(tx);
             parts[2 * t] = sum;
             parts[2 * t + 1] = count;
         }
     return parts;
+}
+
+double Film::pixelRelMse(std::size_t p) const {
+    std::uint32_t na = m_halfSamples[0][p], nb = m_halfSamples[1][p];
+    if (na == 0 || nb == 0) return std::numeric_limits<double>::quiet_NaN();
+    double sum = 0;
+    for (int c = 0; c < 3; ++c) {
+        double a = m_halfSum[0][p * 3 + c] / na, b = m_halfSum[1][p * 3 + c] / nb;
+        double f = 0.5 * (a + b);
+        sum += 0.25 * (a - b) * (a - b) / (f * f + 0.01);
+    }
+    return sum / 3;
 }
 
 double Film::relMseFromParts(const std::vector<double>& parts) {

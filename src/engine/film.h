@@ -73,6 +73,9 @@ public:
     // same additions as one process, so the same estimate to the bit.
     std::vector<double> relMseParts() const;
     static double relMseFromParts(const std::vector<double>& parts);
+    // One pixel's term of the estimate, averaged over its channels (adaptive sampling weighs
+    // pixels by it); NaN while a half holds no sample of it.
+    double pixelRelMse(std::size_t pixel) const;
 
     // The committed totals: 3 sums per pixel and samples per pixel. A distributed render adds
     // every rank's (each pixel has one owner; the others add exact zeros) and resolves them.

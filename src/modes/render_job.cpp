@@ -1,5 +1,6 @@
 #include "modes/render_job.h"
 
+#include "engine/adaptive_sampler.h"
 #include "engine/camera_emitter.h"
 #include "engine/cancel.h"
 #include "engine/intersect.h"
@@ -24,7 +25,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <sstream>
 
@@ -38,12 +41,16 @@ std::string EngineSettings::toString() const {
       << " stratification=" << (stratification ? "on" : "off")
       << " glossy_mis=" << (glossyMis ? "on" : "off")
       << " light_choice=" << (lightChoice ? "on" : "off")
-      << " diffuse_mis=" << (diffuseMis ? "on" : "off");
+      << " diffuse_mis=" << (diffuseMis ? "on" : "off")
+      << " adaptive=" << (adaptiveSampling ? "on" : "off");
+    if (adaptiveSampling) o << " adaptive_min_spp=" << adaptiveMinSpp;
     return o.str();
 }
 
 namespace {
 constexpr int kMinTargetPasses = 8;
+// Adaptive sampling without a target: no pixel takes more than this times the mean asked.
+constexpr int kAdaptiveMaxFactor = 16;
 
 // What the ranks of a distributed render decide together after each pass.
 enum PassDecision : std::uint32_t {
@@ -131,8 +138,23 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     // Under a time limit or an error target, passes of 1 spp keep the budget closely.
     const bool stopEarly = engine.timeLimitSeconds > 0 || engine.targetRelMse > 0;
     int passSpp = stopEarly ? 1 : std::clamp(spp / 32, 1, 16);
-    // Half buffers (alternate passes) give the relMSE estimate the target and the log use.
-    if (engine.targetRelMse > 0 || logging) film.enableHalfBuffers();
+    // Half buffers (alternate passes) give the relMSE estimate the target, the log and adaptive
+    // sampling use.
+    if (engine.targetRelMse > 0 || logging || engine.adaptiveSampling) film.enableHalfBuffers();
+    // Adaptive sampling: `spp` is the mean over the pixels (or the cap under a target).
+    std::optional<AdaptiveSampler> adaptive;
+    if (engine.adaptiveSampling) {
+        AdaptiveSampler::Settings as;
+        as.minSpp = std::min(engine.adaptiveMinSpp, spp);
+        as.targetRelMse = engine.targetRelMse;
+        as.meanSpp = spp;
+        as.maxSpp = engine.targetRelMse > 0 ? spp : kAdaptiveMaxFactor * spp;
+        adaptive.emplace(film.width(), film.height(), as);
+    }
+    // The samples per pixel of each pass of the next pair, once adaptive sampling decides.
+    int adaptiveCount = 0;
+    double meanSpp = 0;     // samples per pixel taken so far, the mean over the image
+    double activeShare = 1; // the share of the pixels the current pair samples
     // The image of the whole job (every rank's tiles), on rank 0; a collective.
     auto wholeImage = [&] {
         if (!cluster.distributed()) return film.resolve();
@@ -142,7 +164,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         cluster.sumToRoot(samples);
         return Film::resolve(film.width(), film.height(), sums, samples);
     };
-    int passes = (spp + passSpp - 1) / passSpp;
+    int passes = adaptive ? std::numeric_limits<int>::max() : (spp + passSpp - 1) / passSpp;
     std::atomic<int> passIndex{0};
     std::atomic<std::uint64_t> unitsBefore{0};
     // Whether the camera's count is of a pass not yet in unitsBefore: between passes (gi's
@@ -181,8 +203,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     bool stop = cluster.distributed() ? agreeInterrupted(cluster) : interruptRequested();
     if (!cluster.distributed() && stopRequested()) stop = stopped = true;
     for (int pass = 0; pass < passes && !stop; ++pass) {
-        int first = pass * passSpp;
-        int count = std::min(passSpp, spp - first);
+        int first = adaptiveCount > 0 ? 0 : pass * passSpp;
+        int count = adaptiveCount > 0 ? adaptiveCount : std::min(passSpp, spp - first);
         if (beforePass) beforePass(pass);
         camera.beginPass(first, count);
         passInFlight = true;
@@ -197,7 +219,26 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         }
         passIndex = pass + 1;
         ++result.passesDone;
-        result.samplesDone = first + count;
+        meanSpp = adaptiveCount > 0 ? meanSpp + double(count) * activeShare : first + count;
+        result.samplesDone = int(std::lround(meanSpp));
+        bool budgetSpent = !adaptive && first + count >= spp;
+        // Adaptive sampling decides between pairs of passes (one into each half), once every
+        // pixel has its first samples.
+        if (adaptive && pass % 2 == 1 && meanSpp >= adaptive->settings().minSpp) {
+            AdaptiveSampler::Decision d = adaptive->update(film, [&](std::vector<double>& v) {
+                cluster.sumAll(v);
+            });
+            meanSpp = d.meanSpp;
+            activeShare = d.pixels > 0 ? double(d.activePixels) / double(d.pixels) : 0;
+            budgetSpent = meanSpp >= spp || d.activePixels == 0;
+            // Passes of about half the image's samples while few pixels are left (a pass
+            // has a cost of its own), and no more than the budget left.
+            double perPass = double(passSpp) / std::max(2 * activeShare, 1e-9);
+            if (engine.targetRelMse <= 0)
+                perPass = std::min(perPass, (spp - meanSpp) / std::max(2 * activeShare, 1e-9));
+            adaptiveCount = int(std::clamp(std::ceil(perPass), 1.0, 16.0 * passSpp));
+            camera.setMask(&adaptive->activeMask());
+        }
         auto now = std::chrono::steady_clock::now();
         if (logging) {
             // The log's clock stops while the error is measured.
@@ -206,12 +247,12 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             if (cluster.root() && (errorLog || engine.onPassError)) {
                 ImageMetrics m = compareImages(whole, *engine.reference);
                 if (errorLog &&
-                    (std::fprintf(errorLog.get(), "%d,%.6f,%.9g,%.9g,%.9g\n", first + count,
+                    (std::fprintf(errorLog.get(), "%.9g,%.6f,%.9g,%.9g,%.9g\n", meanSpp,
                                   seconds, m.relmse, m.rmse, result.relMseEstimate) < 0 ||
                      std::fflush(errorLog.get()) != 0))
                     logFailed();
                 if (engine.onPassError)
-                    engine.onPassError({first + count, seconds, m.relmse, m.rmse,
+                    engine.onPassError({result.samplesDone, seconds, m.relmse, m.rmse,
                                         result.relMseEstimate, raysSoFar()});
             }
             startTicks += (Clock::now() - now).count();
@@ -246,6 +287,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             result.timeLimitReached = true;
             break;
         }
+        if (budgetSpent) break;
         if (decision & kDecideProgressive) {
             Image whole = wholeImage();
             if (engine.onProgress && cluster.root()) engine.onProgress(whole);

@@ -86,6 +86,11 @@ struct EngineSettings {
     // relMSE estimated from their difference (Film::relMseEstimate) is at most this, or at
     // the mode's spp, the time limit or an interrupt, whichever comes first.
     double targetRelMse = 0;
+    // Adaptive sampling (engine/adaptive_sampler.h): after adaptiveMinSpp samples everywhere,
+    // pairs of passes go to the pixels whose noise needs them; the mode's spp is then the mean
+    // over the image (the cap per pixel under targetRelMse).
+    bool adaptiveSampling = false;
+    int adaptiveMinSpp = 16;
     // The processes sharing the render (cluster/cluster.h); null: this process alone. Each
     // takes a share of the tiles (and of gi's photons and cache prepass); the image, the
     // statistics and the stop decisions are combined so the result is one process's, to the

@@ -80,6 +80,9 @@ TEST_CASE("A render over 1, 2 and 4 MPI ranks is bit-identical to one process, i
                 "--ic-correction-rays", "2"}},
         // Stop decisions made together: the same pass ends the render on every rank.
         {"path", {"--target-relmse", "0.05", "--spp", "64"}},
+        // Adaptive sampling: the needs come from every rank's tiles, summed in tile order.
+        {"path", {"--adaptive", "--spp", "16", "--adaptive-min-spp", "4"}},
+        {"path", {"--target-relmse", "0.02", "--spp", "256", "--adaptive-min-spp", "4"}},
     }));
     INFO("mode " << mode);
     TempDir dir;
