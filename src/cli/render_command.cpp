@@ -105,6 +105,9 @@ int runRender(const RenderArgs& a) {
     if (a.reference.empty() && !a.errorLog.empty())
         throw InputError("--error-log needs --reference IMAGE");
     if (!a.displayServer.empty()) checkDisplayServer(a.displayServer);
+    if (a.debugView == "noise" && imageFormatFromPath(output) != ImageFormat::Exr)
+        throw InputError("--debug-view noise writes its layers beside the image in an OpenEXR "
+                         "file: give -o a name ending in .exr (not " + output + ")");
     std::vector<NamedPath> files = renderFiles(a, output);
     checkDistinctFiles(files);
     if (writer) {
@@ -151,7 +154,11 @@ int runRender(const RenderArgs& a) {
     bool known = false;
     for (auto& m : knownModes()) known |= m == mode;
     if (!known) throw InputError("unknown mode '" + mode + "'; known modes: " + joinModes());
-
+    if (a.debugView == "noise" && mode != "path")
+        throw InputError("--debug-view noise is path mode's (the render's mode is " + mode + ")");
+    if (a.debugView != "none" && a.debugView != "noise" && mode != "gi")
+        throw InputError("--debug-view " + a.debugView + " is gi mode's (the render's mode is " +
+                         mode + ")");
 
     EngineSettings engine;
     engine.threads = budget.threads;
@@ -170,6 +177,7 @@ int runRender(const RenderArgs& a) {
     engine.targetRelMse = a.targetRelMse;
     engine.adaptiveSampling = !a.noAdaptive && (a.adaptive || a.targetRelMse > 0);
     engine.adaptiveMinSpp = a.adaptiveMinSpp;
+    engine.noiseBreakdown = a.debugView == "noise";
     ToneMapSettings tm;
     tm.exposure = a.exposure;
     tm.op = a.tonemap == "reinhard" ? ToneMap::Reinhard
@@ -358,7 +366,10 @@ int runRender(const RenderArgs& a) {
                              "written (%s is as it was)\n", output.c_str());
         return interruptExitStatus();
     }
-    writeImage(output, result.image, tm);
+    if (!result.layers.empty())
+        writeExrWithLayers(output, result.image, result.layers);
+    else
+        writeImage(output, result.image, tm);
     if (a.stats) std::fputs(result.stats.toTable().c_str(), stderr);
     if (!a.statsJson.empty()) writeFileAtomically(a.statsJson, result.stats.toJson() + "\n");
     if (!result.errorLogFailure.empty()) {
@@ -537,8 +548,14 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "maps' radiance estimate at first diffuse hits, nothing else), ic-records "
                     "(the render at 1/4 radiance with every cache record's projected position "
                     "marked magenta, radiance (4, 0, 4)), caustics (caustic map only), indirect "
-                    "(irradiance cache / final gather only)")
-        ->check(CLI::IsMember({"none", "photons", "ic-records", "caustics", "indirect"}));
+                    "(irradiance cache / final gather only). path: noise (the render, and beside "
+                    "it in the .exr output per pixel where the noise comes from: for each "
+                    "strategy, direct, caustic, light-samples, light-hits, sky-samples and "
+                    "sky-hits, the layer noise.<strategy> (its variance per sample over the "
+                    "pixel's squared mean + 0.01, so the layers add up to about the pixel's "
+                    "relMSE times its spp) and mean.<strategy> (its luminance); "
+                    "docs/performance.md)")
+        ->check(CLI::IsMember({"none", "photons", "ic-records", "caustics", "indirect", "noise"}));
     cmd->add_option("--reference", args->reference,
                     "Reference image (PNG/EXR/HDR/PFM, same size) for the convergence log")
         ->check(CLI::ExistingFile);

@@ -108,8 +108,9 @@ double Film::relMseFromParts(const std::vector<double>& parts) {
     return count > 0 ? sum / count : std::numeric_limits<double>::quiet_NaN();
 }
 
-void Film::commitPass(int half) {
+void Film::commitPass(int half, std::vector<double>* passSums) {
     std::lock_guard<std::mutex> lk(m_commitMutex);
+    if (passSums) passSums->assign(m_sum.size(), 0.0);
     std::size_t n = m_samples.size();
     const bool halves = hasHalfBuffers();
     for (std::size_t p = 0; p < n; ++p) {
@@ -121,6 +122,7 @@ void Film::commitPass(int half) {
             std::int64_t high = m_passHigh[p * 3 + c].exchange(0, std::memory_order_relaxed);
             __int128 v = (static_cast<__int128>(high) << 64) | static_cast<__int128>(low);
             m_sum[p * 3 + c] += double(v) / m_scale;
+            if (passSums) (*passSums)[p * 3 + c] = double(v) / m_scale;
             if (halves) m_halfSum[half][p * 3 + c] += double(v) / m_scale;
         }
     }

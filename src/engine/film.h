@@ -55,7 +55,8 @@ public:
     }
     // Folds the pass into the totals; call when no ray of the pass is in flight. With half
     // buffers enabled, the pass also goes to half `half` (0 or 1).
-    void commitPass(int half = 0);
+    // `passSums`, when given, receives the pass's own sums (3 per pixel).
+    void commitPass(int half = 0, std::vector<double>* passSums = nullptr);
 
     // Two half buffers: passes alternate between them, so each holds an independent estimate
     // made of half the samples. Their difference measures the image's noise without a

@@ -1,5 +1,6 @@
 #include "engine/path_stage.h"
 
+#include "engine/noise_breakdown.h"
 #include "engine/path_state.h"
 #include "engine/material_bsdf.h"
 #include "kernels/bsdf_sampling.h"
@@ -142,6 +143,17 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
     const bool sobol = policy.stratify && m_lowDiscrepancy;
     const std::uint64_t seedKey = kernels::mix64(m_rc.seed ^ 0x5851f42d4c957f2dULL);
     std::uint64_t shadowOut = 0, reflectOut = 0, refractOut = 0;
+    // A contribution's category for --stats, and its pixel's noise breakdown when asked for:
+    // reached through delta lobes after a non-delta bounce is a caustic.
+    auto fileContribution = [&](const RayBatch& rb, int i, std::size_t category, double lum,
+                                ThreadStats& st) {
+        st.addContribution(category, lum);
+        if (m_rc.noise)
+            m_rc.noise->add(rb.pixel[i],
+                            NoiseBreakdown::groupOf(category, lights.lights.size(),
+                                                    rb.depth[i] > rb.specularDepth[i]),
+                            lum, st);
+    };
 
     for (int i = 0; i < b.count; ++i) {
         Vec3 w = laneThroughput(b, i);
@@ -158,8 +170,8 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             float pick = sampler.pmf(o, lights.lights.size()); // the sky's fixed share
             float mis = fromDelta ? 1.0f : kernels::powerHeuristic(b.prevPdf[i], pick * envPdf);
             Vec3 sky = w * lights.environment.radiance(d) * mis;
-            stats.addContribution(fromDelta ? 0 : contributionOfBsdfHit(lights.lights.size()),
-                                  luminance(sky));
+            fileContribution(b, i, fromDelta ? 0 : contributionOfBsdfHit(lights.lights.size()),
+                             luminance(sky), stats);
             m_rc.film.add(b.pixel[i], sky, stats);
             continue;
         }
@@ -177,8 +189,9 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                                    : 0.0f;
                 mis = kernels::powerHeuristic(b.prevPdf[i], pl);
             }
-            stats.addContribution(fromDelta || li < 0 ? 0 : contributionOfBsdfHit(std::size_t(li)),
-                                  luminance(w * le * mis));
+            fileContribution(b, i,
+                             fromDelta || li < 0 ? 0 : contributionOfBsdfHit(std::size_t(li)),
+                             luminance(w * le * mis), stats);
             m_rc.film.add(b.pixel[i], w * le * mis, stats);
         }
         if (b.flags[i] & kFlagEmissionOnly) continue; // the last vertex's BSDF sample

@@ -13,6 +13,7 @@
 namespace rayproc {
 
 struct GiData;
+class NoiseBreakdown;
 
 // How surfaces are shaded: the knobs that make preview and raytrace modes differ.
 struct ShadingPolicy {
@@ -62,6 +63,8 @@ struct RenderContext {
     Film& film;
     std::uint64_t seed = 0;
     const GiData* gi = nullptr; // gi mode: photon maps, irradiance cache
+    // Path mode's --debug-view noise: every contribution is also filed by pixel and strategy.
+    NoiseBreakdown* noise = nullptr;
 };
 
 // The origin of a ray leaving hit h in direction `dir`: off the surface along the geometric

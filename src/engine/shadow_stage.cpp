@@ -1,6 +1,7 @@
 #include "engine/shadow_stage.h"
 
 #include "engine/glossy_mis.h"
+#include "engine/noise_breakdown.h"
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
 #include "kernels/bsdf.h"
@@ -186,8 +187,15 @@ void ShadowStage::retrace(RayBatch& b, StageContext& ctx) {
     for (int i = 0; i < b.count; ++i) {
         if (b.occluded(i)) continue;
         // Path mode's light samples carry their category (1 + it) in the key they do not use.
-        if (b.rngKey[i] != 0)
-            stats.addContribution(std::size_t(b.rngKey[i] - 1), luminance(laneThroughput(b, i)));
+        if (b.rngKey[i] != 0) {
+            const std::size_t category = std::size_t(b.rngKey[i] - 1);
+            const double lum = luminance(laneThroughput(b, i));
+            stats.addContribution(category, lum);
+            if (m_rc.noise)
+                m_rc.noise->add(b.pixel[i],
+                                NoiseBreakdown::groupOf(category, m_rc.lights.lights.size(), false),
+                                lum, stats);
+        }
         m_rc.film.add(b.pixel[i], laneThroughput(b, i), stats);
     }
 }

@@ -59,7 +59,16 @@ std::string channelNames(const Imf::ChannelList& channels) {
 
 } // namespace
 
-void writeExr(const std::string& path, const Image& img) {
+void writeExr(const std::string& path, const Image& img) { writeExrLayers(path, img, {}); }
+
+void writeExrLayers(const std::string& path, const Image& img,
+                        const std::vector<ImageLayer>& layers) {
+    const std::size_t pixels = std::size_t(img.width) * std::size_t(img.height);
+    for (const ImageLayer& l : layers)
+        if (l.values.size() != pixels)
+            throw ImageIoError("cannot write \"" + path + "\": layer " + l.name + " has " +
+                               std::to_string(l.values.size()) + " values for " +
+                               std::to_string(pixels) + " pixels");
     AtomicFileWriter out(path);
     try {
         Imf::Header header(img.width, img.height);
@@ -71,6 +80,13 @@ void writeExr(const std::string& path, const Image& img) {
             frameBuffer.insert(kChannels[c], Imf::Slice::Make(Imf::FLOAT, img.pixels.data() + c,
                                                               header.dataWindow(), kPixelStride,
                                                               kPixelStride * img.width));
+        }
+        for (const ImageLayer& l : layers) {
+            const std::string channel = l.name + ".Y";
+            header.channels().insert(channel, Imf::Channel(Imf::FLOAT));
+            frameBuffer.insert(channel, Imf::Slice::Make(Imf::FLOAT, l.values.data(),
+                                                         header.dataWindow(), sizeof(float),
+                                                         sizeof(float) * std::size_t(img.width)));
         }
         AtomicExrStream stream(out);
         Imf::OutputFile file(stream, header);
@@ -343,3 +359,12 @@ Image readExr(const std::string& path) {
 }
 
 } // namespace rayproc::image_detail
+
+namespace rayproc {
+
+void writeExrWithLayers(const std::string& path, const Image& img,
+                        const std::vector<ImageLayer>& layers) {
+    image_detail::writeExrLayers(path, img, layers);
+}
+
+} // namespace rayproc

@@ -52,6 +52,16 @@ enum class ImageFormat { Png, Exr, Hdr, Pfm };
 // ImageIoError listing the supported ones (.png .exr .hdr .pfm).
 ImageFormat imageFormatFromPath(const std::string& path);
 
+// A named single-channel image beside the RGB one (an EXR layer "name.Y"), one value per pixel.
+struct ImageLayer {
+    std::string name;
+    std::vector<float> values;
+};
+// Writes `img` as OpenEXR with each layer as the channel "<name>.Y" (tev and compositors show
+// them as layers), atomically as writeImage. The path must end in .exr.
+void writeExrWithLayers(const std::string& path, const Image& img,
+                        const std::vector<ImageLayer>& layers);
+
 // Writes `img` in the format given by the extension of `path`, atomically (temporary file in
 // the same directory, fsync, rename). `tm` only affects PNG; the float formats store radiance.
 void writeImage(const std::string& path, const Image& img, const ToneMapSettings& tm = {});

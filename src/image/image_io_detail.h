@@ -122,6 +122,7 @@ Image readPng(const std::string& path);
 void writeHdr(const std::string& path, const Image& img);
 Image readHdr(const std::string& path);
 void writeExr(const std::string& path, const Image& img);
+void writeExrLayers(const std::string& path, const Image& img, const std::vector<ImageLayer>& layers);
 Image readExr(const std::string& path);
 void writePfm(const std::string& path, const Image& img);
 Image readPfm(const std::string& path);

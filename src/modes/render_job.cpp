@@ -4,6 +4,7 @@
 #include "engine/camera_emitter.h"
 #include "engine/cancel.h"
 #include "engine/intersect.h"
+#include "engine/noise_breakdown.h"
 #include "engine/path_stage.h"
 #include "engine/processor.h"
 #include "engine/progress.h"
@@ -83,6 +84,11 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
               Film::exponentFor(lights.radianceScale(scene.worldBounds())));
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
     rc.gi = gi;
+    std::optional<NoiseBreakdown> noise;
+    if (engine.noiseBreakdown) {
+        noise.emplace(film.width(), film.height(), film.exponent());
+        rc.noise = &*noise;
+    }
 
     // The pipeline: one emitter, one intersection handler, the retrace stages by ray kind.
     Stats stats;
@@ -137,7 +143,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     // progressive output is written and where a cancel leaves a consistent image.
     // Under a time limit or an error target, passes of 1 spp keep the budget closely.
     const bool stopEarly = engine.timeLimitSeconds > 0 || engine.targetRelMse > 0;
-    int passSpp = stopEarly ? 1 : std::clamp(spp / 32, 1, 16);
+    // The noise breakdown takes each pass's sums for one sample's values.
+    int passSpp = stopEarly || noise ? 1 : std::clamp(spp / 32, 1, 16);
     // Half buffers (alternate passes) give the relMSE estimate the target, the log and adaptive
     // sampling use.
     if (engine.targetRelMse > 0 || logging || engine.adaptiveSampling) film.enableHalfBuffers();
@@ -212,6 +219,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         unitsBefore += std::min<std::uint64_t>(camera.unitsEmitted(), camera.unitsPerPass());
         passInFlight = false;
         film.commitPass(pass % 2);
+        if (noise) noise->commitPass();
         if (film.hasHalfBuffers()) {
             std::vector<double> parts = film.relMseParts();
             cluster.sumAll(parts);
@@ -236,7 +244,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             double perPass = double(passSpp) / std::max(2 * activeShare, 1e-9);
             if (engine.targetRelMse <= 0)
                 perPass = std::min(perPass, (spp - meanSpp) / std::max(2 * activeShare, 1e-9));
-            adaptiveCount = int(std::clamp(std::ceil(perPass), 1.0, 16.0 * passSpp));
+            adaptiveCount = noise ? 1 : int(std::clamp(std::ceil(perPass), 1.0, 16.0 * passSpp));
             camera.setMask(&adaptive->activeMask());
         }
         auto now = std::chrono::steady_clock::now();
@@ -304,6 +312,11 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     cluster.sumToRoot(sums);
     cluster.sumToRoot(samples);
     result.image = Film::resolve(film.width(), film.height(), sums, samples);
+    if (noise) {
+        std::vector<std::vector<double>> moments = noise->moments();
+        for (auto& m : moments) cluster.sumToRoot(m);
+        result.layers = NoiseBreakdown::layers(film.width(), film.height(), moments, samples);
+    }
     result.filmLimit = film.fixedLimit();
     result.stats.totals = stats.merged();
     sumToRoot(cluster, result.stats.totals);

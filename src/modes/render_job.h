@@ -91,6 +91,9 @@ struct EngineSettings {
     // over the image (the cap per pixel under targetRelMse).
     bool adaptiveSampling = false;
     int adaptiveMinSpp = 16;
+    // Path mode's --debug-view noise: RenderResult::layers gets each pixel's noise and mean by
+    // the strategy that sampled it (engine/noise_breakdown.h).
+    bool noiseBreakdown = false;
     // The processes sharing the render (cluster/cluster.h); null: this process alone. Each
     // takes a share of the tiles (and of gi's photons and cache prepass); the image, the
     // statistics and the stop decisions are combined so the result is one process's, to the
@@ -118,6 +121,8 @@ struct RenderResult {
     // The largest |radiance| one contribution could carry (Film::fixedLimit: it follows the
     // scene's brightness); stats.totals.clampedSamples counts those beyond.
     double filmLimit = 18446744073709551616.0; // Film::kFixedLimit, the default
+    // Extra per-pixel images (EngineSettings::noiseBreakdown), on rank 0.
+    std::vector<ImageLayer> layers;
 };
 
 // beforePass (optional) runs before each pass with its index, on every rank (gi's progressive
