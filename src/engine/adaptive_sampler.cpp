@@ -7,6 +7,8 @@ namespace rayproc {
 
 namespace {
 constexpr int kTile = 16; // the film's and the camera emitter's tiles
+// The need of a pixel follows the largest smoothed noise within this many pixels (in its tile).
+constexpr int kDilation = 2;
 } // namespace
 
 AdaptiveSampler::AdaptiveSampler(int width, int height, Settings settings)
@@ -17,18 +19,20 @@ AdaptiveSampler::AdaptiveSampler(int width, int height, Settings settings)
 std::vector<double> AdaptiveSampler::measure(const Film& film) {
     const int tilesX = (m_width + kTile - 1) / kTile, tilesY = (m_height + kTile - 1) / kTile;
     std::vector<double> parts(std::size_t(tilesX) * std::size_t(tilesY) * 3, 0.0);
-    // Noise per sample of each pixel (NaN without an estimate), then its window's mean.
+    // Noise per sample of each pixel (NaN without an estimate).
     std::vector<double> v(m_sqrtV.size());
     for (std::size_t p = 0; p < v.size(); ++p)
         v[p] = film.pixelRelMse(p) * double(film.samplesOf(std::uint32_t(p)));
+    std::vector<float> smooth(m_sqrtV.size(), -1.0f);
     for (int ty = 0; ty < tilesY; ++ty)
         for (int tx = 0; tx < tilesX; ++tx) {
             const int x0 = tx * kTile, y0 = ty * kTile;
             const int x1 = std::min(x0 + kTile, m_width), y1 = std::min(y0 + kTile, m_height);
-            double sumSqrt = 0, count = 0, samples = 0;
+            // The square root of the mean over the 3x3 window (within the tile)...
             for (int y = y0; y < y1; ++y)
                 for (int x = x0; x < x1; ++x) {
                     const std::size_t p = std::size_t(y) * std::size_t(m_width) + std::size_t(x);
+                    if (std::isnan(v[p])) continue;
                     double sum = 0;
                     int n = 0;
                     for (int wy = std::max(y - 1, y0); wy <= std::min(y + 1, y1 - 1); ++wy)
@@ -38,13 +42,25 @@ std::vector<double> AdaptiveSampler::measure(const Film& film) {
                             sum += w;
                             ++n;
                         }
-                    if (std::isnan(v[p]) || n == 0) {
+                    smooth[p] = float(std::sqrt(sum / n)); // n >= 1: the pixel itself
+                }
+            // ...then the largest of those within kDilation pixels: a pixel whose own samples
+            // have not yet met a rare bright path (a firefly) a neighbour met keeps sampling.
+            double sumSqrt = 0, count = 0, samples = 0;
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) {
+                    const std::size_t p = std::size_t(y) * std::size_t(m_width) + std::size_t(x);
+                    if (smooth[p] < 0) {
                         m_sqrtV[p] = -1.0f;
                         continue;
                     }
-                    const double s = std::sqrt(sum / n);
-                    m_sqrtV[p] = float(s);
-                    sumSqrt += s;
+                    float s = smooth[p];
+                    for (int wy = std::max(y - kDilation, y0); wy <= std::min(y + kDilation, y1 - 1); ++wy)
+                        for (int wx = std::max(x - kDilation, x0); wx <= std::min(x + kDilation, x1 - 1);
+                             ++wx)
+                            s = std::max(s, smooth[std::size_t(wy) * std::size_t(m_width) + std::size_t(wx)]);
+                    m_sqrtV[p] = s;
+                    sumSqrt += double(s);
                     count += 1;
                     samples += double(film.samplesOf(std::uint32_t(p)));
                 }
