@@ -51,6 +51,8 @@ const std::vector<AblationSwitch>& ablationSwitches() {
          [](RenderConfig& c) { c.engine.stratification = false; }},
         {"stratification", "gi", "--no-stratification",
          [](RenderConfig& c) { c.engine.stratification = false; }},
+        {"sky compensation", "path", "--no-sky-compensation",
+         [](RenderConfig& c) { c.engine.skyCompensation = false; }},
     };
     return table;
 }

@@ -61,6 +61,7 @@ std::string RenderConfig::settingsString() const {
         (mode == "gi" && !gi.roulette))
         o << " no-russian-roulette";
     if (!engine.stratification) o << " no-stratification";
+    if (!engine.skyCompensation && mode == "path") o << " no-sky-compensation";
     if (!engine.glossyMis && (mode == "gi" || mode == "raytrace")) o << " no-glossy-mis";
     if (!engine.lightChoice && (mode == "gi" || mode == "raytrace")) o << " no-light-choice";
     if (!engine.diffuseMis && (mode == "gi" || mode == "raytrace")) o << " no-diffuse-mis";

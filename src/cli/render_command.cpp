@@ -70,7 +70,7 @@ struct RenderArgs {
     std::string debugView = "none";
     // profiling switches
     bool noSceneAnalysis = false, noStratification = false, noRoulette = false;
-    bool noGlossyMis = false, noDiffuseMis = false;
+    bool noGlossyMis = false, noDiffuseMis = false, noSkyCompensation = false;
     bool noLightChoice = false;
 };
 
@@ -172,6 +172,7 @@ int runRender(const RenderArgs& a) {
     engine.stratification = !a.noStratification;
     engine.glossyMis = !a.noGlossyMis;
     engine.diffuseMis = !a.noDiffuseMis;
+    engine.skyCompensation = !a.noSkyCompensation;
     engine.lightChoice = !a.noLightChoice;
     engine.timeLimitSeconds = a.timeLimit;
     engine.targetRelMse = a.targetRelMse;
@@ -518,6 +519,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_flag("--no-stratification", args->noStratification,
                   "Independent random samples instead of stratified ones: camera sub-pixel "
                   "positions, light samples, path mode's first-hit samples, final-gather rays");
+    cmd->add_flag("--no-sky-compensation", args->noSkyCompensation,
+                  "path: sample an image sky by its luminance for light samples, instead of by "
+                  "its excess over its mean (the part BSDF samples find as well, weighed by MIS; "
+                  "pbrt-v4's allowIncompletePDF)");
     cmd->add_flag("--no-glossy-mis", args->noGlossyMis,
                   "raytrace, gi: light glossy surfaces (rough metals and glass, rough coats) by "
                   "light samples alone instead of combining them with the sampled reflection "

@@ -47,7 +47,7 @@ private:
 
 bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const SurfaceHit& h,
                     const kernels::BsdfParams& bsdf, const Vec3& wo, const Vec3& w, Vec2 u,
-                    float up, bool areaLightsOnly, RayBatch& out) {
+                    float up, bool areaLightsOnly, bool compensated, RayBatch& out) {
     if (lights.choiceCount() == 0) return false;
     const LightSampler::Pick choice = lights.sampler.sample(h.p, up);
     if (!(choice.pmf > 0)) return false;
@@ -71,7 +71,9 @@ bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const Surf
         }
     } else {
         if (areaLightsOnly) return false;
-        EnvironmentSample es = lights.environment.sample(u, fs);
+        // Every vertex that samples the sky also sends a BSDF ray that may find it, so an
+        // image sky's light samples may leave its below-average part to the BSDF's.
+        EnvironmentSample es = lights.environment.sample(u, fs, compensated);
         if (es.valid) {
             wi = es.wi;
             lightPdf = es.pdf;
@@ -166,7 +168,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             // image sky by its luminance (lighting/environment.h): MIS with that pdf.
             float envPdf = lights.environment.cosineSampled()
                                ? std::max(0.0f, b.prevCos[i]) * kInvPi
-                               : lights.environment.pdf(d, Vec3(0.0f));
+                               : lights.environment.pdf(d, Vec3(0.0f), policy.skyCompensation);
             float pick = sampler.pmf(o, lights.lights.size()); // the sky's fixed share
             float mis = fromDelta ? 1.0f : kernels::powerHeuristic(b.prevPdf[i], pick * envPdf);
             Vec3 sky = w * lights.environment.radiance(d) * mis;
@@ -206,7 +208,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
         // Next-event estimation: one light (or the sky), MIS-weighted against the BSDF.
         if (!deltaMaterial && choices > 0 &&
             sampleOneLight(lights, b, i, h, bsdf, wo, w, u.get2D(kDimLight), pickLobe.x, false,
-                           ctx.out(m_outputs.shadow)))
+                           policy.skyCompensation, ctx.out(m_outputs.shadow)))
             ++shadowOut;
 
         // Continue the path by sampling the BSDF.

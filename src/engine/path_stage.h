@@ -24,10 +24,12 @@ namespace rayproc {
 // and sampled (`u`), MIS-weighted against the BSDF by the power heuristic (both pdfs with the
 // choice's probability); an occlusion ray into `out` carries the
 // unoccluded contribution. `areaLightsOnly`: a delta light or the sky chosen adds nothing (gi's
-// correction paths leave their direct light to the gather). Whether a ray was spawned.
+// correction paths leave their direct light to the gather). `compensated`: an image sky by
+// its excess over its mean (ShadingPolicy::skyCompensation; the escaped BSDF rays' MIS weights
+// must use the same density). Whether a ray was spawned.
 bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const SurfaceHit& h,
                     const kernels::BsdfParams& bsdf, const Vec3& wo, const Vec3& w, Vec2 u,
-                    float up, bool areaLightsOnly, RayBatch& out);
+                    float up, bool areaLightsOnly, bool compensated, RayBatch& out);
 
 class PathStage : public RetraceStage {
 public:

@@ -53,6 +53,10 @@ struct ShadingPolicy {
     // choosing a light by LightSource::selectionWeight (lighting/light_set.h); off
     // (--no-light-choice): lightSamples samples of every area light.
     bool lightChoice = false;
+    // path: an image sky's light samples follow its excess over its mean and the MIS weights
+    // use that density (pbrt-v4's allowIncompletePDF; lighting/environment_map.h); off
+    // (--no-sky-compensation): they follow its luminance.
+    bool skyCompensation = false;
 };
 
 struct RenderContext {

@@ -47,14 +47,14 @@ Vec3 EnvironmentLight::radiance(const Vec3& dir) const {
     return L;
 }
 
-float EnvironmentLight::mixturePdf(const Vec3& dir) const {
+float EnvironmentLight::mixturePdf(const Vec3& dir, bool compensated) const {
     float pdf = m_pick[0] / (4 * kPi);
     for (std::size_t i = 0; i < m_images.size(); ++i)
-        pdf += (m_pick[i + 1] - m_pick[i]) * m_images[i]->pdf(dir);
+        pdf += (m_pick[i + 1] - m_pick[i]) * m_images[i]->pdf(dir, compensated);
     return pdf;
 }
 
-EnvironmentSample EnvironmentLight::sample(Vec2 u, const Vec3& n) const {
+EnvironmentSample EnvironmentLight::sample(Vec2 u, const Vec3& n, bool compensated) const {
     EnvironmentSample s;
     if (m_images.empty()) { // constant sky: cosine-weighted about n
         s.wi = kernels::toWorld(kernels::cosineHemisphere(u), n);
@@ -75,7 +75,7 @@ EnvironmentSample EnvironmentLight::sample(Vec2 u, const Vec3& n) const {
     } else {
         float pdf;
         Vec3 L;
-        s.wi = m_images[c - 1]->sample(v, pdf, L);
+        s.wi = m_images[c - 1]->sample(v, pdf, L, compensated);
         if (!(pdf > 0)) return s;
         if (m_images.size() == 1 && m_pick[0] == 0) { // the common case: one image alone
             s.pdf = pdf;
@@ -84,16 +84,16 @@ EnvironmentSample EnvironmentLight::sample(Vec2 u, const Vec3& n) const {
             return s;
         }
     }
-    s.pdf = mixturePdf(s.wi);
+    s.pdf = mixturePdf(s.wi, compensated);
     if (!(s.pdf > 0)) return s;
     s.weight = radiance(s.wi) / s.pdf;
     s.valid = isFinite(s.weight);
     return s;
 }
 
-float EnvironmentLight::pdf(const Vec3& dir, const Vec3& n) const {
+float EnvironmentLight::pdf(const Vec3& dir, const Vec3& n, bool compensated) const {
     if (m_images.empty()) return std::max(0.0f, dot(dir, n)) * kInvPi;
-    return mixturePdf(dir);
+    return mixturePdf(dir, compensated);
 }
 
 Vec3 EnvironmentLight::average() const {

@@ -27,10 +27,13 @@ public:
     // Radiance arriving along -dir, i.e. seen by a ray travelling in direction `dir`.
     Vec3 radiance(const Vec3& dir) const;
     // A direction to the sky for a shading point with facing shading normal n: cosine-weighted
-    // about n for a constant sky, luminance-importance-sampled for an image.
-    EnvironmentSample sample(Vec2 u, const Vec3& n) const;
-    // The solid-angle pdf with which sample(., n) returns `dir`.
-    float pdf(const Vec3& dir, const Vec3& n) const;
+    // about n for a constant sky, luminance-importance-sampled for an image. `compensated`
+    // (only where BSDF samples combined by MIS see the sky too: path mode): an image is
+    // sampled by its excess over its mean (Map::compensated); directions darker than the mean
+    // get no light samples, so the estimate needs the BSDF's.
+    EnvironmentSample sample(Vec2 u, const Vec3& n, bool compensated = false) const;
+    // The solid-angle pdf with which sample(., n, compensated) returns `dir`.
+    float pdf(const Vec3& dir, const Vec3& n, bool compensated = false) const;
     // Whether sample() depends on n (constant skies: cosine-weighted) or not (image skies).
     bool cosineSampled() const { return m_images.empty(); }
     // Mean radiance over the sphere (preview's unshadowed ambient term, photon power).
@@ -50,7 +53,7 @@ private:
     // the sphere, then each image by its distribution) is chosen with probability
     // m_pick[i] - m_pick[i-1], proportional to its mean radiance; pdf() is the mixture's.
     void updatePick();
-    float mixturePdf(const Vec3& dir) const;
+    float mixturePdf(const Vec3& dir, bool compensated) const;
 
     bool m_present = false;
     Vec3 m_constant{0.0f, 0.0f, 0.0f};

@@ -37,7 +37,20 @@ EnvironmentLight::Map::Map(const Light& light)
         average = sum * float(2 * kPi * kPi / (4 * kPi * double(w) * h));
     else
         average = sum / float(sumW);
+    // The compensated density: each pixel's excess over the sphere's mean, times its area.
+    const float mean = channelMean(average);
+    std::vector<float> excess(weights.size());
+    bool any = false;
+    for (int y = 0; y < h; ++y) {
+        float area = mapping == EnvironmentMapping::LatLong ? rowSinTheta(y, h) : 1.0f;
+        for (int x = 0; x < w; ++x) {
+            float e = std::max(0.0f, channelMean(pixelRadiance(x, y)) - mean) * area;
+            excess[std::size_t(y) * w + x] = e;
+            any |= e > 0;
+        }
+    }
     distribution = Distribution2D(std::move(weights), w, h);
+    compensated = any ? Distribution2D(std::move(excess), w, h) : distribution;
 }
 
 void EnvironmentLight::Map::pixelOf(const Vec3& d, int& x, int& y) const {
@@ -77,22 +90,23 @@ Vec3 EnvironmentLight::Map::radiance(const Vec3& dirWorld) const {
     return pixelRadiance(x, y);
 }
 
-float EnvironmentLight::Map::pdf(const Vec3& dirWorld) const {
+float EnvironmentLight::Map::pdf(const Vec3& dirWorld, bool comp) const {
     Vec3 d = toLight.vector(dirWorld);
     float len = length(d);
     if (!(len > 0)) return 0.0f;
     d = d / len;
     int x, y;
     pixelOf(d, x, y);
-    return solidAnglePdf(distribution.pdfCell(x, y), d);
+    return solidAnglePdf((comp ? compensated : distribution).pdfCell(x, y), d);
 }
 
-Vec3 EnvironmentLight::Map::sample(Vec2 u, float& pdf, Vec3& L) const {
+Vec3 EnvironmentLight::Map::sample(Vec2 u, float& pdf, Vec3& L, bool comp) const {
     pdf = 0;
-    if (!distribution.valid()) return Vec3(0.0f);
+    const Distribution2D& dist = comp ? compensated : distribution;
+    if (!dist.valid()) return Vec3(0.0f);
     float pdfUv;
     int x, y;
-    Vec2 uv = distribution.sample(u, pdfUv, x, y);
+    Vec2 uv = dist.sample(u, pdfUv, x, y);
     Vec3 d = mapping == EnvironmentMapping::EqualArea ? equalAreaSquareToSphere(uv)
                                                       : latLongToSphere(uv);
     pdf = solidAnglePdf(pdfUv, d);
@@ -101,7 +115,7 @@ Vec3 EnvironmentLight::Map::sample(Vec2 u, float& pdf, Vec3& L) const {
     int px, py;
     pixelOf(d, px, py);
     L = pixelRadiance(px, py);
-    if (px != x || py != y) pdf = this->pdf(toWorld.vector(d));
+    if (px != x || py != y) pdf = this->pdf(toWorld.vector(d), comp);
     return normalize(toWorld.vector(d));
 }
 

@@ -15,6 +15,11 @@ struct EnvironmentLight::Map {
     EnvironmentMapping mapping = EnvironmentMapping::EqualArea;
     Affine toWorld, toLight;
     Distribution2D distribution;
+    // For light samples combined by MIS with BSDF samples (pbrt-v4's allowIncompletePDF):
+    // density in proportion to max(0, channel mean - its mean over the sphere), so the light
+    // samples go where the sky is brighter than its average and the BSDF samples, which see
+    // the rest, take the even part. The plain distribution when nothing is above the mean.
+    Distribution2D compensated;
     Vec3 average{0, 0, 0}; // mean radiance over the sphere (solid-angle weighted)
 
     explicit Map(const Light& light);
@@ -24,9 +29,9 @@ struct EnvironmentLight::Map {
     Vec3 radiance(const Vec3& dirWorld) const;
     float solidAnglePdf(float pdfUv, const Vec3& dirLight) const;
     // Solid-angle density of sample() for a world direction.
-    float pdf(const Vec3& dirWorld) const;
+    float pdf(const Vec3& dirWorld, bool compensated = false) const;
     // A world direction, its solid-angle pdf (0: invalid) and its radiance.
-    Vec3 sample(Vec2 u, float& pdf, Vec3& radiance) const;
+    Vec3 sample(Vec2 u, float& pdf, Vec3& radiance, bool compensated = false) const;
 };
 
 } // namespace rayproc

@@ -80,6 +80,7 @@ RenderResult renderPath(const Scene& scene, const EmbreeScene& accel, const Path
     policy.rrStartDepth = s.rrStartDepth;
     policy.sppTotal = s.spp;
     policy.stratify = engine.stratification;
+    policy.skyCompensation = engine.skyCompensation;
     plan.apply(policy);
     policy.reflectionStage = true; // path mode's bounces are all reflection-kind rays
     RenderResult r =

@@ -43,6 +43,7 @@ std::string EngineSettings::toString() const {
       << " glossy_mis=" << (glossyMis ? "on" : "off")
       << " light_choice=" << (lightChoice ? "on" : "off")
       << " diffuse_mis=" << (diffuseMis ? "on" : "off")
+      << " sky_compensation=" << (skyCompensation ? "on" : "off")
       << " adaptive=" << (adaptiveSampling ? "on" : "off");
     if (adaptiveSampling) o << " adaptive_min_spp=" << adaptiveMinSpp;
     return o.str();

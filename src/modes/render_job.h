@@ -42,6 +42,9 @@ struct EngineSettings {
     bool diffuseMis = true;
     // raytrace, gi: choose among several area lights per sample (ShadingPolicy::lightChoice).
     bool lightChoice = true;
+    // path: light samples of an image sky by its excess over its mean, the rest left to the
+    // BSDF samples (ShadingPolicy::skyCompensation).
+    bool skyCompensation = true;
     // Called with the image so far after each pass when set (progressive output); the job
     // calls it at most once per `progressiveSeconds`.
     std::function<void(const Image&)> onProgress;

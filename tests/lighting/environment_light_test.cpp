@@ -40,24 +40,25 @@ Light imageLight(std::shared_ptr<const Image> img, EnvironmentMapping m, Vec3 sc
 }
 
 // Integral of pdf over the sphere by a fine (cos theta, phi) midpoint rule.
-double pdfIntegral(const EnvironmentLight& env) {
+double pdfIntegral(const EnvironmentLight& env, bool compensated = false) {
     const int n = 1000;
     double sum = 0;
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < 2 * n; ++i) {
             double z = -1 + (j + 0.5) * 2.0 / n, phi = (i + 0.5) * kPi / n;
             double r = std::sqrt(1 - z * z);
-            sum += env.pdf({float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)}, {});
+            sum += env.pdf({float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)}, {},
+                           compensated);
         }
     return sum * (2.0 / n) * (kPi / n);
 }
 
-void checkSampling(const EnvironmentLight& env, std::uint64_t seed) {
+void checkSampling(const EnvironmentLight& env, std::uint64_t seed, bool compensated = false) {
     const int samples = 1000000;
     DirectionHistogram h({0, 0, 1}, -1.0f, 10, 20);
     TestRng rng(seed);
     for (int i = 0; i < samples; ++i) {
-        EnvironmentSample s = env.sample(rng.uniform2(), {0, 1, 0});
+        EnvironmentSample s = env.sample(rng.uniform2(), {0, 1, 0}, compensated);
         if (!s.valid) {
             h.addOutside();
             continue;
@@ -65,12 +66,13 @@ void checkSampling(const EnvironmentLight& env, std::uint64_t seed) {
         h.add(s.wi);
         // The sample's own pdf is pdf(), its weight radiance / pdf.
         if (i % 97 == 0) {
-            REQUIRE(s.pdf == Approx(env.pdf(s.wi, {})).epsilon(1e-3));
+            REQUIRE(s.pdf == Approx(env.pdf(s.wi, {}, compensated)).epsilon(1e-3));
             Vec3 L = env.radiance(s.wi);
             for (int c = 0; c < 3; ++c) REQUIRE(s.weight[c] * s.pdf == Approx(L[c]).epsilon(1e-3));
         }
     }
-    auto expected = h.expected([&](const Vec3& w) { return double(env.pdf(w, {})); }, samples, 5);
+    auto expected =
+        h.expected([&](const Vec3& w) { return double(env.pdf(w, {}, compensated)); }, samples, 5);
     ChiSquareResult r = chiSquareTest(h.counts(), expected);
     INFO("chi2 " << r.chi2 << " dof " << r.dof << " p " << r.pValue);
     CHECK(r.pValue > sidakSignificance(0.01, 4));
@@ -103,6 +105,61 @@ TEST_CASE("Image sky (equal-area): samples follow pdf, which integrates to 1", "
                        Affine::rotate(30.0f, {1, 1, 0})));
     CHECK(pdfIntegral(env) == Approx(1.0).epsilon(2e-3));
     checkSampling(env, 11);
+}
+
+// MIS compensation (path mode's light samples of an image sky): the density of the excess over
+// the mean, sampled as its pdf says; nothing below the mean; the plain density when no pixel is
+// above it (a flat image).
+TEST_CASE("Image sky, compensated: samples follow pdf, which is zero below the mean", "[lights]") {
+    const int res = 8, samples = 1000000;
+    auto img = testImage(res, res, 2, 5, 30.0f);
+    EnvironmentLight env;
+    env.add(imageLight(img, EnvironmentMapping::EqualArea, {1, 1, 1}));
+    CHECK(pdfIntegral(env, true) == Approx(1.0).epsilon(2e-3));
+    // The density is piecewise constant over the pixels, most of them zero: the chi-square
+    // runs over the pixels, against each one's excess over the mean (equal-area: all pixels
+    // cover the same solid angle).
+    const float mean = (env.average().x + env.average().y + env.average().z) / 3;
+    std::vector<double> observed(res * res, 0.0), expected(res * res, 0.0);
+    double total = 0;
+    int below = 0;
+    for (int y = 0; y < res; ++y)
+        for (int x = 0; x < res; ++x) {
+            const float* p = img->at(x, y);
+            const double e = std::max(0.0, (p[0] + p[1] + p[2]) / 3.0 - mean);
+            expected[std::size_t(y * res + x)] = e;
+            total += e;
+            below += e == 0;
+            Vec3 d = equalAreaSquareToSphere({(x + 0.5f) / res, (y + 0.5f) / res});
+            if (e == 0) CHECK(env.pdf(d, {}, true) == 0.0f);
+            else CHECK(env.pdf(d, {}, true) > 0.0f);
+        }
+    CHECK(below > 16);
+    for (double& e : expected) e *= samples / total;
+    TestRng rng(21);
+    for (int i = 0; i < samples; ++i) {
+        EnvironmentSample s = env.sample(rng.uniform2(), {0, 1, 0}, true);
+        REQUIRE(s.valid);
+        if (i % 97 == 0) {
+            REQUIRE(s.pdf == Approx(env.pdf(s.wi, {}, true)).epsilon(1e-3));
+            REQUIRE(s.weight.x * s.pdf == Approx(env.radiance(s.wi).x).epsilon(1e-3));
+        }
+        Vec2 uv = equalAreaSphereToSquare(s.wi);
+        int x = std::min(res - 1, int(uv.x * res)), y = std::min(res - 1, int(uv.y * res));
+        observed[std::size_t(y * res + x)] += 1;
+    }
+    ChiSquareResult r = chiSquareTest(observed, expected);
+    INFO("chi2 " << r.chi2 << " dof " << r.dof << " p " << r.pValue);
+    CHECK(r.pValue > sidakSignificance(0.01, 4));
+    // The sun pixel takes a larger share than without compensation.
+    Vec3 sun = equalAreaSquareToSphere({2.5f / res, 5.5f / res});
+    CHECK(env.pdf(sun, {}, true) > env.pdf(sun, {}));
+    // A flat image has nothing above its mean: sampled as without compensation.
+    auto flat = std::make_shared<Image>(8, 8);
+    for (float& v : flat->pixels) v = 2.0f;
+    EnvironmentLight even;
+    even.add(imageLight(flat, EnvironmentMapping::EqualArea, {1, 1, 1}));
+    CHECK(even.pdf({0, 0, 1}, {}, true) == Approx(1.0 / (4 * kPi)));
 }
 
 // The lat-long density has an integrable 1 / sin(theta) singularity at the poles, which the

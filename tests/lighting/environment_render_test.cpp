@@ -93,3 +93,44 @@ TEST_CASE("One bright pixel of an image sky lights a plane with E = L * 4pi/N * 
     INFO("analytic radiance " << expected << " (sun direction z " << d.z << ")");
     checkMeanRadiance(img, Vec3(float(expected)), 0.02, "sun");
 }
+
+// Path mode's light samples of an image sky go only where it is brighter than its mean (MIS
+// compensation), its BSDF samples see the rest: together they must still give a plane under a
+// varied sky its irradiance, integrated here over the hemisphere from the sky's radiance.
+TEST_CASE("A plane under a varied image sky gets the irradiance the sky gives it", "[lights]") {
+    const int res = 16;
+    Image sky(res, res);
+    for (int y = 0; y < res; ++y)
+        for (int x = 0; x < res; ++x) {
+            float* p = sky.at(x, y);
+            p[0] = 0.2f + 0.15f * float((x * 7 + y * 3) % 11);
+            p[1] = 0.1f + 0.1f * float((x + 2 * y) % 5);
+            p[2] = 0.5f + 0.05f * float(y);
+        }
+    sky.at(4, 9)[0] = 60.0f; // a sun, above the plane
+    std::string path = tempImage("varied.pfm", sky);
+    auto scene = sceneFromJson(
+        R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 20,
+                       "resolution": [16, 16]},
+            "materials": {"m": {"type": "diffuse", "color": [0.5, 0.5, 0.5]}},
+            "lights": [{"type": "environment", "image": ")" + path + R"("}],
+            "nodes": [{"type": "quad", "material": "m",
+                       "corners": [[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0]]}]})");
+    EmbreeScene accel(*scene);
+    // E = integral over the upper hemisphere of L cos theta: a fine (cos theta, phi) midpoint
+    // rule over the sky's own lookup.
+    EnvironmentLight env;
+    for (const Light& l : scene->lights) env.add(l);
+    Vec3 E(0.0f);
+    const int n = 600;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < 4 * n; ++i) {
+            const double z = (j + 0.5) / n, phi = (i + 0.5) * 2 * kPi / (4 * n);
+            const double r = std::sqrt(1 - z * z);
+            Vec3 L = env.radiance({float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)});
+            E += L * float(z * (1.0 / n) * (2 * kPi / (4 * n)));
+        }
+    Vec3 expected = E * float(0.5 / kPi);
+    INFO("analytic radiance " << expected.x << " " << expected.y << " " << expected.z);
+    checkMeanRadiance(renderMode(*scene, accel, "path", 256), expected, 0.01, "path");
+}
