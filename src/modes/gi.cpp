@@ -334,7 +334,8 @@ std::string GiSettings::toString() const {
       << " ic_gradients=" << (icGradients ? "on" : "off")
       << " caustics=" << (caustics ? "on" : "off")
       << " progressive_caustics=" << (progressiveCaustics ? "on" : "off")
-      << " caustic_alpha=" << causticAlpha
+      << " caustic_alpha=" << causticAlpha << " caustic_radius=" << causticRadius
+      << " max_photon_depth=" << maxPhotonDepth
       << " precomputed_irradiance=" << (precomputedIrradiance ? "on" : "off")
       << " lazy_irradiance=" << (lazyIrradiance ? "on" : "off")
       << " gather_direct=" << (gatherDirect ? "on" : "off")
@@ -512,6 +513,10 @@ GiSettings giSettings(const Scene& scene, const ModeOverrides& cli) {
     applySetting(s.maxDepth, scene.render.maxDepth, cli.maxDepth);
     applySetting(s.lightSamples, scene.render.lightSamples, cli.lightSamples);
     s.causticPhotons = defaultCausticPhotons(scene.camera.width, scene.camera.height);
+    // A pbrt file's sppm settings (the CLI's --caustic-photons still overrides).
+    if (scene.render.photonsPerPass > 0) s.causticPhotons = scene.render.photonsPerPass;
+    if (scene.render.photonRadius > 0) s.causticRadius = scene.render.photonRadius;
+    if (scene.render.maxPhotonDepth > 0) s.maxPhotonDepth = scene.render.maxPhotonDepth;
     return s;
 }
 
