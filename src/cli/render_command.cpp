@@ -8,6 +8,7 @@
 #include "engine/intersect.h"
 #include "engine/memory_budget.h"
 #include "engine/thread_budget.h"
+#include "gi/progressive_caustics.h"
 #include "image/display_client.h"
 #include "image/image.h"
 #include "image/metrics.h"
@@ -297,8 +298,12 @@ int runRender(const RenderArgs& a) {
                                                     : GiDebugView::None;
         logSettings(s.toString());
         // One round of the global map: most scenes take one (docs/robustness.md, "Memory").
+        // Progressive caustics' passes of several samples trace maps of several times the photons.
+        const std::uint64_t caustic = std::uint64_t(std::max(0, s.causticPhotons));
         checkMemory(pixels, std::uint64_t(std::max(0, s.photons)),
-                    s.caustics ? std::uint64_t(std::max(0, s.causticPhotons)) : 0);
+                    !s.caustics ? 0
+                    : s.progressiveCaustics ? progressiveMaxPassPhotons(caustic)
+                                            : caustic);
         result = renderGi(*scene, accel, s, engine);
     } else if (mode == "path") {
         PathSettings s = pathSettings(scene->render, overrides);

@@ -459,10 +459,10 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
         cache.size() > 0 && s.debugView == GiDebugView::None)
         refinement.emplace(scene, accel, lights, gi, cache, engine, cluster, refineStats);
     // Without diffuse surfaces the gather stage would never get work: not registered.
-    std::function<void(int)> beforePass;
+    std::function<void(int, int)> beforePass;
     if ((progressive || refinement) && plan.globalMap)
-        beforePass = [&](int pass) {
-            if (progressive) progressive->beginPass(pass);
+        beforePass = [&](int pass, int samples) {
+            if (progressive) progressive->beginPass(pass, samples);
             if (refinement && pass > 0) refinement->beginPass(pass);
         };
     RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine,
