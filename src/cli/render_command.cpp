@@ -63,6 +63,7 @@ struct RenderArgs {
     bool noProgressiveCaustics = false, noGatherDirect = false, noLazyIrradiance = false,
          mapCorrection = false;
     float causticAlpha = 0;
+    float causticRadius = 0;
     double timeLimit = 0;
     double targetRelMse = 0;
     std::string debugView = "none";
@@ -284,6 +285,7 @@ int runRender(const RenderArgs& a) {
         s.caustics = !a.noCaustics;
         s.progressiveCaustics = !a.noProgressiveCaustics;
         if (a.causticAlpha > 0) s.causticAlpha = a.causticAlpha;
+        if (a.causticRadius > 0) s.causticRadius = a.causticRadius;
         s.precomputedIrradiance = !a.noPrecomputed;
         s.lazyIrradiance = !a.noLazyIrradiance;
         s.gatherDirect = !a.noGatherDirect;
@@ -483,6 +485,13 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "shrinks faster: less bias, more noise)")
         ->check(finiteFloat())
         ->check(CLI::Range(0.01, 1.0));
+    cmd->add_option("--caustic-radius", args->causticRadius,
+                    "gi: the caustic estimate's largest radius, in scene units: progressive "
+                    "caustics start from the first map's 64th-neighbour distance or this, "
+                    "whichever is smaller (default: 2% of the diagonal of what the camera sees; "
+                    "a pbrt file's sppm \"radius\" sets it)")
+        ->check(finiteFloat())
+        ->check(CLI::PositiveNumber);
     cmd->add_flag("--no-precomputed-irradiance", args->noPrecomputed,
                   "gi: gather rays estimate the global map's irradiance from scratch instead of "
                   "Christensen's precomputed values");

@@ -295,6 +295,9 @@ TEST_CASE("Absurd sizes on the command line are refused before rendering", "[cli
         {{"--gather-rays", "100000000", "--mode", "gi"}, "--gather-rays"},
         {{"--global-k", "0", "--mode", "gi"}, "--global-k"},
         {{"--global-k", "100000", "--mode", "gi"}, "--global-k"},
+        {{"--caustic-radius", "0", "--mode", "gi"}, "--caustic-radius"},
+        {{"--caustic-radius", "-0.5", "--mode", "gi"}, "--caustic-radius"},
+        {{"--caustic-radius", "1e39", "--mode", "gi"}, "--caustic-radius"},
         {{"--max-depth", "1000000"}, "--max-depth"},
         {{"--threads", "1000000"}, "--threads"},
     };
