@@ -9,6 +9,10 @@
     scenes/caustic-pool.json a small square light above a slab of water with a wavy top over
                              a white floor: a caustic (light -> refraction -> diffuse) test
     scenes/meshes/wavy-water.obj  that slab: a smooth-shaded wavy height field, closed
+    scenes/caustic-box.json  a pool: a box whose floor and lower walls lie under an open wavy
+                             water surface, lit from above by a small light and seen through
+                             the water (the floor is inside the medium: L S D paths end there)
+    scenes/meshes/wavy-surface.obj  that surface: the same waves, one open height field
 
 The output is deterministic (fixed random seed), so re-running the script reproduces the
 committed files exactly. Usage: scripts/gen-scenes.py [--out-dir scenes]
@@ -234,6 +238,61 @@ def caustic_pool_scene():
     }
 
 
+def wavy_surface_obj(half=1.0, level=0.8, n=64):
+    """An open wavy height field over [-half, half]^2 around y = level, normals up (its
+    front side, the outside of the water, is the air above)."""
+    lines = ["# Open wavy water surface written by scripts/gen-scenes.py",
+             f"# [-{half}, {half}]^2, y = {level} + waves, {n} x {n} quads", "o surface"]
+    coords = [-half + 2 * half * i / n for i in range(n + 1)]
+    for z in coords:
+        for x in coords:
+            h, _, _ = wave_height(x, z)
+            lines.append(f"v {x:.5f} {level + h:.5f} {z:.5f}")
+    for z in coords:
+        for x in coords:
+            _, dx, dz = wave_height(x, z)
+            ln = math.sqrt(dx * dx + 1 + dz * dz)
+            lines.append(f"vn {-dx / ln:.5f} {1 / ln:.5f} {-dz / ln:.5f}")
+    for j in range(n):  # counter-clockwise seen from above (+y)
+        for i in range(n):
+            a = j * (n + 1) + i + 1
+            b, c, d = a + n + 1, a + n + 2, a + 1
+            lines.append(f"f {a}//{a} {b}//{b} {c}//{c} {d}//{d}")
+    return "\n".join(lines) + "\n"
+
+
+def caustic_box_scene():
+    # Walls face inwards; the water fills the box's lower part, its surface meeting the walls.
+    h = 1.3
+    return {
+        "camera": {"position": [0, 2.3, 1.25], "look_at": [0, 0.15, -0.35], "up": [0, 1, 0],
+                   "fov": 58, "resolution": [256, 256]},
+        "materials": {
+            "floor": {"type": "diffuse", "color": [0.8, 0.8, 0.8]},
+            "wall": {"type": "diffuse", "color": [0.75, 0.6, 0.45]},
+            "water": {"type": "dielectric", "ior": 1.33, "color": [1, 1, 1]},
+            "lamp": {"type": "diffuse", "color": [0, 0, 0]},
+        },
+        "nodes": [
+            {"type": "quad", "name": "floor", "material": "floor",
+             "corners": [[-1, 0, -1], [-1, 0, 1], [1, 0, 1], [1, 0, -1]]},
+            {"type": "quad", "name": "back", "material": "wall",
+             "corners": [[-1, 0, -1], [1, 0, -1], [1, h, -1], [-1, h, -1]]},
+            {"type": "quad", "name": "left", "material": "wall",
+             "corners": [[-1, 0, -1], [-1, h, -1], [-1, h, 1], [-1, 0, 1]]},
+            {"type": "quad", "name": "right", "material": "wall",
+             "corners": [[1, 0, -1], [1, 0, 1], [1, h, 1], [1, h, -1]]},
+            {"type": "quad", "name": "front", "material": "wall",
+             "corners": [[-1, 0, 1], [-1, h, 1], [1, h, 1], [1, 0, 1]]},
+            {"type": "obj", "name": "water", "file": "meshes/wavy-surface.obj",
+             "material": "water"},
+            {"type": "quad", "name": "lamp", "material": "lamp", "emission": [30, 30, 30],
+             "corners": [[-0.2, 2.4, -0.2], [0.2, 2.4, -0.2], [0.2, 2.4, 0.2],
+                         [-0.2, 2.4, 0.2]]},
+        ],
+    }
+
+
 def torus_obj(major=0.5, minor=0.2, nu=24, nv=12):
     """A torus around the y axis as quads, with per-vertex normals and seam-split uvs."""
     lines = ["# Low-poly torus written by scripts/gen-scenes.py",
@@ -279,7 +338,10 @@ def main():
     (out / "meshes" / "torus.obj").write_text(torus_obj())
     (out / "caustic-pool.json").write_text(dump_compact(caustic_pool_scene()) + "\n")
     (out / "meshes" / "wavy-water.obj").write_text(wavy_water_obj())
-    for name in ("instances.json", "meshes/torus.obj", "caustic-pool.json", "meshes/wavy-water.obj"):
+    (out / "caustic-box.json").write_text(dump_compact(caustic_box_scene()) + "\n")
+    (out / "meshes" / "wavy-surface.obj").write_text(wavy_surface_obj())
+    for name in ("instances.json", "meshes/torus.obj", "caustic-pool.json", "meshes/wavy-water.obj",
+                 "caustic-box.json", "meshes/wavy-surface.obj"):
         print(f"wrote {out / name} ({(out / name).stat().st_size} bytes)")
 
 

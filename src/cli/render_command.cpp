@@ -8,6 +8,7 @@
 #include "engine/intersect.h"
 #include "engine/memory_budget.h"
 #include "engine/thread_budget.h"
+#include "gi/progressive_caustics.h"
 #include "image/display_client.h"
 #include "image/image.h"
 #include "image/metrics.h"
@@ -62,6 +63,7 @@ struct RenderArgs {
     bool noProgressiveCaustics = false, noGatherDirect = false, noLazyIrradiance = false,
          mapCorrection = false;
     float causticAlpha = 0;
+    float causticRadius = 0;
     double timeLimit = 0;
     double targetRelMse = 0;
     // Adaptive sampling: on with --target-relmse unless --no-adaptive, on with --adaptive.
@@ -297,6 +299,7 @@ int runRender(const RenderArgs& a) {
         s.caustics = !a.noCaustics;
         s.progressiveCaustics = !a.noProgressiveCaustics;
         if (a.causticAlpha > 0) s.causticAlpha = a.causticAlpha;
+        if (a.causticRadius > 0) s.causticRadius = a.causticRadius;
         s.precomputedIrradiance = !a.noPrecomputed;
         s.lazyIrradiance = !a.noLazyIrradiance;
         s.gatherDirect = !a.noGatherDirect;
@@ -311,8 +314,12 @@ int runRender(const RenderArgs& a) {
                                                     : GiDebugView::None;
         logSettings(s.toString());
         // One round of the global map: most scenes take one (docs/robustness.md, "Memory").
+        // Progressive caustics' passes of several samples trace maps of several times the photons.
+        const std::uint64_t caustic = std::uint64_t(std::max(0, s.causticPhotons));
         checkMemory(pixels, std::uint64_t(std::max(0, s.photons)),
-                    s.caustics ? std::uint64_t(std::max(0, s.causticPhotons)) : 0);
+                    !s.caustics ? 0
+                    : s.progressiveCaustics ? progressiveMaxPassPhotons(caustic)
+                                            : caustic);
         result = renderGi(*scene, accel, s, engine);
     } else if (mode == "path") {
         PathSettings s = pathSettings(scene->render, overrides);
@@ -495,6 +502,13 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "shrinks faster: less bias, more noise)")
         ->check(finiteFloat())
         ->check(CLI::Range(0.01, 1.0));
+    cmd->add_option("--caustic-radius", args->causticRadius,
+                    "gi: the caustic estimate's largest radius, in scene units: progressive "
+                    "caustics start from the first map's 64th-neighbour distance or this, "
+                    "whichever is smaller (default: 2% of the diagonal of what the camera sees; "
+                    "a pbrt file's sppm \"radius\" sets it)")
+        ->check(finiteFloat())
+        ->check(CLI::PositiveNumber);
     cmd->add_flag("--no-precomputed-irradiance", args->noPrecomputed,
                   "gi: gather rays estimate the global map's irradiance from scratch instead of "
                   "Christensen's precomputed values");

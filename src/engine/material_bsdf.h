@@ -27,6 +27,22 @@ inline kernels::BsdfParams resolveBsdf(const Scene& scene, const SurfaceHit& hit
     return bsdfAt(scene, resolveMix(scene, hit.material, hit, wo), hit, key);
 }
 
+// raytrace's and gi's radiance chains (camera rays, gather rays) carry basic radiance L / n^2
+// through glass: smooth refraction takes no eta^2 at either interface (exact while the camera and
+// the lights are outside), and gi's photons carry flux / n^2 to meet them (gi/photon_stage.h).
+// A rough dielectric's sampled transmission carries f / eta^2 (pbrt-v4's radiance mode); this is
+// the factor, eta^2 = (n_t / n_i)^2 for such a sample and 1 for any other, that returns it to
+// basic radiance. Without it a floor seen through rough open water in gi was n^2 too dark (the
+// eta^2 twice: the chain's and the photons').
+inline float basicRadianceScale(const kernels::BsdfParams& b, const Vec3& wo, const Vec3& ng,
+                                const kernels::BsdfSample& s) {
+    if (!s.transmitted || s.delta || b.kind != kernels::BsdfKind::Dielectric ||
+        !kernels::roughAlphas(b))
+        return 1.0f;
+    float eta = dot(wo, ng) > 0 ? b.ior : 1.0f / b.ior;
+    return eta * eta;
+}
+
 // The untextured BSDF of a material (constant parameters only; tests, benchmarks).
 kernels::BsdfParams bsdfOf(const Material& m);
 

@@ -83,7 +83,7 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
                 glossyFlags(s.pdf, s.coat, s.transmitted);
             }
             wi = s.wi;
-            w = w * s.weight;
+            w = w * s.weight * basicRadianceScale(bsdf, wo, h.ng, s);
             if (s.transmitted) {
                 if (!m_rc.policy.refractionStage || !nextRay(i, flags, misPdf, w)) continue;
                 Vec3 o = offsetRayOrigin(h, -ng, wi);

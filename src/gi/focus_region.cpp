@@ -3,6 +3,9 @@
 #include "accel/embree_scene.h"
 #include "engine/camera_emitter.h"
 #include "engine/intersect.h"
+#include "engine/material_bsdf.h"
+#include "engine/path_state.h"
+#include "kernels/bsdf.h"
 #include "engine/ray_batch.h"
 #include "engine/stats.h"
 #include "kernels/camera_rays.h"
@@ -15,7 +18,9 @@
 
 namespace rayproc {
 
-Bounds3 FocusRegion::emissionBounds() const {
+namespace {
+
+Bounds3 grown(const Bounds3& bounds) {
     if (bounds.empty()) return bounds;
     float m = kFocusMargin * length(bounds.diagonal());
     Bounds3 b = bounds;
@@ -23,6 +28,30 @@ Bounds3 FocusRegion::emissionBounds() const {
     b.hi = b.hi + Vec3(m, m, m);
     return b;
 }
+
+// Per axis, the central (1 - 2 kFocusTrim) of the points: a few far points seen through a
+// window or past an edge do not set the region's size.
+Bounds3 trimmedBounds(const std::vector<Vec3>& points) {
+    Bounds3 b;
+    if (points.empty()) return b;
+    std::vector<float> axis(points.size());
+    std::size_t lo = std::size_t(kFocusTrim * double(points.size()));
+    std::size_t hi = points.size() - 1 - lo;
+    for (int a = 0; a < 3; ++a) {
+        for (std::size_t k = 0; k < points.size(); ++k) axis[k] = points[k][a];
+        std::nth_element(axis.begin(), axis.begin() + std::ptrdiff_t(lo), axis.end());
+        b.lo[a] = axis[lo];
+        std::nth_element(axis.begin(), axis.begin() + std::ptrdiff_t(hi), axis.end());
+        b.hi[a] = axis[hi];
+    }
+    return b;
+}
+
+} // namespace
+
+Bounds3 FocusRegion::emissionBounds() const { return grown(bounds); }
+
+Bounds3 FocusRegion::causticEmissionBounds() const { return grown(specularBounds); }
 
 FocusRegion cameraFocusRegion(const Scene& scene, const EmbreeScene& accel, int packetWidth,
                               int probeRays) {
@@ -39,17 +68,47 @@ FocusRegion cameraFocusRegion(const Scene& scene, const EmbreeScene& accel, int 
     ThreadStats stats;
     auto batch = std::make_unique<RayBatch>();
     std::vector<Vec3> points;
+    std::vector<Vec3> chainPoints; // hits past a mirror or smooth glass
+    // Rays continuing past specular first (or later) hits, traced level by level.
+    auto next = std::make_unique<RayBatch>();
+    auto traceLevel = [&](RayBatch& in, RayBatch& out, bool first) {
+        intersector.trace(in, stats);
+        for (int i = 0; i < in.count; ++i) {
+            if (!in.hit(i)) continue;
+            Vec3 o{in.ox[i], in.oy[i], in.oz[i]}, d{in.dx[i], in.dy[i], in.dz[i]};
+            Vec3 p = o + d * in.t[i];
+            if (!isFinite(p)) continue;
+            (first ? points : chainPoints).push_back(p);
+            if (out.full()) continue;
+            SurfaceHit h = accel.surface(in.instId[i], in.geomId[i], in.primId[i], in.u[i],
+                                         in.v[i], o, d, in.t[i]);
+            Vec3 wo = -d;
+            int material = resolveMix(scene, h.material, h, wo);
+            if (materialClass(scene.materials, material) != MaterialClass::Specular) continue;
+            const Material& m = scene.materials[std::size_t(material)];
+            bool front = dot(wo, h.ng) > 0;
+            Vec3 n = front ? h.ns : -h.ns, g = front ? h.ng : -h.ng;
+            Vec3 wi = kernels::reflect(wo, n);
+            if (m.type == MaterialType::Dielectric) {
+                Vec3 wt;
+                if (kernels::refract(wo, n, front ? m.ior : 1.0f / m.ior, wt)) wi = wt;
+            } else if (m.type == MaterialType::ThinDielectric) {
+                wi = d;
+            }
+            Vec3 no = offsetRayOrigin(h, g, wi);
+            int k = out.push(no.x, no.y, no.z, wi.x, wi.y, wi.z, 0.0f, kInfinity);
+            out.pixel[k] = 0;
+        }
+        in.count = 0;
+    };
     auto flush = [&] {
         if (batch->count == 0) return;
-        intersector.trace(*batch, stats);
-        for (int i = 0; i < batch->count; ++i) {
-            if (!batch->hit(i)) continue;
-            Vec3 p{batch->ox[i] + batch->t[i] * batch->dx[i],
-                   batch->oy[i] + batch->t[i] * batch->dy[i],
-                   batch->oz[i] + batch->t[i] * batch->dz[i]};
-            if (!isFinite(p)) continue;
-            points.push_back(p);
+        traceLevel(*batch, *next, true);
+        for (int bounce = 0; bounce < kFocusSpecularBounces && next->count > 0; ++bounce) {
+            std::swap(batch, next);
+            traceLevel(*batch, *next, false);
         }
+        next->count = 0;
         batch->count = 0;
     };
     for (int j = 0; j < ny; ++j)
@@ -66,22 +125,12 @@ FocusRegion cameraFocusRegion(const Scene& scene, const EmbreeScene& accel, int 
         }
     flush();
 
-    // Per axis, the central (1 - 2 kFocusTrim) of the hits: a few far points seen through a
-    // window or past an edge do not set the region's size.
     region.hits = points.size();
-    if (!points.empty()) {
-        std::vector<float> axis(points.size());
-        std::size_t lo = std::size_t(kFocusTrim * double(points.size()));
-        std::size_t hi = points.size() - 1 - lo;
-        for (int a = 0; a < 3; ++a) {
-            for (std::size_t k = 0; k < points.size(); ++k) axis[k] = points[k][a];
-            std::nth_element(axis.begin(), axis.begin() + std::ptrdiff_t(lo), axis.end());
-            float vlo = axis[lo];
-            std::nth_element(axis.begin(), axis.begin() + std::ptrdiff_t(hi), axis.end());
-            float vhi = axis[hi];
-            region.bounds.lo[a] = vlo;
-            region.bounds.hi[a] = vhi;
-        }
+    region.bounds = trimmedBounds(points);
+    region.specularBounds = region.bounds;
+    if (!chainPoints.empty()) {
+        chainPoints.insert(chainPoints.end(), points.begin(), points.end());
+        region.specularBounds = trimmedBounds(chainPoints);
     }
     Bounds3 world = scene.worldBounds();
     if (region.hits == 0 || world.empty()) return region;

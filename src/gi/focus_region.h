@@ -21,11 +21,20 @@ struct FocusRegion {
     std::size_t hits = 0;    // camera rays of the probe grid that hit something
     std::size_t rays = 0;    // probe rays traced
     bool active = false;     // the region is small against the scene: gi focuses on it
+    // The first hits and what the probe rays reach past them through mirrors and smooth glass
+    // (up to kFocusSpecularBounces): where caustic photons must go to light what the camera
+    // sees through water or glass. The first hits alone aim them at the water's surface, and
+    // refraction moves them off the floor seen through it: a sun through open water at 30
+    // degrees lit only half of such a view with focused photons, the other half with the
+    // whole disk's, each a thousand times heavier (fireflies).
+    Bounds3 specularBounds;
 
     // Where focused photons are aimed: the bounds grown by kFocusMargin of their diagonal on
     // every side, so geometry at the edge of the view and just outside it, which lights what
     // is in view, gets its share.
     Bounds3 emissionBounds() const;
+    // The same for the caustic pass: specularBounds grown by the same margin.
+    Bounds3 causticEmissionBounds() const;
 };
 
 // A region whose bounding sphere's radius is at most this fraction of the scene's focuses gi.
@@ -34,12 +43,15 @@ inline constexpr float kFocusRadiusFraction = 0.5f;
 inline constexpr double kFocusTrim = 0.02;
 // The emission bounds' margin, a fraction of the region's diagonal.
 inline constexpr float kFocusMargin = 0.25f;
+// Specular bounces the probe rays follow for specularBounds.
+inline constexpr int kFocusSpecularBounces = 4;
 // Share of directional and sky photons aimed at an active focus region; the rest cover the
 // whole scene, so light that reaches the region from outside it is still carried.
 inline constexpr float kFocusPhotonShare = 0.9f;
 
 // Traces a grid of pinhole camera rays through pixel centres (about `probeRays` of them,
-// deterministic) and bounds their first hits.
+// deterministic) and bounds their first hits (and, for specularBounds, the hits past them along
+// mirror reflection and smooth refraction).
 FocusRegion cameraFocusRegion(const Scene& scene, const EmbreeScene& accel, int packetWidth,
                               int probeRays = 4096);
 

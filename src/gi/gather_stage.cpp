@@ -271,7 +271,8 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
                     coated ? kernels::sampleCoatReflection(bsdf, -d, h.ng, h.ns, u)
                            : kernels::sampleBsdf(bsdf, -d, h.ng, h.ns, u,
                                                  kernels::uniform(b.rngKey[i], 42));
-                Vec3 next = laneThroughput(b, i) * smp.weight;
+                Vec3 next =
+                    laneThroughput(b, i) * smp.weight * basicRadianceScale(bsdf, -d, h.ng, smp);
                 // Russian roulette by the bounce's reflectance: a coat reflects a few percent,
                 // and chains between coated surfaces (a coated floor under coated plastic) ran to
                 // the depth limit, most of gi's gather rays for almost nothing. Survivors are

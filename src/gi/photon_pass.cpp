@@ -30,7 +30,9 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     PhotonStage stage(rc, pass.caustic, s.maxPhotonDepth);
     processor.setStage(RayKind::Photon, &stage);
     PhotonEmitter emitter(lights, scene.worldBounds(), pass.count, engine.seed, pass.tag,
-                          focus.active ? focus.emissionBounds() : Bounds3{},
+                          !focus.active ? Bounds3{}
+                          : pass.caustic ? focus.causticEmissionBounds()
+                                         : focus.emissionBounds(),
                           focus.active ? kFocusPhotonShare : 0.0f);
     std::uint64_t first = 0, last = 0;
     shareOf(pass.count, cluster.rank(), cluster.size(), first, last);

@@ -67,6 +67,13 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
             (q < 1.0f && kernels::uniform(b.rngKey[i], kDimSurvive) >= q))
             continue;
         Vec3 next = power * s.weight / q;
+        // Camera and gather chains through smooth glass carry basic radiance L / n^2 (no
+        // eta^2 at either interface: exact when both ends are in air), so a photon stored
+        // inside a medium must carry flux / n^2 for its estimate to meet them: 1 / eta^2 at
+        // every smooth refraction. Rough transmission already carries it (kernels, f / eta^2).
+        // Without it a floor under open water came out n^2 = 1.77 times too bright.
+        if (s.transmitted && bsdf.kind == kernels::BsdfKind::Dielectric && !kernels::roughAlphas(bsdf))
+            next = next * smoothTransmissionScale(bsdf.ior, dot(wo, h.ng) > 0);
         std::uint8_t nextFlags =
             std::uint8_t(flags | (s.delta || s.coat ? kPhotonSpecular : kPhotonDiffuse));
         Vec3 no = offsetRayOrigin(h, h.ng, s.wi);

@@ -22,6 +22,14 @@ namespace rayproc {
 // L S+ D paths only), and it left a delta light or the sky (set by the photon emitter).
 enum PhotonFlags : std::uint8_t { kPhotonDiffuse = 1, kPhotonSpecular = 2, kPhotonDeltaOrSky = 4 };
 
+// What a photon's power is multiplied by when it refracts through a smooth dielectric of index
+// `ior`, entering it (from its front side) or leaving it: 1 / eta^2 with eta = n_t / n_i, so a
+// stored photon carries flux / n^2 of the medium it landed in and its estimate is the basic
+// radiance L / n^2 that rayproc's camera and gather chains carry (they refract without eta^2).
+inline float smoothTransmissionScale(float ior, bool entering) {
+    return entering ? 1.0f / (ior * ior) : ior * ior;
+}
+
 class PhotonStage : public RetraceStage {
 public:
     PhotonStage(const RenderContext& rc, bool causticPass, int maxDepth)

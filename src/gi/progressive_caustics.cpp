@@ -21,11 +21,13 @@ ProgressiveCaustics::ProgressiveCaustics(const Scene& scene, const EmbreeScene& 
                                          const EngineSettings& engine, const Cluster& cluster,
                                          const FocusRegion& focus, Stats& stats)
     : m_scene(scene), m_accel(accel), m_lights(lights), m_gi(gi), m_engine(engine),
-      m_cluster(cluster), m_focus(focus), m_stats(stats) {
+      m_cluster(cluster), m_focus(focus), m_stats(stats),
+      m_radius(double(gi.settings.causticAlpha)) {
     const GiSettings& s = gi.settings;
     PhotonPassSpec spec{true, std::uint32_t(s.causticPhotons), passTag(0), "gi caustic photons"};
     buildPhotonMap(m_map, scene, accel, lights, s, m_engine, cluster, spec, focus, stats);
     m_passesTraced = 1;
+    m_mapPhotons = std::uint64_t(s.causticPhotons);
     float median = m_map.medianNeighbourRadius(s.causticK, gi.causticRadius, kRadiusSamples);
     m_firstRadius = median > 0 ? median : gi.causticRadius;
     // Later passes trace while the render's progress bar runs: theirs would interleave.
@@ -34,18 +36,19 @@ ProgressiveCaustics::ProgressiveCaustics(const Scene& scene, const EmbreeScene& 
     m_gi.causticRadius = m_firstRadius;
 }
 
-void ProgressiveCaustics::beginPass(int pass) {
-    if (pass != m_mapPass) {
-        const GiSettings& s = m_gi.settings;
-        PhotonPassSpec spec{true, std::uint32_t(s.causticPhotons), passTag(pass), "gi caustic photons"};
+void ProgressiveCaustics::beginPass(int pass, int samples) {
+    const GiSettings& s = m_gi.settings;
+    const std::uint64_t photons = progressivePassPhotons(std::uint64_t(s.causticPhotons), samples);
+    if (pass != m_mapPass || photons != m_mapPhotons) {
+        PhotonPassSpec spec{true, std::uint32_t(photons), passTag(pass), "gi caustic photons"};
         buildPhotonMap(m_map, m_scene, m_accel, m_lights, s, m_engine, m_cluster, spec, m_focus,
                        m_stats);
         m_mapPass = pass;
+        m_mapPhotons = photons;
         ++m_passesTraced;
     }
     m_gi.caustic = &m_map;
-    m_gi.causticRadius =
-        float(double(m_firstRadius) * progressiveRadiusRatio(pass + 1, double(m_gi.settings.causticAlpha)));
+    m_gi.causticRadius = float(double(m_firstRadius) * std::sqrt(m_radius.next(samples)));
 }
 
 } // namespace rayproc

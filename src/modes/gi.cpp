@@ -334,7 +334,8 @@ std::string GiSettings::toString() const {
       << " ic_gradients=" << (icGradients ? "on" : "off")
       << " caustics=" << (caustics ? "on" : "off")
       << " progressive_caustics=" << (progressiveCaustics ? "on" : "off")
-      << " caustic_alpha=" << causticAlpha
+      << " caustic_alpha=" << causticAlpha << " caustic_radius=" << causticRadius
+      << " max_photon_depth=" << maxPhotonDepth
       << " precomputed_irradiance=" << (precomputedIrradiance ? "on" : "off")
       << " lazy_irradiance=" << (lazyIrradiance ? "on" : "off")
       << " gather_direct=" << (gatherDirect ? "on" : "off")
@@ -458,10 +459,10 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
         cache.size() > 0 && s.debugView == GiDebugView::None)
         refinement.emplace(scene, accel, lights, gi, cache, engine, cluster, refineStats);
     // Without diffuse surfaces the gather stage would never get work: not registered.
-    std::function<void(int)> beforePass;
+    std::function<void(int, int)> beforePass;
     if ((progressive || refinement) && plan.globalMap)
-        beforePass = [&](int pass) {
-            if (progressive) progressive->beginPass(pass);
+        beforePass = [&](int pass, int samples) {
+            if (progressive) progressive->beginPass(pass, samples);
             if (refinement && pass > 0) refinement->beginPass(pass);
         };
     RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine,
@@ -512,6 +513,10 @@ GiSettings giSettings(const Scene& scene, const ModeOverrides& cli) {
     applySetting(s.maxDepth, scene.render.maxDepth, cli.maxDepth);
     applySetting(s.lightSamples, scene.render.lightSamples, cli.lightSamples);
     s.causticPhotons = defaultCausticPhotons(scene.camera.width, scene.camera.height);
+    // A pbrt file's sppm settings (the CLI's --caustic-photons still overrides).
+    if (scene.render.photonsPerPass > 0) s.causticPhotons = scene.render.photonsPerPass;
+    if (scene.render.photonRadius > 0) s.causticRadius = scene.render.photonRadius;
+    if (scene.render.maxPhotonDepth > 0) s.maxPhotonDepth = scene.render.maxPhotonDepth;
     return s;
 }
 

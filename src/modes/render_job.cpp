@@ -68,7 +68,7 @@ enum PassDecision : std::uint32_t {
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
                           const EngineSettings& engine, RadianceStage radiance,
-                          const GiData* gi, const std::function<void(int pass)>& beforePass) {
+                          const GiData* gi, const std::function<void(int pass, int samples)>& beforePass) {
     // The mode's clock: seconds from the start of its work, less the time the error log has
     // spent measuring; it decides the time limit, and the progress monitor's thread reads it.
     using Clock = std::chrono::steady_clock;
@@ -213,7 +213,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     for (int pass = 0; pass < passes && !stop; ++pass) {
         int first = adaptiveCount > 0 ? 0 : pass * passSpp;
         int count = adaptiveCount > 0 ? adaptiveCount : std::min(passSpp, spp - first);
-        if (beforePass) beforePass(pass);
+        if (beforePass) beforePass(pass, count);
         camera.beginPass(first, count);
         passInFlight = true;
         processor.run(camera, [&] { return interruptRequested() || stopRequested(); });

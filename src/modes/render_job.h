@@ -128,13 +128,14 @@ struct RenderResult {
     std::vector<ImageLayer> layers;
 };
 
-// beforePass (optional) runs before each pass with its index, on every rank (gi's progressive
-// caustics trace the pass's photon map there); its time counts in the render's.
+// beforePass (optional) runs before each pass with its index and the samples per pixel the pass
+// takes, on every rank (gi's progressive caustics trace the pass's photon map there, sized by
+// those samples); its time counts in the render's.
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
                           const EngineSettings& engine,
                           RadianceStage radiance = RadianceStage::Surface,
                           const GiData* gi = nullptr,
-                          const std::function<void(int pass)>& beforePass = {});
+                          const std::function<void(int pass, int samples)>& beforePass = {});
 
 } // namespace rayproc

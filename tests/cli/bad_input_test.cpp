@@ -295,6 +295,9 @@ TEST_CASE("Absurd sizes on the command line are refused before rendering", "[cli
         {{"--gather-rays", "100000000", "--mode", "gi"}, "--gather-rays"},
         {{"--global-k", "0", "--mode", "gi"}, "--global-k"},
         {{"--global-k", "100000", "--mode", "gi"}, "--global-k"},
+        {{"--caustic-radius", "0", "--mode", "gi"}, "--caustic-radius"},
+        {{"--caustic-radius", "-0.5", "--mode", "gi"}, "--caustic-radius"},
+        {{"--caustic-radius", "1e39", "--mode", "gi"}, "--caustic-radius"},
         {{"--max-depth", "1000000"}, "--max-depth"},
         {{"--threads", "1000000"}, "--threads"},
     };
@@ -642,15 +645,16 @@ TEST_CASE("Renders that cannot fit in memory are refused up front - running out 
     }
     TempDir dir, logs;
     std::string out = dir.file("out.pfm");
-    // 20M photons need an estimated 3.7 GiB; under a 1 GiB cap that is refused before any work
-    // (it used to trace photons until an allocation failed).
+    // 20M photons need an estimated 3.8 GiB (with a progressive caustic pass of 16 x 50,000
+    // photons); under a 1 GiB cap that is refused before any work (it used to trace photons
+    // until an allocation failed).
     Limits l = memoryCap();
     RunResult r = runLimited({"render", scenePath("cornell-box"), "--mode", "gi", "--photons",
                               "20000000", "--width", "32", "--height", "32", "--quiet", "-o", out},
                              logs, l);
     INFO(r.err);
     CHECK(r.status == 1);
-    CHECK(contains(r.err, "the render needs an estimated 3.7 GiB"));
+    CHECK(contains(r.err, "the render needs an estimated 3.8 GiB"));
     CHECK(contains(r.err, "more than the process may use (ulimit: 1.0 GiB)"));
     CHECK(r.seconds < 5.0);
     CHECK_FALSE(std::filesystem::exists(out));

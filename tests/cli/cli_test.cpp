@@ -192,6 +192,22 @@ TEST_CASE("gi's --global-k sets the photons per estimate, and the render log say
     CHECK(contains(r.err, "global_k=32"));
 }
 
+TEST_CASE("gi's --caustic-radius caps the caustic radius, and the render log says so", "[cli]") {
+    TempDir dir;
+    RunResult r = runRayproc({"render", scenePath("caustic-pool"), "--mode", "gi", "--width",
+                              "16", "--height", "16", "--spp", "2", "--caustic-photons", "5000",
+                              "--caustic-radius", "0.03", "--stats-json", dir.file("s.json"),
+                              "-o", dir.file("img.pfm")},
+                             dir, 600);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(contains(r.err, "caustic_radius=0.03"));
+    // The first map's 64th-neighbour radius is larger here (about 0.1): the cap decides.
+    std::ifstream in(dir.file("s.json"));
+    nlohmann::json stats = nlohmann::json::parse(in);
+    CHECK(stats["gi"]["caustic_first_radius"].get<double>() == Approx(0.03).epsilon(1e-6));
+}
+
 TEST_CASE("Progress is printed as plain lines when stderr is not a terminal", "[cli]") {
     TempDir dir;
     std::string out = dir.file("img.pfm");

@@ -122,3 +122,33 @@ TEST_CASE("Focused sky photons: the sphere in view stores 4 pi L pi R^2", "[gi]"
         CHECK(focused.power[c] == Approx(expected).epsilon(0.03));
     }
 }
+
+TEST_CASE("The caustic focus follows the probe rays through water and off mirrors",
+          "[gi][focus]") {
+    // A floor at y = 0 under open water at y = 1 (6 x 6 both), seen from straight above: the
+    // first hits are the water's surface, what the camera sees through it is the floor.
+    auto scene = sceneFromJson(R"({
+        "camera": {"position": [0, 3, 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
+                   "resolution": [32, 32], "fov": 8},
+        "materials": {"floor": {"type": "diffuse", "color": [0.5, 0.5, 0.5]},
+                      "water": {"type": "dielectric", "ior": 1.33, "color": [1, 1, 1]}},
+        "nodes": [
+          {"type": "quad", "material": "floor", "corners": [[-3,0,-3],[-3,0,3],[3,0,3],[3,0,-3]]},
+          {"type": "quad", "material": "water", "corners": [[-3,1,-3],[-3,1,3],[3,1,3],[3,1,-3]]},
+          {"type": "quad", "material": "floor", "corners": [[-40,-5,-40],[-40,-5,40],[40,-5,40],[40,-5,-40]]}]})");
+    EmbreeScene accel(*scene);
+    FocusRegion focus = cameraFocusRegion(*scene, accel, 8);
+    REQUIRE(focus.active);
+    CHECK(focus.bounds.lo.y == Approx(1.0f).margin(1e-4));
+    CHECK(focus.bounds.hi.y == Approx(1.0f).margin(1e-4));
+    // The floor seen through the water is in the caustic pass's bounds, the water still too.
+    CHECK(focus.specularBounds.lo.y == Approx(0.0f).margin(1e-4));
+    CHECK(focus.specularBounds.hi.y == Approx(1.0f).margin(1e-4));
+    CHECK(focus.specularBounds.hi.x - focus.specularBounds.lo.x < 1.0f);
+    // Without specular surfaces in view both are the same.
+    auto plain = farScene("");
+    EmbreeScene plainAccel(*plain);
+    FocusRegion p = cameraFocusRegion(*plain, plainAccel, 8);
+    CHECK(p.specularBounds.lo == p.bounds.lo);
+    CHECK(p.specularBounds.hi == p.bounds.hi);
+}

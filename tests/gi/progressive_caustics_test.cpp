@@ -28,6 +28,34 @@ TEST_CASE("Progressive radii: r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), shrinking
     CHECK(progressiveRadiusRatio(100, 0.5) < progressiveRadiusRatio(100, alpha));
 }
 
+TEST_CASE("Progressive radii by samples: a pass of s samples takes the mean square of s indices",
+          "[gi][progressive]") {
+    const double alpha = 2.0 / 3.0;
+    // One sample a pass is the sequence itself.
+    ProgressiveRadius single(alpha);
+    for (int i = 1; i <= 50; ++i) {
+        double r = progressiveRadiusRatio(i, alpha);
+        CHECK(single.next(1) == Approx(r * r).epsilon(1e-12));
+    }
+    // Passes of 1, 3 and 8 samples: the mean of (r_i / r_1)^2 over their indices 1, 2-4, 5-12.
+    ProgressiveRadius grouped(alpha);
+    auto meanSquare = [&](int from, int to) {
+        double sum = 0;
+        for (int i = from; i <= to; ++i) sum += std::pow(progressiveRadiusRatio(i, alpha), 2);
+        return sum / double(to - from + 1);
+    };
+    CHECK(grouped.next(1) == Approx(1.0));
+    CHECK(grouped.next(3) == Approx(meanSquare(2, 4)).epsilon(1e-12));
+    CHECK(grouped.next(8) == Approx(meanSquare(5, 12)).epsilon(1e-12));
+    // A pass's photons: the per-sample count times its samples, within the cap.
+    CHECK(progressivePassPhotons(50000, 1) == 50000);
+    CHECK(progressivePassPhotons(50000, 8) == 400000);
+    CHECK(progressivePassPhotons(50000, 16) == 800000);
+    CHECK(progressivePassPhotons(100000, 16) == kMaxPassPhotons);
+    CHECK(progressivePassPhotons(2000000, 4) == 2000000);
+    CHECK(progressiveMaxPassPhotons(65536) == kMaxPassPhotons);
+}
+
 namespace {
 
 constexpr int kSize = 32;

@@ -2,6 +2,7 @@
 // block, and malformed input as InputErrors "file:line:column: problem".
 #include "pbrt_test_util.h"
 
+#include "modes/modes.h"
 #include "scene/pbrt/pbrt_params.h"
 #include "scene/pbrt/pbrt_tokenizer.h"
 
@@ -110,6 +111,34 @@ TEST_CASE("Film, Sampler and Integrator set the resolution, spp, seed and depth"
     CHECK(defaults.scene->camera.height == 720);
     CHECK(defaults.scene->render.spp == 0); // no Sampler: the mode decides
     CHECK(defaults.scene->render.maxDepth == 4); // pbrt's default maxdepth 5
+}
+
+TEST_CASE("Integrator sppm: its depth, radius and photons per iteration reach gi", "[pbrt]") {
+    auto r = loadPbrt("Integrator \"sppm\" \"integer maxdepth\" [ 9 ] \"float radius\" [ 0.01 ]\n"
+                      "  \"integer photonsperiteration\" [ 123456 ]\n"
+                      "Film \"rgb\" \"integer xresolution\" 256 \"integer yresolution\" 256\n"
+                      "Camera \"perspective\"\nWorldBegin\nShape \"sphere\"\n");
+    // Camera chains of at most 8 specular bounces before the visible point, photons of at
+    // most 9 intersections: SPPM's paths for maxdepth 9.
+    CHECK(r.scene->render.maxDepth == 8);
+    CHECK(r.scene->render.maxPhotonDepth == 9);
+    CHECK(r.scene->render.photonRadius == 0.01f);
+    CHECK(r.scene->render.photonsPerPass == 123456);
+    GiSettings gi = giSettings(*r.scene, ModeOverrides{});
+    CHECK(gi.maxDepth == 8);
+    CHECK(gi.maxPhotonDepth == 9);
+    CHECK(gi.causticRadius == 0.01f);
+    CHECK(gi.causticPhotons == 123456);
+
+    // pbrt's defaults (one photon per pixel, radius 1): gi's own photon count; a path
+    // integrator's file leaves gi's photon settings alone.
+    auto defaults = loadPbrt("Integrator \"sppm\"\nWorldBegin\nShape \"sphere\"\n");
+    CHECK(defaults.scene->render.photonsPerPass == 0);
+    CHECK(defaults.scene->render.photonRadius == 1.0f);
+    CHECK(defaults.scene->render.maxPhotonDepth == 5);
+    auto path = loadPbrt("Integrator \"path\" \"integer maxdepth\" 9\nWorldBegin\nShape \"sphere\"\n");
+    CHECK(path.scene->render.maxPhotonDepth == 0);
+    CHECK(giSettings(*path.scene, ModeOverrides{}).maxPhotonDepth == GiSettings{}.maxPhotonDepth);
 }
 
 TEST_CASE("pbrt's fov spans the shorter image axis, rayproc's fovY is vertical", "[pbrt]") {

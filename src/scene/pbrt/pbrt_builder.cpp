@@ -5,6 +5,7 @@
 #include "core/error.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace rayproc::pbrt {
 
@@ -134,7 +135,8 @@ void SceneBuilder::sampler(const std::string& type, const ParamList& params,
 }
 
 // The same limits as a JSON scene's "max_depth" (1..10000).
-void SceneBuilder::integrator(const ParamList& params, const SourceLoc& loc) {
+void SceneBuilder::integrator(const std::string& type, const ParamList& params,
+                              const SourceLoc& loc) {
     requireOptions("Integrator", loc);
     // pbrt-v4's maxdepth D bounds the scattering events of a path: light is sampled at the
     // first D vertices and emission found at vertex D + 1. rayproc's max depth M counts the
@@ -148,6 +150,23 @@ void SceneBuilder::integrator(const ParamList& params, const SourceLoc& loc) {
                                 "events); using 2");
     if (depth > 10001) m_warnings.add(loc, "maxdepth above 10001 is not supported; using 10001");
     m_scene.render.maxDepth = int(std::clamp<long long>(depth - 1, 1, 10000));
+    if (type == "sppm") {
+        // pbrt-v4's SPPM: a camera path makes its visible point at its D-th intersection at
+        // the latest, after D - 1 specular bounces (gi's max depth D - 1 above: the same
+        // chains), and a photon deposits at up to D intersections (gi's photon depth D).
+        // Its photons per iteration and initial radius are gi's caustic photons per pass and
+        // caustic radius; -1 photons (one per pixel) leaves gi's default, which follows the
+        // image too.
+        m_scene.render.maxPhotonDepth = int(std::clamp<long long>(depth, 2, 10001));
+        long long photons = params.getInt("photonsperiteration", -1);
+        if (photons > 100000000)
+            failAt(loc, "Integrator \"sppm\": photonsperiteration above 10^8");
+        if (photons > 0) m_scene.render.photonsPerPass = int(photons);
+        double radius = params.getFloat("radius", 1.0);
+        if (!(radius > 0) || !std::isfinite(radius))
+            failAt(loc, "Integrator \"sppm\": radius must be positive");
+        m_scene.render.photonRadius = float(radius);
+    }
     for (const Param& p : params.all()) p.used = true; // the render mode decides the algorithm
 }
 

@@ -43,7 +43,7 @@ public:
     void film(ParamList params, const SourceLoc& loc);
     void pixelFilter(const std::string& type, ParamList params, const SourceLoc& loc);
     void sampler(const std::string& type, const ParamList& params, const SourceLoc& loc);
-    void integrator(const ParamList& params, const SourceLoc& loc);
+    void integrator(const std::string& type, const ParamList& params, const SourceLoc& loc);
     void worldBegin(const SourceLoc& loc);
     void worldEnd(const SourceLoc& loc);
 

@@ -216,8 +216,9 @@ void Parser::directive(const Token& d) {
         std::string type = string(d, "sampler type");
         b.sampler(type, params(), loc);
     } else if (n == "Integrator") {
-        string(d, "integrator type"); // the render mode chooses the algorithm
-        b.integrator(params(), loc);
+        // The render mode chooses the algorithm; sppm's photon settings go to gi.
+        std::string type = string(d, "integrator type");
+        b.integrator(type, params(), loc);
     } else if (n == "Accelerator") {
         string(d, "accelerator type"); // Embree builds its own
         b.requireOptions("Accelerator", loc);
