@@ -43,6 +43,17 @@ std::string sphereUnderSky(const Vec3& a, const std::string& sky) {
                "nodes": [{"type": "sphere", "material": "m", "radius": 1}]})";
 }
 
+// A plane z = 0 of albedo 0.5 seen from above, lit by the image sky at `path` alone.
+std::unique_ptr<Scene> planeUnderSky(const std::string& path) {
+    return sceneFromJson(
+        R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 20,
+                       "resolution": [16, 16]},
+            "materials": {"m": {"type": "diffuse", "color": [0.5, 0.5, 0.5]}},
+            "lights": [{"type": "environment", "image": ")" + path + R"("}],
+            "nodes": [{"type": "quad", "material": "m",
+                       "corners": [[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0]]}]})");
+}
+
 } // namespace
 
 TEST_CASE("A diffuse sphere under a constant image sky renders as under the constant sky",
@@ -81,13 +92,7 @@ TEST_CASE("One bright pixel of an image sky lights a plane with E = L * 4pi/N * 
     REQUIRE(d.z > 0.3f); // above the plane z = 0 (light space = world space)
     double E = sun * (4 * kPi / (res * res)) * d.z;
     double expected = albedo / kPi * E;
-    auto scene = sceneFromJson(
-        R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 20,
-                       "resolution": [16, 16]},
-            "materials": {"m": {"type": "diffuse", "color": [0.5, 0.5, 0.5]}},
-            "lights": [{"type": "environment", "image": ")" + path + R"("}],
-            "nodes": [{"type": "quad", "material": "m",
-                       "corners": [[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0]]}]})");
+    auto scene = planeUnderSky(path);
     EmbreeScene accel(*scene);
     Image img = renderMode(*scene, accel, "path", 16);
     INFO("analytic radiance " << expected << " (sun direction z " << d.z << ")");
@@ -109,13 +114,7 @@ TEST_CASE("A plane under a varied image sky gets the irradiance the sky gives it
         }
     sky.at(4, 9)[0] = 60.0f; // a sun, above the plane
     std::string path = tempImage("varied.pfm", sky);
-    auto scene = sceneFromJson(
-        R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 20,
-                       "resolution": [16, 16]},
-            "materials": {"m": {"type": "diffuse", "color": [0.5, 0.5, 0.5]}},
-            "lights": [{"type": "environment", "image": ")" + path + R"("}],
-            "nodes": [{"type": "quad", "material": "m",
-                       "corners": [[-50, -50, 0], [50, -50, 0], [50, 50, 0], [-50, 50, 0]]}]})");
+    auto scene = planeUnderSky(path);
     EmbreeScene accel(*scene);
     // E = integral over the upper hemisphere of L cos theta: a fine (cos theta, phi) midpoint
     // rule over the sky's own lookup.
