@@ -128,7 +128,7 @@ TEST_CASE("The noise breakdown does not depend on the thread count", "[engine]")
     CHECK(sameBits(one.image, two.image));
 }
 
-TEST_CASE("--debug-view noise writes the layers into the EXR, and only there and in path mode",
+TEST_CASE("The noise debug view writes its layers into the EXR, and only there and in path mode",
           "[engine][cli]") {
     TempDir dir;
     const std::vector<std::string> base{"render", scenePath("cornell-box"), "--width", "16",
