@@ -6,6 +6,7 @@
 #include "bench/summary.h"
 #include "core/error.h"
 
+#include "skip.h"
 #include "test_util.h"
 
 #include <catch2/catch.hpp>
@@ -98,11 +99,8 @@ TEST_CASE("the public suite's sizes are an eighth of the scene files' Film resol
     // ../shared beside the checkout, as in CI; absent elsewhere.
     fs::path dir = test::sourceDir() / "scenes";
     const BenchSuite& s = findSuite("public");
-    if (!fs::is_regular_file(dir / s.scenes.front().file)) {
-        WARN("no " << (dir / s.scenes.front().file).lexically_normal().string()
-                   << "; check skipped");
-        return;
-    }
+    if (!fs::is_regular_file(dir / s.scenes.front().file))
+        RAYPROC_SKIP("no " << (dir / s.scenes.front().file).lexically_normal().string());
     for (const SuiteScene& scene : s.scenes) {
         INFO(scene.file);
         std::string text = test::readText((dir / scene.file).string());

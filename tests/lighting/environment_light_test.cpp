@@ -4,7 +4,7 @@
 #include "image/image.h"
 #include "lighting/environment.h"
 #include "lighting/sphere_mapping.h"
-#include "statistical/chi_square.h"
+#include "statistical/statistical.h"
 
 #include <catch2/catch.hpp>
 
@@ -75,7 +75,7 @@ void checkSampling(const EnvironmentLight& env, std::uint64_t seed, bool compens
         h.expected([&](const Vec3& w) { return double(env.pdf(w, {}, compensated)); }, samples, 5);
     ChiSquareResult r = chiSquareTest(h.counts(), expected);
     INFO("chi2 " << r.chi2 << " dof " << r.dof << " p " << r.pValue);
-    CHECK(r.pValue > sidakSignificance(0.01, 4));
+    CHECK(r.pValue > testSignificance());
 }
 
 } // namespace
@@ -150,7 +150,7 @@ TEST_CASE("Image sky, compensated: samples follow pdf, which is zero below the m
     }
     ChiSquareResult r = chiSquareTest(observed, expected);
     INFO("chi2 " << r.chi2 << " dof " << r.dof << " p " << r.pValue);
-    CHECK(r.pValue > sidakSignificance(0.01, 4));
+    CHECK(r.pValue > testSignificance());
     // The sun pixel takes a larger share than without compensation.
     Vec3 sun = equalAreaSquareToSphere({2.5f / res, 5.5f / res});
     CHECK(env.pdf(sun, {}, true) > env.pdf(sun, {}));
@@ -197,7 +197,7 @@ TEST_CASE("Image sky (lat-long): samples follow pdf, which integrates to 1", "[l
     for (double& e : expected) e *= samples / total;
     ChiSquareResult r = chiSquareTest(observed, expected);
     INFO("chi2 " << r.chi2 << " dof " << r.dof << " p " << r.pValue);
-    CHECK(r.pValue > sidakSignificance(0.01, 4));
+    CHECK(r.pValue > testSignificance());
 }
 
 TEST_CASE("Constant sky plus two images: radiance adds, the mixture pdf is consistent",

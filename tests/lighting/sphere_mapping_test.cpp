@@ -2,7 +2,7 @@
 // the lat-long mapping: round trips, known points, the octahedral pixel wrap, and the
 // equal-area property (uniform points of the square give uniform directions, chi-square).
 #include "lighting/sphere_mapping.h"
-#include "statistical/chi_square.h"
+#include "statistical/statistical.h"
 
 #include <catch2/catch.hpp>
 
@@ -51,7 +51,7 @@ TEST_CASE("Equal-area mapping: uniform square points give uniform directions", "
     auto expected = h.expected([](const Vec3&) { return 1.0 / (4 * kPi); }, samples, 2);
     ChiSquareResult r = chiSquareTest(h.counts(), expected);
     INFO("chi2 " << r.chi2 << " dof " << r.dof << " p " << r.pValue);
-    CHECK(r.pValue > sidakSignificance(0.01, 4));
+    CHECK(r.pValue > testSignificance());
 }
 
 TEST_CASE("Octahedral pixel wrap folds across the edges", "[lights]") {

@@ -1,6 +1,7 @@
 // The chi-square machinery itself: the incomplete gamma function against tabulated chi-square
 // quantiles, and pooling.
 #include "chi_square.h"
+#include "statistical.h"
 
 #include <catch2/catch.hpp>
 
@@ -30,8 +31,11 @@ TEST_CASE("Chi-square p-values match the tables", "[statistical]") {
     CHECK(chiSquarePValue(1e6, 199) == Approx(0.0).margin(1e-300));
     // Q(1, x) = exp(-x): the exponential tail (2 degrees of freedom).
     CHECK(chiSquarePValue(10.0, 2) == Approx(std::exp(-5.0)).epsilon(1e-10));
-    // Sidak: 16 tests at 1% overall.
+    // Sidak's formula at a tabulated point: 16 tests at 1% overall.
     CHECK(sidakSignificance(0.01, 16) == Approx(6.2795e-4).epsilon(1e-3));
+    // The suite's per-test significance, as docs/testing.md quotes it (114 tests at 1%): a
+    // change of kChiSquareTests fails here until the docs say the new value.
+    CHECK(testSignificance() == Approx(8.8e-5).epsilon(2e-3));
 }
 
 TEST_CASE("Chi-square pools sparse bins and catches impossible samples", "[statistical]") {
