@@ -164,6 +164,19 @@ def wave_height(x, z):
     return h, dx, dz
 
 
+def wave_grid(coords, level):
+    """The wavy surface's grid over coords x coords at height level + waves: its "v" lines and
+    its "vn" lines (the waves' analytic normals), row by row."""
+    positions, normals = [], []
+    for z in coords:
+        for x in coords:
+            h, dx, dz = wave_height(x, z)
+            positions.append(f"v {x:.5f} {level + h:.5f} {z:.5f}")
+            ln = math.sqrt(dx * dx + 1 + dz * dz)
+            normals.append(f"vn {-dx / ln:.5f} {1 / ln:.5f} {-dz / ln:.5f}")
+    return positions, normals
+
+
 def wavy_water_obj(half=1.0, bottom=0.9, level=1.0, n=64):
     """A closed slab over [-half, half]^2: a flat bottom at y = bottom, a wavy top around
     y = level with analytic vertex normals (smooth refraction, hence sharp caustics), and
@@ -173,18 +186,12 @@ def wavy_water_obj(half=1.0, bottom=0.9, level=1.0, n=64):
              f"{n} x {n} top quads", "o water"]
     coords = [-half + 2 * half * i / n for i in range(n + 1)]
     # Top grid: positions 1 .. (n+1)^2 with their normals; then the bottom grid.
-    for z in coords:
-        for x in coords:
-            h, _, _ = wave_height(x, z)
-            lines.append(f"v {x:.5f} {level + h:.5f} {z:.5f}")
+    positions, normals = wave_grid(coords, level)
+    lines += positions
     for z in coords:
         for x in coords:
             lines.append(f"v {x:.5f} {bottom:.5f} {z:.5f}")
-    for z in coords:
-        for x in coords:
-            _, dx, dz = wave_height(x, z)
-            ln = math.sqrt(dx * dx + 1 + dz * dz)
-            lines.append(f"vn {-dx / ln:.5f} {1 / ln:.5f} {-dz / ln:.5f}")
+    lines += normals
     flat = {"down": (0, -1, 0), "-x": (-1, 0, 0), "+x": (1, 0, 0), "-z": (0, 0, -1),
             "+z": (0, 0, 1)}
     first_flat = (n + 1) ** 2 + 1
@@ -244,15 +251,8 @@ def wavy_surface_obj(half=1.0, level=0.8, n=64):
     lines = ["# Open wavy water surface written by scripts/gen-scenes.py",
              f"# [-{half}, {half}]^2, y = {level} + waves, {n} x {n} quads", "o surface"]
     coords = [-half + 2 * half * i / n for i in range(n + 1)]
-    for z in coords:
-        for x in coords:
-            h, _, _ = wave_height(x, z)
-            lines.append(f"v {x:.5f} {level + h:.5f} {z:.5f}")
-    for z in coords:
-        for x in coords:
-            _, dx, dz = wave_height(x, z)
-            ln = math.sqrt(dx * dx + 1 + dz * dz)
-            lines.append(f"vn {-dx / ln:.5f} {1 / ln:.5f} {-dz / ln:.5f}")
+    positions, normals = wave_grid(coords, level)
+    lines += positions + normals
     for j in range(n):  # counter-clockwise seen from above (+y)
         for i in range(n):
             a = j * (n + 1) + i + 1
