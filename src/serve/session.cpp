@@ -478,6 +478,17 @@ Json Session::state() const {
             if (n.contains("emission")) o["emission"] = n["emission"];
             objects.push_back(o);
         }
+    } else if (!m_editable) {
+        // A pbrt scene: the objects a pick can name (the scene's top-level nodes), read-only,
+        // so the page lists what the server picks.
+        const Scene& scene = *m_loaded->scene;
+        for (std::size_t i = 0; i < scene.root->children.size(); ++i) {
+            const Node& n = *scene.root->children[i];
+            const char* kind = n.kind == Node::Kind::Shape      ? "shape"
+                               : n.kind == Node::Kind::Instance ? "instance"
+                                                                : "group";
+            objects.push_back({{"index", i}, {"type", kind}, {"name", n.name}});
+        }
     }
     s["objects"] = objects;
     s["materials"] = m_editable && m_doc.contains("materials") ? m_doc["materials"] : Json::object();

@@ -405,3 +405,20 @@ TEST_CASE(
     CHECK(moveToCoarse < 0.6 * fullFrame);
     CHECK_FALSE(badHeader);
 }
+
+TEST_CASE("serve: a pbrt scene's state lists the objects a pick names", "[serve]") {
+    // Issue 37 bug 1: the state listed no objects on pbrt scenes, so the page had nothing to
+    // show for the object the pick named.
+    Harness h((sourceDir() / "scenes" / "cornell-box.pbrt").string());
+    Json s = h.send({{"type", "state"}});
+    REQUIRE(s["editable"] == false);
+    Json tall = h.send({{"type", "pick"}, {"x", 0.38}, {"y", 0.5}});
+    REQUIRE(tall["type"] == "picked");
+    REQUIRE(tall["object"].is_number_integer());
+    std::size_t index = tall["object"].get<std::size_t>();
+    REQUIRE(index < s["objects"].size());
+    CHECK(s["objects"][index]["index"] == index);
+    CHECK(s["objects"][index]["name"] == tall["name"]);
+    CHECK_THAT(messageOf(h.send({{"type", "material"}, {"name", "x"}, {"material", {{"type", "diffuse"}}}})),
+               Catch::Contains("only JSON scenes can be edited"));
+}
