@@ -262,7 +262,16 @@ Json Session::reply(const Json& m, int client) {
         long long index = obj.get<long long>();
         Affine edit = Affine::identity();
         Vec3 translate{0, 0, 0};
-        if (m.contains("translate")) translate = vec3(m["translate"], "transform.translate");
+        if (m.contains("translate")) {
+            translate = vec3(m["translate"], "transform.translate");
+            // One move at most kMaxTranslate along each axis (the page's step is refused
+            // beyond it too): 1e9 would put the object where Embree loses all precision.
+            for (float t : {translate.x, translate.y, translate.z})
+                if (!(std::abs(t) <= kMaxTranslate))
+                    refuse("transform.translate: each component must be in [-" +
+                           std::to_string(int(kMaxTranslate)) + ", " +
+                           std::to_string(int(kMaxTranslate)) + "] (repeat a move to go further)");
+        }
         Affine about = Affine::identity();
         if (m.contains("rotate")) {
             const Json& r = m["rotate"];
@@ -456,6 +465,17 @@ Json Session::pick(const Json& m) const {
         out["name"] = scene.root->children[std::size_t(found)]->name;
     }
     return out;
+}
+
+std::string Session::previewSizeNote(int requested) const {
+    std::lock_guard<std::mutex> lk(m_mutex);
+    int longer = std::max(m_camera.width, m_camera.height);
+    if (requested <= longer) return "";
+    return "--preview-size " + std::to_string(requested) + " is above the scene's resolution (" +
+           std::to_string(m_camera.width) + "x" + std::to_string(m_camera.height) +
+           "): the live preview is " + std::to_string(m_camera.width) + "x" +
+           std::to_string(m_camera.height) + ", at most the scene's resolution (raise the " +
+           "camera's resolution in the scene for a larger one)";
 }
 
 Json Session::state() const {
