@@ -191,7 +191,7 @@ function showPick(m) {
 function showSelection() {
   if (selected === null) { $("selection").textContent = "none"; return; }
   const o = state.objects[selected] || {};
-  const name = o.name || o.type || (picked && picked.object === selected && picked.name) || "object";
+  const name = o.name || (picked && picked.object === selected && picked.name) || o.type || "object";
   const material = o.material || (picked && picked.object === selected && picked.material);
   $("selection").textContent = "#" + selected + " " + name + (material ? " (material " + material + ")" : "");
   const mat = o.material && state.materials[o.material];
