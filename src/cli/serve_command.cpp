@@ -17,6 +17,7 @@ struct ServeArgs {
     int port = 8080;
     int threads = 0;
     int previewSize = 512;
+    bool previewSizeGiven = false;
 };
 
 int runServe(const ServeArgs& a) {
@@ -24,6 +25,12 @@ int runServe(const ServeArgs& a) {
     options.threads = a.threads;
     options.previewMaxSide = a.previewSize;
     serve::Session session(a.scene, options);
+    // The preview is never larger than the scene's resolution: a size asked for above it is
+    // said, not silently capped (the default is capped without a word).
+    if (a.previewSizeGiven) {
+        std::string note = session.previewSizeNote(a.previewSize);
+        if (!note.empty()) std::fprintf(stderr, "rayproc serve: warning: %s\n", note.c_str());
+    }
     // Ctrl-C (or SIGTERM, SIGHUP) stops the server; a render's cancel is not a signal. The
     // handler's own words are about partial images, which serve does not write.
     installInterruptHandler();
@@ -57,14 +64,19 @@ std::function<int()> addServeCommand(CLI::App& app) {
         ->check(CLI::Range(0, 65535));
     cmd->add_option("--threads", args->threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
-    cmd->add_option("--preview-size", args->previewSize,
-                    "The live preview's longer side in pixels (default 512; renders in the other "
-                    "modes use the scene's resolution)")
-        ->check(CLI::Range(16, 4096));
+    CLI::Option* previewSize =
+        cmd->add_option("--preview-size", args->previewSize,
+                        "The live preview's longer side in pixels (default 512; renders in the "
+                        "other modes use the scene's resolution); at most the scene's resolution: "
+                        "a larger size is capped with a warning")
+            ->check(CLI::Range(16, 4096));
     cmd->footer("The page is served from the binary itself; nothing is fetched from elsewhere. "
                 "It listens on 127.0.0.1 only. Exit status: 0 after Ctrl-C, 1 bad input or a "
                 "port in use.");
-    return [args] { return runServe(*args); };
+    return [args, previewSize] {
+        args->previewSizeGiven = previewSize->count() > 0;
+        return runServe(*args);
+    };
 }
 
 } // namespace rayproc::cli

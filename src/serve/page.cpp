@@ -44,24 +44,26 @@ const char* const kPage = R"PAGE(<!doctype html>
   <div id="render-info"></div>
   <h3>Selection</h3>
   <div id="selection">none (click the image)</div>
-  <div class="row">move <button data-move="-1,0,0">-x</button><button data-move="1,0,0">+x</button>
-    <button data-move="0,-1,0">-y</button><button data-move="0,1,0">+y</button>
-    <button data-move="0,0,-1">-z</button><button data-move="0,0,1">+z</button>
-    step <input id="step" type="number" value="0.1" step="0.05"></div>
-  <div class="row">rotate y <button id="rot-minus">-15&deg;</button><button id="rot-plus">+15&deg;</button>
-    scale <button id="scale-down">&divide;1.1</button><button id="scale-up">&times;1.1</button></div>
+  <div id="read-only" hidden>This scene is read-only: only JSON scenes can be edited (the camera, renders and downloads still work).</div>
+  <div class="row">move <button data-edit data-move="-1,0,0">-x</button><button data-edit data-move="1,0,0">+x</button>
+    <button data-edit data-move="0,-1,0">-y</button><button data-edit data-move="0,1,0">+y</button>
+    <button data-edit data-move="0,0,-1">-z</button><button data-edit data-move="0,0,1">+z</button>
+    step <input id="step" type="number" value="0.1" step="0.05" min="-1000" max="1000"></div>
+  <div class="row">rotate y <button id="rot-minus" data-edit>-15&deg;</button><button id="rot-plus" data-edit>+15&deg;</button>
+    scale <button id="scale-down" data-edit>&divide;1.1</button><button id="scale-up" data-edit>&times;1.1</button></div>
   <h3>Material</h3>
   <div class="row">type <select id="mat-type">
     <option>diffuse</option><option>mirror</option><option>dielectric</option><option>glossy</option></select></div>
   <div class="row">colour <input id="mat-color" type="color" value="#b9b5ad">
     roughness <input id="mat-roughness" type="number" min="0" max="1" step="0.05" value="0.2">
     ior <input id="mat-ior" type="number" min="1" max="3" step="0.05" value="1.5"></div>
-  <div class="row"><button id="mat-apply">Apply material</button></div>
-  <div class="row">emission <input id="emission" type="number" min="0" step="1" value="0">
-    <button id="emission-apply">Apply emission</button></div>
+  <div class="row"><button id="mat-apply" data-edit>Apply material</button></div>
+  <div class="row">emission r g b <input id="emission-r" type="number" min="0" step="1" value="0"><input
+    id="emission-g" type="number" min="0" step="1" value="0"><input id="emission-b" type="number" min="0" step="1" value="0">
+    <button id="emission-apply" data-edit>Apply emission</button></div>
   <h3>Scene</h3>
-  <div class="row"><button id="undo">Undo</button> <span id="undo-depth"></span></div>
-  <div class="row"><input id="save-path" value="edited.json"> <button id="save">Save JSON</button></div>
+  <div class="row"><button id="undo" data-edit>Undo</button> <span id="undo-depth"></span></div>
+  <div class="row"><input id="save-path" value="edited.json"> <button id="save" data-edit>Save JSON</button></div>
   <h3>Lights</h3>
   <div id="lights"></div>
   <h3>Scene analysis</h3>
@@ -154,27 +156,44 @@ function showState(s) {
     row.textContent = (l.name || l.type) + " ";
     if (l.intensity || l.radiance) {
       const key = l.intensity ? "intensity" : "radiance";
-      const input = document.createElement("input"); input.type = "number"; input.step = "0.5";
-      input.value = Array.isArray(l[key]) ? l[key][0] : l[key];
-      const b = document.createElement("button"); b.textContent = "set " + key;
-      b.onclick = () => { const v = parseFloat(input.value); send({type: "light", index: i, set: {[key]: [v, v, v]}}); };
-      row.append(input, b);
+      // One field per channel: a coloured light keeps its colour (a number means grey).
+      const rgb = Array.isArray(l[key]) ? l[key] : [l[key], l[key], l[key]];
+      const inputs = rgb.map((c) => { const input = document.createElement("input"); input.type = "number";
+        input.step = "0.5"; input.min = "0"; input.value = c; input.disabled = !s.editable; return input; });
+      const b = document.createElement("button"); b.textContent = "set " + key; b.disabled = !s.editable;
+      b.onclick = () => { const v = readRgb(inputs, key); if (v) send({type: "light", index: i, set: {[key]: v}}); };
+      row.append(...inputs, b);
     }
     lights.append(row);
   });
   rendering = s.rendering; $("cancel").disabled = !rendering;
+  // pbrt scenes are read-only: the edit controls say so instead of sending what is refused.
+  $("read-only").hidden = s.editable;
+  document.querySelectorAll("[data-edit]").forEach((el) => { el.disabled = !s.editable; });
   if (selected !== null) showSelection();
 }
 
+// Three number fields as an RGB triple, or null (with the reason shown) if one is not a number >= 0.
+function readRgb(inputs, what) {
+  const v = inputs.map((input) => parseFloat(input.value));
+  if (v.some((c) => !Number.isFinite(c) || c < 0)) { showError(what + ": expected three numbers >= 0 (r, g, b)"); return null; }
+  return v;
+}
+function showError(text) { window.rayproc.lastError = text; $("error").textContent = text; }
+
+let picked = null; // the last pick's reply: its name and material name the object where the state lists none
 function showPick(m) {
   selected = m.object === null ? null : m.object;
-  showSelection(m);
+  picked = m;
+  showSelection();
 }
 
-function showSelection(m) {
+function showSelection() {
   if (selected === null) { $("selection").textContent = "none"; return; }
-  const o = state.objects[selected];
-  $("selection").textContent = "#" + selected + " " + (o.name || o.type) + (o.material ? " (material " + o.material + ")" : "");
+  const o = state.objects[selected] || {};
+  const name = o.name || (picked && picked.object === selected && picked.name) || o.type || "object";
+  const material = o.material || (picked && picked.object === selected && picked.material);
+  $("selection").textContent = "#" + selected + " " + name + (material ? " (material " + material + ")" : "");
   const mat = o.material && state.materials[o.material];
   if (mat) {
     $("mat-type").value = mat.type;
@@ -182,7 +201,8 @@ function showSelection(m) {
     if (mat.roughness !== undefined) $("mat-roughness").value = mat.roughness;
     if (mat.ior !== undefined) $("mat-ior").value = mat.ior;
   }
-  $("emission").value = o.emission ? o.emission[0] : 0;
+  const e = o.emission || [0, 0, 0];
+  ["r", "g", "b"].forEach((c, i) => { $("emission-" + c).value = e[i]; });
 }
 
 // Orbit, pan, zoom and fly.
@@ -245,17 +265,29 @@ function rotate(v, axis, angle) { // Rodrigues
   return add(add(mul(v, c), mul(cross(k, v), s)), mul(k, dotp(k, v) * (1 - c)));
 }
 
+// Edits need a JSON scene and a selection; otherwise the error area says why.
+function canEdit() {
+  if (!state || !state.editable) { showError("this scene is read-only: only JSON scenes can be edited"); return false; }
+  if (selected === null) { showError("select an object first (click it in the image)"); return false; }
+  return true;
+}
+const kMaxStep = 1000; // as the server's transform.translate
 document.querySelectorAll("[data-move]").forEach((b) => b.onclick = () => {
-  if (selected === null) return;
-  const step = parseFloat($("step").value) || 0.1;
+  if (!canEdit()) return;
+  const step = parseFloat($("step").value);
+  if (!Number.isFinite(step) || step === 0 || Math.abs(step) > kMaxStep) {
+    showError("move step: expected a number in [-" + kMaxStep + ", " + kMaxStep + "], not 0"); return;
+  }
   send({type: "transform", object: selected, translate: b.dataset.move.split(",").map((v) => parseFloat(v) * step)});
 });
-$("rot-minus").onclick = () => selected !== null && send({type: "transform", object: selected, rotate: {angle: -15, axis: [0, 1, 0]}});
-$("rot-plus").onclick = () => selected !== null && send({type: "transform", object: selected, rotate: {angle: 15, axis: [0, 1, 0]}});
-$("scale-down").onclick = () => selected !== null && send({type: "transform", object: selected, scale: 1 / 1.1});
-$("scale-up").onclick = () => selected !== null && send({type: "transform", object: selected, scale: 1.1});
+$("rot-minus").onclick = () => canEdit() && send({type: "transform", object: selected, rotate: {angle: -15, axis: [0, 1, 0]}});
+$("rot-plus").onclick = () => canEdit() && send({type: "transform", object: selected, rotate: {angle: 15, axis: [0, 1, 0]}});
+$("scale-down").onclick = () => canEdit() && send({type: "transform", object: selected, scale: 1 / 1.1});
+$("scale-up").onclick = () => canEdit() && send({type: "transform", object: selected, scale: 1.1});
 $("mat-apply").onclick = () => {
-  if (selected === null || !state.objects[selected].material) return;
+  if (!canEdit()) return;
+  const o = state.objects[selected];
+  if (!o || !o.material) { showError("object #" + selected + " has no material of its own to edit"); return; }
   const hex = $("mat-color").value;
   const color = [1, 3, 5].map((i) => parseInt(hex.substr(i, 2), 16) / 255);
   const type = $("mat-type").value;
@@ -264,12 +296,12 @@ $("mat-apply").onclick = () => {
   if (type === "mirror") m.color = color;
   if (type === "dielectric") m.ior = parseFloat($("mat-ior").value);
   if (type === "glossy") { m.color = color; m.roughness = parseFloat($("mat-roughness").value); }
-  send({type: "material", name: state.objects[selected].material, material: m});
+  send({type: "material", name: o.material, material: m});
 };
 $("emission-apply").onclick = () => {
-  if (selected === null) return;
-  const v = parseFloat($("emission").value) || 0;
-  send({type: "emission", object: selected, emission: [v, v, v]});
+  if (!canEdit()) return;
+  const v = readRgb(["r", "g", "b"].map((c) => $("emission-" + c)), "emission");
+  if (v) send({type: "emission", object: selected, emission: v});
 };
 $("undo").onclick = () => send({type: "undo"});
 $("save").onclick = () => send({type: "save", path: $("save-path").value});

@@ -262,7 +262,16 @@ Json Session::reply(const Json& m, int client) {
         long long index = obj.get<long long>();
         Affine edit = Affine::identity();
         Vec3 translate{0, 0, 0};
-        if (m.contains("translate")) translate = vec3(m["translate"], "transform.translate");
+        if (m.contains("translate")) {
+            translate = vec3(m["translate"], "transform.translate");
+            // One move at most kMaxTranslate along each axis (the page's step is refused
+            // beyond it too): 1e9 would put the object where Embree loses all precision.
+            for (float t : {translate.x, translate.y, translate.z})
+                if (!(std::abs(t) <= kMaxTranslate))
+                    refuse("transform.translate: each component must be in [-" +
+                           std::to_string(int(kMaxTranslate)) + ", " +
+                           std::to_string(int(kMaxTranslate)) + "] (repeat a move to go further)");
+        }
         Affine about = Affine::identity();
         if (m.contains("rotate")) {
             const Json& r = m["rotate"];
@@ -458,6 +467,17 @@ Json Session::pick(const Json& m) const {
     return out;
 }
 
+std::string Session::previewSizeNote(int requested) const {
+    std::lock_guard<std::mutex> lk(m_mutex);
+    int longer = std::max(m_camera.width, m_camera.height);
+    if (requested <= longer) return "";
+    return "--preview-size " + std::to_string(requested) + " is above the scene's resolution (" +
+           std::to_string(m_camera.width) + "x" + std::to_string(m_camera.height) +
+           "): the live preview is " + std::to_string(m_camera.width) + "x" +
+           std::to_string(m_camera.height) + ", at most the scene's resolution (raise the " +
+           "camera's resolution in the scene for a larger one)";
+}
+
 Json Session::state() const {
     std::lock_guard<std::mutex> lk(m_mutex);
     Json s;
@@ -477,6 +497,17 @@ Json Session::state() const {
             if (n.contains("material")) o["material"] = n["material"];
             if (n.contains("emission")) o["emission"] = n["emission"];
             objects.push_back(o);
+        }
+    } else if (!m_editable) {
+        // A pbrt scene: the objects a pick can name (the scene's top-level nodes), read-only,
+        // so the page lists what the server picks.
+        const Scene& scene = *m_loaded->scene;
+        for (std::size_t i = 0; i < scene.root->children.size(); ++i) {
+            const Node& n = *scene.root->children[i];
+            const char* kind = n.kind == Node::Kind::Shape      ? "shape"
+                               : n.kind == Node::Kind::Instance ? "instance"
+                                                                : "group";
+            objects.push_back({{"index", i}, {"type", kind}, {"name", n.name}});
         }
     }
     s["objects"] = objects;

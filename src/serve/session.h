@@ -52,6 +52,12 @@ public:
         std::function<void(const std::string& json)> text; // to every page
         std::function<void(const std::vector<std::uint8_t>& frame)> frame;
     };
+    // The largest translation one transform message may make along an axis.
+    static constexpr float kMaxTranslate = 1000.0f;
+    // Why the live preview is smaller than `requested` pixels on its longer side (it never
+    // exceeds the scene's resolution), or "" when it is not.
+    std::string previewSizeNote(int requested) const;
+
     struct Options {
         int threads = 0;
         int previewMaxSide = 512; // the live preview's longer side (the aspect is the scene's)

@@ -405,3 +405,65 @@ TEST_CASE(
     CHECK(moveToCoarse < 0.6 * fullFrame);
     CHECK_FALSE(badHeader);
 }
+
+TEST_CASE("serve: a pbrt scene's state lists the objects a pick names", "[serve]") {
+    // Issue 37 bug 1: the state listed no objects on pbrt scenes, so the page had nothing to
+    // show for the object the pick named.
+    Harness h((sourceDir() / "scenes" / "cornell-box.pbrt").string());
+    Json s = h.send({{"type", "state"}});
+    REQUIRE(s["editable"] == false);
+    Json tall = h.send({{"type", "pick"}, {"x", 0.38}, {"y", 0.5}});
+    REQUIRE(tall["type"] == "picked");
+    REQUIRE(tall["object"].is_number_integer());
+    std::size_t index = tall["object"].get<std::size_t>();
+    REQUIRE(index < s["objects"].size());
+    CHECK(s["objects"][index]["index"] == index);
+    CHECK(s["objects"][index]["name"] == tall["name"]);
+    CHECK_THAT(messageOf(h.send({{"type", "material"}, {"name", "x"}, {"material", {{"type", "diffuse"}}}})),
+               Catch::Contains("only JSON scenes can be edited"));
+}
+
+TEST_CASE("serve: a move beyond [-1000, 1000] per axis is refused with the range named", "[serve]") {
+    // Issue 37 bug 7: a step of 1e9 was accepted.
+    Harness h(scenePath("cornell-box"));
+    CHECK_THAT(messageOf(h.send({{"type", "transform"}, {"object", 6}, {"translate", {0, 1e9, 0}}})),
+               Catch::Contains("transform.translate: each component must be in [-1000, 1000]"));
+    CHECK_THAT(messageOf(h.send({{"type", "transform"}, {"object", 6}, {"translate", {-1001, 0, 0}}})),
+               Catch::Contains("[-1000, 1000]"));
+    CHECK(h.send({{"type", "state"}})["undo_depth"] == 0);
+    CHECK(h.send({{"type", "transform"}, {"object", 6}, {"translate", {0, 0, 1000}}})["type"] == "edited");
+}
+
+TEST_CASE("serve: a preview size above the scene's resolution is said, not silently capped", "[serve]") {
+    // Issue 37 bug 7: --preview-size 4096 on a 48x32 scene gave a 48x32 preview without a word.
+    TempDir dir;
+    std::string scene = sceneWithLight(dir);
+    {
+        Harness h(scene);
+        CHECK(h.session.previewSizeNote(48) == "");
+        CHECK(h.session.previewSizeNote(16) == "");
+        CHECK_THAT(h.session.previewSizeNote(4096),
+                   Catch::Contains("--preview-size 4096 is above the scene's resolution (48x32)"));
+    }
+    // The command prints it when the size was asked for.
+    auto serveOnce = [&](const std::vector<std::string>& extra, int n) {
+        std::vector<std::string> args{"serve", scene, "--port", "0", "--threads", "1"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        std::string err = dir.file("err" + std::to_string(n) + ".txt");
+        Child child(args, dir.file("out" + std::to_string(n) + ".txt"), err);
+        REQUIRE(child.started());
+        auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+        while (readText(err).find("open http") == std::string::npos &&
+               std::chrono::steady_clock::now() < deadline)
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        child.signal(SIGINT);
+        child.wait(30);
+        return readText(err);
+    };
+    std::string asked = serveOnce({"--preview-size", "4096"}, 0);
+    CHECK_THAT(asked, Catch::Contains("open http"));
+    CHECK_THAT(asked, Catch::Contains("warning: --preview-size 4096 is above the scene's resolution (48x32)"));
+    std::string defaulted = serveOnce({}, 1);
+    CHECK_THAT(defaulted, Catch::Contains("open http"));
+    CHECK_THAT(defaulted, !Catch::Contains("warning"));
+}
