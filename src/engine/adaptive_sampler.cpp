@@ -153,6 +153,12 @@ AdaptiveSampler::Decision AdaptiveSampler::update(const Film& film, const SumAll
         std::fill(m_mask.begin(), m_mask.end(), std::uint8_t(1));
         d.activePixels = d.pixels;
     }
+    const double activeShare = d.pixels > 0 ? double(d.activePixels) / double(d.pixels) : 0;
+    d.done = d.meanSpp >= m_settings.meanSpp || d.activePixels == 0;
+    double perPass = double(m_settings.passSpp) / std::max(2 * activeShare, 1e-9);
+    if (m_settings.targetRelMse <= 0)
+        perPass = std::min(perPass, (m_settings.meanSpp - d.meanSpp) / std::max(2 * activeShare, 1e-9));
+    d.passSamples = int(std::clamp(std::ceil(perPass), 1.0, double(m_settings.maxPassSpp)));
     return d;
 }
 

@@ -40,7 +40,12 @@ public:
         int minSpp = 16;        // every pixel takes at least this many samples first
         int maxSpp = 1 << 20;   // and at most this many
         double targetRelMse = 0; // > 0: the need aims at this relMSE
-        int meanSpp = 0;         // otherwise at this mean count of samples per pixel
+        // The mean samples per pixel asked (the need aims at it without a target); the render
+        // ends once the image's mean reaches it, under a target too.
+        int meanSpp = 0;
+        // The render's uniform passes' samples per pixel, and the most a pass of a pair takes.
+        int passSpp = 1;
+        int maxPassSpp = 16;
     };
     AdaptiveSampler(int width, int height, Settings settings);
 
@@ -50,6 +55,11 @@ public:
         double meanSpp = 0;            // samples per pixel taken so far, over the whole image
         std::uint64_t activePixels = 0; // pixels the next pair samples, over the whole image
         std::uint64_t pixels = 0;
+        // The samples per pixel of each pass of the next pair: about half the image's samples
+        // a pass while few pixels are left (a pass has a cost of its own), no more than the
+        // mean asked leaves without a target.
+        int passSamples = 1;
+        bool done = false; // the mean asked is reached, or no pixel is left
     };
     // Reads the film and decides which of this rank's pixels the next pair of passes samples.
     // Every rank calls it at once (it sums over ranks twice). When no pixel of the image falls

@@ -77,8 +77,8 @@ std::vector<double> Film::relMseParts() const {
                     std::size_t p = std::size_t(y) * std::size_t(m_width) + std::size_t(x);
                     double e = pixelRelMse(p);
                     if (std::isnan(e)) continue;
-                    sum += 3 * e;
-                    count += 3;
+                    sum += e;
+                    count += 1;
                 }
             std::size_t t = std::size_t(ty) * std::size_t(tilesX) + std::size_t(tx);
             parts[2 * t] = sum;

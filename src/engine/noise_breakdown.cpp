@@ -27,6 +27,15 @@ NoiseBreakdown::Group NoiseBreakdown::groupOf(std::size_t category, std::size_t 
     return sample ? LightSamples : LightHits;
 }
 
+void fileContribution(ThreadStats& stats, NoiseBreakdown* noise, std::size_t lightCount,
+                      std::uint32_t pixel, std::size_t category, double luminance,
+                      bool afterBounce) {
+    stats.addContribution(category, luminance);
+    if (noise)
+        noise->add(pixel, NoiseBreakdown::groupOf(category, lightCount, afterBounce), luminance,
+                   stats);
+}
+
 NoiseBreakdown::NoiseBreakdown(int width, int height, int exponent) {
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     for (int g = 0; g < kGroups; ++g) m_groups.push_back(std::make_unique<Film>(width, height, exponent));

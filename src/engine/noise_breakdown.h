@@ -59,4 +59,10 @@ private:
     std::vector<double> m_pass;
 };
 
+// Files one of path mode's contributions: under its category for --stats, and, when `noise`
+// is set (--debug-view noise), under its group at its pixel. `afterBounce` as in groupOf.
+void fileContribution(ThreadStats& stats, NoiseBreakdown* noise, std::size_t lightCount,
+                      std::uint32_t pixel, std::size_t category, double luminance,
+                      bool afterBounce);
+
 } // namespace rayproc

@@ -145,16 +145,11 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
     const bool sobol = policy.stratify && m_lowDiscrepancy;
     const std::uint64_t seedKey = kernels::mix64(m_rc.seed ^ 0x5851f42d4c957f2dULL);
     std::uint64_t shadowOut = 0, reflectOut = 0, refractOut = 0;
-    // A contribution's category for --stats, and its pixel's noise breakdown when asked for:
-    // reached through delta lobes after a non-delta bounce is a caustic.
-    auto fileContribution = [&](const RayBatch& rb, int i, std::size_t category, double lum,
-                                ThreadStats& st) {
-        st.addContribution(category, lum);
-        if (m_rc.noise)
-            m_rc.noise->add(rb.pixel[i],
-                            NoiseBreakdown::groupOf(category, lights.lights.size(),
-                                                    rb.depth[i] > rb.specularDepth[i]),
-                            lum, st);
+    // Filed for --stats and the noise breakdown: reached through delta lobes after a
+    // non-delta bounce is a caustic.
+    auto file = [&](int i, std::size_t category, double lum) {
+        fileContribution(stats, m_rc.noise, lights.lights.size(), b.pixel[i], category, lum,
+                         b.depth[i] > b.specularDepth[i]);
     };
 
     for (int i = 0; i < b.count; ++i) {
@@ -172,8 +167,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
             float pick = sampler.pmf(o, lights.lights.size()); // the sky's fixed share
             float mis = fromDelta ? 1.0f : kernels::powerHeuristic(b.prevPdf[i], pick * envPdf);
             Vec3 sky = w * lights.environment.radiance(d) * mis;
-            fileContribution(b, i, fromDelta ? 0 : contributionOfBsdfHit(lights.lights.size()),
-                             luminance(sky), stats);
+            file(i, fromDelta ? 0 : contributionOfBsdfHit(lights.lights.size()), luminance(sky));
             m_rc.film.add(b.pixel[i], sky, stats);
             continue;
         }
@@ -191,9 +185,8 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                                    : 0.0f;
                 mis = kernels::powerHeuristic(b.prevPdf[i], pl);
             }
-            fileContribution(b, i,
-                             fromDelta || li < 0 ? 0 : contributionOfBsdfHit(std::size_t(li)),
-                             luminance(w * le * mis), stats);
+            file(i, fromDelta || li < 0 ? 0 : contributionOfBsdfHit(std::size_t(li)),
+                 luminance(w * le * mis));
             m_rc.film.add(b.pixel[i], w * le * mis, stats);
         }
         if (b.flags[i] & kFlagEmissionOnly) continue; // the last vertex's BSDF sample

@@ -187,15 +187,10 @@ void ShadowStage::retrace(RayBatch& b, StageContext& ctx) {
     for (int i = 0; i < b.count; ++i) {
         if (b.occluded(i)) continue;
         // Path mode's light samples carry their category (1 + it) in the key they do not use.
-        if (b.rngKey[i] != 0) {
-            const std::size_t category = std::size_t(b.rngKey[i] - 1);
-            const double lum = luminance(laneThroughput(b, i));
-            stats.addContribution(category, lum);
-            if (m_rc.noise)
-                m_rc.noise->add(b.pixel[i],
-                                NoiseBreakdown::groupOf(category, m_rc.lights.lights.size(), false),
-                                lum, stats);
-        }
+        if (b.rngKey[i] != 0)
+            fileContribution(stats, m_rc.noise, m_rc.lights.lights.size(), b.pixel[i],
+                             std::size_t(b.rngKey[i] - 1), luminance(laneThroughput(b, i)),
+                             false);
         m_rc.film.add(b.pixel[i], laneThroughput(b, i), stats);
     }
 }

@@ -59,10 +59,7 @@ std::string channelNames(const Imf::ChannelList& channels) {
 
 } // namespace
 
-void writeExr(const std::string& path, const Image& img) { writeExrLayers(path, img, {}); }
-
-void writeExrLayers(const std::string& path, const Image& img,
-                        const std::vector<ImageLayer>& layers) {
+void writeExr(const std::string& path, const Image& img, const std::vector<ImageLayer>& layers) {
     const std::size_t pixels = std::size_t(img.width) * std::size_t(img.height);
     for (const ImageLayer& l : layers)
         if (l.values.size() != pixels)
@@ -364,7 +361,7 @@ namespace rayproc {
 
 void writeExrWithLayers(const std::string& path, const Image& img,
                         const std::vector<ImageLayer>& layers) {
-    image_detail::writeExrLayers(path, img, layers);
+    image_detail::writeExr(path, img, layers);
 }
 
 } // namespace rayproc

@@ -121,8 +121,8 @@ void writePng(const std::string& path, const Image& img, const ToneMapSettings& 
 Image readPng(const std::string& path);
 void writeHdr(const std::string& path, const Image& img);
 Image readHdr(const std::string& path);
-void writeExr(const std::string& path, const Image& img);
-void writeExrLayers(const std::string& path, const Image& img, const std::vector<ImageLayer>& layers);
+// R, G, B and each layer as the channel "<name>.Y".
+void writeExr(const std::string& path, const Image& img, const std::vector<ImageLayer>& layers = {});
 Image readExr(const std::string& path);
 void writePfm(const std::string& path, const Image& img);
 Image readPfm(const std::string& path);

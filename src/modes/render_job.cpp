@@ -157,6 +157,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         as.targetRelMse = engine.targetRelMse;
         as.meanSpp = spp;
         as.maxSpp = engine.targetRelMse > 0 ? spp : kAdaptiveMaxFactor * spp;
+        as.passSpp = passSpp;
+        as.maxPassSpp = noise ? 1 : 16 * passSpp;
         adaptive.emplace(film.width(), film.height(), as);
     }
     // The samples per pixel of each pass of the next pair, once adaptive sampling decides.
@@ -230,7 +232,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         ++result.passesDone;
         meanSpp = adaptiveCount > 0 ? meanSpp + double(count) * activeShare : first + count;
         result.samplesDone = int(std::lround(meanSpp));
-        bool budgetSpent = !adaptive && first + count >= spp;
+        bool budgetSpent = false; // without adaptive sampling the passes end the loop
         // Adaptive sampling decides between pairs of passes (one into each half), once every
         // pixel has its first samples.
         if (adaptive && pass % 2 == 1 && meanSpp >= adaptive->settings().minSpp) {
@@ -239,13 +241,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             });
             meanSpp = d.meanSpp;
             activeShare = d.pixels > 0 ? double(d.activePixels) / double(d.pixels) : 0;
-            budgetSpent = meanSpp >= spp || d.activePixels == 0;
-            // Passes of about half the image's samples while few pixels are left (a pass
-            // has a cost of its own), and no more than the budget left.
-            double perPass = double(passSpp) / std::max(2 * activeShare, 1e-9);
-            if (engine.targetRelMse <= 0)
-                perPass = std::min(perPass, (spp - meanSpp) / std::max(2 * activeShare, 1e-9));
-            adaptiveCount = noise ? 1 : int(std::clamp(std::ceil(perPass), 1.0, 16.0 * passSpp));
+            budgetSpent = d.done;
+            adaptiveCount = d.passSamples;
             camera.setMask(&adaptive->activeMask());
         }
         auto now = std::chrono::steady_clock::now();
