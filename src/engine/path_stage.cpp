@@ -2,46 +2,19 @@
 
 #include "engine/noise_breakdown.h"
 #include "engine/path_state.h"
+#include "engine/sample_numbers.h"
 #include "engine/material_bsdf.h"
 #include "kernels/bsdf_sampling.h"
 #include "kernels/sampling.h"
-#include "kernels/sobol.h"
 
 namespace rayproc {
 
 namespace {
 
-
 // Random dimensions of one path vertex.
 // (kDimPickLobe: the light choice and the BSDF lobe's, as one pair.)
 enum PathDim : std::uint32_t { kDimPickLobe = 19, kDimLight = 21, kDimBsdf = 23, kDimRr = 26,
                                kDimLayered = 27 };
-
-// A lane's random numbers at its vertex. Path mode's own paths take Owen-scrambled Sobol points
-// over the pixel's samples, a sequence of their own for every (pixel, depth, pair of
-// dimensions), so that at every depth a pixel's samples are stratified at every power-of-two
-// prefix (kernels/sobol.h); other paths (and --no-stratification) take independent numbers of
-// the lane's own stream. Pairs only: the light choice and the BSDF's lobe choice share one.
-class VertexNumbers {
-public:
-    // seedKey: mix64 of the render's seed, hashed once per batch.
-    VertexNumbers(const RayBatch& b, int i, bool sobol, std::uint64_t seedKey)
-        : m_key(sobol ? kernels::mix64(seedKey ^ ((std::uint64_t(b.pixel[i]) << 8 | b.depth[i]) *
-                                                  0x9e3779b97f4a7c15ULL))
-                      : b.rngKey[i]),
-          m_reversedSample(kernels::reverseBits(b.sample[i])), m_sobol(sobol) {}
-    Vec2 get2D(std::uint32_t dim) const {
-        if (m_sobol)
-            return kernels::owenSobol2DReversed(m_reversedSample,
-                                                m_key ^ (dim * 0x9e3779b97f4a7c15ULL));
-        return {kernels::uniform(m_key, dim), kernels::uniform(m_key, dim + 1)};
-    }
-
-private:
-    std::uint64_t m_key;
-    std::uint32_t m_reversedSample;
-    bool m_sobol;
-};
 
 } // namespace
 
@@ -143,7 +116,7 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
     const std::size_t choices = lights.choiceCount();
     const LightSampler& sampler = lights.sampler;
     const bool sobol = policy.stratify && m_lowDiscrepancy;
-    const std::uint64_t seedKey = kernels::mix64(m_rc.seed ^ 0x5851f42d4c957f2dULL);
+    const std::uint64_t seedKey = sampleSeedKey(m_rc.seed);
     std::uint64_t shadowOut = 0, reflectOut = 0, refractOut = 0;
     // Filed for --stats and the noise breakdown: reached through delta lobes after a
     // non-delta bounce is a caustic.
@@ -196,7 +169,9 @@ void PathStage::retrace(RayBatch& b, StageContext& ctx) {
                                           kernels::hashCombine(b.rngKey[i], kDimLayered));
         const bool deltaMaterial =
             materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
-        const VertexNumbers u(b, i, sobol, seedKey);
+        // Path mode's own paths take Sobol points, a sequence per (pixel, depth); gi's
+        // correction paths their lanes' streams.
+        const SampleNumbers u(b, i, sobol, seedKey);
         const Vec2 pickLobe = u.get2D(kDimPickLobe);
         // Next-event estimation: one light (or the sky), MIS-weighted against the BSDF.
         if (!deltaMaterial && choices > 0 &&

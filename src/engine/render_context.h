@@ -49,8 +49,8 @@ struct ShadingPolicy {
     // and one cosine-sampled ray that collects only emission, combined by the power heuristic
     // (engine/glossy_mis.h); off (--no-diffuse-mis): light samples only.
     bool diffuseMis = false;
-    // raytrace, gi: with several area lights a hit takes lightSamples samples in all, each
-    // choosing a light by LightSource::selectionWeight (lighting/light_set.h); off
+    // raytrace, gi: with several area lights a hit takes lightSamples samples per light that
+    // matters, each choosing a light with LightSet::areaSampler (lighting/light_set.h); off
     // (--no-light-choice): lightSamples samples of every area light.
     bool lightChoice = false;
     // path: an image sky's light samples follow its excess over its mean and the MIS weights

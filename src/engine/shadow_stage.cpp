@@ -4,6 +4,7 @@
 #include "engine/noise_breakdown.h"
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
+#include "engine/sample_numbers.h"
 #include "kernels/bsdf.h"
 #include "kernels/bsdf_sampling.h"
 #include "kernels/sampling.h"
@@ -11,6 +12,12 @@
 namespace rayproc {
 
 namespace {
+
+// The shadow stage's pairs of dimensions (SampleNumbers): a light's position per light
+// (kDimLightPosition + 2 x its stream), the choice among area lights, the sky's direction and
+// the cosine-sampled MIS ray's.
+enum ShadowDim : std::uint32_t { kDimChoice = 100, kDimSky = 102, kDimMisRay = 104,
+                                 kDimLightPosition = 106 };
 
 // BSDF value times the cosine at the receiver, for the materials lit by light sampling:
 // rayproc's diffuse and glossy as they always were, pbrt-v4's through the BSDF kernels.
@@ -35,7 +42,8 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
     const LightSet& lights = m_rc.lights;
     const ShadingPolicy& policy = m_rc.policy;
     const bool choose = choosesLights(policy, lights);
-    std::vector<float> weights; // the lights' selection weights at a hit, when choosing
+    const bool sobol = policy.stratify;
+    const std::uint64_t seedKey = sampleSeedKey(m_rc.seed);
     auto emitShadow = [&](int i, const SurfaceHit& h, const Vec3& ng, const Vec3& wi,
                           const LightSample* light, const Vec3& contribution) {
         spawnShadowRay(ctx.out(RayKind::Shadow), b, i, h, ng, wi, light, contribution);
@@ -51,6 +59,9 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         facingNormals(h, wo, ng, ns);
         Vec3 w = laneThroughput(b, i);
         std::uint64_t key = b.rngKey[i];
+        // Sobol points over the pixel's samples, a hit's n samples of a kind an aligned block
+        // of n of them (SampleNumbers::get2D(dim, s, n)).
+        const SampleNumbers numbers(b, i, sobol, seedKey, 1 + std::uint32_t(b.kind));
         const kernels::BsdfParams bsdf =
             bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(key, kDimLightBase - 2));
         const bool transmits = kernels::hasTransmission(bsdf);
@@ -93,10 +104,9 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
 
         // Sample s of n on `light`, which a sample picks with probability `chosen`.
         auto sampleLight = [&](const LightSource& light, int s, int n, float chosen) {
-            std::uint64_t lightKey = kernels::hashCombine(key, kDimLightBase + light.stream);
-            std::uint32_t strata = policy.stratify ? std::uint32_t(n) : 1u;
             Vec2 u = light.delta() ? Vec2{0.5f, 0.5f}
-                                   : kernels::stratified2D(std::uint32_t(s), strata, lightKey);
+                                   : numbers.get2D(kDimLightPosition + 2 * light.stream,
+                                                   std::uint32_t(s), std::uint32_t(n));
             LightSample ls = light.sample(h.p, u);
             if (!ls.valid || (dot(ls.wi, ng) <= 0 && !transmits)) return;
             float expected = float(n) * chosen; // this light's expected samples here
@@ -106,19 +116,13 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             emitShadow(i, h, side(ls.wi), ls.wi, &ls, c);
         };
         if (choose) {
-            // n samples per area light that matters here, each picking one by its selection
-            // weight (stratified over the samples); delta lights take one each below.
-            float total = 0;
-            int n = lights.choiceSamples(h.p, policy.lightSamples, weights, total);
-            std::uint64_t choiceKey = kernels::hashCombine(key, kDimLightBase - 3);
-            for (int s = 0; total > 0 && s < n; ++s) {
-                std::uint32_t stratum = policy.stratify ? kernels::permute(std::uint32_t(s),
-                                                                           std::uint32_t(n), choiceKey)
-                                                        : 0u;
-                float strata = policy.stratify ? float(n) : 1.0f;
-                float u = (float(stratum) + kernels::uniform(choiceKey, std::uint32_t(s))) / strata;
-                std::size_t l = LightSet::pickByWeight(weights, total, u);
-                sampleLight(lights.lights[l], s, n, weights[l] / total);
+            // n samples per area light that matters here, each picking one with the area
+            // lights' LightSampler; delta lights take one each below.
+            int n = lights.areaSamples(h.p, policy.lightSamples);
+            for (int s = 0; s < n; ++s) {
+                float u = numbers.get2D(kDimChoice, std::uint32_t(s), std::uint32_t(n)).x;
+                LightSampler::Pick pick = lights.areaSampler.sample(h.p, u);
+                if (pick.pmf > 0) sampleLight(lights.lights[pick.index], s, n, pick.pmf);
             }
         }
         for (const LightSource& light : lights.lights) {
@@ -132,8 +136,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         // weighted by the surface stage (reflectionEmissionWeight); the sky stays the sky
         // samples' alone.
         if (diffuseMis) {
-            std::uint64_t misKey = kernels::hashCombine(key, kDimLightBase - 4);
-            Vec3 local = kernels::cosineHemisphere({kernels::uniform(misKey, 0), kernels::uniform(misKey, 1)});
+            Vec3 local = kernels::cosineHemisphere(numbers.get2D(kDimMisRay));
             Vec3 wi = normalize(kernels::toWorld(local, ns));
             float pdf = cosinePdf(wi);
             Vec3 lobe;
@@ -164,10 +167,8 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                 continue;
             }
             int n = policy.lightSamples;
-            std::uint64_t envKey = kernels::hashCombine(key, kDimLightBase - 1);
-            std::uint32_t strata = policy.stratify ? std::uint32_t(n) : 1u;
             for (int s = 0; s < n; ++s) {
-                Vec2 u = kernels::stratified2D(std::uint32_t(s), strata, envKey);
+                Vec2 u = numbers.get2D(kDimSky, std::uint32_t(s), std::uint32_t(n));
                 EnvironmentSample es = lights.environment.sample(u, ns);
                 Vec3 wi = es.wi;
                 if (!es.valid || dot(wi, ng) <= 0) continue;

@@ -1,7 +1,9 @@
 // Shadow stage. Spawning side: at diffuse and glossy hits, samples the lights (--light-samples
-// stratified samples of the single area light, or in all over several area lights, each
-// sample choosing one by LightSource::selectionWeight; one sample per delta light) and the
-// environment, and emits one occlusion ray per sample carrying its unoccluded contribution.
+// samples of the single area light, or that many per area light that matters over several,
+// each sample choosing one with the area lights' LightSampler, the choice path mode makes among
+// all lights; one sample per delta light) and the environment, the numbers Sobol points over
+// the pixel's samples (engine/sample_numbers.h), and emits one occlusion ray per sample
+// carrying its unoccluded contribution.
 // Retrace side: adds the contribution of every ray that reached its light to the film.
 #pragma once
 

@@ -2,6 +2,7 @@
 
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
+#include "engine/sample_numbers.h"
 #include "gi/gi_context.h"
 #include "gi/irradiance_cache.h"
 #include "gi/photon_map.h"
@@ -182,17 +183,29 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         }
         std::uint64_t key = kernels::hashCombine(b.rngKey[i], 0x6a7e);
         Vec3 origin = offsetRayOrigin(h, ng, ns);
-        // Stratum (j, k): sin^2(theta) in [j/M, (j+1)/M), phi in [2 pi k/N, 2 pi (k+1)/N),
-        // one jittered ray each. sin^2(theta) uniform is the cosine-weighted density (Malley),
-        // so every ray carries albedo / (M N) and E = pi / (M N) sum L_jk (GatherStrata).
+        // A film gather's M N rays are the block sample x M N ... of a Sobol sequence per
+        // (pixel, depth) over the whole cosine-weighted hemisphere (engine/sample_numbers.h):
+        // stratified within the gather as the strata are when M N is a power of two, and
+        // across the pixel's samples, which a gather of one ray per pass (the default at high
+        // spp) otherwise is not.
+        const bool sobol = !prepass && m_rc.policy.stratify;
+        const SampleNumbers numbers(b, i, sobol, sampleSeedKey(m_rc.seed), 0x6a7e);
+        // A record's stratum (j, k): sin^2(theta) in [j/M, (j+1)/M), phi in [2 pi k/N,
+        // 2 pi (k+1)/N), one jittered ray each (the gradients' layout). sin^2(theta) uniform is
+        // the cosine-weighted density (Malley), so every ray carries albedo / (M N) and
+        // E = pi / (M N) sum L_jk (GatherStrata).
         for (int r = 0; r < strata; ++r) {
             int j = r / phiCount, kk = r % phiCount;
-            float u1 = kernels::uniform(key, 2 * std::uint32_t(r));
-            float u2 = kernels::uniform(key, 2 * std::uint32_t(r) + 1);
             // --no-stratification: independent cosine-weighted rays (the cache then interpolates
             // without gradients, which need the strata; see gi.cpp).
-            Vec3 l = kernels::cosineStratum(j, kk, thetaCount, phiCount, {u1, u2},
-                                            m_rc.policy.stratify);
+            Vec3 l = sobol ? kernels::cosineStratum(0, 0, 1, 1,
+                                                    numbers.get2D(0, std::uint32_t(r),
+                                                                  std::uint32_t(strata)),
+                                                    true)
+                           : kernels::cosineStratum(j, kk, thetaCount, phiCount,
+                                                    {kernels::uniform(key, 2 * std::uint32_t(r)),
+                                                     kernels::uniform(key, 2 * std::uint32_t(r) + 1)},
+                                                    m_rc.policy.stratify);
             Vec3 wi = normalize(tu * l.x + tv * l.y + ns * l.z);
             if (dot(wi, ng) <= 0) {
                 // Below the geometric surface (shading normals): the stratum counts as dark,

@@ -38,8 +38,10 @@ LightBounds merge(const LightBounds& a, const LightBounds& b) {
 
 } // namespace
 
-void LightSampler::build(const std::vector<LightBounds>& bounds, const std::vector<bool>& infinite) {
+void LightSampler::build(const std::vector<LightBounds>& bounds, const std::vector<bool>& infinite,
+                         const std::vector<bool>& excluded) {
     RAYPROC_CHECK(bounds.size() == infinite.size());
+    RAYPROC_CHECK(excluded.size() <= bounds.size());
     m_infinite = infinite;
     m_infiniteList.clear();
     m_boundedList.clear();
@@ -47,7 +49,8 @@ void LightSampler::build(const std::vector<LightBounds>& bounds, const std::vect
     m_trail.assign(bounds.size(), 0);
     m_trailLen.assign(bounds.size(), 0);
     for (std::size_t i = 0; i < bounds.size(); ++i)
-        (infinite[i] ? m_infiniteList : m_boundedList).push_back(i);
+        if (!(i < excluded.size() && excluded[i]))
+            (infinite[i] ? m_infiniteList : m_boundedList).push_back(i);
     // Among the lights without a position: by phi (the irradiance each can give a point), or
     // alike when none has a positive, finite one.
     m_infiniteCdf.clear();
@@ -156,11 +159,61 @@ float LightSampler::pmf(const Vec3& p, std::size_t index) const {
     if (index >= m_infinite.size()) return 0.0f;
     float share = infiniteShare();
     if (m_infinite[index]) {
-        std::size_t k = std::size_t(std::find(m_infiniteList.begin(), m_infiniteList.end(), index) -
-                                    m_infiniteList.begin());
-        return share * infiniteProbability(k);
+        auto at = std::find(m_infiniteList.begin(), m_infiniteList.end(), index);
+        if (at == m_infiniteList.end()) return 0.0f; // excluded
+        return share * infiniteProbability(std::size_t(at - m_infiniteList.begin()));
     }
+    if (!std::binary_search(m_boundedList.begin(), m_boundedList.end(), index)) return 0.0f;
     return (1.0f - share) * pmfBounded(p, index);
+}
+
+float LightSampler::effectiveChoices(const Vec3& p) const {
+    double sum = 0, sumSq = 0;
+    auto add = [&](double w) {
+        sum += w;
+        sumSq += w * w;
+    };
+    // Lights without a position count by their share (it does not depend on p).
+    float share = infiniteShare();
+    for (std::size_t k = 0; k < m_infiniteList.size(); ++k) add(double(share * infiniteProbability(k)));
+    if (!m_boundedList.empty()) {
+        static_assert(kExhaustiveLimit <= 16 && (1 << kEffectiveDepth) <= 16);
+        alignas(32) float weights[16];
+        int count = 0;
+        if (m_boundedList.size() == 1) {
+            // One light: wherever it can light p it is the choice (sampleBounded).
+            weights[count++] = 1.0f;
+        } else if (m_nodes.empty()) {
+            boundedImportances(p, weights);
+            count = int(m_boundedList.size());
+        } else {
+            // The clusters kEffectiveDepth levels down (or leaves above), by their importance.
+            int frontier[1 << kEffectiveDepth];
+            frontier[0] = 0;
+            count = 1;
+            for (int level = 0; level < kEffectiveDepth; ++level) {
+                int next[1 << kEffectiveDepth], n = 0;
+                for (int k = 0; k < count; ++k) {
+                    const Node& node = m_nodes[std::size_t(frontier[k])];
+                    if (node.child[1] < 0) next[n++] = frontier[k];
+                    else {
+                        next[n++] = node.child[0];
+                        next[n++] = node.child[1];
+                    }
+                }
+                std::copy(next, next + n, frontier);
+                count = n;
+            }
+            for (int k = 0; k < count; ++k)
+                weights[k] = m_nodes[std::size_t(frontier[k])].bounds.importance(p);
+        }
+        double total = 0;
+        for (int k = 0; k < count; ++k) total += double(weights[k]);
+        const double rest = 1.0 - double(share);
+        if (total > 0)
+            for (int k = 0; k < count; ++k) add(rest * double(weights[k]) / total);
+    }
+    return sumSq > 0 ? float(sum * sum / sumSq) : 0.0f;
 }
 
 LightSampler::Pick LightSampler::sampleBounded(const Vec3& p, float u) const {

@@ -29,8 +29,11 @@ public:
     static constexpr std::size_t kExhaustiveLimit = 16;
 
     // bounds[i]: light i's bounds, or nullptr-like (infinite[i] true) for a light without a
-    // position. Choice `choices - 1` is the sky when hasSky.
-    void build(const std::vector<LightBounds>& bounds, const std::vector<bool>& infinite);
+    // position. Choice `choices - 1` is the sky when hasSky. Choices with excluded[i] set
+    // (missing entries: none) are never picked and have pmf 0: raytrace and gi choose among
+    // their area lights only (LightSet::areaSampler).
+    void build(const std::vector<LightBounds>& bounds, const std::vector<bool>& infinite,
+               const std::vector<bool>& excluded = {});
 
     struct Pick {
         std::size_t index = 0;
@@ -40,6 +43,13 @@ public:
     Pick sample(const Vec3& p, float u) const;
     float pmf(const Vec3& p, std::size_t index) const;
     std::size_t choices() const { return m_infinite.size(); }
+    // How many choices matter at p: the inverse Simpson index (sum w)^2 / sum w^2 of their
+    // weights, between 1 (one choice gives everything) and the count of pickable choices (all
+    // alike); 0 when nothing can be picked. Over the lights one by one when they are few, over
+    // the hierarchy's clusters kEffectiveDepth levels down when they are many (O(1) per point).
+    // Raytrace and gi take this many times lightSamples samples at a point.
+    float effectiveChoices(const Vec3& p) const;
+    static constexpr int kEffectiveDepth = 4;
     bool usesHierarchy() const { return !m_nodes.empty(); }
 
 private:

@@ -356,46 +356,17 @@ double LightSet::radianceScale(const Bounds3& sceneBounds) const {
     return brightest;
 }
 
-float LightSet::effectiveLights(const float* weights, std::size_t count) {
-    double sum = 0, sumSq = 0;
-    for (std::size_t l = 0; l < count; ++l) {
-        sum += weights[l];
-        sumSq += double(weights[l]) * weights[l];
-    }
-    return sumSq > 0 ? float(sum * sum / sumSq) : 0.0f;
-}
-
-int LightSet::choiceSamples(const Vec3& p, int n, std::vector<float>& weights, float& total) const {
-    weights.resize(lights.size());
-    total = 0;
-    for (std::size_t l = 0; l < lights.size(); ++l) {
-        weights[l] = lights[l].delta() ? 0.0f : lights[l].selectionWeight(p);
-        total += weights[l];
-    }
-    if (!(total > 0)) return 0;
-    float effective = effectiveLights(weights.data(), weights.size());
-    return std::max(n, int(std::lround(double(n) * effective)));
-}
-
-std::size_t LightSet::pickByWeight(const std::vector<float>& weights, float total, float u) {
-    float target = u * total, below = 0;
-    std::size_t last = 0;
-    for (std::size_t l = 0; l < weights.size(); ++l) {
-        if (!(weights[l] > 0)) continue;
-        last = l;
-        if (target < below + weights[l]) return l;
-        below += weights[l];
-    }
-    return last;
-}
-
 LightSet::Choice LightSet::choiceAt(std::size_t i, const Vec3& p, int n) const {
-    std::vector<float> weights;
-    float total = 0;
     Choice c;
-    c.samples = choiceSamples(p, n, weights, total);
-    c.probability = total > 0 ? weights[i] / total : 0.0f;
+    c.samples = areaSamples(p, n);
+    c.probability = c.samples > 0 ? areaSampler.pmf(p, i) : 0.0f;
     return c;
+}
+
+int LightSet::areaSamples(const Vec3& p, int n) const {
+    float effective = areaSampler.effectiveChoices(p);
+    if (!(effective > 0)) return 0;
+    return std::max(n, int(std::lround(double(n) * effective)));
 }
 
 LightSet LightSet::build(const Scene& scene, const EmbreeScene& accel) {
@@ -450,6 +421,11 @@ void LightSet::buildSampler() {
         if (infinite[i] && largest > 0)
             bounds[i].phi = std::isfinite(irradiance[i]) ? float(irradiance[i] / largest) : 1.0f;
     sampler.build(bounds, infinite);
+    // The same choice among the area lights alone (raytrace and gi sample delta lights and the
+    // sky apart).
+    std::vector<bool> notArea(bounds.size(), true);
+    for (std::size_t i = 0; i < lights.size(); ++i) notArea[i] = lights[i].delta();
+    areaSampler.build(bounds, infinite, notArea);
 }
 
 int LightSet::indexOf(const Shape* shape, int instance) const {

@@ -99,32 +99,26 @@ struct LightSet {
     // The area light an emissive leaf placement is, or -1.
     int indexOf(const Shape* shape, int instance) const;
 
-    // Raytrace and gi choose among the area lights when there are several: a shading point
-    // takes lightSamples times as many samples as lights matter there (effectiveLights), each
-    // picking area light i with probability selectionWeight_i(p) / sum over the area lights
-    // (delta lights still take one sample each).
+    // Raytrace and gi choose among the area lights when there are several, with the same
+    // light sampler restricted to them (`areaSampler`: delta lights and the sky take samples of
+    // their own there): a shading point takes n samples per area light that matters
+    // (areaSamples), each picking one with areaSampler.
+    LightSampler areaSampler;
     bool choosesAreaLights() const { return m_areaLights > 1; }
     // Area lights (emissive shapes) among `lights`.
     bool hasAreaLights() const { return m_areaLights > 0; }
     // Point, spot or directional lights among `lights`.
     bool hasDeltaLights() const { return m_areaLights < lights.size(); }
-    // The number of area lights that matter at p, from their selection weights w: the inverse
-    // Simpson index (sum w)^2 / sum w^2, between 1 (one light gives everything) and the count
-    // (all give alike). 0 when none can light p.
-    static float effectiveLights(const float* weights, std::size_t count);
-    // The samples a shading point at p takes over the area lights (n per effective light,
-    // rounded, at least n), and the probability that one of them picks light i.
+    // The samples a shading point at p takes over the area lights: n per area light that
+    // matters there (LightSampler::effectiveChoices, rounded), at least n; 0 where none can
+    // light p.
+    int areaSamples(const Vec3& p, int n) const;
+    // Those samples, and the probability that one of them picks light i.
     struct Choice {
         int samples = 0;
         float probability = 0;
     };
     Choice choiceAt(std::size_t i, const Vec3& p, int n) const;
-    // The same for every light at once: weights[l] (0 for delta lights) filled, their sum
-    // returned in `total`.
-    int choiceSamples(const Vec3& p, int n, std::vector<float>& weights, float& total) const;
-    // The light whose share of `total` (choiceSamples' weights) holds u in [0, 1); the last
-    // light with a weight when rounding carries u past the sum.
-    static std::size_t pickByWeight(const std::vector<float>& weights, float total, float u);
 
     // The radiance the lights give, roughly (the film's range follows it: Film::exponentFor):
     // the largest channel of any area light's or the sky's radiance, a directional light's

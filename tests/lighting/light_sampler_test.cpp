@@ -53,16 +53,25 @@ std::vector<LightBounds> scatteredLights(int count, std::uint64_t seed) {
     return out;
 }
 
-void checkSampler(int lights, int infinite) {
+// excludeEvery k > 0: every k-th choice (from the first) is excluded (LightSet::areaSampler's
+// case): never picked, pmf 0, the others' pmfs still summing to one.
+void checkSampler(int lights, int infinite, int excludeEvery = 0) {
     std::vector<LightBounds> bounds = scatteredLights(lights, 99 + std::uint64_t(lights));
     std::vector<bool> isInfinite(bounds.size(), false);
     for (int k = 0; k < infinite; ++k) {
         bounds.emplace_back();
         isInfinite.push_back(true);
     }
+    std::vector<bool> excluded(bounds.size(), false);
+    std::size_t excludedBounded = 0;
+    for (std::size_t i = 0; excludeEvery > 0 && i < bounds.size(); i += std::size_t(excludeEvery)) {
+        excluded[i] = true;
+        if (!isInfinite[i]) ++excludedBounded;
+    }
     LightSampler sampler;
-    sampler.build(bounds, isInfinite);
-    CHECK(sampler.usesHierarchy() == (std::size_t(lights) > LightSampler::kExhaustiveLimit));
+    sampler.build(bounds, isInfinite, excluded);
+    CHECK(sampler.usesHierarchy() ==
+          (std::size_t(lights) - excludedBounded > LightSampler::kExhaustiveLimit));
     std::uint64_t state = 7;
     for (int point = 0; point < 6; ++point) {
         Vec3 p = randomPoint(state, 7);
@@ -71,7 +80,10 @@ void checkSampler(int lights, int infinite) {
         // children 0 under a parent > 0): a wasted sample, never a biased one.
         std::vector<double> expected(bounds.size() + 1);
         double total = 0;
-        for (std::size_t i = 0; i < bounds.size(); ++i) total += expected[i] = sampler.pmf(p, i);
+        for (std::size_t i = 0; i < bounds.size(); ++i) {
+            total += expected[i] = sampler.pmf(p, i);
+            if (excluded[i]) REQUIRE(expected[i] == 0.0);
+        }
         expected.back() = std::max(0.0, 1.0 - total);
         INFO(lights << " lights, " << infinite << " without position, point " << point);
         if (!sampler.usesHierarchy()) REQUIRE(total == Approx(1.0).epsilon(1e-4));
@@ -85,6 +97,7 @@ void checkSampler(int lights, int infinite) {
                 observed.back() += 1;
                 continue;
             }
+            REQUIRE(!excluded[pick.index]);
             REQUIRE(pick.pmf == Approx(sampler.pmf(p, pick.index)).epsilon(1e-4));
             observed[pick.index] += 1;
         }
@@ -101,9 +114,9 @@ TEST_CASE("LightSampler: picks each choice as often as its pmf says, few lights 
           "[lighting][lights][statistical]") {
     checkSampler(1, 0);
     checkSampler(5, 0);
-    checkSampler(5, 2);
+    checkSampler(5, 2, 3);
     checkSampler(40, 0);
-    checkSampler(40, 1);
+    checkSampler(40, 1, 3);
     checkSampler(0, 3);
 }
 
@@ -126,6 +139,60 @@ TEST_CASE("LightSampler: lights without a position share n / (n + 1), each by it
     sampler.build(bounds, infinite);
     CHECK(sampler.pmf(p, 3) == Approx(1.0 / 3.0));
     checkSampler(3, 2); // and the picks follow pmf()
+}
+
+TEST_CASE("LightSampler: effectiveChoices counts the choices that matter at a point",
+          "[lighting][lights]") {
+    // Lights alike around the point: all of them matter; one of them alone: one.
+    auto ring = [](int count, float phiOfFirst, float phiOfRest) {
+        std::vector<LightBounds> bounds;
+        for (int k = 0; k < count; ++k) {
+            LightBounds b;
+            float a = 2 * kPi * float(k) / float(count);
+            b.center = Vec3(3 * std::cos(a), 3 * std::sin(a), 0);
+            b.radius = 0.1f;
+            b.phi = k == 0 ? phiOfFirst : phiOfRest;
+            b.updateCone();
+            bounds.push_back(b);
+        }
+        return bounds;
+    };
+    const Vec3 centre(0, 0, 0);
+    LightSampler sampler;
+    sampler.build(ring(3, 1, 1), std::vector<bool>(3, false));
+    CHECK(sampler.effectiveChoices(centre) == Approx(3.0f).epsilon(1e-4));
+    sampler.build(ring(3, 1, 0), std::vector<bool>(3, false));
+    CHECK(sampler.effectiveChoices(centre) == Approx(1.0f).epsilon(1e-4));
+    // Excluded lights do not count.
+    sampler.build(ring(4, 1, 1), std::vector<bool>(4, false), {true, false, false, false});
+    CHECK(sampler.effectiveChoices(centre) == Approx(3.0f).epsilon(1e-4));
+    // Two lights without a position, alike, beside three alike with one: shares 1/3 each
+    // (n / (n + 1) = 2/3 for the two) and 1/9 each.
+    std::vector<LightBounds> mixed = ring(3, 1, 1);
+    mixed.resize(5);
+    mixed[3].phi = mixed[4].phi = 1;
+    sampler.build(mixed, {false, false, false, true, true});
+    const double shares[] = {1.0 / 9, 1.0 / 9, 1.0 / 9, 1.0 / 3, 1.0 / 3};
+    double sum = 0, sumSq = 0;
+    for (double x : shares) {
+        sum += x;
+        sumSq += x * x;
+    }
+    CHECK(sampler.effectiveChoices(centre) == Approx(sum * sum / sumSq).epsilon(1e-4));
+    // Many lights: counted over the hierarchy's 2^kEffectiveDepth clusters, alike here.
+    sampler.build(ring(64, 1, 1), std::vector<bool>(64, false));
+    REQUIRE(sampler.usesHierarchy());
+    CHECK(sampler.effectiveChoices(centre) == Approx(16.0f).epsilon(0.05));
+    // Nothing can light the point: 0.
+    LightBounds facingAway;
+    facingAway.center = Vec3(0, 0, 1);
+    facingAway.radius = 0.1f;
+    facingAway.phi = 1;
+    facingAway.axis = Vec3(0, 0, 1);
+    facingAway.thetaO = 0;
+    facingAway.updateCone();
+    sampler.build({facingAway, facingAway}, {false, false});
+    CHECK(sampler.effectiveChoices(centre) == 0.0f);
 }
 
 TEST_CASE("LightSampler: a cluster's importance bounds its lights', so the hierarchy keeps every "

@@ -77,7 +77,11 @@ TEST_CASE("Diffuse MIS: no fireflies at a light's edge, a lower error at equal s
     // Over eight seeds: one render's error is decided by a few pixels (a floor firefly without
     // MIS, or a pixel at the light's foot whose 16 camera samples are far from its mean with
     // either), so a single seed can go either way. Measured (seeds 1-8, 16 spp): relMSE summed
-    // 0.0132 with MIS, 0.0215 without; worst value 0.59 / 1.59.
+    // 0.0132 with MIS, 0.0215 without; worst value 0.59 / 1.59, with independent light samples;
+    // since they are Sobol points over the pixel's samples (engine/sample_numbers.h, stop 42)
+    // light samples alone land near the edge less unevenly: 0.0108 with MIS, 0.0132 without,
+    // worst 0.59 / 1.13. The bars keep MIS's margin on both (a broken weight brings the
+    // fireflies back: worst > 1).
     auto scene = sceneFromJson(lowLightScene(R"({"type": "diffuse", "color": [0.7, 0.7, 0.7]})"));
     EmbreeScene accel(*scene);
     Image reference = renderWith(*scene, accel, "path", 4096, true, 7);
@@ -92,6 +96,6 @@ TEST_CASE("Diffuse MIS: no fireflies at a light's edge, a lower error at equal s
     }
     INFO("relMSE summed over seeds with MIS " << errOn << ", light samples only " << errOff
                                               << "; worst value " << worstOn << " / " << worstOff);
-    CHECK(errOn < 0.75 * errOff);
-    CHECK(worstOn < 0.5 * worstOff);
+    CHECK(errOn < 0.9 * errOff);
+    CHECK(worstOn < 0.6 * worstOff);
 }

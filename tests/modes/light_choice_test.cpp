@@ -1,4 +1,4 @@
-// Choosing among several area lights (ShadingPolicy::lightChoice, LightSet::choiceSamples): a
+// Choosing among several area lights (ShadingPolicy::lightChoice, LightSet::areaSampler): a
 // shading point takes lightSamples samples per light that matters there, each picking a light
 // by its power over its squared distance. Unbiased, so raytrace's mean must not move (a single
 // lit plane has no indirect light: raytrace's expectation is path mode's), the glossy MIS
@@ -60,10 +60,6 @@ std::uint64_t shadowRays(const RenderResult& r) {
 
 TEST_CASE("Light choice: selection weights, the lights that matter, and lights facing away",
           "[modes][lights]") {
-    float equal[] = {2, 2, 2}, one[] = {0, 5, 0}, none[] = {0, 0};
-    CHECK(LightSet::effectiveLights(equal, 3) == Approx(3.0f));
-    CHECK(LightSet::effectiveLights(one, 3) == Approx(1.0f));
-    CHECK(LightSet::effectiveLights(none, 2) == 0.0f);
     // Two lights over a floor and one above it facing up: that one cannot light the floor.
     auto scene = sceneFromJson(floorScene(R"({"type": "diffuse", "color": [0.5, 0.5, 0.5]})", 4,
                                           downLight(-1, 1, 0, 4) + downLight(1, 1, 0, 4) +
@@ -80,10 +76,8 @@ TEST_CASE("Light choice: selection weights, the lights that matter, and lights f
     CHECK(lights.lights[up].selectionWeight(onFloor) == 0.0f);
     CHECK(lights.lights[up].selectionWeight(above) > 0.0f);
     // The nearer of the two down-facing lights weighs more; together about 1.x lights matter.
-    std::vector<float> weights;
-    float total = 0;
-    int samples = lights.choiceSamples(onFloor, 4, weights, total);
-    CHECK(weights[up] == 0.0f);
+    CHECK(lights.areaSampler.pmf(onFloor, up) == 0.0f);
+    int samples = lights.areaSamples(onFloor, 4);
     CHECK(samples >= 4);
     CHECK(samples < 8);
     LightSet::Choice c = lights.choiceAt(up, onFloor, 4);
