@@ -1,11 +1,15 @@
-// Fresnel reflectances against values that do not come from rayproc's code (issue 38, item 3):
+// Fresnel reflectances and the GGX terms against values and forms that do not come from
+// rayproc's code (issue 38, item 3):
 // closed forms of the dielectric Fresnel equations in their angle form (Hecht, "Optics", 5th
 // ed., eqs. 4.42-4.43: R_perp = sin^2(i - t) / sin^2(i + t), R_par = tan^2(i - t) / tan^2(i + t),
 // a different form from the cosine form kernels/fresnel.h evaluates), Brewster's angle, Schlick's
 // formula as his paper states it, and the named metals' normal-incidence reflectance against
-// published measured F0 tables (docs/testing.md, "Where the truth comes from").
+// published measured F0 tables, and GGX's D, G1 and height-correlated G2 in the forms Walter et
+// al. 2007 and Heitz 2014 publish them, with D's normalisation integrated here (docs/testing.md,
+// "Where the truth comes from").
 #include "kernels/bsdf.h"
 #include "kernels/fresnel.h"
+#include "kernels/microfacet.h"
 #include "scene/metals.h"
 
 #include <catch2/catch.hpp>
@@ -13,15 +17,16 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <tuple>
 
 using namespace rayproc;
 using namespace rayproc::kernels;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPiD = 3.14159265358979323846;
 
-double degrees(double d) { return d * kPi / 180.0; }
+double degrees(double d) { return d * kPiD / 180.0; }
 
 // Hecht's angle form, unpolarised: the mean of R_perp and R_par.
 double fresnelAngleForm(double thetaI, double n) {
@@ -106,6 +111,97 @@ TEST_CASE("Named metals reflect at normal incidence what published measurements 
                                      std::abs(f0.z - q.b)});
             INFO("against " << q.element);
             CHECK(worst > kTolerance);
+        }
+    }
+}
+
+namespace {
+
+// Walter, Marschner, Li, Torrance 2007, "Microfacet Models for Refraction through Rough
+// Surfaces", eq. 33 (GGX D, in tan theta) and eq. 34 (Smith G1 for GGX); Heitz 2014,
+// "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs", eq. 72 (GGX Lambda)
+// and eq. 99 (height-correlated G2 = 1 / (1 + Lambda(o) + Lambda(i))).
+double walterD(double thetaM, double alpha) {
+    double c = std::cos(thetaM), t = std::tan(thetaM), a2 = alpha * alpha;
+    return a2 / (kPiD * std::pow(c, 4) * std::pow(a2 + t * t, 2));
+}
+double walterG1(double thetaV, double alpha) {
+    double t = std::tan(thetaV);
+    return 2.0 / (1.0 + std::sqrt(1.0 + alpha * alpha * t * t));
+}
+double heitzLambda(double thetaV, double alpha) {
+    double t = std::tan(thetaV);
+    return 0.5 * (-1.0 + std::sqrt(1.0 + alpha * alpha * t * t));
+}
+
+Vec3 direction(double theta, double phi) {
+    return {float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
+            float(std::cos(theta))};
+}
+
+} // namespace
+
+TEST_CASE("GGX D, G1 and G2 match Walter et al.'s and Heitz's published forms",
+          "[kernels][microfacet]") {
+    for (double alpha : {0.05, 0.3, 0.7, 1.0}) {
+        TrowbridgeReitz tr{float(alpha), float(alpha)};
+        for (int d = 0; d <= 85; d += 5) {
+            const double theta = degrees(d);
+            INFO("alpha " << alpha << ", theta " << d << " degrees");
+            const double dRef = walterD(theta, alpha);
+            CHECK(ggxD(float(std::cos(theta)), float(alpha)) == Approx(dRef).epsilon(2e-4));
+            CHECK(tr.d(direction(theta, 0.7)) == Approx(dRef).epsilon(2e-4));
+            CHECK(ggxG1(float(std::cos(theta)), float(alpha)) == Approx(walterG1(theta, alpha)).epsilon(1e-5));
+            CHECK(tr.g1(direction(theta, 2.1)) == Approx(walterG1(theta, alpha)).epsilon(1e-5));
+            const double other = degrees(40);
+            CHECK(tr.g(direction(theta, 0.3), direction(other, 2.5)) ==
+                  Approx(1.0 / (1.0 + heitzLambda(theta, alpha) + heitzLambda(other, alpha)))
+                      .epsilon(1e-5));
+        }
+        // D is normalised over projected microfacet area, int D(m) cos(theta_m) dw = 1 (Walter
+        // eq. 4): a midpoint rule in u = tan^2(theta_m) / (alpha^2 + tan^2(theta_m)), under
+        // which D cos dw = du dphi / (2 pi), integrates the rayproc D to 1.
+        double sum = 0;
+        constexpr int kSteps = 20000;
+        for (int i = 0; i < kSteps; ++i) {
+            double u = (i + 0.5) / kSteps;
+            double tan2 = alpha * alpha * u / (1.0 - u);
+            double cosM = 1.0 / std::sqrt(1.0 + tan2);
+            // dw = sin dtheta dphi, and d(tan^2) = 2 tan sec^2 dtheta; the Jacobian of u:
+            double dTan2du = alpha * alpha / ((1.0 - u) * (1.0 - u));
+            double dThetaDtan2 = cosM * cosM / (2.0 * std::sqrt(tan2) + 1e-300);
+            double sinM = std::sqrt(std::max(0.0, 1.0 - cosM * cosM));
+            sum += double(ggxD(float(cosM), float(alpha))) * cosM * sinM * dThetaDtan2 * dTan2du *
+                   2.0 * kPiD / kSteps;
+        }
+        INFO("alpha " << alpha << ": int D cos = " << sum);
+        CHECK(sum == Approx(1.0).epsilon(2e-3));
+    }
+}
+
+TEST_CASE("The glossy BRDF is Walter et al.'s reflection BRDF with Schlick's Fresnel",
+          "[kernels][microfacet]") {
+    // Walter 2007 eq. 20: f = F(i, h) G(i, o, h) D(h) / (4 |i.n| |o.n|), with the separable
+    // Smith G = G1(i) G1(o) (eq. 23) that rayproc's glossy material uses; times cos(theta_i).
+    const Vec3 n(0, 0, 1);
+    const Vec3 f0(0.9f, 0.6f, 0.3f);
+    for (double alpha : {0.1, 0.4, 0.8}) {
+        for (auto [to, ti, dphi] : {std::tuple{10.0, 20.0, 3.0}, std::tuple{45.0, 30.0, 2.5},
+                                   std::tuple{70.0, 60.0, 3.1}, std::tuple{30.0, 75.0, 1.0}}) {
+            Vec3 wo = direction(degrees(to), 0.0), wi = direction(degrees(ti), dphi);
+            Vec3 h = normalize(wo + wi);
+            double thetaH = std::acos(double(h.z));
+            double cosIH = double(dot(wi, h));
+            double d = walterD(thetaH, alpha);
+            double g = walterG1(degrees(to), alpha) * walterG1(degrees(ti), alpha);
+            Vec3 got = glossyEvalCos(wo, wi, n, f0, float(alpha));
+            INFO("alpha " << alpha << ", theta_o " << to << ", theta_i " << ti);
+            for (int c = 0; c < 3; ++c) {
+                double fs = f0[c] + (1.0 - f0[c]) * std::pow(1.0 - cosIH, 5);
+                double expected = fs * g * d / (4.0 * std::cos(degrees(ti)) * std::cos(degrees(to))) *
+                                  std::cos(degrees(ti));
+                CHECK(got[c] == Approx(expected).epsilon(5e-4));
+            }
         }
     }
 }

@@ -34,7 +34,7 @@ constexpr double kPreviewThreshold = 1e-6;
 // commit they were measured at. Each test reads its figures from there, sets its threshold at a
 // safety factor times the figure, and fails when its own measurement has fallen below
 // 1 / kStale of the figure: the renderer got better (less noise or bias) and the threshold,
-// now loose, must be re-measured (docs/testing.md, "Golden images").
+// now loose, must be re-measured (docs/testing.md, "Where the thresholds come from").
 constexpr double kStale = 3.0;
 
 std::map<std::string, double> readMeasuredFile() {
@@ -55,8 +55,8 @@ std::map<std::string, double> readMeasuredFile() {
 double measured(const std::string& key) {
     static const std::map<std::string, double> figures = readMeasuredFile();
     auto it = figures.find(key);
-    INFO("tests/golden/measured.txt has no figure " << key << ": run scripts/measure-golden");
-    REQUIRE(it != figures.end());
+    if (it == figures.end())
+        FAIL("tests/golden/measured.txt has no figure " << key << ": run scripts/measure-golden");
     REQUIRE(it->second > 0);
     return it->second;
 }
