@@ -144,7 +144,8 @@ TEST_CASE("pbrt-v4's walk through a smooth clear coat returns the layered closed
     constexpr int kSteps = 100000;
     for (int i = 0; i < kSteps; ++i) {
         double theta = (i + 0.5) / kSteps * (kPi / 2);
-        fInt += fresnelHecht(theta, n, 1.0) * 2 * std::sin(theta) * std::cos(theta) * (kPi / 2) / kSteps;
+        fInt += fresnelHecht(theta, n, 1.0) * 2 * std::sin(theta) * std::cos(theta) *
+                (kPi / 2) / kSteps;
     }
     CHECK(fInt == Approx(0.5963).margin(2e-4));
     const Vec3 base(0.8f, 0.5f, 0.1f);

@@ -26,7 +26,9 @@ namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
 
-double degrees(double d) { return d * kPiD / 180.0; }
+double degrees(double d) {
+    return d * kPiD / 180.0;
+}
 
 // Hecht's angle form, unpolarised: the mean of R_perp and R_par.
 double fresnelAngleForm(double thetaI, double n) {
@@ -43,8 +45,8 @@ TEST_CASE("Dielectric Fresnel matches the textbook closed forms of glass and wat
     // Normal incidence: ((n - 1) / (n + 1))^2, 0.04 for n = 1.5 and 0.0204 for water (1.333).
     CHECK(fresnelDielectricSigned(1.0f, 1.5f) == Approx(0.04).margin(1e-6));
     CHECK(fresnelDielectricSigned(1.0f, 1.333f) == Approx(0.0203732).margin(1e-6));
-    // Brewster's angle atan(n): R_par = 0 and R_perp = cos^2(2 theta_B) = ((1 - n^2) / (1 + n^2))^2,
-    // so R = 0.0739645 for n = 1.5.
+    // Brewster's angle atan(n): R_par = 0 and R_perp = cos^2(2 theta_B) = ((1 - n^2) / (1 +
+    // n^2))^2, so R = 0.0739645 for n = 1.5.
     const double brewster = std::atan(1.5);
     CHECK(fresnelDielectricSigned(float(std::cos(brewster)), 1.5f) ==
           Approx(0.5 * std::pow((1 - 2.25) / (1 + 2.25), 2)).margin(1e-5));
@@ -70,7 +72,8 @@ TEST_CASE("Schlick's Fresnel is his formula R0 + (1 - R0)(1 - cos)^5", "[kernels
     CHECK(fresnelSchlick(Vec3(0.04f), 0.0f).z == Approx(1.0).margin(1e-7));
     // It is an approximation of the exact curve: at 45 degrees for n = 1.5 it gives 0.0421
     // against 0.0502 (16% low).
-    CHECK(fresnelSchlick(Vec3(0.04f), float(std::cos(degrees(45)))).x == Approx(0.0421).margin(1e-4));
+    CHECK(fresnelSchlick(Vec3(0.04f), float(std::cos(degrees(45)))).x ==
+          Approx(0.0421).margin(1e-4));
 }
 
 TEST_CASE("Named metals reflect at normal incidence what published measurements give",
@@ -90,7 +93,7 @@ TEST_CASE("Named metals reflect at normal incidence what published measurements 
         double r, g, b;
     };
     const Published table[] = {
-        {"Ag", 0.972, 0.960, 0.915}, {"Al", 0.913, 0.921, 0.925}, {"Au", 1.000, 0.766, 0.336},
+        {"Ag", 0.972, 0.960, 0.915}, {"Al", 0.913, 0.921, 0.925},   {"Au", 1.000, 0.766, 0.336},
         {"Cu", 0.955, 0.637, 0.538}, {"CuZn", 0.910, 0.778, 0.423},
     };
     constexpr double kTolerance = 0.05;
@@ -107,8 +110,8 @@ TEST_CASE("Named metals reflect at normal incidence what published measurements 
         for (const Published& q : table) {
             if (std::string(q.element) == p.element) continue;
             if (std::string(p.element) == "Al" && std::string(q.element) == "Ag") continue;
-            double worst = std::max({std::abs(f0.x - q.r), std::abs(f0.y - q.g),
-                                     std::abs(f0.z - q.b)});
+            double worst =
+                std::max({std::abs(f0.x - q.r), std::abs(f0.y - q.g), std::abs(f0.z - q.b)});
             INFO("against " << q.element);
             CHECK(worst > kTolerance);
         }
@@ -151,7 +154,8 @@ TEST_CASE("GGX D, G1 and G2 match Walter et al.'s and Heitz's published forms",
             const double dRef = walterD(theta, alpha);
             CHECK(ggxD(float(std::cos(theta)), float(alpha)) == Approx(dRef).epsilon(2e-4));
             CHECK(tr.d(direction(theta, 0.7)) == Approx(dRef).epsilon(2e-4));
-            CHECK(ggxG1(float(std::cos(theta)), float(alpha)) == Approx(walterG1(theta, alpha)).epsilon(1e-5));
+            CHECK(ggxG1(float(std::cos(theta)), float(alpha)) ==
+                  Approx(walterG1(theta, alpha)).epsilon(1e-5));
             CHECK(tr.g1(direction(theta, 2.1)) == Approx(walterG1(theta, alpha)).epsilon(1e-5));
             const double other = degrees(40);
             CHECK(tr.g(direction(theta, 0.3), direction(other, 2.5)) ==
@@ -187,7 +191,7 @@ TEST_CASE("The glossy BRDF is Walter et al.'s reflection BRDF with Schlick's Fre
     const Vec3 f0(0.9f, 0.6f, 0.3f);
     for (double alpha : {0.1, 0.4, 0.8}) {
         for (auto [to, ti, dphi] : {std::tuple{10.0, 20.0, 3.0}, std::tuple{45.0, 30.0, 2.5},
-                                   std::tuple{70.0, 60.0, 3.1}, std::tuple{30.0, 75.0, 1.0}}) {
+                                    std::tuple{70.0, 60.0, 3.1}, std::tuple{30.0, 75.0, 1.0}}) {
             Vec3 wo = direction(degrees(to), 0.0), wi = direction(degrees(ti), dphi);
             Vec3 h = normalize(wo + wi);
             double thetaH = std::acos(double(h.z));
@@ -198,7 +202,8 @@ TEST_CASE("The glossy BRDF is Walter et al.'s reflection BRDF with Schlick's Fre
             INFO("alpha " << alpha << ", theta_o " << to << ", theta_i " << ti);
             for (int c = 0; c < 3; ++c) {
                 double fs = f0[c] + (1.0 - f0[c]) * std::pow(1.0 - cosIH, 5);
-                double expected = fs * g * d / (4.0 * std::cos(degrees(ti)) * std::cos(degrees(to))) *
+                double expected = fs * g * d /
+                                  (4.0 * std::cos(degrees(ti)) * std::cos(degrees(to))) *
                                   std::cos(degrees(ti));
                 CHECK(got[c] == Approx(expected).epsilon(5e-4));
             }
