@@ -100,7 +100,9 @@ void printText(const DiffArgs& a, const Image& img, const ImageMetrics& m, int f
     std::printf("psnr     %s dB\n", formatNumber(m.psnr).c_str());
     std::printf("mae      %s\n", formatNumber(m.mae).c_str());
     std::printf("max_abs  %s\n", formatNumber(m.maxAbs).c_str());
-    std::printf("mean_rel %s\n", formatNumber(m.meanRel).c_str());
+    std::printf("mean_rel %s (R %s, G %s, B %s)\n", formatNumber(m.meanRel).c_str(),
+                formatNumber(m.meanRelRgb[0]).c_str(), formatNumber(m.meanRelRgb[1]).c_str(),
+                formatNumber(m.meanRelRgb[2]).c_str());
     std::printf("block_rel %s (%zu blocks of %dx%d, %zu near-black skipped)\n",
                 formatNumber(m.blockRel).c_str(), m.blocks, kMetricBlock, kMetricBlock,
                 m.blocksSkipped);
@@ -124,6 +126,8 @@ void printJson(const DiffArgs& a, const Image& img, const ImageMetrics& m, int f
     j["mae"] = jsonNumber(m.mae);
     j["max_abs"] = jsonNumber(m.maxAbs);
     j["mean_rel"] = jsonNumber(m.meanRel);
+    j["mean_rel_rgb"] = {jsonNumber(m.meanRelRgb[0]), jsonNumber(m.meanRelRgb[1]),
+                         jsonNumber(m.meanRelRgb[2])};
     j["block_rel"] = jsonNumber(m.blockRel);
     j["blocks"] = m.blocks;
     j["blocks_skipped"] = m.blocksSkipped;
@@ -228,9 +232,9 @@ std::function<int()> addDiffCommand(CLI::App& app) {
         ->type_name("IMAGE");
     cmd->add_flag("--json", args->json,
                   "Print the metrics as JSON: width, height, pixels, rmse, relmse, psnr (null "
-                  "when the images are equal), mae, max_abs, mean_rel, block_rel, blocks, "
-                  "blocks_skipped, reference_nonfinite, reference_downsample, exceeded (names "
-                  "of failed limits)");
+                  "when the images are equal), mae, max_abs, mean_rel, mean_rel_rgb (signed, "
+                  "per channel), block_rel, blocks, blocks_skipped, reference_nonfinite, "
+                  "reference_downsample, exceeded (names of failed limits)");
     cmd->add_option("-o,--output", args->output,
                     "Write the difference image |test - reference| per channel, times --scale "
                     "(.pfm/.exr/.hdr: linear values; .png: clamped to 1, sRGB-encoded)");

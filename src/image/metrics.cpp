@@ -42,12 +42,14 @@ void biasMetrics(const Image& a, const Image& b, const CropRect& r, ImageMetrics
     Sums all = sumsOver(a, b, r.x0, r.y0, r.x1, r.y1);
     if (all.n == 0) {
         m.meanRel = m.blockRel = std::numeric_limits<double>::quiet_NaN();
+        for (double& v : m.meanRelRgb) v = std::numeric_limits<double>::quiet_NaN();
         return;
     }
     double refMean = 0; // over pixels and channels
     m.meanRel = 0;
     for (int c = 0; c < 3; ++c) {
         double ma = all.a[c] / double(all.n), mb = all.b[c] / double(all.n);
+        m.meanRelRgb[c] = (ma - mb) / mb;
         double rel = std::abs(ma - mb) / mb; // inf or NaN for a black channel: no silent pass
         // A NaN, once seen in any channel, stays (std::max would drop it for a later channel).
         m.meanRel = std::isnan(m.meanRel) || std::isnan(rel) ? std::numeric_limits<double>::quiet_NaN()

@@ -29,6 +29,9 @@ struct ImageMetrics {
     // meanRel = max over R, G, B of |mean(a) - mean(b)| / mean(b): the worst channel's relative
     // error of the image mean (inf when a reference channel's mean is 0 and a's is not).
     double meanRel = 0;
+    // The same per channel and signed, (mean(a) - mean(b)) / mean(b) for R, G, B: the suite holds
+    // a scene whose colours differ from the reference for a known reason to a bar per channel.
+    double meanRelRgb[3] = {0, 0, 0};
     // blockRel = mean over kMetricBlock^2-pixel blocks (partial edge blocks included) of
     // |A - B| / B, where A and B are the block's averages of a and b over pixels and channels.
     // Blocks with B < kBlockFloor * (the reference's image mean) are skipped: relative error is

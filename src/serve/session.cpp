@@ -637,7 +637,9 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
         }
         scene.camera.width = std::max(1, w / step);
         scene.camera.height = std::max(1, h / step);
+        ++m_previewsStarted;
         RenderResult r = rayproc::renderPreview(scene, *loaded->accel, settings, engine);
+        if (r.cancelled) ++m_previewsStopped;
         if (r.cancelled || !sendFrame(std::move(r.image), version)) break;
     }
     scene.camera = full;

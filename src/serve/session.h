@@ -90,6 +90,15 @@ public:
     // Blocks until the worker has nothing to do (tests).
     void waitIdle();
 
+    // Live-preview renders begun (coarse and full size each count) and those a newer change
+    // stopped before they finished (tests: a stale preview is stopped, not waited for).
+    struct PreviewCounts {
+        std::uint32_t started = 0, stopped = 0;
+    };
+    PreviewCounts previewCounts() const {
+        return {m_previewsStarted.load(), m_previewsStopped.load()};
+    }
+
 private:
     struct Loaded; // a scene, its Embree scene and what the page lists
     struct RenderRequest {
@@ -134,6 +143,7 @@ private:
     std::atomic<bool> m_quit{false};
     bool m_busy = false;
     std::atomic<std::uint32_t> m_frameNumber{0};
+    std::atomic<std::uint32_t> m_previewsStarted{0}, m_previewsStopped{0};
     // Held while a frame is checked against m_version and sent, and while m_version changes:
     // once a change is accepted, no frame of an older version goes out. Guards the last image.
     // Taken after m_mutex, never before.

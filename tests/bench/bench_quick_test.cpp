@@ -59,8 +59,25 @@ TEST_CASE("rayproc bench --quick writes results, plots and a summary", "[.bench-
     CHECK(md.size() > 500);
     CHECK(md.find("## cornell-box") != std::string::npos);
     CHECK(md.find("64x64") != std::string::npos);
-    // The reference is cached: a second run renders it no more.
-    CHECK(!std::filesystem::is_empty(out + "/refs"));
+    // The reference is cached: a second run (preview only, a second or two) renders it no more:
+    // it does not say it renders one, and the cached files are the same, unchanged.
+    REQUIRE(!std::filesystem::is_empty(out + "/refs"));
+    auto cached = [&] {
+        std::vector<std::pair<std::string, std::filesystem::file_time_type>> files;
+        for (const auto& e : std::filesystem::directory_iterator(out + "/refs"))
+            files.push_back({e.path().filename().string(), e.last_write_time()});
+        std::sort(files.begin(), files.end());
+        return files;
+    };
+    auto before = cached();
+    test::RunResult again = test::runRayproc(
+        {"bench", "--quick", "--modes", "preview", "-o", out, "--scenes-dir",
+         (test::sourceDir() / "scenes").string()},
+        dir, 280);
+    INFO(again.err);
+    REQUIRE(again.status == 0);
+    CHECK(again.err.find("rendering the reference") == std::string::npos);
+    CHECK(cached() == before);
 }
 
 TEST_CASE("rayproc bench rejects an unknown suite and an unwritable output", "[cli][bench]") {
@@ -148,13 +165,15 @@ TEST_CASE("rayproc bench --progressive renders each mode once and records every 
             CHECK(own[i].rays > 0);
             if (i > 0) CHECK(own[i].seconds >= own[i - 1].seconds);
         }
-        // The render stops after the first pass that ends past the limit.
+        // The render stops after the first pass that ends past the limit (the rows' own
+        // times, which the budget decides on).
         CHECK(own.back().seconds >= 1.5);
-        if (own.size() >= 2) {
-            CHECK(own[own.size() - 2].seconds < 1.5);
-            // The error falls with the passes (the first pass against the last).
-            CHECK(own.back().relmse < own.front().relmse);
-        }
+        if (own.size() >= 2) CHECK(own[own.size() - 2].seconds < 1.5);
+        // The error falls with the passes (the first pass against the last): path always has
+        // two passes or more (required above); gi's first pass may take the whole budget, so
+        // for gi the fall is checked only when it ran two, and the run says whether it did.
+        if (own.size() >= 2) CHECK(own.back().relmse < own.front().relmse);
+        else WARN("gi ran one pass in the budget: its error fall is not checked");
     }
     for (const bench::BenchRow& row : rows) modes.insert(row.mode);
     CHECK(modes == std::set<std::string>{"gi", "path"});

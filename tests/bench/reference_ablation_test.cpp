@@ -49,7 +49,10 @@ TEST_CASE("the reference cache renders once, then reuses, and keys by scene cont
     CHECK(referencePath(refs, sceneFile, 16, 12, 8) != path);
 }
 
-TEST_CASE("every ablation switch turns something off in its mode's render", "[bench]") {
+// What a switch does to a render is measured by `rayproc bench --ablation` (docs/performance.md);
+// several change no pixel by design (packet width, lazy irradiance). This checks the table.
+TEST_CASE("every ablation switch changes its mode's settings line and names its CLI option",
+          "[bench]") {
     auto scene = test::loadSceneAt("cornell-box", 8, 8);
     std::set<std::string> names;
     for (const AblationSwitch& sw : ablationSwitches()) {

@@ -113,7 +113,9 @@ TEST_CASE("A malformed scene fails with status 1 and names the file", "[cli]") {
 
 TEST_CASE("A missing output directory fails before rendering", "[cli]") {
     TempDir dir;
-    // A render that would take minutes: failing fast proves the check comes first.
+    // A render that would take minutes: no progress line (not even the final one a finished or
+    // interrupted render prints) proves the check comes first; the 30 s limit only catches a
+    // hang.
     std::vector<std::string> slow = {
         "render", scenePath("cornell-box"), "--spp", "100000", "--width", "256", "--height", "256"};
     SECTION("image") {
@@ -125,7 +127,6 @@ TEST_CASE("A missing output directory fails before rendering", "[cli]") {
         CHECK(r.status == 1);
         CHECK(contains(r.err, dir.file("no-such-dir")));
         CHECK(progressLines(r.err, "raytrace") == 0);
-        CHECK(r.seconds < 10);
     }
     SECTION("statistics") {
         std::string out = dir.file("out.png");
@@ -135,7 +136,7 @@ TEST_CASE("A missing output directory fails before rendering", "[cli]") {
         INFO(r.err);
         CHECK(r.status == 1);
         CHECK(contains(r.err, dir.file("missing")));
-        CHECK(r.seconds < 10);
+        CHECK(progressLines(r.err, "raytrace") == 0);
         CHECK_FALSE(std::filesystem::exists(out));
     }
 }
@@ -212,18 +213,20 @@ TEST_CASE("Progress is printed as plain lines when stderr is not a terminal", "[
     TempDir dir;
     std::string out = dir.file("img.pfm");
     SECTION("without --quiet") {
-        // Long enough (several seconds) for a periodic line before the final one on most
-        // machines; the plain-line interval is 5 s.
+        // A plain line every 0.05 s (RAYPROC_PROGRESS_INTERVAL; 5 s by default) during a render
+        // of about a second (15 s under AddressSanitizer): periodic lines, then the final one.
+        ::setenv("RAYPROC_PROGRESS_INTERVAL", "0.05", 1);
         RunResult r =
-            runRayproc({"render", scenePath("cornell-box"), "--mode", "raytrace", "--width", "256",
-                        "--height", "256", "--spp", "64", "--threads", "2", "-o", out},
-                       dir, 600); // ~65 s under AddressSanitizer (scripts/test-sanitizers)
+            runRayproc({"render", scenePath("cornell-box"), "--mode", "raytrace", "--width", "128",
+                        "--height", "128", "--spp", "64", "--threads", "2", "-o", out},
+                       dir, 600);
+        ::unsetenv("RAYPROC_PROGRESS_INTERVAL");
         INFO(r.err);
         REQUIRE(r.status == 0);
         CHECK_FALSE(contains(r.err, "\r")); // no bar redrawing into a file
         std::size_t n = progressLines(r.err, "raytrace");
-        CHECK(n >= 1);
-        if (r.seconds > 7.0) CHECK(n >= 2); // a periodic line, then the final one
+        CHECK(n >= 2); // a periodic line, then the final one
+        CHECK(std::regex_search(r.err, std::regex("(^|\n)raytrace: +[0-9]?[0-9]\\.[0-9]% ")));
         std::vector<std::string> ls = lines(r.err);
         REQUIRE_FALSE(ls.empty());
         CHECK(std::regex_match(ls.back(), std::regex("^raytrace: 100\\.0% .*")));
@@ -295,7 +298,7 @@ TEST_CASE("SIGINT, SIGTERM and SIGHUP stop a render, write the partial image, ex
 
 // Interrupted before any pixel had a sample, a render has nothing to write: the old image stays
 // (it used to be replaced by a black one, "wrote the partial image (1024 pixels had no sample)").
-TEST_CASE("Ctrl-C during gi's photon pass stops promptly, says where it stopped and writes nothing",
+TEST_CASE("Ctrl-C during gi's photon pass stops it before its end, says where and writes nothing",
           "[cli]") {
     TempDir dir;
     std::string out = dir.file("partial.pfm");
@@ -312,15 +315,12 @@ TEST_CASE("Ctrl-C during gi's photon pass stops promptly, says where it stopped 
     REQUIRE(child.waitForErr("mode=gi", 30.0));
     std::this_thread::sleep_for(std::chrono::milliseconds(1000));
     child.signal(SIGINT);
-    auto signalled = std::chrono::steady_clock::now();
-    bool finished = child.wait(60.0);
-    double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+    bool finished = child.wait(60.0); // a bound on a hang, not a speed claim
     INFO(child.err());
     REQUIRE(finished);
-    CHECK(seconds < 5.0); // before, the photon pass ran to its end (about 25 s here)
     CHECK(child.status() == 128 + SIGINT);
-    // The photon pass reported its progress, and where it stopped.
+    // The photon pass reported its progress, and where it stopped: before its end (it used to
+    // run to its end, about 25 s here, before the interrupt was seen).
     CHECK(progressLines(child.err(), "gi photons") >= 1);
     for (const std::string& l : lines(child.err()))
         if (std::regex_match(l, std::regex("^gi photons: .*"))) CHECK_FALSE(contains(l, "100.0%"));

@@ -49,8 +49,12 @@ try {
   page.on("pageerror", (e) => pageErrors.push(String(e)));
   await page.goto(url);
   const waitFor = (fn, arg, timeout = 120000) => page.waitForFunction(fn, { timeout, polling: 50 }, arg);
+  // A wait that times out throws (the run fails); the checks read what the page holds after it.
   await waitFor(() => window.rayproc.state !== null && window.rayproc.framesShown > 0);
-  check(true, "the page loaded, got the state and a first frame");
+  const loaded = await page.evaluate(() => ({
+    objects: window.rayproc.state.objects.length, frames: window.rayproc.framesShown }));
+  check(loaded.objects > 0 && loaded.frames > 0, "the page loaded, got the state (" + loaded.objects +
+        " objects) and a first frame (" + loaded.frames + " shown)");
   const canvasBox = await (await page.$("#canvas")).boundingBox();
   const shot = async (name) => {
     const file = path.join(out, name + ".png");
@@ -85,7 +89,8 @@ try {
     await waitFor((n) => window.rayproc.state.undo_depth === n, i + 1);
   }
   await other.waitForFunction(() => window.rayproc.state.undo_depth === 3, { timeout: 120000, polling: 50 });
-  check(true, "a second tab sees the three edits of the first");
+  const otherDepth = await other.evaluate(() => window.rayproc.state.undo_depth);
+  check(otherDepth === 3, "a second tab sees the three edits of the first (undo depth " + otherDepth + ")");
   await other.close();
   await settle();
   const moved = await shot("2-moved");

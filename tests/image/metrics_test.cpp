@@ -336,6 +336,10 @@ TEST_CASE("Mean error is the worst channel's relative error of the image mean", 
     // R exact, G +5%, B -5%: the worst channel is 0.05.
     ImageMetrics m = compareImages(rgbImage(4, 4, 1.0f, 2.1f, 3.8f), ref);
     CHECK(m.meanRel == Approx(0.05).epsilon(1e-5));
+    // Per channel, signed: R 0, G +5%, B -5%.
+    CHECK(m.meanRelRgb[0] == Approx(0.0).margin(1e-7));
+    CHECK(m.meanRelRgb[1] == Approx(0.05).epsilon(1e-5));
+    CHECK(m.meanRelRgb[2] == Approx(-0.05).epsilon(1e-5));
     // Per-pixel errors of opposite sign cancel in the mean: +10% and -10% halves give 0.
     Image test = splitImage(4, 4, 2, 1.1f, 0.9f);
     CHECK(compareImages(test, constantImage(4, 4, 1.0f)).meanRel == Approx(0.0).margin(1e-6));

@@ -5,7 +5,6 @@
 #include "accel/embree_scene.h"
 #include "scene/pbrt/ply_reader.h"
 
-#include <chrono>
 
 using namespace rayproc;
 using namespace rayproc::pbrt;
@@ -159,7 +158,10 @@ TEST_CASE("PLY errors name the file and the problem", "[pbrt]") {
                       Catch::Contains("out of range"));
 }
 
-TEST_CASE("A large binary PLY parses quickly", "[pbrt]") {
+// How fast it parses is not a unit test's claim (it was "under 1 s", measured ~0.01 s, which a
+// loaded machine or a sanitizer build can break): this checks that every face and vertex of a
+// large binary file arrives in order.
+TEST_CASE("A large binary PLY parses to every vertex and face", "[pbrt]") {
     // 200 x 500 quads: 200,000 triangles.
     PlyData d;
     const int nx = 200, ny = 500;
@@ -173,12 +175,16 @@ TEST_CASE("A large binary PLY parses quickly", "[pbrt]") {
             d.faces.push_back({a + 1, a + nx + 1, a + nx + 2});
         }
     std::string path = writePbrtFile("big.ply", makePly(d, "binary_little_endian"));
-    auto start = std::chrono::steady_clock::now();
     PlyMesh m = readPly(path);
-    double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    CHECK(m.indices.size() == 3u * 2 * nx * ny);
-    CHECK(seconds < 1.0); // measured ~0.01 s; a million triangles take ~0.05 s
+    REQUIRE(m.indices.size() == 3u * 2 * nx * ny);
+    REQUIRE(m.positions.size() == std::size_t(nx + 1) * std::size_t(ny + 1));
+    // The last vertex and the last face, as written.
+    CHECK(m.positions.back().x == float(nx));
+    CHECK(m.positions.back().z == float(ny));
+    const std::uint32_t a = std::uint32_t((ny - 1) * (nx + 1) + nx - 1);
+    CHECK(m.indices[m.indices.size() - 3] == a + 1);
+    CHECK(m.indices[m.indices.size() - 2] == a + nx + 1);
+    CHECK(m.indices[m.indices.size() - 1] == a + nx + 2);
 }
 
 TEST_CASE("ObjectInstance places one stored prototype many times", "[pbrt]") {
