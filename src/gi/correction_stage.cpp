@@ -3,6 +3,7 @@
 #include "engine/material_bsdf.h"
 #include "engine/path_stage.h"
 #include "engine/path_state.h"
+#include "engine/sample_numbers.h"
 #include "gi/gather_stage.h"
 #include "gi/gi_context.h"
 #include "gi/photon_map.h"
@@ -17,8 +18,10 @@ namespace {
 // and its BSDF sample (3) and Russian roulette.
 enum CorrectionDim : std::uint32_t { kDimRay = 60, kDimLight = 62, kDimBsdf = 65, kDimRr = 68 };
 
-Vec2 uniform2(std::uint64_t key, std::uint32_t dim) {
-    return {kernels::uniform(key, dim), kernels::uniform(key, dim + 1)};
+// The shared sample generator without Sobol points: several correction paths of one record
+// and pass share a pixel and a sample index, so each takes its lane's own stream.
+Vec2 uniform2(const RayBatch& b, int i, std::uint32_t dim) {
+    return SampleNumbers(b, i, false, 0).get2D(dim);
 }
 } // namespace
 
@@ -52,7 +55,7 @@ void CorrectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         Vec3 wo = -laneDirection(b, i);
         Vec3 ng, ns;
         facingNormals(h, wo, ng, ns);
-        Vec3 wi = kernels::toWorld(kernels::cosineHemisphere(uniform2(b.rngKey[i], kDimRay)), ns);
+        Vec3 wi = kernels::toWorld(kernels::cosineHemisphere(uniform2(b, i, kDimRay)), ns);
         if (dot(wi, ng) <= 0) continue; // below the surface: dark, as in the gathers
         Vec3 albedo =
             kernels::lambertianAlbedo(bsdfAt(m_rc.scene, h.material, h, 0), wo, h.ng, h.ns);
@@ -118,13 +121,13 @@ std::uint64_t CorrectionStage::replaceMap(const RayBatch& b, int i, const Surfac
     m_rc.film.add(b.pixel[i], -(w * mapRadiance), stats);
 
     std::uint64_t spawned = 0;
-    if (sampleOneLight(m_rc.lights, b, i, h, bsdf, wo, w, uniform2(b.rngKey[i], kDimLight),
+    if (sampleOneLight(m_rc.lights, b, i, h, bsdf, wo, w, uniform2(b, i, kDimLight),
                        kernels::uniform(b.rngKey[i], kDimLight + 2), leaveDirect,
                        policy.skyCompensation, ctx.out(RayKind::Shadow)))
         ++spawned;
     // The bounce, as path mode takes it (its depth limit and Russian roulette).
     const std::uint8_t flags = leaveDirect ? kFlagSkipEnvironment : 0;
-    if (spawnBounce(policy, b, i, h, bsdf, wo, w, uniform2(b.rngKey[i], kDimBsdf),
+    if (spawnBounce(policy, b, i, h, bsdf, wo, w, uniform2(b, i, kDimBsdf),
                     kernels::uniform(b.rngKey[i], kDimBsdf + 2),
                     kernels::uniform(b.rngKey[i], kDimRr), flags, kPathOutputs, 12,
                     ctx) != Bounce::None)
