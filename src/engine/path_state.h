@@ -13,8 +13,7 @@ namespace rayproc {
 // Random dimensions a shading point may use, by purpose; each lane's stream is its rngKey.
 enum RandomDim : std::uint32_t {
     kDimRoulette = 0,
-    kDimReflect = 2,   // 2 numbers
-    kDimRefract = 4,
+    kDimReflect = 2,   // the reflection stage's layered BSDF's own numbers
     kDimLightBase = 16, // light samples: hashed per light, see ShadowStage
 };
 

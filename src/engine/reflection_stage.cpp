@@ -2,10 +2,17 @@
 
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
+#include "engine/sample_numbers.h"
 #include "kernels/bsdf.h"
 #include "kernels/sampling.h"
 
 namespace rayproc {
+
+namespace {
+// The reflection stage's pairs of dimensions (SampleNumbers): the lobe's direction, and the
+// choice among a BSDF's lobes.
+enum ReflectionDim : std::uint32_t { kDimDirection = 90, kDimLobe = 92 };
+} // namespace
 
 void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
@@ -14,6 +21,7 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
     std::uint64_t spawned = 0;
     const ShadingPolicy& policy = m_rc.policy;
     auto nextDepth = [](std::uint8_t d) { return std::uint8_t(std::min(int(d) + 1, 255)); };
+    const std::uint64_t seedKey = sampleSeedKey(m_rc.seed);
     // Whether lane i's sampled ray goes on (Russian roulette reweights w). Past --max-depth a
     // glossy sample the light samples shared by MIS (misPdf > 0) still goes, flagged to collect
     // only the MIS share of the emission or sky it meets: without it the light samples there
@@ -37,6 +45,9 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         Vec3 w = laneThroughput(b, i);
         Vec3 wi;
         std::uint8_t flags = b.flags[i];
+        // The sampled lobe's numbers: Sobol points over the pixel's samples, as the light
+        // samples' at this hit (the same sequence key, other pairs of dimensions).
+        const SampleNumbers numbers(b, i, policy.stratify, seedKey, 1 + std::uint32_t(b.kind));
         // A glossy (non-delta) sample: emitters and the sky are light sampled, so the ray
         // takes them only by its MIS weight (engine/glossy_mis.h); where no light sample
         // covered them (the shadow stage did not run here) wholly (pdf 0). Without MIS it sees
@@ -67,15 +78,13 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             // shadow stage gave its direct light and gi's gather its indirect light.
             kernels::BsdfParams bsdf =
                 bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], kDimReflect));
-            Vec2 u{kernels::uniform(b.rngKey[i], kDimReflect),
-                   kernels::uniform(b.rngKey[i], kDimReflect + 1)};
+            Vec2 u = numbers.get2D(kDimDirection);
             // A coated surface: its coat's reflection alone, mirror or rough; the shadow
             // stage and gi's gather light its base.
             kernels::BsdfSample s =
                 mat.type == MaterialType::CoatedDiffuse
                     ? kernels::sampleCoatReflection(bsdf, wo, h.ng, h.ns, u)
-                    : kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u,
-                                          kernels::uniform(b.rngKey[i], kDimRefract));
+                    : kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u, numbers.get2D(kDimLobe).x);
             if (!s.valid) continue;
             if (!s.delta) {
                 if (!s.coat && materialClass(m_rc.scene.materials, h.material) != MaterialClass::Glossy)
@@ -96,8 +105,7 @@ void ReflectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             }
         } else { // glossy
             float alpha = kernels::ggxAlpha(mat.roughness);
-            Vec2 u{kernels::uniform(b.rngKey[i], kDimReflect),
-                   kernels::uniform(b.rngKey[i], kDimReflect + 1)};
+            Vec2 u = numbers.get2D(kDimDirection);
             Vec3 hv = kernels::toWorld(kernels::ggxSampleHalf(u, alpha), ns);
             wi = kernels::reflect(wo, hv);
             float pdf = kernels::glossyPdf(wo, wi, ns, alpha);
