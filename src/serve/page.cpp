@@ -81,6 +81,7 @@ let framesShown = 0, lastFrameVersion = -1;
 window.rayproc = { get state() { return state; }, get selected() { return selected; },
                    get framesShown() { return framesShown; }, get rendering() { return rendering; },
                    get lastFrameVersion() { return lastFrameVersion; },
+                   get cameraMessagesSent() { return cameraMessagesSent; }, get camera() { return camera; },
                    send: (m) => send(m), lastReply: null, lastError: null, lastProgress: null };
 
 function send(m) { ws.send(JSON.stringify(m)); }
@@ -91,9 +92,31 @@ function len(a) { return Math.hypot(a[0], a[1], a[2]); }
 function norm(a) { const l = len(a) || 1; return mul(a, 1/l); }
 function cross(a, b) { return [a[1]*b[2]-a[2]*b[1], a[2]*b[0]-a[0]*b[2], a[0]*b[1]-a[1]*b[0]]; }
 
-function sendCamera() {
+// Camera messages: at most one in flight. A move while one is unanswered only marks the view
+// dirty; the latest view goes out once the frame of the previous one has been drawn (or after
+// kCameraBudgetMs, should that frame never come), so the server renders views the page can show
+// instead of stopping each coarse frame for the next mouse event (issue 37, bug 2).
+const kCameraBudgetMs = 250;
+let cameraInFlight = false, cameraDirty = false, cameraSentAt = 0, cameraAwaited = null, cameraTimer = null;
+let newestFrameVersion = -1, cameraMessagesSent = 0;
+function sendCamera() { cameraDirty = true; flushCamera(); }
+function flushCamera() {
+  if (!cameraDirty || !camera) return;
+  const waited = performance.now() - cameraSentAt;
+  if (cameraInFlight && waited < kCameraBudgetMs) {
+    if (!cameraTimer) cameraTimer = setTimeout(() => { cameraTimer = null; flushCamera(); }, kCameraBudgetMs - waited);
+    return;
+  }
+  cameraDirty = false; cameraInFlight = true; cameraAwaited = null; cameraSentAt = performance.now();
+  cameraMessagesSent++;
   send({type: "camera", position: camera.position, look_at: camera.look_at, up: camera.up, fov: camera.fov});
 }
+// The reply to a camera message names the version its frames will carry.
+function cameraAccepted(version) {
+  cameraAwaited = version;
+  if (newestFrameVersion >= version) cameraAnswered();
+}
+function cameraAnswered() { cameraInFlight = false; cameraAwaited = null; flushCamera(); }
 
 function connect() {
   ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws");
@@ -104,9 +127,14 @@ function connect() {
     if (typeof ev.data !== "string") return drawFrame(ev.data);
     const m = JSON.parse(ev.data);
     window.rayproc.lastReply = m;
-    if (m.type === "error") { window.rayproc.lastError = m.message; $("error").textContent = m.message; return; }
+    if (m.type === "error") {
+      window.rayproc.lastError = m.message; $("error").textContent = m.message;
+      if (cameraInFlight && cameraAwaited === null) cameraAnswered(); // our camera was refused
+      return;
+    }
     $("error").textContent = "";
-    if (m.type === "state") showState(m);
+    if (m.type === "camera") cameraAccepted(m.version);
+    else if (m.type === "state") showState(m);
     else if (m.type === "picked") showPick(m);
     else if (m.type === "render_begin") { rendering = true; $("cancel").disabled = false; $("progress").value = 0;
       $("render-info").textContent = m.mode + ": starting"; }
@@ -138,6 +166,8 @@ function drawFrame(buffer) {
   else createImageBitmap(img).then((bmp) => ctx2d.drawImage(bmp, 0, 0, canvas.width, canvas.height));
   framesShown++;
   lastFrameVersion = version;
+  newestFrameVersion = Math.max(newestFrameVersion, version);
+  if (cameraInFlight && cameraAwaited !== null && version >= cameraAwaited) cameraAnswered();
 }
 
 // The canvas keeps the live preview's size; renders at the scene's resolution are scaled to it.
@@ -147,7 +177,8 @@ function previewHeight() { return Math.max(1, Math.round(state.camera.resolution
 
 function showState(s) {
   state = s;
-  camera = JSON.parse(JSON.stringify(s.camera));
+  // While a view of ours is unsent or unanswered, the page's camera is ahead of the server's.
+  if (!cameraInFlight && !cameraDirty) camera = JSON.parse(JSON.stringify(s.camera));
   $("undo-depth").textContent = s.undo_depth + " change(s)";
   $("analysis").textContent = s.analysis.map((a) => a.modes.join(",") + ": skipped " + a.what + ": " + a.why).join("\n") || "nothing skipped";
   const lights = $("lights"); lights.innerHTML = "";

@@ -26,6 +26,11 @@ namespace rayproc::serve {
 
 namespace {
 
+// Two changes closer than kMotionGap are one drag (or key repeat, or wheel spin); then the
+// full-size frame waits up to kMotionWait after the coarse one for the next change (the page
+// sends it when the coarse frame arrives, or at the next event of a 60 Hz mouse: 17 ms).
+constexpr std::chrono::milliseconds kMotionGap{250}, kMotionWait{50};
+
 const std::vector<std::string> kMessageTypes = {
     "state", "camera", "pick", "transform", "material", "emission", "light",
     "undo", "save", "render", "cancel"};
@@ -102,6 +107,7 @@ std::string toText(const Json& json, int indent) {
 struct Session::Loaded {
     std::unique_ptr<Scene> scene;
     std::unique_ptr<EmbreeScene> accel;
+    std::optional<LightSet> previewLights; // made at the first preview, kept for every frame
     Json analysis = Json::array(); // what each mode skips and why
 };
 
@@ -249,7 +255,9 @@ Json Session::reply(const Json& m, int client) {
             cam["fov"] = double(c.fovY);
         }
         changed();
-        return {{"type", "camera"}};
+        // The version the new view's frames carry: the page sends its next view once one of
+        // them has arrived.
+        return {{"type", "camera"}, {"version", std::uint32_t(m_version)}};
     }
     if (type == "pick") {
         expectKeys(m, {"x", "y"});
@@ -553,6 +561,8 @@ void Session::sendText(const Json& json) const {
 }
 
 void Session::changed() {
+    m_changeBefore = m_lastChange;
+    m_lastChange = std::chrono::steady_clock::now();
     {
         std::lock_guard<std::mutex> frames(m_frameMutex);
         ++m_version;
@@ -632,12 +642,22 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     // Coarse first (a quarter of each side), then full while nothing changed.
     for (int step : {4, 1}) {
         {
-            std::lock_guard<std::mutex> lk(m_mutex);
+            std::unique_lock<std::mutex> lk(m_mutex);
+            // During a drag (changes less than kMotionGap apart) the page sends its next view
+            // once the coarse frame arrives: wait for it rather than start a full-size frame
+            // that it would stop, whose setup and teardown cost as much as a coarse frame.
+            if (step == 1 && m_lastChange - m_changeBefore < kMotionGap)
+                m_wake.wait_for(lk, kMotionWait, [&] {
+                    return m_version != version || m_request || m_quit;
+                });
             if (m_version != version || m_request || m_quit) break;
         }
         scene.camera.width = std::max(1, w / step);
         scene.camera.height = std::max(1, h / step);
-        RenderResult r = rayproc::renderPreview(scene, *loaded->accel, settings, engine);
+        if (!loaded->previewLights) // only this thread renders previews
+            loaded->previewLights = LightSet::buildPreview(scene, *loaded->accel);
+        RenderResult r = rayproc::renderPreview(scene, *loaded->accel, *loaded->previewLights,
+                                                settings, engine);
         if (r.cancelled || !sendFrame(std::move(r.image), version)) break;
     }
     scene.camera = full;

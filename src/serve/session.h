@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -128,6 +129,9 @@ private:
     // preview's stop reads it without a lock.
     std::atomic<std::uint64_t> m_version{0};
     std::uint64_t m_previewedVersion = 0; // what the worker has shown
+    // When the last two changes came (m_mutex): changes less than kMotionGap apart are a
+    // drag, and the full-size frame waits for the next one (renderPreview).
+    std::chrono::steady_clock::time_point m_lastChange{}, m_changeBefore{};
     std::optional<RenderRequest> m_request;
     bool m_rendering = false;
     int m_renderClient = -1;

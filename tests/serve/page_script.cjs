@@ -57,13 +57,36 @@ const context = {
   },
   location: { protocol: "http:", host: "127.0.0.1:1" },
   WebSocket: FakeWebSocket, JSON, Math, Number, Array, Object, String, parseFloat, parseInt, console,
+  DataView, Uint8ClampedArray, ImageData: class { constructor(d, w, h) { this.width = w; this.height = h; } },
+  createImageBitmap: () => Promise.resolve({}), performance: { now: () => clock },
+  setTimeout: (fn, ms) => { timers.push({ at: clock + ms, fn }); return timers.length; },
+  clearTimeout: () => {},
   addEventListener: (type, fn) => { (windowListeners[type] = windowListeners[type] || []).push(fn); },
 };
+// The page's clock and timers, advanced by the scenarios (advance).
+let clock = 1000;
+const timers = [];
+function advance(ms) {
+  clock += ms;
+  for (let due; (due = timers.filter((t) => t.at <= clock)).length;)
+    for (const t of due) { timers.splice(timers.indexOf(t), 1); t.fn(); }
+}
 context.window = context;
 vm.createContext(context);
 vm.runInContext(script, context);
 
 const receive = (m) => socket.onmessage({ data: JSON.stringify(m) });
+// A frame message (encodeFrame): "RPF2", width, height, number, version, then RGBA.
+function receiveFrame(version, w = 16, h = 16) {
+  const buffer = new ArrayBuffer(20 + w * h * 4), head = new DataView(buffer);
+  "RPF2".split("").forEach((c, i) => head.setUint8(i, c.charCodeAt(0)));
+  [w, h, 1, version].forEach((v, i) => head.setUint32(4 + 4 * i, v, true));
+  socket.onmessage({ data: buffer });
+}
+const fire = (listeners, type, e) => (listeners[type] || []).forEach((fn) => fn(Object.assign({ preventDefault() {} }, e)));
+const mouse = (type, x, y, extra = {}) => fire(type === "mousedown" ? byId.canvas.listeners : windowListeners, type,
+                                               Object.assign({ clientX: x, clientY: y, button: 0, target: byId.canvas }, extra));
+const cameras = () => sent.filter((m) => m.type === "camera");
 const click = (id) => byId[id].onclick();
 let failures = 0;
 function check(ok, what) { if (!ok) { console.log("FAIL " + what); failures++; } }
@@ -78,6 +101,42 @@ function state(editable, extra = {}) {
 }
 
 const scenarios = {
+  // Issue 37 bug 2: a drag sends at most one camera message until a frame of it arrives, then
+  // the latest view; the state of an earlier view does not pull the page's camera back.
+  camera_throttle() {
+    receive(state(true));
+    mouse("mousedown", 100, 100);
+    for (let i = 1; i <= 10; i++) mouse("mousemove", 100 + 5 * i, 100);
+    check(cameras().length === 1, "ten mouse moves before any frame send one camera message, not " + cameras().length);
+    receive({ type: "camera", version: 2 });
+    receive(state(true, { version: 2 })); // the server's view: the first move's
+    for (let i = 11; i <= 20; i++) mouse("mousemove", 100 + 5 * i, 100);
+    check(cameras().length === 1, "still one while its frame has not come: " + cameras().length);
+    receiveFrame(1); // an older frame does not answer it
+    check(cameras().length === 1, "an older frame does not release the next view");
+    receiveFrame(2);
+    check(cameras().length === 2, "the frame of the view releases the next: " + cameras().length);
+    const second = cameras()[1].position;
+    mouse("mousemove", 300, 100); // the drag goes on past where it was at the frame
+    mouse("mouseup", 300, 100);
+    check(cameras().length === 2, "the last move waits for the frame of the second view");
+    // A stale state (of the first view) must not pull the page's camera back.
+    receive(state(true, { version: 2 }));
+    receive({ type: "camera", version: 3 });
+    receiveFrame(3);
+    check(cameras().length === 3, "the final view is sent once the second's frame arrived");
+    const last = cameras()[2].position;
+    check(JSON.stringify(last) !== JSON.stringify(second), "the final view is the drag's end, not the second view again");
+    receive({ type: "camera", version: 4 });
+    receiveFrame(4);
+    // A frame that never comes (another tab changed the scene meanwhile): the view goes out anyway.
+    mouse("mousedown", 300, 100);
+    mouse("mousemove", 320, 100);
+    mouse("mousemove", 340, 100);
+    check(cameras().length === 4, "a new drag sends at once");
+    advance(300);
+    check(cameras().length === 5, "after the budget without a frame the latest view goes out: " + cameras().length);
+  },
   // Issue 37 bug 1: a pick on a pbrt scene (no editable objects) must not throw, then or at the
   // next state (every camera move brings one), and edits say the scene is read-only.
   pbrt_pick() {

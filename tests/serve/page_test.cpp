@@ -54,3 +54,12 @@ TEST_CASE("serve page: a move step outside [-1000, 1000] is refused with the ran
     INFO(out);
     CHECK(rc == 0);
 }
+
+TEST_CASE("serve page: a drag keeps one camera message in flight and sends the latest view",
+          "[serve]") {
+    if (!haveNode()) RAYPROC_SKIP("node is not installed");
+    std::string out;
+    int rc = runScenario("camera_throttle", out);
+    INFO(out);
+    CHECK(rc == 0);
+}
