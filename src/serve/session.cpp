@@ -33,7 +33,8 @@ constexpr std::chrono::milliseconds kMotionGap{250}, kMotionWait{50};
 
 const std::vector<std::string> kMessageTypes = {
     "state", "camera", "pick", "transform", "material", "emission", "light",
-    "undo", "save", "render", "cancel"};
+    "undo", "redo", "save", "render", "cancel"};
+constexpr std::size_t kUndoDepth = 256;
 
 [[noreturn]] void refuse(const std::string& what) { throw InputError(what); }
 
@@ -76,6 +77,28 @@ bool holdsShape(const Node& node, const Shape* shape) {
     return false;
 }
 
+// The scene's bounds and its extent, the length the page scales its navigation to: the
+// diagonal of the box holding the top-level objects' centres, at least the median object's
+// diagonal and at most the bounds' own. A ground plane 220 units wide around a classroom 10
+// wide (Bitterli's) makes the bounds' diagonal 313; the centres keep to the room.
+Json sceneBounds(const Scene& scene) {
+    Bounds3 all = scene.worldBounds();
+    if (all.empty()) return Json::object();
+    Bounds3 centres;
+    std::vector<float> sizes;
+    for (const auto& n : scene.root->children) {
+        if (n->bounds.empty()) continue;
+        centres.extend(n->bounds.center());
+        sizes.push_back(length(n->bounds.hi - n->bounds.lo));
+    }
+    float diagonal = length(all.hi - all.lo), extent = diagonal;
+    if (!sizes.empty()) {
+        std::nth_element(sizes.begin(), sizes.begin() + std::ptrdiff_t(sizes.size() / 2), sizes.end());
+        extent = std::min(diagonal, std::max(length(centres.hi - centres.lo), sizes[sizes.size() / 2]));
+    }
+    return {{"lo", vec3Json(all.lo)}, {"hi", vec3Json(all.hi)}, {"extent", double(extent)}};
+}
+
 } // namespace
 
 std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
@@ -109,6 +132,7 @@ struct Session::Loaded {
     std::unique_ptr<EmbreeScene> accel;
     std::optional<LightSet> previewLights; // made at the first preview, kept for every frame
     Json analysis = Json::array(); // what each mode skips and why
+    Json bounds; // the page's scale (sceneBounds)
 };
 
 Session::Session(const std::string& scenePath, const Options& options)
@@ -131,9 +155,11 @@ Session::Session(const std::string& scenePath, const Options& options)
         auto loaded = std::make_shared<Loaded>();
         loaded->scene = loadScene(scenePath);
         loaded->accel = std::make_unique<EmbreeScene>(*loaded->scene);
+        loaded->bounds = sceneBounds(*loaded->scene);
         m_camera = loaded->scene->camera;
         m_loaded = loaded;
     }
+    m_home = m_camera;
     m_version = 1;
 }
 
@@ -178,6 +204,7 @@ void Session::load(const Json& doc) {
             if (s.modes & bit) modes.push_back(name);
         loaded->analysis.push_back({{"what", s.what}, {"why", s.why}, {"modes", modes}});
     }
+    loaded->bounds = sceneBounds(*loaded->scene);
     m_camera = loaded->scene->camera;
     m_loaded = loaded;
 }
@@ -219,11 +246,43 @@ Json Session::applyEdit(const Json& m, const std::function<void(Json& doc)>& edi
     load(doc); // throws, with the loader's message, before anything changes
     m_camera = view;
     // The view is the page's: it survives edits, and the saved file keeps it.
-    m_undo.push_back(std::move(m_doc));
-    if (m_undo.size() > 256) m_undo.erase(m_undo.begin());
+    pushUndo({std::move(m_doc), std::nullopt});
     m_doc = std::move(doc);
     changed();
     return {{"type", "edited"}, {"undo_depth", m_undo.size()}};
+}
+
+void Session::pushUndo(Step step) {
+    m_undo.push_back(std::move(step));
+    if (m_undo.size() > kUndoDepth) m_undo.erase(m_undo.begin());
+    m_redo.clear();
+}
+
+void Session::setCamera(const Camera& c) {
+    m_camera = c;
+    if (!m_editable) return;
+    Json& cam = m_doc["camera"];
+    cam["position"] = vec3Json(c.position);
+    cam["look_at"] = vec3Json(c.lookAt);
+    cam["up"] = vec3Json(c.up);
+    cam["fov"] = double(c.fovY);
+}
+
+Session::Step Session::swapStep(const Step& step) {
+    Step back;
+    if (step.doc) {
+        Camera view = m_camera;
+        load(*step.doc); // the documents on the stacks were all loaded once: this succeeds
+        back.doc = std::move(m_doc);
+        m_doc = *step.doc;
+        setCamera(view); // the view stays the page's, in the document too
+    }
+    if (step.camera) {
+        back.camera = m_camera;
+        setCamera(*step.camera);
+    }
+    changed();
+    return back;
 }
 
 Json Session::reply(const Json& m, int client) {
@@ -235,7 +294,12 @@ Json Session::reply(const Json& m, int client) {
         return s;
     }
     if (type == "camera") {
-        expectKeys(m, {"position", "look_at", "up", "fov"});
+        expectKeys(m, {"position", "look_at", "up", "fov", "undo_step"});
+        bool undoStep = false;
+        if (m.contains("undo_step")) {
+            if (!m["undo_step"].is_boolean()) refuse("camera.undo_step: expected true or false");
+            undoStep = m["undo_step"].get<bool>();
+        }
         std::lock_guard<std::mutex> lk(m_mutex);
         if (m_rendering || m_request) refuse("camera: a render is running; cancel it first");
         Camera c = m_camera;
@@ -246,14 +310,8 @@ Json Session::reply(const Json& m, int client) {
         // The check the scene loaders make: a camera serve accepts (and saves) renders.
         if (auto problem = cameraProblem(c))
             refuse("camera." + problem->field + ": " + problem->message);
-        m_camera = c;
-        if (m_editable) {
-            Json& cam = m_doc["camera"];
-            cam["position"] = vec3Json(c.position);
-            cam["look_at"] = vec3Json(c.lookAt);
-            cam["up"] = vec3Json(c.up);
-            cam["fov"] = double(c.fovY);
-        }
+        if (undoStep) pushUndo({std::nullopt, m_camera});
+        setCamera(c);
         changed();
         // The version the new view's frames carry: the page sends its next view once one of
         // them has arrived.
@@ -359,18 +417,17 @@ Json Session::reply(const Json& m, int client) {
                 doc["lights"][std::size_t(index)][it.key()] = it.value();
         });
     }
-    if (type == "undo") {
+    if (type == "undo" || type == "redo") {
         expectKeys(m, {});
         std::lock_guard<std::mutex> lk(m_mutex);
-        if (m_rendering || m_request) refuse("undo: a render is running; cancel it first");
-        if (m_undo.empty()) refuse("undo: nothing to undo");
-        Camera view = m_camera;
-        load(m_undo.back());
-        m_camera = view;
-        m_doc = std::move(m_undo.back());
-        m_undo.pop_back();
-        changed();
-        return {{"type", "edited"}, {"undo_depth", m_undo.size()}};
+        if (m_rendering || m_request) refuse(type + ": a render is running; cancel it first");
+        std::vector<Step>& from = type == "undo" ? m_undo : m_redo;
+        std::vector<Step>& to = type == "undo" ? m_redo : m_undo;
+        if (from.empty()) refuse(type + ": nothing to " + type);
+        Step back = swapStep(from.back());
+        from.pop_back();
+        to.push_back(std::move(back));
+        return {{"type", "edited"}, {"undo_depth", m_undo.size()}, {"redo_depth", m_redo.size()}};
     }
     if (type == "save") {
         expectKeys(m, {"path"});
@@ -523,6 +580,13 @@ Json Session::state() const {
     s["lights"] = m_editable && m_doc.contains("lights") ? m_doc["lights"] : Json::array();
     s["analysis"] = m_loaded->analysis;
     s["undo_depth"] = m_undo.size();
+    s["redo_depth"] = m_redo.size();
+    s["home"] = {{"position", vec3Json(m_home.position)},
+                 {"look_at", vec3Json(m_home.lookAt)},
+                 {"up", vec3Json(m_home.up)},
+                 {"fov", double(m_home.fovY)}};
+    // The page scales its fly, zoom and orbit pivot to the scene's extent.
+    if (!m_loaded->bounds.empty()) s["bounds"] = m_loaded->bounds;
     s["rendering"] = m_rendering || m_request.has_value();
     s["version"] = std::uint32_t(m_version); // as in the frames' header
     return s;

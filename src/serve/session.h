@@ -122,7 +122,18 @@ private:
     mutable std::mutex m_mutex;
     std::condition_variable m_wake;
     Json m_doc;
-    std::vector<Json> m_undo;
+    // One undo (or redo) step: an edit (the document before it) or a camera move (the view
+    // before it); undoing one puts the other state on the opposite stack. Camera steps are the
+    // moves the page marks "undo_step" (the first message of a drag, a wheel burst, a key).
+    struct Step {
+        std::optional<Json> doc;
+        std::optional<Camera> camera;
+    };
+    void pushUndo(Step step); // a new step: the redo stack is cleared
+    Step swapStep(const Step& step); // applies it; returns the step that undoes that
+    void setCamera(const Camera& c); // the view, written into the document too
+    std::vector<Step> m_undo, m_redo;
+    Camera m_home; // the scene file's view: the page's Home button
     std::shared_ptr<Loaded> m_loaded;
     Camera m_camera; // the page's view; the worker copies it into the scene it renders
     // Bumps at every change the preview must show, under m_mutex and m_frameMutex; the

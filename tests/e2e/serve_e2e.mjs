@@ -109,6 +109,44 @@ try {
   check(frameVersion === viewVersion,
     "the last frame drawn is of the view shown (frame version " + frameVersion + ", state " + viewVersion + ")");
 
+  // Orbiting stays in the box (issue 37 bug 5): from the home view a 150-pixel drag keeps most
+  // of the image lit (it went through the side wall into black); Ctrl+Z undoes the drag,
+  // Ctrl+Shift+Z redoes it, and Home returns to the scene file's view.
+  const meanLevel = () => page.evaluate(() => {
+    const c = document.getElementById("canvas");
+    const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+    let sum = 0;
+    for (let i = 0; i < d.length; i += 4) sum += d[i] + d[i + 1] + d[i + 2];
+    return sum / (3 * d.length / 4);
+  });
+  const viewOf = () => page.evaluate(() => JSON.stringify(window.rayproc.state.camera.position));
+  await page.click("#home");
+  await waitFor(() => JSON.stringify(window.rayproc.state.camera.position) === JSON.stringify(window.rayproc.state.home.position));
+  await settle();
+  const homeView = await viewOf(), homeLevel = await meanLevel();
+  await page.mouse.move(cx, cy);
+  await page.mouse.down();
+  for (let i = 1; i <= 15; i++) { await page.mouse.move(cx + 10 * i, cy); await new Promise((r) => setTimeout(r, 20)); }
+  await page.mouse.up();
+  await waitFor((h) => JSON.stringify(window.rayproc.state.camera.position) !== h, homeView);
+  await settle();
+  const draggedView = await viewOf(), draggedLevel = await meanLevel();
+  await shot("3b-orbited-150px");
+  check(draggedLevel > 0.6 * homeLevel, "a 150-pixel orbit keeps the box in view: mean level " + draggedLevel.toFixed(1) +
+        " against " + homeLevel.toFixed(1) + " at home");
+  await page.focus("#canvas");
+  await page.keyboard.down("Control"); await page.keyboard.press("z"); await page.keyboard.up("Control");
+  await waitFor((h) => JSON.stringify(window.rayproc.state.camera.position) === h, homeView);
+  check(true, "Ctrl+Z undoes the drag (the home view again)");
+  await page.keyboard.down("Control"); await page.keyboard.down("Shift"); await page.keyboard.press("z");
+  await page.keyboard.up("Shift"); await page.keyboard.up("Control");
+  await waitFor((v) => JSON.stringify(window.rayproc.state.camera.position) === v, draggedView);
+  check(true, "Ctrl+Shift+Z redoes it");
+  await page.click("#home");
+  await waitFor((h) => JSON.stringify(window.rayproc.state.camera.position) === h, homeView);
+  check(true, "Home returns to the scene file's view");
+  await settle();
+
   // gi: streams in with progress; Cancel returns to the live preview.
   // 1000 spp: passes of 16 spp, each 1.6% of the render; the image fills in tile by tile.
   await page.type("#spp", "1000");
@@ -120,6 +158,29 @@ try {
   const info = await page.$eval("#render-info", (e) => e.textContent);
   check(/ETA/.test(info) && /Mrays\/s/.test(info), "gi shows progress, ETA and rays/s (" + info + ")");
   await shot("4b-gi-running");
+  // During a render (issue 37 bug 4): a drag says why the view does not move, the message
+  // outlives the progress that follows, and the release picks nothing; so does a refused render.
+  const selectedBefore = await page.evaluate(() => window.rayproc.selected);
+  const viewBefore = await viewOf();
+  await page.mouse.move(canvasBox.x + 0.7 * canvasBox.width, canvasBox.y + 0.8 * canvasBox.height);
+  await page.mouse.down();
+  for (let i = 1; i <= 5; i++) await page.mouse.move(canvasBox.x + 0.7 * canvasBox.width + 6 * i, canvasBox.y + 0.8 * canvasBox.height);
+  const progressSeen = async () => page.evaluate(() => window.rayproc.lastProgress.fraction);
+  let fraction = await progressSeen();
+  for (let i = 0; i < 3; i++) { await waitFor((f) => window.rayproc.lastProgress.fraction > f, fraction); fraction = await progressSeen(); }
+  const dragError = await page.$eval("#error", (e) => e.textContent);
+  check(/render is running/.test(dragError), "a drag during a render says why the view does not move, three progress messages later (" + dragError + ")");
+  await page.mouse.up();
+  await new Promise((r) => setTimeout(r, 300));
+  const after = await page.evaluate(() => [window.rayproc.selected, window.rayproc.lastReply.type]);
+  check(after[0] === selectedBefore && after[1] !== "picked" && (await viewOf()) === viewBefore,
+        "the release after it picks nothing and the view is unchanged (selected " + after[0] + ", last reply " + after[1] + ")");
+  await page.click("#mode-path");
+  await waitFor(() => /already running/.test(document.getElementById("error").textContent));
+  fraction = await progressSeen();
+  for (let i = 0; i < 2; i++) { await waitFor((f) => window.rayproc.lastProgress.fraction > f, fraction); fraction = await progressSeen(); }
+  const renderError = await page.$eval("#error", (e) => e.textContent);
+  check(/already running/.test(renderError), "a refused render's error outlives the progress (" + renderError + ")");
   await page.click("#cancel");
   await waitFor(() => window.rayproc.rendering === false);
   const ended = await page.$eval("#render-info", (e) => e.textContent);

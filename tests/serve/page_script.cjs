@@ -100,7 +100,54 @@ function state(editable, extra = {}) {
   }, extra);
 }
 
+const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+const key = (k, extra = {}) => fire(byId.canvas.listeners, "keydown", Object.assign({ key: k, repeat: false }, extra));
+const wheel = (deltaY) => fire(byId.canvas.listeners, "wheel", { deltaY, deltaMode: 0 });
+
 const scenarios = {
+  // Issue 37 bug 6: in a room 20 units across whose camera looks at a point 1 unit ahead (pbrt's
+  // LookAt), W moves 2% of the scene, 20 wheel notches cross it and pass the pivot, and neither
+  // shrinks after zooming in; the orbit pivots a quarter of the scene ahead.
+  scene_scaled_navigation() {
+    const room = { lo: [-10, 0, -5], hi: [10, 5, 5], extent: 20 };
+    receive(state(false, { bounds: room, camera: { position: [0, 2, 8], look_at: [0, 2, 7], up: [0, 1, 0], fov: 40, resolution: [64, 64] } }));
+    const cam = () => context.window.rayproc.camera;
+    let p0 = cam().position.slice();
+    key("w");
+    check(Math.abs(dist(cam().position, p0) - 0.4) < 1e-6, "W moves 2% of the 20-unit scene (0.4), not " + dist(cam().position, p0));
+    const pivot0 = cam().look_at.slice();
+    check(Math.abs(dist(cam().look_at, cam().position) - 5) < 1e-6, "the pivot is a quarter of the scene ahead (5), not " +
+          dist(cam().look_at, cam().position));
+    p0 = cam().position.slice();
+    for (let i = 0; i < 20; i++) wheel(-100);
+    check(Math.abs(dist(cam().position, p0) - 20) < 1e-6, "20 wheel notches move 20 units (the scene), not " + dist(cam().position, p0));
+    check(cam().position[2] < pivot0[2], "the zoom passed the pivot (z " + cam().position[2] + " beyond " + pivot0[2] + ")");
+    check(cam().look_at[2] < cam().position[2], "the pivot stays ahead of the camera");
+    p0 = cam().position.slice();
+    key("w");
+    check(Math.abs(dist(cam().position, p0) - 0.4) < 1e-6, "after zooming in W still moves 0.4, not " + dist(cam().position, p0));
+    p0 = cam().position.slice();
+    wheel(100);
+    check(Math.abs(dist(cam().position, p0) - 1) < 1e-6, "a notch back moves 1 unit, not " + dist(cam().position, p0));
+  },
+  // Issue 37 bug 5: a 150-pixel drag on the Cornell box's view (6.8 units away, 19.5 degree field
+  // of view) turns the view by less than its field of view, so it stays in front of the box's open
+  // side; the first camera message of a gesture is an undo step, the rest are not.
+  orbit_speed() {
+    receive(state(true, { bounds: { lo: [-1, 0, -1], hi: [1, 2, 1], extent: 3.46 },
+      camera: { position: [0, 1, 6.8], look_at: [0, 1, 0], up: [0, 1, 0], fov: 19.5, resolution: [64, 64] } }));
+    mouse("mousedown", 100, 100);
+    for (let i = 1; i <= 15; i++) mouse("mousemove", 100 + 10 * i, 100);
+    mouse("mouseup", 250, 100);
+    const p = context.window.rayproc.camera.position;
+    const angle = Math.atan2(p[0], p[2]) * 180 / Math.PI;
+    check(Math.abs(angle) > 5 && Math.abs(angle) < 19.5, "a 150-pixel orbit turns 5..19.5 degrees, not " + angle.toFixed(1));
+    check(cameras().length === 1 && cameras()[0].undo_step === true, "the drag's first message is an undo step");
+    receive({ type: "camera", version: 2 });
+    receiveFrame(2);
+    check(cameras().length === 2 && !cameras()[1].undo_step, "the drag's next message is not");
+    check(!sent.some((m) => m.type === "pick"), "the release after a drag picks nothing");
+  },
   // Issue 37 bug 2: a drag sends at most one camera message until a frame of it arrives, then
   // the latest view; the state of an earlier view does not pull the page's camera back.
   camera_throttle() {

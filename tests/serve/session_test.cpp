@@ -467,3 +467,59 @@ TEST_CASE("serve: a preview size above the scene's resolution is said, not silen
     CHECK_THAT(defaulted, Catch::Contains("open http"));
     CHECK_THAT(defaulted, !Catch::Contains("warning"));
 }
+
+TEST_CASE("serve: camera moves marked as undo steps undo and redo, with edits between them", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    Json home = h.send({{"type", "state"}})["camera"]["position"];
+    CHECK(h.send({{"type", "state"}})["home"]["position"] == home);
+    // A drag: its first message is the undo step, the rest move the view without one.
+    h.send({{"type", "camera"}, {"position", {0.5, 1, 6}}, {"undo_step", true}});
+    h.send({{"type", "camera"}, {"position", {1, 1, 6}}});
+    CHECK(h.send({{"type", "state"}})["undo_depth"] == 1);
+    h.send({{"type", "transform"}, {"object", 6}, {"translate", {0, 0.1, 0}}});
+    CHECK(h.send({{"type", "undo"}})["redo_depth"] == 1); // the move
+    Json s = h.send({{"type", "state"}});
+    CHECK(s["camera"]["position"] == Json::array({1.0, 1.0, 6.0})); // an edit's undo keeps the view
+    h.send({{"type", "undo"}});                                      // the drag
+    CHECK(h.send({{"type", "state"}})["camera"]["position"] == home);
+    h.send({{"type", "redo"}});
+    CHECK(h.send({{"type", "state"}})["camera"]["position"] == Json::array({1.0, 1.0, 6.0}));
+    CHECK(h.send({{"type", "redo"}})["undo_depth"] == 2); // the move again
+    CHECK_THAT(messageOf(h.send({{"type", "redo"}})), Catch::Contains("nothing to redo"));
+    // The saved document has the view shown, after undos too.
+    h.send({{"type", "undo"}});
+    TempDir dir;
+    h.send({{"type", "save"}, {"path", dir.file("s.json")}});
+    std::ifstream in(dir.file("s.json"));
+    CHECK(Json::parse(in)["camera"]["position"] == Json::array({1.0, 1.0, 6.0}));
+    // A new step clears the redo stack.
+    h.send({{"type", "camera"}, {"position", {0, 1, 5}}, {"undo_step", true}});
+    CHECK_THAT(messageOf(h.send({{"type", "redo"}})), Catch::Contains("nothing to redo"));
+    CHECK_THAT(messageOf(h.send({{"type", "camera"}, {"undo_step", 1}})), Catch::Contains("undo_step"));
+}
+
+TEST_CASE("serve: the state gives the scene's extent, robust to a ground plane around it", "[serve]") {
+    Harness box(scenePath("cornell-box"));
+    Json b = box.send({{"type", "state"}})["bounds"];
+    REQUIRE(b.contains("extent"));
+    CHECK(b["extent"].get<double>() > 1.0);
+    CHECK(b["extent"].get<double>() < 4.0);
+    // A unit box on a plane 200 units wide: the extent keeps to the box, not the plane's 283.
+    TempDir dir;
+    std::string path = dir.file("plane.json");
+    std::ofstream(path) << R"({
+  "camera": {"position": [0, 1, 4], "look_at": [0, 0.5, 0], "resolution": [32, 32]},
+  "materials": {"white": {"type": "diffuse", "color": [0.8, 0.8, 0.8]}},
+  "lights": [{"type": "point", "position": [0, 3, 0], "intensity": [10, 10, 10]}],
+  "nodes": [
+    {"type": "quad", "material": "white",
+     "corners": [[-100, 0, -100], [-100, 0, 100], [100, 0, 100], [100, 0, -100]]},
+    {"type": "sphere", "material": "white", "center": [0, 0.5, 0], "radius": 0.5},
+    {"type": "sphere", "material": "white", "center": [1, 0.5, 0], "radius": 0.5},
+    {"type": "sphere", "material": "white", "center": [0, 0.5, 1], "radius": 0.5}]
+})";
+    Harness plane(path);
+    Json p = plane.send({{"type", "state"}})["bounds"];
+    INFO(p.dump());
+    CHECK(p["extent"].get<double>() < 5.0);
+}
