@@ -78,23 +78,28 @@ bool holdsShape(const Node& node, const Shape* shape) {
 }
 
 // The scene's bounds and its extent, the length the page scales its navigation to: the
-// diagonal of the box holding the top-level objects' centres, at least the median object's
-// diagonal and at most the bounds' own. A ground plane 220 units wide around a classroom 10
-// wide (Bitterli's) makes the bounds' diagonal 313; the centres keep to the room.
+// diagonal of the box holding the middle 80% of the top-level objects' centres along each axis,
+// at least the median object's diagonal and at most the bounds' own. A ground plane 220 units
+// wide around Bitterli's classroom makes the bounds' diagonal 313; the extent keeps to the room.
 Json sceneBounds(const Scene& scene) {
     Bounds3 all = scene.worldBounds();
     if (all.empty()) return Json::object();
-    Bounds3 centres;
-    std::vector<float> sizes;
+    std::vector<float> xs, ys, zs, sizes;
     for (const auto& n : scene.root->children) {
         if (n->bounds.empty()) continue;
-        centres.extend(n->bounds.center());
+        Vec3 c = n->bounds.center();
+        xs.push_back(c.x), ys.push_back(c.y), zs.push_back(c.z);
         sizes.push_back(length(n->bounds.hi - n->bounds.lo));
     }
     float diagonal = length(all.hi - all.lo), extent = diagonal;
     if (!sizes.empty()) {
-        std::nth_element(sizes.begin(), sizes.begin() + std::ptrdiff_t(sizes.size() / 2), sizes.end());
-        extent = std::min(diagonal, std::max(length(centres.hi - centres.lo), sizes[sizes.size() / 2]));
+        auto at = [](std::vector<float>& v, double q) {
+            auto it = v.begin() + std::ptrdiff_t(q * double(v.size() - 1) + 0.5);
+            std::nth_element(v.begin(), it, v.end());
+            return *it;
+        };
+        Vec3 lo{at(xs, 0.1), at(ys, 0.1), at(zs, 0.1)}, hi{at(xs, 0.9), at(ys, 0.9), at(zs, 0.9)};
+        extent = std::min(diagonal, std::max(length(hi - lo), at(sizes, 0.5)));
     }
     return {{"lo", vec3Json(all.lo)}, {"hi", vec3Json(all.hi)}, {"extent", double(extent)}};
 }
