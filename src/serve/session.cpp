@@ -30,6 +30,9 @@ namespace {
 // full-size frame waits up to kMotionWait after the coarse one for the next change (the page
 // sends it when the coarse frame arrives, or at the next event of a 60 Hz mouse: 17 ms).
 constexpr std::chrono::milliseconds kMotionGap{250}, kMotionWait{50};
+// A drag's coarse frames aim to take at most this (20 frames/s with the page's round trip):
+// slower, the next is coarser (1/8, then 1/16 of each side); three times faster, finer again.
+constexpr std::chrono::milliseconds kMotionFrame{40};
 
 const std::vector<std::string> kMessageTypes = {
     "state", "camera", "pick", "transform", "material", "emission", "light",
@@ -708,14 +711,21 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
         return m_version.load(std::memory_order_relaxed) != version ||
                m_quit.load(std::memory_order_relaxed);
     };
-    // Coarse first (a quarter of each side), then full while nothing changed.
-    for (int step : {4, 1}) {
+    // Coarse first (a quarter of each side; during a drag, coarser while frames take longer
+    // than kMotionFrame), then full while nothing changed.
+    bool motion;
+    {
+        std::lock_guard<std::mutex> lk(m_mutex);
+        motion = m_lastChange - m_changeBefore < kMotionGap;
+    }
+    const int coarse = motion ? m_motionStep : 4;
+    for (int step : {coarse, 1}) {
         {
             std::unique_lock<std::mutex> lk(m_mutex);
             // During a drag (changes less than kMotionGap apart) the page sends its next view
             // once the coarse frame arrives: wait for it rather than start a full-size frame
             // that it would stop, whose setup and teardown cost as much as a coarse frame.
-            if (step == 1 && m_lastChange - m_changeBefore < kMotionGap)
+            if (step == 1 && motion)
                 m_wake.wait_for(lk, kMotionWait, [&] {
                     return m_version != version || m_request || m_quit;
                 });
@@ -725,8 +735,14 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
         scene.camera.height = std::max(1, h / step);
         if (!loaded->previewLights) // only this thread renders previews
             loaded->previewLights = LightSet::buildPreview(scene, *loaded->accel);
+        auto start = std::chrono::steady_clock::now();
         RenderResult r = rayproc::renderPreview(scene, *loaded->accel, *loaded->previewLights,
                                                 settings, engine);
+        if (step > 1 && motion && !r.cancelled) {
+            auto took = std::chrono::steady_clock::now() - start;
+            if (took > kMotionFrame && m_motionStep < 16) m_motionStep *= 2;
+            else if (took < kMotionFrame / 3 && m_motionStep > 4) m_motionStep /= 2;
+        }
         if (r.cancelled || !sendFrame(std::move(r.image), version)) break;
     }
     scene.camera = full;

@@ -143,6 +143,7 @@ private:
     // When the last two changes came (m_mutex): changes less than kMotionGap apart are a
     // drag, and the full-size frame waits for the next one (renderPreview).
     std::chrono::steady_clock::time_point m_lastChange{}, m_changeBefore{};
+    int m_motionStep = 4; // a drag's coarse frames: 1/m_motionStep of each side (worker only)
     std::optional<RenderRequest> m_request;
     bool m_rendering = false;
     int m_renderClient = -1;

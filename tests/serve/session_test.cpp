@@ -369,7 +369,7 @@ TEST_CASE(
             std::unique_lock<std::mutex> lk(mutex);
             arrived.wait(lk, [&] {
                 return std::any_of(frames.begin(), frames.end(), [&](const Frame& f) {
-                    return f.version == old && f.width == 256;
+                    return f.version == old && f.width < 1024; // coarse: 256, less in a drag
                 });
             });
         }
@@ -388,7 +388,7 @@ TEST_CASE(
         // Nothing of the old view once the move was accepted: the new view, coarse then full.
         REQUIRE(frames.size() == after + 2);
         CHECK(frames[after].version == now);
-        CHECK(frames[after].width == 256);
+        CHECK(frames[after].width <= 256); // coarser when a drag's frames are slow
         CHECK(frames[after + 1].version == now);
         CHECK(frames[after + 1].width == 1024);
         for (std::size_t i = 1; i < frames.size(); ++i)
