@@ -79,10 +79,10 @@ const canvas = document.getElementById("canvas");
 const ctx2d = canvas.getContext("2d");
 const $ = (id) => document.getElementById(id);
 let ws, state = null, camera = null, selected = null, rendering = false;
-let framesShown = 0, lastFrameVersion = -1;
+let framesShown = 0, lastFrameVersion = -1, lastFrameWidth = 0;
 window.rayproc = { get state() { return state; }, get selected() { return selected; },
                    get framesShown() { return framesShown; }, get rendering() { return rendering; },
-                   get lastFrameVersion() { return lastFrameVersion; },
+                   get lastFrameVersion() { return lastFrameVersion; }, get lastFrameWidth() { return lastFrameWidth; },
                    get cameraMessagesSent() { return cameraMessagesSent; }, get camera() { return camera; },
                    send: (m) => send(m), lastReply: null, lastError: null, lastProgress: null };
 
@@ -170,7 +170,7 @@ function drawFrame(buffer) {
   if (w === canvas.width && h === canvas.height) ctx2d.putImageData(img, 0, 0);
   else createImageBitmap(img).then((bmp) => ctx2d.drawImage(bmp, 0, 0, canvas.width, canvas.height));
   framesShown++;
-  lastFrameVersion = version;
+  lastFrameVersion = version; lastFrameWidth = w;
   newestFrameVersion = Math.max(newestFrameVersion, version);
   if (cameraInFlight && cameraAwaited !== null && version >= cameraAwaited) cameraAnswered();
 }
@@ -244,10 +244,10 @@ function showSelection() {
 // Orbit, pan, zoom and fly, scaled to the scene (its extent, from the state's bounds), not to
 // the distance to the look-at point: a W step, a wheel notch and the orbit's pivot are the same
 // share of the scene however far in the view has zoomed (issue 37, bugs 5 and 6).
-const kFlyStep = 0.02;     // of the scene's diagonal per W A S D Q E press
-const kWheelStep = 0.05;   // of the diagonal per wheel notch: 20 notches cross the scene
-const kPivotNear = 0.1;    // a look-at point nearer than this (pbrt's LookAt is often 1 unit
-const kPivot = 0.25;       // ahead) is moved this far ahead to pivot about
+const kFlyStep = 0.02;     // of the scene's extent per W A S D Q E press
+const kWheelStep = 0.05;   // of the extent per wheel notch: 20 notches cross the scene
+const kPivotNear = 0.1;    // a look-at point nearer than this share of the extent (pbrt's
+const kPivot = 0.25;       // LookAt is often 1 unit ahead) is moved this far ahead to pivot about
 const kPivotMin = 0.01;    // a dolly passes the pivot, pushing it at least this far ahead
 const kOrbitPixels = 256;  // a drag this long turns the view by one field of view
 function sceneSize() {
@@ -268,10 +268,9 @@ function dolly(distance) {
   camera.position = add(camera.position, mul(forward, distance));
   camera.look_at = add(camera.position, mul(forward, Math.max(d, kPivotMin * sceneSize())));
 }
-// A camera change by the user: the first of a gesture (a drag, a wheel burst, a key press) is an
-// undo step on the server.
+// The first camera message of a gesture (a drag, a wheel burst, a key press, Home) is an undo
+// step on the server (flushCamera sends it so).
 let gestureStarted = false, lastWheel = 0;
-function userMoved() { sendCamera(); }
 // While a render runs the view cannot change: the page says so instead of doing nothing.
 function refuseWhileRendering() {
   if (!rendering) return false;
@@ -319,7 +318,7 @@ window.addEventListener("mousemove", (e) => {
     if (Math.abs(dotp(norm(o2), norm(camera.up))) < 0.98) o = o2;
     camera.position = add(camera.look_at, o);
   }
-  userMoved();
+  sendCamera();
 });
 canvas.addEventListener("wheel", (e) => {
   e.preventDefault();
@@ -329,7 +328,7 @@ canvas.addEventListener("wheel", (e) => {
   lastWheel = now;
   const notches = e.deltaMode === 1 ? e.deltaY / 3 : e.deltaMode === 2 ? e.deltaY : e.deltaY / 100;
   dolly(-notches * kWheelStep * sceneSize()); // wheel up (negative) moves in
-  userMoved();
+  sendCamera();
 }, {passive: false});
 canvas.addEventListener("keydown", (e) => {
   if (e.ctrlKey || e.metaKey || e.altKey || !camera) return;
@@ -343,7 +342,7 @@ canvas.addEventListener("keydown", (e) => {
   pivotDistance(); // a near look-at point is moved ahead first, as for an orbit
   if (!e.repeat) gestureStarted = true;
   camera.position = add(camera.position, move); camera.look_at = add(camera.look_at, move);
-  userMoved();
+  sendCamera();
 });
 // Undo and redo (edits and camera moves): the buttons, Ctrl+Z, Ctrl+Shift+Z and Ctrl+Y, except
 // while typing in a field.

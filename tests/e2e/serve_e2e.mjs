@@ -272,10 +272,35 @@ if (args["pbrt-scene"]) {
     const near = (a, b) => a.every((v, i) => Math.abs(v - b[i]) <= 1e-5 * (1 + Math.abs(v)));
     check(end.frame === end.state && near(end.page.position, end.server.position) && near(end.page.look_at, end.server.look_at),
           "the last frame is of the drag's final view (frame version " + end.frame + ", state " + end.state + ")");
-    await page.screenshot({ path: path.join(out, "6-pbrt-after-drag.png") });
+    await page.waitForFunction(() => window.rayproc.lastFrameWidth === 1024, { timeout: 60000, polling: 50 });
+    await page.screenshot({ path: path.join(out, "6-pbrt-after-drag.png") }); // the full-size frame
     // A pick names the object; nothing throws.
     await page.mouse.click(box.x + 0.5 * box.width, box.y + 0.7 * box.height);
     await page.waitForFunction(() => window.rayproc.lastReply && window.rayproc.lastReply.type === "picked", { timeout: 30000, polling: 50 });
+    // Walking through the room (issue 37 bug 6): W steps 2% of the scene's extent, 20 wheel
+    // notches cross it, passing the pivot, and W is no shorter after.
+    const cameraNow = () => page.evaluate(() => ({ ...window.rayproc.camera, extent: window.rayproc.state.bounds.extent }));
+    const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+    const walk = async () => {
+      const a = await cameraNow();
+      await page.focus("#canvas");
+      await page.keyboard.press("w");
+      await page.waitForFunction((p) => JSON.stringify(window.rayproc.state.camera.position) !== p, { timeout: 30000, polling: 50 },
+                                 JSON.stringify((await page.evaluate(() => window.rayproc.state.camera.position))));
+      return dist((await cameraNow()).position, a.position) / a.extent;
+    };
+    const w1 = await walk();
+    const beforeZoom = await cameraNow();
+    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+    for (let i = 0; i < 20; i++) { await page.mouse.wheel({ deltaY: -100 }); await new Promise((r) => setTimeout(r, 30)); }
+    await settle(page);
+    const zoomed = await cameraNow();
+    const zoom = dist(zoomed.position, beforeZoom.position) / beforeZoom.extent;
+    const passed = dist(zoomed.position, beforeZoom.position) > dist(beforeZoom.look_at, beforeZoom.position);
+    const w2 = await walk();
+    check(Math.abs(w1 - 0.02) < 1e-3 && Math.abs(zoom - 1) < 0.02 && passed && Math.abs(w2 - 0.02) < 1e-3,
+          "W steps " + (100 * w1).toFixed(2) + "% of the scene's extent (" + beforeZoom.extent.toFixed(1) + "), 20 wheel notches " +
+          (100 * zoom).toFixed(1) + "% passing the pivot (" + passed + "), W after it " + (100 * w2).toFixed(2) + "%");
     const selection = await page.$eval("#selection", (e) => e.textContent);
     check(pageErrors.length === 0, "no script errors on the pbrt page (" + pageErrors.join("; ") + "; selection " + selection + ")");
     await page.close();
