@@ -249,9 +249,10 @@ try {
 // A pbrt-v4 scene (the classroom when ../shared/scenes is there) at a 1024-pixel preview: a drag
 // at 60 mouse events a second for 3 s shows frames at an interactive rate and ends on the final
 // view (issue 37 bug 2); picks and moves throw nothing on the page.
+const pbrtPreview = Number(args["pbrt-preview-size"] || 1024);
 if (args["pbrt-scene"]) {
   const pbrt = await startServer(rayproc, path.resolve(args["pbrt-scene"]),
-                                 ["--threads", "2", "--preview-size", "1024"], work);
+                                 ["--threads", "2", "--preview-size", String(pbrtPreview)], work);
   console.log("serving " + path.basename(args["pbrt-scene"]) + " at " + pbrt.url + " (started in " + pbrt.started.toFixed(2) + " s)");
   try {
     const page = await browser.newPage();
@@ -265,14 +266,14 @@ if (args["pbrt-scene"]) {
     const drag = await dragCamera(page, box, { seconds: 3, rate: 60 });
     const minFps = Number(args["min-drag-fps"] || 0);
     check(drag.fps >= minFps, "a 3 s drag at " + drag.eventRate.toFixed(0) + " mouse events/s shows " + drag.frames +
-          " frames: " + drag.fps.toFixed(1) + " frames/s at preview 1024 (at least " + minFps + "; load " + os.loadavg()[0].toFixed(1) + ")");
+          " frames: " + drag.fps.toFixed(1) + " frames/s at preview " + pbrtPreview + " (at least " + minFps + "; load " + os.loadavg()[0].toFixed(1) + ")");
     await settle(page);
     const end = await page.evaluate(() => ({ frame: window.rayproc.lastFrameVersion, state: window.rayproc.state.version,
       page: window.rayproc.camera, server: window.rayproc.state.camera }));
     const near = (a, b) => a.every((v, i) => Math.abs(v - b[i]) <= 1e-5 * (1 + Math.abs(v)));
     check(end.frame === end.state && near(end.page.position, end.server.position) && near(end.page.look_at, end.server.look_at),
           "the last frame is of the drag's final view (frame version " + end.frame + ", state " + end.state + ")");
-    await page.waitForFunction(() => window.rayproc.lastFrameWidth === 1024, { timeout: 60000, polling: 50 });
+    await page.waitForFunction((w) => window.rayproc.lastFrameWidth === w, { timeout: 120000, polling: 50 }, pbrtPreview);
     await page.screenshot({ path: path.join(out, "6-pbrt-after-drag.png") }); // the full-size frame
     // A pick names the object; nothing throws.
     await page.mouse.click(box.x + 0.5 * box.width, box.y + 0.7 * box.height);
