@@ -82,8 +82,8 @@ bool holdsShape(const Node& node, const Shape* shape) {
 
 // The scene's bounds and its extent, the length the page scales its navigation to: the
 // diagonal of the box holding the middle 80% of the top-level objects' centres along each axis,
-// at least the median object's diagonal and at most the bounds' own. A ground plane 220 units
-// wide around Bitterli's classroom makes the bounds' diagonal 313; the extent keeps to the room.
+// at least the median object's diagonal and at most the bounds' own: a ground plane far wider
+// than the room around it (Bitterli's classroom, docs/serve.md) does not set the scale.
 Json sceneBounds(const Scene& scene) {
     Bounds3 all = scene.worldBounds();
     if (all.empty()) return Json::object();
