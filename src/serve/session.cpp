@@ -139,8 +139,8 @@ struct Session::Loaded {
     std::unique_ptr<Scene> scene;
     std::unique_ptr<EmbreeScene> accel;
     std::optional<LightSet> previewLights; // made at the first preview, kept for every frame
-    Json analysis = Json::array(); // what each mode skips and why
-    Json bounds; // the page's scale (sceneBounds)
+    Json analysis = Json::array();         // what each mode skips and why
+    Json bounds;                           // the page's scale (sceneBounds)
 };
 
 Session::Session(const std::string& scenePath, const Options& options)
@@ -280,7 +280,7 @@ Session::Step Session::swapStep(const Step& step) {
     Step back;
     if (step.doc) {
         Camera view = m_camera;
-        load(*step.doc); // the documents on the stacks were all loaded once: this succeeds
+        load(*step.doc); // loaded once before; should it fail now, it throws before any change
         back.doc = std::move(m_doc);
         m_doc = *step.doc;
         setCamera(view); // the view stays the page's, in the document too

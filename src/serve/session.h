@@ -129,7 +129,7 @@ private:
         std::optional<Json> doc;
         std::optional<Camera> camera;
     };
-    void pushUndo(Step step); // a new step: the redo stack is cleared
+    void pushUndo(Step step);        // a new step: the redo stack is cleared
     Step swapStep(const Step& step); // applies it; returns the step that undoes that
     void setCamera(const Camera& c); // the view, written into the document too
     std::vector<Step> m_undo, m_redo;
