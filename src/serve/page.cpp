@@ -29,6 +29,7 @@ const char* const kPage = R"PAGE(<!doctype html>
 <div id="view">
   <canvas id="canvas" width="512" height="512" tabindex="0"></canvas>
   <div id="status">connecting...</div>
+  <div id="fps"></div>
   <div id="error"></div>
   <div class="row"><button id="home" title="the scene file's view">Home view</button>
     <button id="undo-view" title="Ctrl+Z">Undo</button><button id="redo-view" title="Ctrl+Shift+Z">Redo</button></div>
@@ -171,8 +172,19 @@ function drawFrame(buffer) {
   else createImageBitmap(img).then((bmp) => ctx2d.drawImage(bmp, 0, 0, canvas.width, canvas.height));
   framesShown++;
   lastFrameVersion = version; lastFrameWidth = w;
+  showRate(w, h);
   newestFrameVersion = Math.max(newestFrameVersion, version);
   if (cameraInFlight && cameraAwaited !== null && version >= cameraAwaited) cameraAnswered();
+}
+
+// The frame-rate readout: frames drawn in the last second and the last one's size (a drag's
+// frames are coarse; the full-size frame follows when the view rests).
+const frameTimes = [];
+function showRate(w, h) {
+  const now = performance.now();
+  frameTimes.push(now);
+  while (frameTimes.length && frameTimes[0] < now - 1000) frameTimes.shift();
+  $("fps").textContent = w + "x" + h + ", " + frameTimes.length + " frames in the last second";
 }
 
 // The canvas keeps the live preview's size; renders at the scene's resolution are scaled to it.

@@ -267,6 +267,8 @@ if (args["pbrt-scene"]) {
     const minFps = Number(args["min-drag-fps"] || 0);
     check(drag.fps >= minFps, "a 3 s drag at " + drag.eventRate.toFixed(0) + " mouse events/s shows " + drag.frames +
           " frames: " + drag.fps.toFixed(1) + " frames/s at preview " + pbrtPreview + " (at least " + minFps + "; load " + os.loadavg()[0].toFixed(1) + ")");
+    const readout = await page.$eval("#fps", (e) => e.textContent);
+    check(/x\d+, \d+ frames in the last second/.test(readout), "the page shows its frame rate (" + readout + ")");
     await settle(page);
     const end = await page.evaluate(() => ({ frame: window.rayproc.lastFrameVersion, state: window.rayproc.state.version,
       page: window.rayproc.camera, server: window.rayproc.state.camera }));
@@ -284,10 +286,10 @@ if (args["pbrt-scene"]) {
     const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
     const walk = async () => {
       const a = await cameraNow();
+      const shown = await page.evaluate(() => JSON.stringify(window.rayproc.state.camera.position));
       await page.focus("#canvas");
       await page.keyboard.press("w");
-      await page.waitForFunction((p) => JSON.stringify(window.rayproc.state.camera.position) !== p, { timeout: 30000, polling: 50 },
-                                 JSON.stringify((await page.evaluate(() => window.rayproc.state.camera.position))));
+      await page.waitForFunction((p) => JSON.stringify(window.rayproc.state.camera.position) !== p, { timeout: 30000, polling: 50 }, shown);
       return dist((await cameraNow()).position, a.position) / a.extent;
     };
     const w1 = await walk();
