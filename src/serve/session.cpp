@@ -738,10 +738,13 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
         auto start = std::chrono::steady_clock::now();
         RenderResult r = rayproc::renderPreview(scene, *loaded->accel, *loaded->previewLights,
                                                 settings, engine);
-        if (step > 1 && motion && !r.cancelled) {
+        if (step > 1 && motion) {
+            // A coarse frame that the next change stopped was too slow for the changes' pace
+            // (a client that does not wait for frames, as the page does): the next is coarser,
+            // so frames still come.
             auto took = std::chrono::steady_clock::now() - start;
-            if (took > kMotionFrame && m_motionStep < 16) m_motionStep *= 2;
-            else if (took < kMotionFrame / 3 && m_motionStep > 4) m_motionStep /= 2;
+            if ((r.cancelled || took > kMotionFrame) && m_motionStep < 16) m_motionStep *= 2;
+            else if (!r.cancelled && took < kMotionFrame / 3 && m_motionStep > 4) m_motionStep /= 2;
         }
         if (r.cancelled || !sendFrame(std::move(r.image), version)) break;
     }
