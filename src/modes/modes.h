@@ -69,6 +69,10 @@ PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides&
 
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
                            const EngineSettings& engine);
+// The same with the scene's LightSet::buildPreview made once: it does not depend on the camera,
+// and rebuilding it for every frame of a live view costs as much as a small frame's rays.
+RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const LightSet& all,
+                           const PreviewSettings& s, const EngineSettings& engine);
 RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
                             const RaytraceSettings& s, const EngineSettings& engine);
 // gi (Jensen's photon mapping with final gathering and Ward's irradiance cache): GiSettings in

@@ -23,7 +23,11 @@ PreviewSettings previewSettings(const SceneRenderSettings& scene, const ModeOver
 
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
                            const EngineSettings& engine) {
-    LightSet all = LightSet::buildPreview(scene, accel);
+    return renderPreview(scene, accel, LightSet::buildPreview(scene, accel), s, engine);
+}
+
+RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const LightSet& all,
+                           const PreviewSettings& s, const EngineSettings& engine) {
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanPreview);
     if (!plan.render) return blackRender(scene);
     LightSet lights = plan.sampledLights(all);

@@ -29,8 +29,11 @@ const char* const kPage = R"PAGE(<!doctype html>
 <div id="view">
   <canvas id="canvas" width="512" height="512" tabindex="0"></canvas>
   <div id="status">connecting...</div>
+  <div id="fps"></div>
   <div id="error"></div>
-  <div class="help">drag: orbit - shift+drag or right drag: pan - wheel: zoom - W A S D Q E: fly - click: pick</div>
+  <div class="row"><button id="home" title="the scene file's view">Home view</button>
+    <button id="undo-view" title="Ctrl+Z">Undo</button><button id="redo-view" title="Ctrl+Shift+Z">Redo</button></div>
+  <div class="help">drag: orbit - shift+drag or right drag: pan - wheel: zoom (passes the pivot) - W A S D Q E: fly - click: pick - Ctrl+Z / Ctrl+Shift+Z: undo / redo (edits and views)</div>
 </div>
 <div id="side">
   <h3>Mode</h3>
@@ -62,7 +65,7 @@ const char* const kPage = R"PAGE(<!doctype html>
     id="emission-g" type="number" min="0" step="1" value="0"><input id="emission-b" type="number" min="0" step="1" value="0">
     <button id="emission-apply" data-edit>Apply emission</button></div>
   <h3>Scene</h3>
-  <div class="row"><button id="undo" data-edit>Undo</button> <span id="undo-depth"></span></div>
+  <div class="row"><button id="undo">Undo</button><button id="redo">Redo</button> <span id="undo-depth"></span></div>
   <div class="row"><input id="save-path" value="edited.json"> <button id="save" data-edit>Save JSON</button></div>
   <h3>Lights</h3>
   <div id="lights"></div>
@@ -77,13 +80,16 @@ const canvas = document.getElementById("canvas");
 const ctx2d = canvas.getContext("2d");
 const $ = (id) => document.getElementById(id);
 let ws, state = null, camera = null, selected = null, rendering = false;
-let framesShown = 0, lastFrameVersion = -1;
+let framesShown = 0, lastFrameVersion = -1, lastFrameWidth = 0;
 window.rayproc = { get state() { return state; }, get selected() { return selected; },
                    get framesShown() { return framesShown; }, get rendering() { return rendering; },
-                   get lastFrameVersion() { return lastFrameVersion; },
+                   get lastFrameVersion() { return lastFrameVersion; }, get lastFrameWidth() { return lastFrameWidth; },
+                   get cameraMessagesSent() { return cameraMessagesSent; }, get camera() { return camera; },
                    send: (m) => send(m), lastReply: null, lastError: null, lastProgress: null };
 
-function send(m) { ws.send(JSON.stringify(m)); }
+// Every message is the user's doing: an error shown stays until the next one (progress and
+// other replies do not clear it).
+function send(m) { $("error").textContent = ""; ws.send(JSON.stringify(m)); }
 function sub(a, b) { return [a[0]-b[0], a[1]-b[1], a[2]-b[2]]; }
 function add(a, b) { return [a[0]+b[0], a[1]+b[1], a[2]+b[2]]; }
 function mul(a, s) { return [a[0]*s, a[1]*s, a[2]*s]; }
@@ -91,9 +97,33 @@ function len(a) { return Math.hypot(a[0], a[1], a[2]); }
 function norm(a) { const l = len(a) || 1; return mul(a, 1/l); }
 function cross(a, b) { return [a[1]*b[2]-a[2]*b[1], a[2]*b[0]-a[0]*b[2], a[0]*b[1]-a[1]*b[0]]; }
 
-function sendCamera() {
-  send({type: "camera", position: camera.position, look_at: camera.look_at, up: camera.up, fov: camera.fov});
+// Camera messages: at most one in flight. A move while one is unanswered only marks the view
+// dirty; the latest view goes out once the frame of the previous one has been drawn (or after
+// kCameraBudgetMs, should that frame never come), so the server renders views the page can show
+// instead of stopping each coarse frame for the next mouse event (issue 37, bug 2).
+const kCameraBudgetMs = 250;
+let cameraInFlight = false, cameraDirty = false, cameraSentAt = 0, cameraAwaited = null, cameraTimer = null;
+let newestFrameVersion = -1, cameraMessagesSent = 0;
+function sendCamera() { cameraDirty = true; flushCamera(); }
+function flushCamera() {
+  if (!cameraDirty || !camera) return;
+  const waited = performance.now() - cameraSentAt;
+  if (cameraInFlight && waited < kCameraBudgetMs) {
+    if (!cameraTimer) cameraTimer = setTimeout(() => { cameraTimer = null; flushCamera(); }, kCameraBudgetMs - waited);
+    return;
+  }
+  cameraDirty = false; cameraInFlight = true; cameraAwaited = null; cameraSentAt = performance.now();
+  cameraMessagesSent++;
+  const m = {type: "camera", position: camera.position, look_at: camera.look_at, up: camera.up, fov: camera.fov};
+  if (gestureStarted) { m.undo_step = true; gestureStarted = false; }
+  send(m);
 }
+// The reply to a camera message names the version its frames will carry.
+function cameraAccepted(version) {
+  cameraAwaited = version;
+  if (newestFrameVersion >= version) cameraAnswered();
+}
+function cameraAnswered() { cameraInFlight = false; cameraAwaited = null; flushCamera(); }
 
 function connect() {
   ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws");
@@ -104,9 +134,13 @@ function connect() {
     if (typeof ev.data !== "string") return drawFrame(ev.data);
     const m = JSON.parse(ev.data);
     window.rayproc.lastReply = m;
-    if (m.type === "error") { window.rayproc.lastError = m.message; $("error").textContent = m.message; return; }
-    $("error").textContent = "";
-    if (m.type === "state") showState(m);
+    if (m.type === "error") {
+      window.rayproc.lastError = m.message; $("error").textContent = m.message;
+      if (cameraInFlight && cameraAwaited === null) cameraAnswered(); // our camera was refused
+      return;
+    }
+    if (m.type === "camera") cameraAccepted(m.version);
+    else if (m.type === "state") showState(m);
     else if (m.type === "picked") showPick(m);
     else if (m.type === "render_begin") { rendering = true; $("cancel").disabled = false; $("progress").value = 0;
       $("render-info").textContent = m.mode + ": starting"; }
@@ -137,7 +171,20 @@ function drawFrame(buffer) {
   if (w === canvas.width && h === canvas.height) ctx2d.putImageData(img, 0, 0);
   else createImageBitmap(img).then((bmp) => ctx2d.drawImage(bmp, 0, 0, canvas.width, canvas.height));
   framesShown++;
-  lastFrameVersion = version;
+  lastFrameVersion = version; lastFrameWidth = w;
+  showRate(w, h);
+  newestFrameVersion = Math.max(newestFrameVersion, version);
+  if (cameraInFlight && cameraAwaited !== null && version >= cameraAwaited) cameraAnswered();
+}
+
+// The frame-rate readout: frames drawn in the last second and the last one's size (a drag's
+// frames are coarse; the full-size frame follows when the view rests).
+const frameTimes = [];
+function showRate(w, h) {
+  const now = performance.now();
+  frameTimes.push(now);
+  while (frameTimes.length && frameTimes[0] < now - 1000) frameTimes.shift();
+  $("fps").textContent = w + "x" + h + ", " + frameTimes.length + " frames in the last second";
 }
 
 // The canvas keeps the live preview's size; renders at the scene's resolution are scaled to it.
@@ -147,8 +194,9 @@ function previewHeight() { return Math.max(1, Math.round(state.camera.resolution
 
 function showState(s) {
   state = s;
-  camera = JSON.parse(JSON.stringify(s.camera));
-  $("undo-depth").textContent = s.undo_depth + " change(s)";
+  // While a view of ours is unsent or unanswered, the page's camera is ahead of the server's.
+  if (!cameraInFlight && !cameraDirty) camera = JSON.parse(JSON.stringify(s.camera));
+  $("undo-depth").textContent = s.undo_depth + " to undo, " + (s.redo_depth || 0) + " to redo (edits and views)";
   $("analysis").textContent = s.analysis.map((a) => a.modes.join(",") + ": skipped " + a.what + ": " + a.why).join("\n") || "nothing skipped";
   const lights = $("lights"); lights.innerHTML = "";
   s.lights.forEach((l, i) => {
@@ -205,11 +253,50 @@ function showSelection() {
   ["r", "g", "b"].forEach((c, i) => { $("emission-" + c).value = e[i]; });
 }
 
-// Orbit, pan, zoom and fly.
+// Orbit, pan, zoom and fly, scaled to the scene (its extent, from the state's bounds), not to
+// the distance to the look-at point: a W step, a wheel notch and the orbit's pivot are the same
+// share of the scene however far in the view has zoomed (issue 37, bugs 5 and 6).
+const kFlyStep = 0.02;     // of the scene's extent per W A S D Q E press
+const kWheelStep = 0.05;   // of the extent per wheel notch: 20 notches cross the scene
+const kPivotNear = 0.1;    // a look-at point nearer than this share of the extent (pbrt's
+const kPivot = 0.25;       // LookAt is often 1 unit ahead) is moved this far ahead to pivot about
+const kPivotMin = 0.01;    // a dolly passes the pivot, pushing it at least this far ahead
+const kOrbitPixels = 256;  // a drag this long turns the view by one field of view
+function sceneSize() {
+  const d = state && state.bounds ? state.bounds.extent : 0;
+  return Number.isFinite(d) && d > 0 ? d : Math.max(1, len(sub(camera.look_at, camera.position)));
+}
+function forwardOf() { return norm(sub(camera.look_at, camera.position)); }
+// The orbit's pivot: the look-at point, unless it is much nearer than the scene is large.
+function pivotDistance() {
+  const d = len(sub(camera.look_at, camera.position));
+  if (d >= kPivotNear * sceneSize()) return d;
+  camera.look_at = add(camera.position, mul(forwardOf(), kPivot * sceneSize()));
+  return kPivot * sceneSize();
+}
+// Moves along the view; the pivot stays ahead, so a zoom can pass where it was.
+function dolly(distance) {
+  const forward = forwardOf(), d = pivotDistance() - distance;
+  camera.position = add(camera.position, mul(forward, distance));
+  camera.look_at = add(camera.position, mul(forward, Math.max(d, kPivotMin * sceneSize())));
+}
+// The first camera message of a gesture (a drag, a wheel burst, a key press, Home) is an undo
+// step on the server (flushCamera sends it so).
+let gestureStarted = false, lastWheel = 0;
+// While a render runs the view cannot change: the page says so instead of doing nothing.
+function refuseWhileRendering() {
+  if (!rendering) return false;
+  showError("a render is running: Cancel it to move the camera");
+  return true;
+}
 let drag = null;
 canvas.addEventListener("contextmenu", (e) => e.preventDefault());
-canvas.addEventListener("mousedown", (e) => { drag = {x: e.clientX, y: e.clientY, moved: false, pan: e.shiftKey || e.button === 2}; canvas.focus(); });
+canvas.addEventListener("mousedown", (e) => {
+  drag = {x: e.clientX, y: e.clientY, moved: false, pan: e.shiftKey || e.button === 2};
+  gestureStarted = true; canvas.focus();
+});
 window.addEventListener("mouseup", (e) => {
+  // A release after a drag (even one a render refused) picks nothing.
   if (drag && !drag.moved && e.target === canvas) {
     const r = canvas.getBoundingClientRect();
     send({type: "pick", x: (e.clientX - r.left) / r.width, y: (e.clientY - r.top) / r.height});
@@ -217,22 +304,27 @@ window.addEventListener("mouseup", (e) => {
   drag = null;
 });
 window.addEventListener("mousemove", (e) => {
-  if (!drag || !camera || rendering) return;
+  if (!drag || !camera) return;
   const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
   if (Math.abs(dx) + Math.abs(dy) < 2) return;
+  const first = !drag.moved;
   drag.moved = true; drag.x = e.clientX; drag.y = e.clientY;
+  if (rendering) { if (first) refuseWhileRendering(); return; }
+  const dist = pivotDistance();
   const offset = sub(camera.position, camera.look_at);
-  const dist = len(offset);
   const forward = norm(mul(offset, -1));
   const right = norm(cross(forward, camera.up));
   const up = cross(right, forward);
+  const fov = camera.fov * Math.PI / 180;
   if (drag.pan) {
-    const s = dist * 0.002;
+    // The point at the pivot's depth follows the cursor.
+    const s = 2 * dist * Math.tan(fov / 2) / Math.max(1, canvas.getBoundingClientRect().height);
     const move = add(mul(right, -dx * s), mul(up, dy * s));
     camera.position = add(camera.position, move); camera.look_at = add(camera.look_at, move);
   } else {
-    // Orbit about look_at: yaw about up, pitch about right (kept away from the poles).
-    const yaw = -dx * 0.008, pitch = -dy * 0.008;
+    // Orbit about the pivot: yaw about up, pitch about right (kept away from the poles); a
+    // drag of kOrbitPixels turns by one field of view, so 150 pixels stay inside a room.
+    const yaw = -dx * fov / kOrbitPixels, pitch = -dy * fov / kOrbitPixels;
     let o = rotate(offset, camera.up, yaw);
     const o2 = rotate(o, norm(cross(camera.up, o)), pitch);
     if (Math.abs(dotp(norm(o2), norm(camera.up))) < 0.98) o = o2;
@@ -242,22 +334,34 @@ window.addEventListener("mousemove", (e) => {
 });
 canvas.addEventListener("wheel", (e) => {
   e.preventDefault();
-  if (!camera || rendering) return;
-  const offset = sub(camera.position, camera.look_at);
-  camera.position = add(camera.look_at, mul(offset, Math.exp(e.deltaY * 0.001)));
+  if (!camera || refuseWhileRendering()) return;
+  const now = performance.now();
+  if (now - lastWheel > 400) gestureStarted = true;
+  lastWheel = now;
+  const notches = e.deltaMode === 1 ? e.deltaY / 3 : e.deltaMode === 2 ? e.deltaY : e.deltaY / 100;
+  dolly(-notches * kWheelStep * sceneSize()); // wheel up (negative) moves in
   sendCamera();
 }, {passive: false});
 canvas.addEventListener("keydown", (e) => {
-  if (!camera || rendering) return;
-  const forward = norm(sub(camera.look_at, camera.position));
+  if (e.ctrlKey || e.metaKey || e.altKey || !camera) return;
+  const forward = forwardOf();
   const right = norm(cross(forward, camera.up));
-  const step = len(sub(camera.look_at, camera.position)) * 0.05;
+  const step = kFlyStep * sceneSize();
   const keys = {w: mul(forward, step), s: mul(forward, -step), d: mul(right, step), a: mul(right, -step),
                 e: mul(camera.up, step), q: mul(camera.up, -step)};
   const move = keys[e.key.toLowerCase()];
-  if (!move) return;
+  if (!move || refuseWhileRendering()) return;
+  pivotDistance(); // a near look-at point is moved ahead first, as for an orbit
+  if (!e.repeat) gestureStarted = true;
   camera.position = add(camera.position, move); camera.look_at = add(camera.look_at, move);
   sendCamera();
+});
+// Undo and redo (edits and camera moves): the buttons, Ctrl+Z, Ctrl+Shift+Z and Ctrl+Y, except
+// while typing in a field.
+window.addEventListener("keydown", (e) => {
+  if (!(e.ctrlKey || e.metaKey) || (e.target && /^(INPUT|SELECT|TEXTAREA)$/.test(e.target.tagName))) return;
+  const k = e.key.toLowerCase();
+  if (k === "z" || k === "y") { e.preventDefault(); send({type: k === "y" || e.shiftKey ? "redo" : "undo"}); }
 });
 function dotp(a, b) { return a[0]*b[0] + a[1]*b[1] + a[2]*b[2]; }
 function rotate(v, axis, angle) { // Rodrigues
@@ -303,7 +407,15 @@ $("emission-apply").onclick = () => {
   const v = readRgb(["r", "g", "b"].map((c) => $("emission-" + c)), "emission");
   if (v) send({type: "emission", object: selected, emission: v});
 };
-$("undo").onclick = () => send({type: "undo"});
+$("undo").onclick = $("undo-view").onclick = () => send({type: "undo"});
+$("redo").onclick = $("redo-view").onclick = () => send({type: "redo"});
+// Home: the scene file's view, as one undoable camera move (a reload keeps the shared view).
+$("home").onclick = () => {
+  if (!state || refuseWhileRendering()) return;
+  camera = Object.assign(JSON.parse(JSON.stringify(state.home)), {resolution: state.camera.resolution});
+  gestureStarted = true;
+  sendCamera();
+};
 $("save").onclick = () => send({type: "save", path: $("save-path").value});
 for (const mode of ["raytrace", "gi", "path"])
   $("mode-" + mode).onclick = () => {

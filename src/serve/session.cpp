@@ -26,9 +26,18 @@ namespace rayproc::serve {
 
 namespace {
 
+// Two changes closer than kMotionGap are one drag (or key repeat, or wheel spin); then the
+// full-size frame waits up to kMotionWait after the coarse one for the next change (the page
+// sends it when the coarse frame arrives, or at the next event of a 60 Hz mouse: 17 ms).
+constexpr std::chrono::milliseconds kMotionGap{250}, kMotionWait{50};
+// A drag's coarse frames aim to take at most this (20 frames/s with the page's round trip):
+// slower, the next is coarser (1/8, then 1/16 of each side); three times faster, finer again.
+constexpr std::chrono::milliseconds kMotionFrame{40};
+
 const std::vector<std::string> kMessageTypes = {
     "state", "camera", "pick", "transform", "material", "emission", "light",
-    "undo", "save", "render", "cancel"};
+    "undo", "redo", "save", "render", "cancel"};
+constexpr std::size_t kUndoDepth = 256;
 
 [[noreturn]] void refuse(const std::string& what) { throw InputError(what); }
 
@@ -71,6 +80,33 @@ bool holdsShape(const Node& node, const Shape* shape) {
     return false;
 }
 
+// The scene's bounds and its extent, the length the page scales its navigation to: the
+// diagonal of the box holding the middle 80% of the top-level objects' centres along each axis,
+// at least the median object's diagonal and at most the bounds' own: a ground plane far wider
+// than the room around it (Bitterli's classroom, docs/serve.md) does not set the scale.
+Json sceneBounds(const Scene& scene) {
+    Bounds3 all = scene.worldBounds();
+    if (all.empty()) return Json::object();
+    std::vector<float> xs, ys, zs, sizes;
+    for (const auto& n : scene.root->children) {
+        if (n->bounds.empty()) continue;
+        Vec3 c = n->bounds.center();
+        xs.push_back(c.x), ys.push_back(c.y), zs.push_back(c.z);
+        sizes.push_back(length(n->bounds.hi - n->bounds.lo));
+    }
+    float diagonal = length(all.hi - all.lo), extent = diagonal;
+    if (!sizes.empty()) {
+        auto at = [](std::vector<float>& v, double q) {
+            auto it = v.begin() + std::ptrdiff_t(q * double(v.size() - 1) + 0.5);
+            std::nth_element(v.begin(), it, v.end());
+            return *it;
+        };
+        Vec3 lo{at(xs, 0.1), at(ys, 0.1), at(zs, 0.1)}, hi{at(xs, 0.9), at(ys, 0.9), at(zs, 0.9)};
+        extent = std::min(diagonal, std::max(length(hi - lo), at(sizes, 0.5)));
+    }
+    return {{"lo", vec3Json(all.lo)}, {"hi", vec3Json(all.hi)}, {"extent", double(extent)}};
+}
+
 } // namespace
 
 std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
@@ -102,7 +138,9 @@ std::string toText(const Json& json, int indent) {
 struct Session::Loaded {
     std::unique_ptr<Scene> scene;
     std::unique_ptr<EmbreeScene> accel;
-    Json analysis = Json::array(); // what each mode skips and why
+    std::optional<LightSet> previewLights; // made at the first preview, kept for every frame
+    Json analysis = Json::array();         // what each mode skips and why
+    Json bounds;                           // the page's scale (sceneBounds)
 };
 
 Session::Session(const std::string& scenePath, const Options& options)
@@ -125,9 +163,11 @@ Session::Session(const std::string& scenePath, const Options& options)
         auto loaded = std::make_shared<Loaded>();
         loaded->scene = loadScene(scenePath);
         loaded->accel = std::make_unique<EmbreeScene>(*loaded->scene);
+        loaded->bounds = sceneBounds(*loaded->scene);
         m_camera = loaded->scene->camera;
         m_loaded = loaded;
     }
+    m_home = m_camera;
     m_version = 1;
 }
 
@@ -172,6 +212,7 @@ void Session::load(const Json& doc) {
             if (s.modes & bit) modes.push_back(name);
         loaded->analysis.push_back({{"what", s.what}, {"why", s.why}, {"modes", modes}});
     }
+    loaded->bounds = sceneBounds(*loaded->scene);
     m_camera = loaded->scene->camera;
     m_loaded = loaded;
 }
@@ -213,11 +254,43 @@ Json Session::applyEdit(const Json& m, const std::function<void(Json& doc)>& edi
     load(doc); // throws, with the loader's message, before anything changes
     m_camera = view;
     // The view is the page's: it survives edits, and the saved file keeps it.
-    m_undo.push_back(std::move(m_doc));
-    if (m_undo.size() > 256) m_undo.erase(m_undo.begin());
+    pushUndo({std::move(m_doc), std::nullopt});
     m_doc = std::move(doc);
     changed();
     return {{"type", "edited"}, {"undo_depth", m_undo.size()}};
+}
+
+void Session::pushUndo(Step step) {
+    m_undo.push_back(std::move(step));
+    if (m_undo.size() > kUndoDepth) m_undo.erase(m_undo.begin());
+    m_redo.clear();
+}
+
+void Session::setCamera(const Camera& c) {
+    m_camera = c;
+    if (!m_editable) return;
+    Json& cam = m_doc["camera"];
+    cam["position"] = vec3Json(c.position);
+    cam["look_at"] = vec3Json(c.lookAt);
+    cam["up"] = vec3Json(c.up);
+    cam["fov"] = double(c.fovY);
+}
+
+Session::Step Session::swapStep(const Step& step) {
+    Step back;
+    if (step.doc) {
+        Camera view = m_camera;
+        load(*step.doc); // loaded once before; should it fail now, it throws before any change
+        back.doc = std::move(m_doc);
+        m_doc = *step.doc;
+        setCamera(view); // the view stays the page's, in the document too
+    }
+    if (step.camera) {
+        back.camera = m_camera;
+        setCamera(*step.camera);
+    }
+    changed();
+    return back;
 }
 
 Json Session::reply(const Json& m, int client) {
@@ -229,7 +302,12 @@ Json Session::reply(const Json& m, int client) {
         return s;
     }
     if (type == "camera") {
-        expectKeys(m, {"position", "look_at", "up", "fov"});
+        expectKeys(m, {"position", "look_at", "up", "fov", "undo_step"});
+        bool undoStep = false;
+        if (m.contains("undo_step")) {
+            if (!m["undo_step"].is_boolean()) refuse("camera.undo_step: expected true or false");
+            undoStep = m["undo_step"].get<bool>();
+        }
         std::lock_guard<std::mutex> lk(m_mutex);
         if (m_rendering || m_request) refuse("camera: a render is running; cancel it first");
         Camera c = m_camera;
@@ -240,16 +318,12 @@ Json Session::reply(const Json& m, int client) {
         // The check the scene loaders make: a camera serve accepts (and saves) renders.
         if (auto problem = cameraProblem(c))
             refuse("camera." + problem->field + ": " + problem->message);
-        m_camera = c;
-        if (m_editable) {
-            Json& cam = m_doc["camera"];
-            cam["position"] = vec3Json(c.position);
-            cam["look_at"] = vec3Json(c.lookAt);
-            cam["up"] = vec3Json(c.up);
-            cam["fov"] = double(c.fovY);
-        }
+        if (undoStep) pushUndo({std::nullopt, m_camera});
+        setCamera(c);
         changed();
-        return {{"type", "camera"}};
+        // The version the new view's frames carry: the page sends its next view once one of
+        // them has arrived.
+        return {{"type", "camera"}, {"version", std::uint32_t(m_version)}};
     }
     if (type == "pick") {
         expectKeys(m, {"x", "y"});
@@ -351,18 +425,17 @@ Json Session::reply(const Json& m, int client) {
                 doc["lights"][std::size_t(index)][it.key()] = it.value();
         });
     }
-    if (type == "undo") {
+    if (type == "undo" || type == "redo") {
         expectKeys(m, {});
         std::lock_guard<std::mutex> lk(m_mutex);
-        if (m_rendering || m_request) refuse("undo: a render is running; cancel it first");
-        if (m_undo.empty()) refuse("undo: nothing to undo");
-        Camera view = m_camera;
-        load(m_undo.back());
-        m_camera = view;
-        m_doc = std::move(m_undo.back());
-        m_undo.pop_back();
-        changed();
-        return {{"type", "edited"}, {"undo_depth", m_undo.size()}};
+        if (m_rendering || m_request) refuse(type + ": a render is running; cancel it first");
+        std::vector<Step>& from = type == "undo" ? m_undo : m_redo;
+        std::vector<Step>& to = type == "undo" ? m_redo : m_undo;
+        if (from.empty()) refuse(type + ": nothing to " + type);
+        Step back = swapStep(from.back());
+        from.pop_back();
+        to.push_back(std::move(back));
+        return {{"type", "edited"}, {"undo_depth", m_undo.size()}, {"redo_depth", m_redo.size()}};
     }
     if (type == "save") {
         expectKeys(m, {"path"});
@@ -515,6 +588,13 @@ Json Session::state() const {
     s["lights"] = m_editable && m_doc.contains("lights") ? m_doc["lights"] : Json::array();
     s["analysis"] = m_loaded->analysis;
     s["undo_depth"] = m_undo.size();
+    s["redo_depth"] = m_redo.size();
+    s["home"] = {{"position", vec3Json(m_home.position)},
+                 {"look_at", vec3Json(m_home.lookAt)},
+                 {"up", vec3Json(m_home.up)},
+                 {"fov", double(m_home.fovY)}};
+    // The page scales its fly, zoom and orbit pivot to the scene's extent.
+    if (!m_loaded->bounds.empty()) s["bounds"] = m_loaded->bounds;
     s["rendering"] = m_rendering || m_request.has_value();
     s["version"] = std::uint32_t(m_version); // as in the frames' header
     return s;
@@ -553,6 +633,8 @@ void Session::sendText(const Json& json) const {
 }
 
 void Session::changed() {
+    m_changeBefore = m_lastChange;
+    m_lastChange = std::chrono::steady_clock::now();
     {
         std::lock_guard<std::mutex> frames(m_frameMutex);
         ++m_version;
@@ -629,17 +711,43 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
         return m_version.load(std::memory_order_relaxed) != version ||
                m_quit.load(std::memory_order_relaxed);
     };
-    // Coarse first (a quarter of each side), then full while nothing changed.
-    for (int step : {4, 1}) {
+    // Coarse first (a quarter of each side; during a drag, coarser while frames take longer
+    // than kMotionFrame), then full while nothing changed.
+    bool motion;
+    {
+        std::lock_guard<std::mutex> lk(m_mutex);
+        motion = m_lastChange - m_changeBefore < kMotionGap;
+    }
+    const int coarse = motion ? m_motionStep : 4;
+    for (int step : {coarse, 1}) {
         {
-            std::lock_guard<std::mutex> lk(m_mutex);
+            std::unique_lock<std::mutex> lk(m_mutex);
+            // During a drag (changes less than kMotionGap apart) the page sends its next view
+            // once the coarse frame arrives: wait for it rather than start a full-size frame
+            // that it would stop, whose setup and teardown cost as much as a coarse frame.
+            if (step == 1 && motion)
+                m_wake.wait_for(lk, kMotionWait, [&] {
+                    return m_version != version || m_request || m_quit;
+                });
             if (m_version != version || m_request || m_quit) break;
         }
         scene.camera.width = std::max(1, w / step);
         scene.camera.height = std::max(1, h / step);
+        if (!loaded->previewLights) // only this thread renders previews
+            loaded->previewLights = LightSet::buildPreview(scene, *loaded->accel);
+        auto start = std::chrono::steady_clock::now();
         ++m_previewsStarted;
-        RenderResult r = rayproc::renderPreview(scene, *loaded->accel, settings, engine);
+        RenderResult r = rayproc::renderPreview(scene, *loaded->accel, *loaded->previewLights,
+                                                settings, engine);
         if (r.cancelled) ++m_previewsStopped;
+        if (step > 1 && motion) {
+            // A coarse frame that the next change stopped was too slow for the changes' pace
+            // (a client that does not wait for frames, as the page does): the next is coarser,
+            // so frames still come.
+            auto took = std::chrono::steady_clock::now() - start;
+            if ((r.cancelled || took > kMotionFrame) && m_motionStep < 16) m_motionStep *= 2;
+            else if (!r.cancelled && took < kMotionFrame / 3 && m_motionStep > 4) m_motionStep /= 2;
+        }
         if (r.cancelled || !sendFrame(std::move(r.image), version)) break;
     }
     scene.camera = full;

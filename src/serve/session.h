@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -130,13 +131,28 @@ private:
     mutable std::mutex m_mutex;
     std::condition_variable m_wake;
     Json m_doc;
-    std::vector<Json> m_undo;
+    // One undo (or redo) step: an edit (the document before it) or a camera move (the view
+    // before it); undoing one puts the other state on the opposite stack. Camera steps are the
+    // moves the page marks "undo_step" (the first message of a drag, a wheel burst, a key).
+    struct Step {
+        std::optional<Json> doc;
+        std::optional<Camera> camera;
+    };
+    void pushUndo(Step step);        // a new step: the redo stack is cleared
+    Step swapStep(const Step& step); // applies it; returns the step that undoes that
+    void setCamera(const Camera& c); // the view, written into the document too
+    std::vector<Step> m_undo, m_redo;
+    Camera m_home; // the scene file's view: the page's Home button
     std::shared_ptr<Loaded> m_loaded;
     Camera m_camera; // the page's view; the worker copies it into the scene it renders
     // Bumps at every change the preview must show, under m_mutex and m_frameMutex; the
     // preview's stop reads it without a lock.
     std::atomic<std::uint64_t> m_version{0};
     std::uint64_t m_previewedVersion = 0; // what the worker has shown
+    // When the last two changes came (m_mutex): changes less than kMotionGap apart are a
+    // drag, and the full-size frame waits for the next one (renderPreview).
+    std::chrono::steady_clock::time_point m_lastChange{}, m_changeBefore{};
+    int m_motionStep = 4; // a drag's coarse frames: 1/m_motionStep of each side (worker only)
     std::optional<RenderRequest> m_request;
     bool m_rendering = false;
     int m_renderClient = -1;

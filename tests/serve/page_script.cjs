@@ -57,13 +57,36 @@ const context = {
   },
   location: { protocol: "http:", host: "127.0.0.1:1" },
   WebSocket: FakeWebSocket, JSON, Math, Number, Array, Object, String, parseFloat, parseInt, console,
+  DataView, Uint8ClampedArray, ImageData: class { constructor(d, w, h) { this.width = w; this.height = h; } },
+  createImageBitmap: () => Promise.resolve({}), performance: { now: () => clock },
+  setTimeout: (fn, ms) => { timers.push({ at: clock + ms, fn }); return timers.length; },
+  clearTimeout: () => {},
   addEventListener: (type, fn) => { (windowListeners[type] = windowListeners[type] || []).push(fn); },
 };
+// The page's clock and timers, advanced by the scenarios (advance).
+let clock = 1000;
+const timers = [];
+function advance(ms) {
+  clock += ms;
+  for (let due; (due = timers.filter((t) => t.at <= clock)).length;)
+    for (const t of due) { timers.splice(timers.indexOf(t), 1); t.fn(); }
+}
 context.window = context;
 vm.createContext(context);
 vm.runInContext(script, context);
 
 const receive = (m) => socket.onmessage({ data: JSON.stringify(m) });
+// A frame message (encodeFrame): "RPF2", width, height, number, version, then RGBA.
+function receiveFrame(version, w = 16, h = 16) {
+  const buffer = new ArrayBuffer(20 + w * h * 4), head = new DataView(buffer);
+  "RPF2".split("").forEach((c, i) => head.setUint8(i, c.charCodeAt(0)));
+  [w, h, 1, version].forEach((v, i) => head.setUint32(4 + 4 * i, v, true));
+  socket.onmessage({ data: buffer });
+}
+const fire = (listeners, type, e) => (listeners[type] || []).forEach((fn) => fn(Object.assign({ preventDefault() {} }, e)));
+const mouse = (type, x, y, extra = {}) => fire(type === "mousedown" ? byId.canvas.listeners : windowListeners, type,
+                                               Object.assign({ clientX: x, clientY: y, button: 0, target: byId.canvas }, extra));
+const cameras = () => sent.filter((m) => m.type === "camera");
 const click = (id) => byId[id].onclick();
 let failures = 0;
 function check(ok, what) { if (!ok) { console.log("FAIL " + what); failures++; } }
@@ -77,7 +100,90 @@ function state(editable, extra = {}) {
   }, extra);
 }
 
+const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+const key = (k, extra = {}) => fire(byId.canvas.listeners, "keydown", Object.assign({ key: k, repeat: false }, extra));
+const wheel = (deltaY) => fire(byId.canvas.listeners, "wheel", { deltaY, deltaMode: 0 });
+
 const scenarios = {
+  // Issue 37 bug 6: in a room 20 units across whose camera looks at a point 1 unit ahead (pbrt's
+  // LookAt), W moves 2% of the scene, 20 wheel notches cross it and pass the pivot, and neither
+  // shrinks after zooming in; the orbit pivots a quarter of the scene ahead.
+  scene_scaled_navigation() {
+    const room = { lo: [-10, 0, -5], hi: [10, 5, 5], extent: 20 };
+    receive(state(false, { bounds: room, camera: { position: [0, 2, 8], look_at: [0, 2, 7], up: [0, 1, 0], fov: 40, resolution: [64, 64] } }));
+    const cam = () => context.window.rayproc.camera;
+    let p0 = cam().position.slice();
+    key("w");
+    check(Math.abs(dist(cam().position, p0) - 0.4) < 1e-6, "W moves 2% of the 20-unit scene (0.4), not " + dist(cam().position, p0));
+    const pivot0 = cam().look_at.slice();
+    check(Math.abs(dist(cam().look_at, cam().position) - 5) < 1e-6, "the pivot is a quarter of the scene ahead (5), not " +
+          dist(cam().look_at, cam().position));
+    p0 = cam().position.slice();
+    for (let i = 0; i < 20; i++) wheel(-100);
+    check(Math.abs(dist(cam().position, p0) - 20) < 1e-6, "20 wheel notches move 20 units (the scene), not " + dist(cam().position, p0));
+    check(cam().position[2] < pivot0[2], "the zoom passed the pivot (z " + cam().position[2] + " beyond " + pivot0[2] + ")");
+    check(cam().look_at[2] < cam().position[2], "the pivot stays ahead of the camera");
+    p0 = cam().position.slice();
+    key("w");
+    check(Math.abs(dist(cam().position, p0) - 0.4) < 1e-6, "after zooming in W still moves 0.4, not " + dist(cam().position, p0));
+    p0 = cam().position.slice();
+    wheel(100);
+    check(Math.abs(dist(cam().position, p0) - 1) < 1e-6, "a notch back moves 1 unit, not " + dist(cam().position, p0));
+  },
+  // Issue 37 bug 5: a 150-pixel drag on the Cornell box's view (6.8 units away, 19.5 degree field
+  // of view) turns the view by less than its field of view, so it stays in front of the box's open
+  // side; the first camera message of a gesture is an undo step, the rest are not.
+  orbit_speed() {
+    receive(state(true, { bounds: { lo: [-1, 0, -1], hi: [1, 2, 1], extent: 3.46 },
+      camera: { position: [0, 1, 6.8], look_at: [0, 1, 0], up: [0, 1, 0], fov: 19.5, resolution: [64, 64] } }));
+    mouse("mousedown", 100, 100);
+    for (let i = 1; i <= 15; i++) mouse("mousemove", 100 + 10 * i, 100);
+    mouse("mouseup", 250, 100);
+    const p = context.window.rayproc.camera.position;
+    const angle = Math.atan2(p[0], p[2]) * 180 / Math.PI;
+    check(Math.abs(angle) > 5 && Math.abs(angle) < 19.5, "a 150-pixel orbit turns 5..19.5 degrees, not " + angle.toFixed(1));
+    check(cameras().length === 1 && cameras()[0].undo_step === true, "the drag's first message is an undo step");
+    receive({ type: "camera", version: 2 });
+    receiveFrame(2);
+    check(cameras().length === 2 && !cameras()[1].undo_step, "the drag's next message is not");
+    check(!sent.some((m) => m.type === "pick"), "the release after a drag picks nothing");
+  },
+  // Issue 37 bug 2: a drag sends at most one camera message until a frame of it arrives, then
+  // the latest view; the state of an earlier view does not pull the page's camera back.
+  camera_throttle() {
+    receive(state(true));
+    mouse("mousedown", 100, 100);
+    for (let i = 1; i <= 10; i++) mouse("mousemove", 100 + 5 * i, 100);
+    check(cameras().length === 1, "ten mouse moves before any frame send one camera message, not " + cameras().length);
+    receive({ type: "camera", version: 2 });
+    receive(state(true, { version: 2 })); // the server's view: the first move's
+    for (let i = 11; i <= 20; i++) mouse("mousemove", 100 + 5 * i, 100);
+    check(cameras().length === 1, "still one while its frame has not come: " + cameras().length);
+    receiveFrame(1); // an older frame does not answer it
+    check(cameras().length === 1, "an older frame does not release the next view");
+    receiveFrame(2);
+    check(cameras().length === 2, "the frame of the view releases the next: " + cameras().length);
+    const second = cameras()[1].position;
+    mouse("mousemove", 300, 100); // the drag goes on past where it was at the frame
+    mouse("mouseup", 300, 100);
+    check(cameras().length === 2, "the last move waits for the frame of the second view");
+    // A stale state (of the first view) must not pull the page's camera back.
+    receive(state(true, { version: 2 }));
+    receive({ type: "camera", version: 3 });
+    receiveFrame(3);
+    check(cameras().length === 3, "the final view is sent once the second's frame arrived");
+    const last = cameras()[2].position;
+    check(JSON.stringify(last) !== JSON.stringify(second), "the final view is the drag's end, not the second view again");
+    receive({ type: "camera", version: 4 });
+    receiveFrame(4);
+    // A frame that never comes (another tab changed the scene meanwhile): the view goes out anyway.
+    mouse("mousedown", 300, 100);
+    mouse("mousemove", 320, 100);
+    mouse("mousemove", 340, 100);
+    check(cameras().length === 4, "a new drag sends at once");
+    advance(300);
+    check(cameras().length === 5, "after the budget without a frame the latest view goes out: " + cameras().length);
+  },
   // Issue 37 bug 1: a pick on a pbrt scene (no editable objects) must not throw, then or at the
   // next state (every camera move brings one), and edits say the scene is read-only.
   pbrt_pick() {

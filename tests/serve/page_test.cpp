@@ -54,3 +54,30 @@ TEST_CASE("serve page: a move step outside [-1000, 1000] is refused with the ran
     INFO(out);
     CHECK(rc == 0);
 }
+
+TEST_CASE("serve page: a drag keeps one camera message in flight and sends the latest view",
+          "[serve]") {
+    if (!haveNode()) RAYPROC_SKIP("node is not installed");
+    std::string out;
+    int rc = runScenario("camera_throttle", out);
+    INFO(out);
+    CHECK(rc == 0);
+}
+
+TEST_CASE("serve page: fly, zoom and the orbit's pivot scale with the scene - zoom passes the pivot",
+          "[serve]") {
+    if (!haveNode()) RAYPROC_SKIP("node is not installed");
+    std::string out;
+    int rc = runScenario("scene_scaled_navigation", out);
+    INFO(out);
+    CHECK(rc == 0);
+}
+
+TEST_CASE("serve page: a 150-pixel orbit stays within a field of view - a gesture is one undo step",
+          "[serve]") {
+    if (!haveNode()) RAYPROC_SKIP("node is not installed");
+    std::string out;
+    int rc = runScenario("orbit_speed", out);
+    INFO(out);
+    CHECK(rc == 0);
+}
