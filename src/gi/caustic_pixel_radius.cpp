@@ -50,34 +50,35 @@ void CausticPixelRadius::found(std::uint32_t pixel, std::uint32_t photons) {
 void CausticPixelRadius::endPass(int samples) {
     const int s = std::max(samples, 1);
     const bool seeding = m_seeding;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m_radius.size(), 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t j = range.begin(); j < range.end(); ++j) {
-            const std::uint32_t lookups = m_lookups[j].exchange(0, std::memory_order_relaxed);
-            const double sum = double(m_sum[j].exchange(0, std::memory_order_relaxed));
-            const double seedPhotons =
-                double(m_seedPhotons[j].exchange(0, std::memory_order_relaxed));
-            if (lookups == 0) continue;
-            if (seeding) {
-                // R_j^2: the mean of the visible points' k-th neighbour distances squared.
-                // At least one step of the fixed point (1/256 of the largest radius): never 0.
-                double unit = std::max(sum / (kSeedUnit * double(lookups)), 1.0 / kSeedUnit);
-                m_radius[j] = float(double(m_maxRadius) * std::sqrt(std::min(unit, 1.0)));
-                m_count[j] = float(seedPhotons / (double(lookups) * double(s)));
-                continue;
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, m_radius.size(), 4096),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t j = range.begin(); j < range.end(); ++j) {
+                const std::uint32_t lookups = m_lookups[j].exchange(0, std::memory_order_relaxed);
+                const double sum = double(m_sum[j].exchange(0, std::memory_order_relaxed));
+                const double seedPhotons =
+                    double(m_seedPhotons[j].exchange(0, std::memory_order_relaxed));
+                if (lookups == 0) continue;
+                if (seeding) {
+                    // R_j^2: the mean of the visible points' k-th neighbour distances squared.
+                    // At least one step of the fixed point (1/256 of the largest radius): never 0.
+                    double unit = std::max(sum / (kSeedUnit * double(lookups)), 1.0 / kSeedUnit);
+                    m_radius[j] = float(double(m_maxRadius) * std::sqrt(std::min(unit, 1.0)));
+                    m_count[j] = float(seedPhotons / (double(lookups) * double(s)));
+                    continue;
+                }
+                // Photons per sample of the map and per lookup; s steps of the SPPM update.
+                const double m = sum / (double(lookups) * double(s));
+                if (!(m > 0)) continue;
+                double n = double(m_count[j]), r2 = double(m_radius[j]) * double(m_radius[j]);
+                for (int k = 0; k < s; ++k) {
+                    r2 *= (n + m_alpha * m) / (n + m);
+                    n += m_alpha * m;
+                }
+                m_radius[j] = float(std::sqrt(r2));
+                m_count[j] = float(n);
             }
-            // Photons per sample of the map and per lookup; s steps of the SPPM update.
-            const double m = sum / (double(lookups) * double(s));
-            if (!(m > 0)) continue;
-            double n = double(m_count[j]), r2 = double(m_radius[j]) * double(m_radius[j]);
-            for (int k = 0; k < s; ++k) {
-                r2 *= (n + m_alpha * m) / (n + m);
-                n += m_alpha * m;
-            }
-            m_radius[j] = float(std::sqrt(r2));
-            m_count[j] = float(n);
-        }
-    });
+        });
     m_seeding = false;
 }
 

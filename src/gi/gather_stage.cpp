@@ -97,8 +97,8 @@ Vec3 GatherStage::causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t 
         // from its k-nearest radius here; later passes use and count the pixel's.
         if (pixels->seeding()) {
             std::uint32_t found = 0;
-            float r2 = gi.caustic->neighbourRadius2(p, gi.settings.causticK, pixels->maxRadius(),
-                                                    &found);
+            float r2 =
+                gi.caustic->neighbourRadius2(p, gi.settings.causticK, pixels->maxRadius(), &found);
             pixels->seed(pixel, r2, found);
             return gi.caustic->irradianceWithin(p, n, gi.causticRadius);
         }

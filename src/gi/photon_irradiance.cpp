@@ -91,7 +91,7 @@ Vec3 PhotonMap::radiance(const Vec3& p, const Vec3& n, int k, float maxDistance,
 }
 
 Vec3 PhotonMap::irradianceWithin(const Vec3& p, const Vec3& n, float radius,
-                                  std::uint32_t* counted) const {
+                                 std::uint32_t* counted) const {
     if (counted) *counted = 0;
     if (m_photons.empty() || !(radius > 0)) return Vec3(0);
     float radius2 = radius * radius;
@@ -103,7 +103,7 @@ Vec3 PhotonMap::irradianceWithin(const Vec3& p, const Vec3& n, float radius,
 }
 
 float PhotonMap::neighbourRadius2(const Vec3& p, int k, float maxDistance,
-                                  std::uint32_t* found) const {
+                                 std::uint32_t* found) const {
     if (found) *found = 0;
     if (m_photons.empty() || k <= 0) return maxDistance * maxDistance;
     KeyBuffer buffer(k, m_photons.size());

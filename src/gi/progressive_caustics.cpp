@@ -35,10 +35,10 @@ ProgressiveCaustics::ProgressiveCaustics(const Scene& scene, const EmbreeScene& 
     m_gi.caustic = &m_map;
     m_gi.causticRadius = m_firstRadius;
     if (s.causticPixelRadius) {
-        const std::size_t pixels =
-            std::size_t(std::max(scene.camera.width, 1)) * std::size_t(std::max(scene.camera.height, 1));
-        m_pixels = std::make_unique<CausticPixelRadius>(pixels, gi.causticRadius,
-                                                        double(s.causticAlpha));
+        const std::size_t pixels = std::size_t(std::max(scene.camera.width, 1)) *
+                                   std::size_t(std::max(scene.camera.height, 1));
+        m_pixels =
+            std::make_unique<CausticPixelRadius>(pixels, gi.causticRadius, double(s.causticAlpha));
         m_gi.causticPixels = m_pixels.get();
     }
 }

@@ -26,7 +26,8 @@ EngineSettings quietEngine(std::uint64_t seed) {
 
 } // namespace
 
-TEST_CASE("The pbrt water pool: Integrator sppm's radius and maxdepth reach gi", "[pbrt][caustics]") {
+TEST_CASE("The pbrt water pool: Integrator sppm's radius and maxdepth reach gi",
+          "[pbrt][caustics]") {
     auto scene = loadPool(16);
     CHECK(scene->render.photonRadius == Approx(0.01f));
     CHECK(scene->render.maxPhotonDepth == 9);
