@@ -37,6 +37,8 @@ const std::vector<AblationSwitch>& ablationSwitches() {
         {"caustic map", "gi", "--no-caustics", [](RenderConfig& c) { c.gi.caustics = false; }},
         {"progressive caustics", "gi", "--no-progressive-caustics",
          [](RenderConfig& c) { c.gi.progressiveCaustics = false; }},
+        {"caustic radius per pixel", "gi", "--no-caustic-pixel-radius",
+         [](RenderConfig& c) { c.gi.causticPixelRadius = false; }},
         {"glossy MIS", "gi", "--no-glossy-mis",
          [](RenderConfig& c) { c.engine.glossyMis = false; }},
         {"diffuse MIS", "gi", "--no-diffuse-mis",

@@ -56,6 +56,7 @@ std::string RenderConfig::settingsString() const {
         if (gi.photonRounds != kMaxPhotonRounds) o << " photon-rounds=" << gi.photonRounds;
         if (!gi.caustics) o << " no-caustics";
         if (!gi.progressiveCaustics) o << " no-progressive-caustics";
+        else if (!gi.causticPixelRadius) o << " no-caustic-pixel-radius";
     }
     if ((mode == "path" && !path.roulette) || (mode == "raytrace" && !raytrace.roulette) ||
         (mode == "gi" && !gi.roulette))

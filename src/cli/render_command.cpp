@@ -60,8 +60,8 @@ struct RenderArgs {
     float icAccuracy = 0;
     bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
     bool noIcSmoothing = false;
-    bool noProgressiveCaustics = false, noGatherDirect = false, noLazyIrradiance = false,
-         mapCorrection = false;
+    bool noProgressiveCaustics = false, noCausticPixelRadius = false, noGatherDirect = false,
+         noLazyIrradiance = false, mapCorrection = false;
     float causticAlpha = 0;
     float causticRadius = 0;
     double timeLimit = 0;
@@ -298,6 +298,7 @@ int runRender(const RenderArgs& a) {
         s.irradianceCache = !a.noCache;
         s.caustics = !a.noCaustics;
         s.progressiveCaustics = !a.noProgressiveCaustics;
+        s.causticPixelRadius = !a.noCausticPixelRadius;
         if (a.causticAlpha > 0) s.causticAlpha = a.causticAlpha;
         if (a.causticRadius > 0) s.causticRadius = a.causticRadius;
         s.precomputedIrradiance = !a.noPrecomputed;
@@ -496,6 +497,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                   "gi: one caustic map for the whole render with k-nearest estimates, instead of "
                   "a new map of --caustic-photons every pass with a shrinking radius (progressive "
                   "photon mapping: caustics converge as passes accumulate)");
+    cmd->add_flag("--no-caustic-pixel-radius", args->noCausticPixelRadius,
+                  "gi: progressive caustics with one radius sequence for the whole image instead "
+                  "of a radius per pixel shrunk by the photons the pixel receives (SPPM's "
+                  "statistics; docs/photon-map.md)");
     cmd->add_option("--caustic-alpha", args->causticAlpha,
                     "gi: progressive caustics' radius reduction alpha: each pass's squared radius "
                     "is the last one's times (i + alpha) / (i + 1) (default 0.667; smaller "

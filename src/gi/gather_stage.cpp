@@ -3,6 +3,7 @@
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
 #include "engine/sample_numbers.h"
+#include "gi/caustic_pixel_radius.h"
 #include "gi/gi_context.h"
 #include "gi/irradiance_cache.h"
 #include "gi/photon_map.h"
@@ -89,9 +90,24 @@ Vec3 GatherStage::glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceH
     });
 }
 
-Vec3 GatherStage::causticIrradiance(const Vec3& p, const Vec3& n) const {
+Vec3 GatherStage::causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t pixel) const {
     const GiData& gi = *m_rc.gi;
     if (!gi.caustic || gi.caustic->size() == 0) return Vec3(0.0f);
+    if (CausticPixelRadius* pixels = gi.causticPixels) {
+        // The first pass estimates with the global first radius and seeds the pixel's own
+        // from its k-nearest radius here; later passes use and count the pixel's.
+        if (pixels->seeding()) {
+            std::uint32_t found = 0;
+            float r2 =
+                gi.caustic->neighbourRadius2(p, gi.settings.causticK, pixels->maxRadius(), &found);
+            pixels->seed(pixel, r2, found);
+            return gi.caustic->irradianceWithin(p, n, gi.causticRadius);
+        }
+        std::uint32_t counted = 0;
+        Vec3 e = gi.caustic->irradianceWithin(p, n, pixels->radius(pixel), &counted);
+        pixels->found(pixel, counted);
+        return e;
+    }
     if (gi.causticFixedRadius) return gi.caustic->irradianceWithin(p, n, gi.causticRadius);
     return gi.caustic->irradiance(p, n, gi.settings.causticK, gi.causticRadius);
 }
@@ -133,7 +149,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             Vec3 e = gi.global && gi.global->size() > 0
                          ? gi.global->irradiance(h.p, ns, s.globalK, gi.globalRadius)
                          : Vec3(0.0f);
-            e += causticIrradiance(h.p, ns);
+            e += causticIrradiance(h.p, ns, b.pixel[i]);
             m_rc.film.add(b.pixel[i], reflect * e, stats);
             continue;
         }
@@ -141,7 +157,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             (s.debugView == GiDebugView::None || s.debugView == GiDebugView::Caustics ||
              s.debugView == GiDebugView::IcRecords)) {
             ++stats.causticLookups;
-            Vec3 e = causticIrradiance(h.p, ns);
+            Vec3 e = causticIrradiance(h.p, ns, b.pixel[i]);
             m_rc.film.add(b.pixel[i], reflect * e, stats);
         }
         if (s.debugView == GiDebugView::Caustics) continue;

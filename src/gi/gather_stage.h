@@ -79,8 +79,9 @@ private:
     // Adds a light sample's, or a gather ray's, radiance l to lane i's pixel or cache record.
     void deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const;
     void retraceShadow(RayBatch& batch, StageContext& ctx);
-    // The caustic map's irradiance: k-nearest, or within the pass's radius when progressive.
-    Vec3 causticIrradiance(const Vec3& p, const Vec3& n) const;
+    // The caustic map's irradiance: k-nearest, or within the pass's radius when progressive
+    // (the pixel's own with GiSettings::causticPixelRadius).
+    Vec3 causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t pixel) const;
     const RenderContext& m_rc;
 };
 

@@ -97,6 +97,9 @@ struct GiSettings {
     // converge (gi/progressive_caustics.h); off: one map, k-nearest estimates.
     bool progressiveCaustics = true;
     float causticAlpha = 2.0f / 3.0f; // the radius reduction (Hachisuka & Jensen's alpha)
+    // Progressive caustics with a radius per pixel, shrunk by the photons each pixel receives
+    // (SPPM's statistics, gi/caustic_pixel_radius.h); off: one radius sequence for all.
+    bool causticPixelRadius = true;
     bool precomputedIrradiance = true;
     // Each precomputed estimate made when a gather lookup first lands on its photon instead of
     // all of them before the render (PhotonMap::deferIrradiance): the same image, and no work
@@ -231,6 +234,8 @@ private:
     std::atomic<std::uint32_t> m_used{0};
 };
 
+class CausticPixelRadius;
+
 struct GiData {
     GiSettings settings;
     const PhotonMap* global = nullptr;
@@ -244,6 +249,8 @@ struct GiData {
     // Caustic estimates from every photon within causticRadius (progressive caustics), not
     // from the causticK nearest within it.
     bool causticFixedRadius = false;
+    // With GiSettings::causticPixelRadius: each pixel's radius, and its photon counts.
+    CausticPixelRadius* causticPixels = nullptr;
     float icMinRadius = 0, icMaxRadius = 0;
     // The final gather's strata: M rings of equal sin^2(theta) by N azimuth sectors, one ray
     // each (M N ~ gatherRays, N ~ pi M as Ward & Heckbert suggest); see gatherStrata().

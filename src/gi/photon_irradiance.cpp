@@ -45,7 +45,9 @@ public:
         if (std::abs(dot(Vec3(s.pos[0], s.pos[1], s.pos[2]) - m_p, m_n)) > m_slab) return;
         if (dot(decodeDirectionRaw(s.direction), m_n) <= 0) return;
         m_sum += decodeRgbe(s.power) * weight * (1.0f - std::sqrt(dist2) * m_invConeRadius);
+        ++m_count;
     }
+    std::uint32_t count() const { return m_count; }
     Vec3 irradiance() const {
         constexpr float kConeNorm = 1.0f - 2.0f / (3.0f * PhotonMap::kConeK);
         return m_sum / (kConeNorm * kPi * m_radius2);
@@ -55,6 +57,7 @@ private:
     Vec3 m_p, m_n;
     float m_radius2, m_invConeRadius, m_slab;
     Vec3 m_sum{0.0f};
+    std::uint32_t m_count = 0;
 };
 
 } // namespace
@@ -87,13 +90,27 @@ Vec3 PhotonMap::radiance(const Vec3& p, const Vec3& n, int k, float maxDistance,
         p, n, k, maxDistance, [&](const StoredPhoton& s) { return f(decodeDirection(s.direction)); }));
 }
 
-Vec3 PhotonMap::irradianceWithin(const Vec3& p, const Vec3& n, float radius) const {
+Vec3 PhotonMap::irradianceWithin(const Vec3& p, const Vec3& n, float radius,
+                                 std::uint32_t* counted) const {
+    if (counted) *counted = 0;
     if (m_photons.empty() || !(radius > 0)) return Vec3(0);
     float radius2 = radius * radius;
     ConeSum sum(p, n, radius, radius2);
     kdtree::search(m_photons.data(), m_photons.size(), p, radius2,
                    [&](std::size_t i, float d2) { sum.add(m_photons[i], d2); });
+    if (counted) *counted = sum.count();
     return inWatts(sum.irradiance());
+}
+
+float PhotonMap::neighbourRadius2(const Vec3& p, int k, float maxDistance,
+                                 std::uint32_t* found) const {
+    if (found) *found = 0;
+    if (m_photons.empty() || k <= 0) return maxDistance * maxDistance;
+    KeyBuffer buffer(k, m_photons.size());
+    float radius2 = 0;
+    int count = gather(p, k, maxDistance, buffer.data(), radius2);
+    if (found) *found = std::uint32_t(count);
+    return count < k ? maxDistance * maxDistance : radius2;
 }
 
 float PhotonMap::medianNeighbourRadius(int k, float maxDistance, int samples) const {

@@ -120,7 +120,14 @@ public:
     // Irradiance at p from every photon within `radius` that irradiance() would count, with
     // the same cone filter over that radius: the fixed-radius estimate of progressive photon
     // mapping, whose radius the caller shrinks from pass to pass (gi/progressive_caustics.h).
-    Vec3 irradianceWithin(const Vec3& p, const Vec3& n, float radius) const;
+    // `counted` (optional) receives how many photons the estimate counted (SPPM's M).
+    Vec3 irradianceWithin(const Vec3& p, const Vec3& n, float radius,
+                          std::uint32_t* counted = nullptr) const;
+    // The distance^2 from p to its k-th nearest photon, or maxDistance^2 when fewer lie within
+    // it (the radius a k-nearest estimate at p would use); `found` (optional): the photons
+    // within that radius (k, or fewer at maxDistance).
+    float neighbourRadius2(const Vec3& p, int k, float maxDistance,
+                           std::uint32_t* found = nullptr) const;
 
     // The median, over up to `samples` stored photons spaced evenly in storage order, of the
     // distance from each to its k-th nearest photon (at most maxDistance): a radius matched to

@@ -34,6 +34,13 @@ ProgressiveCaustics::ProgressiveCaustics(const Scene& scene, const EmbreeScene& 
     m_engine.quiet = true;
     m_gi.caustic = &m_map;
     m_gi.causticRadius = m_firstRadius;
+    if (s.causticPixelRadius) {
+        const std::size_t pixels = std::size_t(std::max(scene.camera.width, 1)) *
+                                   std::size_t(std::max(scene.camera.height, 1));
+        m_pixels =
+            std::make_unique<CausticPixelRadius>(pixels, gi.causticRadius, double(s.causticAlpha));
+        m_gi.causticPixels = m_pixels.get();
+    }
 }
 
 void ProgressiveCaustics::beginPass(int pass, int samples) {
@@ -49,6 +56,9 @@ void ProgressiveCaustics::beginPass(int pass, int samples) {
     }
     m_gi.caustic = &m_map;
     m_gi.causticRadius = float(double(m_firstRadius) * std::sqrt(m_radius.next(samples)));
+    // The pixels' radii from the last pass's photon counts (its seed after the first).
+    if (m_pixels && pass > 0) m_pixels->endPass(m_lastSamples);
+    m_lastSamples = samples;
 }
 
 } // namespace rayproc

@@ -20,11 +20,17 @@
 // stopped shrinking where a 64-spp one did (scenes/caustic-pool.json: the caustic's brightest
 // pixels 2.5% dark at both).
 //
+// With GiSettings::causticPixelRadius (the default) the radius is kept per pixel instead, as
+// SPPM keeps it (gi/caustic_pixel_radius.h): the sequence above then gives only the first
+// pass's radius, and each pixel's shrinks with the photons its visible points find.
+//
 // Consumes: the scene and lights (through the photon pass), the pass index.
-// Produces: GiData::caustic and GiData::causticRadius for the pass (read by the gather stage).
+// Produces: GiData::caustic, GiData::causticRadius and GiData::causticPixels for the pass
+// (read by the gather stage).
 #pragma once
 
 #include "engine/stats.h"
+#include "gi/caustic_pixel_radius.h"
 #include "gi/focus_region.h"
 #include "gi/gi_context.h"
 #include "gi/photon_map.h"
@@ -33,6 +39,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 
 namespace rayproc {
 
@@ -95,6 +102,8 @@ public:
     const PhotonMap& map() const { return m_map; }
     float firstRadius() const { return m_firstRadius; }
     int passesTraced() const { return m_passesTraced; }
+    // The per-pixel radii (null without GiSettings::causticPixelRadius).
+    const CausticPixelRadius* pixelRadius() const { return m_pixels.get(); }
 
 private:
     const Scene& m_scene;
@@ -111,6 +120,8 @@ private:
     int m_passesTraced = 0;
     ProgressiveRadius m_radius;
     float m_firstRadius = 0;
+    std::unique_ptr<CausticPixelRadius> m_pixels;
+    int m_lastSamples = 0; // the samples per pixel of the pass before this one
 };
 
 } // namespace rayproc

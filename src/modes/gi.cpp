@@ -334,6 +334,7 @@ std::string GiSettings::toString() const {
       << " ic_gradients=" << (icGradients ? "on" : "off")
       << " caustics=" << (caustics ? "on" : "off")
       << " progressive_caustics=" << (progressiveCaustics ? "on" : "off")
+      << " caustic_pixel_radius=" << (causticPixelRadius ? "on" : "off")
       << " caustic_alpha=" << causticAlpha << " caustic_radius=" << causticRadius
       << " max_photon_depth=" << maxPhotonDepth
       << " precomputed_irradiance=" << (precomputedIrradiance ? "on" : "off")
@@ -477,6 +478,8 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
         extras.push_back({"gi/caustic_passes", double(progressive->passesTraced())});
         extras.push_back({"gi/caustic_first_radius", double(progressive->firstRadius())});
         extras.push_back({"gi/caustic_last_radius", double(gi.causticRadius)});
+        if (const CausticPixelRadius* pixels = progressive->pixelRadius())
+            extras.push_back({"gi/caustic_mean_pixel_radius", pixels->meanRadius()});
     }
     const ThreadStats& t = r.stats.totals;
     extras.push_back({"gi/gather_rays", double(t.stages[int(StageId::Gather)].raysOut)});
