@@ -1,6 +1,8 @@
 #include "modes/modes.h"
 #include "modes/render_plan.h"
 
+#include "engine/phases.h"
+
 #include <sstream>
 
 namespace rayproc {
@@ -23,10 +25,12 @@ PreviewSettings previewSettings(const SceneRenderSettings& scene, const ModeOver
 
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
                            const EngineSettings& engine) {
+    PhaseTimer lightPhase(engine.phases, "light_set"); // and the scene analysis
     LightSet all = LightSet::buildPreview(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanPreview);
     if (!plan.render) return blackRender(scene);
     LightSet lights = plan.sampledLights(all);
+    lightPhase.stop();
     ShadingPolicy policy;
     plan.apply(policy);
     policy.stratify = engine.stratification;
