@@ -127,12 +127,14 @@ std::string RenderStats::toTable() const {
                   (unsigned long long)totals.samples, (unsigned long long)totals.invalidSamples,
                   (unsigned long long)totals.clampedSamples, peakMemoryBytes / 1048576.0);
     o << line;
-    // The film: each stage adds to it; between passes and at the end it runs on one thread.
-    const PhaseStats* commits = findPhase(phases, "pass_commits");
+    // The film: the stages add to it; it folds each pass in between passes (in parallel) and
+    // resolves the image at the end (on one thread).
+    const PhaseStats* commits = findPhase(phases, "film_commit");
     const PhaseStats* resolve = findPhase(phases, "film_resolve");
     if (commits || resolve) {
         std::snprintf(line, sizeof line,
-                      "%-12s pass commits %.3f s, resolve %.3f s (wall, one thread)\n", "film",
+                      "%-12s pass commits %.3f s (parallel), resolve %.3f s (one thread), wall\n",
+                      "film",
                       commits ? commits->seconds : 0.0, resolve ? resolve->seconds : 0.0);
         o << line;
     }

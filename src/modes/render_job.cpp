@@ -217,9 +217,9 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     if (!cluster.distributed() && stopRequested()) stop = stopped = true;
     setupPhase.stop();
     for (int pass = 0; pass < passes && !stop; ++pass) {
-        // What a pass does besides its hook and its processor run: the film's commit, the
+        // What a pass does besides its hook, its processor run and the film's commit: the
         // estimates, the log, the decisions; on this thread.
-        PhaseTimer commitPhase(engine.phases, "pass_commits");
+        PhaseTimer betweenPhase(engine.phases, "between_passes");
         int first = adaptiveCount > 0 ? 0 : pass * passSpp;
         int count = adaptiveCount > 0 ? adaptiveCount : std::min(passSpp, spp - first);
         if (beforePass) {
@@ -234,7 +234,10 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
         });
         unitsBefore += std::min<std::uint64_t>(camera.unitsEmitted(), camera.unitsPerPass());
         passInFlight = false;
-        film.commitPass(pass % 2);
+        {
+            PhaseTimer commitPhase(engine.phases, "film_commit", PhaseKind::Parallel);
+            film.commitPass(pass % 2);
+        }
         if (noise) noise->commitPass();
         if (film.hasHalfBuffers()) {
             std::vector<double> parts = film.relMseParts();

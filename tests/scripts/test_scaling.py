@@ -63,7 +63,8 @@ def run_case(rayproc, mode, size, expected, extra=()):
 
 def main():
     rayproc = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "rayproc")
-    common = ["scene_load", "bvh_build", "light_set", "render_passes", "film_resolve",
+    common = ["scene_load", "bvh_build", "light_set", "render_passes", "film_commit",
+              "between_passes", "film_resolve",
               "image_write", "other"]
     run_case(rayproc, "path", 32, common)
     run_case(rayproc, "gi", 24, common + ["photon_tracing", "photon_map_build", "cache_prepass"],
