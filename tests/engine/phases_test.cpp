@@ -71,7 +71,7 @@ TEST_CASE("timeWorkers takes the stage seconds gained during the run", "[engine]
     CHECK(log.phases()[0].threads == 4);
 }
 
-TEST_CASE("--stats lists the stages in pipeline order, each once", "[engine]") {
+TEST_CASE("The stage table lists the stages in pipeline order, each once", "[engine]") {
     const auto& order = pipelineOrder();
     CHECK(order.front() == StageId::CameraEmit);
     for (int i = 0; i < kStageCount; ++i)
