@@ -93,7 +93,7 @@ TEST_CASE("SampleNumbers: path mode's points are its Sobol sequence per (pixel, 
     }
 }
 
-TEST_CASE("SampleNumbers: pixel, depth, tag and pair select different sequences; without Sobol "
+TEST_CASE("SampleNumbers: pixel, depth, tag and pair select different sequences, and without Sobol "
           "points the lane's own stream", "[engine][sobol]") {
     const std::uint64_t seedKey = sampleSeedKey(1);
     auto first = [&](std::uint32_t pixel, std::uint8_t depth, std::uint32_t tag, std::uint32_t dim,
