@@ -7,6 +7,7 @@
 #include "engine/film.h"
 #include "engine/intersect.h"
 #include "engine/memory_budget.h"
+#include "engine/phases.h"
 #include "engine/thread_budget.h"
 #include "gi/progressive_caustics.h"
 #include "image/display_client.h"
@@ -17,7 +18,9 @@
 #include "scene/scene_loader.h"
 
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -92,6 +95,9 @@ std::vector<NamedPath> renderFiles(const RenderArgs& a, const std::string& outpu
 }
 
 int runRender(const RenderArgs& a) {
+    // Where the command's time goes (--stats, --stats-json "phases"; engine/phases.h).
+    const auto processStart = std::chrono::steady_clock::now();
+    PhaseLog phases;
     // Under mpirun every rank runs this with the same arguments; rank 0 writes the files
     // (docs/distributed.md), the others render their share quietly.
     const Cluster& cluster = Cluster::world();
@@ -135,7 +141,9 @@ int runRender(const RenderArgs& a) {
     std::optional<tbb::global_control> threadLimit;
     if (budget.threads > 0)
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(budget.threads));
+    PhaseTimer loadPhase(&phases, "scene_load");
     std::unique_ptr<Scene> scene = loadScene(a.scene);
+    loadPhase.stop();
     // The images the scene reads (textures, the sky) are inputs too, known once it is loaded.
     for (const std::string& image : scene->imageFiles())
         files.push_back({"the scene's image", image, false});
@@ -181,6 +189,7 @@ int runRender(const RenderArgs& a) {
     engine.adaptiveSampling = !a.noAdaptive && (a.adaptive || a.targetRelMse > 0);
     engine.adaptiveMinSpp = a.adaptiveMinSpp;
     engine.noiseBreakdown = a.debugView == "noise";
+    engine.phases = &phases;
     ToneMapSettings tm;
     tm.exposure = a.exposure;
     tm.op = a.tonemap == "reinhard" ? ToneMap::Reinhard
@@ -220,11 +229,13 @@ int runRender(const RenderArgs& a) {
     }
 
     std::unique_ptr<EmbreeScene> built;
+    PhaseTimer bvhPhase(&phases, "bvh_build", PhaseKind::Parallel); // Embree's builder: TBB
     try {
         built = std::make_unique<EmbreeScene>(*scene);
     } catch (const InputError& e) {
         throw InputError(a.scene + ": " + e.what()); // the range checks name no file
     }
+    bvhPhase.stop();
     const EmbreeScene& accel = *built;
     if (writer && scene->lights.empty() && accel.emitters().empty())
         std::fprintf(stderr, "rayproc: warning: %s has no lights; the image will be black\n",
@@ -375,10 +386,16 @@ int runRender(const RenderArgs& a) {
                              "written (%s is as it was)\n", output.c_str());
         return interruptExitStatus();
     }
+    PhaseTimer writePhase(&phases, "image_write");
     if (!result.layers.empty())
         writeExrWithLayers(output, result.image, result.layers);
     else
         writeImage(output, result.image, tm);
+    writePhase.stop();
+    result.stats.phases = phases.phases();
+    result.stats.processSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - processStart).count();
+    result.stats.threads = budget.threads > 0 ? budget.threads : tbb::this_task_arena::max_concurrency();
     if (a.stats) std::fputs(result.stats.toTable().c_str(), stderr);
     if (!a.statsJson.empty()) writeFileAtomically(a.statsJson, result.stats.toJson() + "\n");
     if (!result.errorLogFailure.empty()) {
@@ -624,7 +641,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "second and at the end; an unreachable viewer is a warning");
     cmd->add_flag("--quiet,-q", args->quiet, "No progress and no render log on stderr");
     cmd->add_flag("--stats", args->stats,
-                  "Print per-stage statistics on stderr at the end; path mode adds where the "
+                  "Print per-stage statistics on stderr at the end, then each phase's wall time "
+                  "(scene load, BVH build, photon passes, cache prepass, render passes, film "
+                  "resolve, image write), how it ran, the workers' busy fraction and the serial "
+                  "fraction; path mode adds where the "
                   "image and its noise come from: per light (and the sky) its light samples' and "
                   "its BSDF-found emission's share of the image, of the contributions' summed "
                   "squares, and the largest contribution");

@@ -1,5 +1,9 @@
 #include "engine/film.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -7,6 +11,9 @@
 namespace rayproc {
 
 namespace {
+
+// Pixels per task of a commit: a 512x512 film is 64 tasks.
+constexpr std::size_t kCommitGrain = 4096;
 
 // A pixel's mean in float: one beyond float's range (a light of 3.4e38 and a little more) is
 // the largest float of its sign, never Inf.
@@ -111,21 +118,32 @@ double Film::relMseFromParts(const std::vector<double>& parts) {
 void Film::commitPass(int half, std::vector<double>* passSums) {
     std::lock_guard<std::mutex> lk(m_commitMutex);
     if (passSums) passSums->assign(m_sum.size(), 0.0);
-    std::size_t n = m_samples.size();
     const bool halves = hasHalfBuffers();
-    for (std::size_t p = 0; p < n; ++p) {
-        std::uint32_t passSamples = m_passSamples[p].exchange(0, std::memory_order_relaxed);
-        m_samples[p] += passSamples;
-        if (halves) m_halfSamples[half][p] += passSamples;
-        for (int c = 0; c < 3; ++c) {
-            std::uint64_t low = m_passLow[p * 3 + c].exchange(0, std::memory_order_relaxed);
-            std::int64_t high = m_passHigh[p * 3 + c].exchange(0, std::memory_order_relaxed);
-            __int128 v = (static_cast<__int128>(high) << 64) | static_cast<__int128>(low);
-            m_sum[p * 3 + c] += double(v) / m_scale;
-            if (passSums) (*passSums)[p * 3 + c] = double(v) / m_scale;
-            if (halves) m_halfSum[half][p * 3 + c] += double(v) / m_scale;
+    // Each pixel folds alone, so splitting the pixels over threads gives the same sums to the
+    // bit. The commit runs between passes while no worker has work: done on one thread, it was
+    // the largest serial phase of path and raytrace renders (docs/performance.md, "Phases and
+    // scaling").
+    // Isolated: while it waits, this thread (holding the mutex) takes no unrelated task that
+    // could want the mutex too.
+    auto fold = [&](std::size_t begin, std::size_t end) {
+        for (std::size_t p = begin; p < end; ++p) {
+            std::uint32_t passSamples = m_passSamples[p].exchange(0, std::memory_order_relaxed);
+            m_samples[p] += passSamples;
+            if (halves) m_halfSamples[half][p] += passSamples;
+            for (int c = 0; c < 3; ++c) {
+                std::uint64_t low = m_passLow[p * 3 + c].exchange(0, std::memory_order_relaxed);
+                std::int64_t high = m_passHigh[p * 3 + c].exchange(0, std::memory_order_relaxed);
+                __int128 v = (static_cast<__int128>(high) << 64) | static_cast<__int128>(low);
+                m_sum[p * 3 + c] += double(v) / m_scale;
+                if (passSums) (*passSums)[p * 3 + c] = double(v) / m_scale;
+                if (halves) m_halfSum[half][p * 3 + c] += double(v) / m_scale;
+            }
         }
-    }
+    };
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m_samples.size(), kCommitGrain),
+                          [&](const tbb::blocked_range<std::size_t>& r) { fold(r.begin(), r.end()); });
+    });
 }
 
 Image Film::resolve() const { return resolve(m_width, m_height, m_sum, m_samples); }

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -23,6 +24,14 @@ const char* stageName(StageId s) {
     case StageId::Count: break;
     }
     return "?";
+}
+
+const std::array<StageId, kStageCount>& pipelineOrder() {
+    static const std::array<StageId, kStageCount> order{
+        StageId::CameraEmit, StageId::Photon,     StageId::Intersect, StageId::Surface,
+        StageId::Reflection, StageId::Refraction, StageId::Shadow,    StageId::Occlude,
+        StageId::Gather,     StageId::Correction};
+    return order;
 }
 
 ThreadStats Stats::merged() const {
@@ -55,6 +64,45 @@ std::size_t peakResidentBytes() {
     return std::size_t(u.ru_maxrss) * 1024; // Linux reports KiB
 }
 
+namespace {
+
+const PhaseStats* findPhase(const std::vector<PhaseStats>& phases, const char* name) {
+    for (const PhaseStats& p : phases)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+// The phases' table: wall seconds, share of the command's wall time, how each ran, and the
+// workers' busy fraction where the stage timers measure it; then the summary.
+void phaseTable(std::ostringstream& o, const RenderStats& r) {
+    char line[200];
+    PhaseSummary sum = summarizePhases(r.phases);
+    const double total = r.processSeconds > 0 ? r.processSeconds : sum.phaseSeconds;
+    std::snprintf(line, sizeof line, "%-22s %10s %8s %-9s %6s %6s\n", "phase", "seconds", "share",
+                  "runs on", "busy", "count");
+    o << line;
+    auto row = [&](const std::string& name, const char* kind, double seconds, double busy,
+                   int count) {
+        char busyText[16] = "-";
+        if (busy >= 0) std::snprintf(busyText, sizeof busyText, "%.0f%%", 100.0 * busy);
+        std::snprintf(line, sizeof line, "%-22s %10.3f %7.1f%% %-9s %6s %6d\n", name.c_str(),
+                      seconds, total > 0 ? 100.0 * seconds / total : 0.0, kind, busyText, count);
+        o << line;
+    };
+    for (const PhaseStats& p : r.phases)
+        row(p.name, phaseKindName(p.kind), p.seconds, p.busyFraction(), p.count);
+    const double other = std::max(0.0, total - sum.phaseSeconds);
+    if (r.processSeconds > 0) row("other", "serial", other, -1, 1);
+    std::snprintf(line, sizeof line,
+                  "process %.3f s wall, %d threads: serial fraction %.1f%% (serial phases and "
+                  "other), workers busy %.1f%% of %.3f s in the ray processor\n",
+                  total, r.threads, total > 0 ? 100.0 * (sum.serialSeconds + other) / total : 0.0,
+                  100.0 * sum.workersBusy, sum.workersSeconds);
+    o << line;
+}
+
+} // namespace
+
 std::string RenderStats::toTable() const {
     std::ostringstream o;
     char line[160];
@@ -63,10 +111,10 @@ std::string RenderStats::toTable() const {
     o << line;
     double total = 0;
     for (auto& s : totals.stages) total += s.seconds;
-    for (int i = 0; i < kStageCount; ++i) {
-        const StageCounters& s = totals.stages[i];
+    for (StageId id : pipelineOrder()) {
+        const StageCounters& s = totals.stages[int(id)];
         std::snprintf(line, sizeof line, "%-12s %14llu %14llu %10.3f %7.1f%%\n",
-                      stageName(StageId(i)), (unsigned long long)s.raysIn,
+                      stageName(id), (unsigned long long)s.raysIn,
                       (unsigned long long)s.raysOut, s.seconds,
                       total > 0 ? 100.0 * s.seconds / total : 0.0);
         o << line;
@@ -79,6 +127,18 @@ std::string RenderStats::toTable() const {
                   (unsigned long long)totals.samples, (unsigned long long)totals.invalidSamples,
                   (unsigned long long)totals.clampedSamples, peakMemoryBytes / 1048576.0);
     o << line;
+    // The film: the stages add to it; it folds each pass in between passes (in parallel) and
+    // resolves the image at the end (on one thread).
+    const PhaseStats* commits = findPhase(phases, "film_commit");
+    const PhaseStats* resolve = findPhase(phases, "film_resolve");
+    if (commits || resolve) {
+        std::snprintf(line, sizeof line,
+                      "%-12s pass commits %.3f s (parallel), resolve %.3f s (one thread), wall\n",
+                      "film",
+                      commits ? commits->seconds : 0.0, resolve ? resolve->seconds : 0.0);
+        o << line;
+    }
+    if (!phases.empty()) phaseTable(o, *this);
     for (auto& [name, value] : extras) {
         std::snprintf(line, sizeof line, "%-40s %.6g\n", name.c_str(), value);
         o << line;
@@ -104,6 +164,32 @@ std::string RenderStats::toJson() const {
                                          {"seconds", s.seconds}};
     }
     j["stages"] = stages;
+    nlohmann::json pipeline = nlohmann::json::array();
+    for (StageId id : pipelineOrder()) pipeline.push_back(stageName(id));
+    j["pipeline"] = pipeline;
+    if (!phases.empty()) {
+        PhaseSummary sum = summarizePhases(phases);
+        const double total = processSeconds > 0 ? processSeconds : sum.phaseSeconds;
+        const double other = std::max(0.0, total - sum.phaseSeconds);
+        nlohmann::json list = nlohmann::json::array();
+        auto add = [&](const std::string& name, PhaseKind kind, double seconds, double busy,
+                       int threads, int count) {
+            nlohmann::json p = {{"name", name},     {"kind", phaseKindName(kind)},
+                                {"seconds", seconds}, {"threads", threads},
+                                {"count", count}};
+            p["busy_fraction"] = busy >= 0 ? nlohmann::json(busy) : nlohmann::json(nullptr);
+            list.push_back(p);
+        };
+        for (const PhaseStats& p : phases)
+            add(p.name, p.kind, p.seconds, p.busyFraction(), p.threads, p.count);
+        add("other", PhaseKind::Serial, other, -1, 1, 1);
+        j["phases"] = list;
+        j["process_seconds"] = total;
+        j["threads"] = threads;
+        j["serial_fraction"] = total > 0 ? (sum.serialSeconds + other) / total : 0.0;
+        j["workers_busy_fraction"] = sum.workersBusy;
+        j["workers_seconds"] = sum.workersSeconds;
+    }
     // "gi/photons_stored" -> j["gi"]["photons_stored"]
     for (auto& [name, value] : extras) {
         auto slash = name.find('/');

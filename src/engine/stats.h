@@ -2,6 +2,8 @@
 // end of a render into one table (--stats) or JSON document (--stats-json).
 #pragma once
 
+#include "engine/phases.h"
+
 #include <tbb/enumerable_thread_specific.h>
 
 #include <array>
@@ -29,6 +31,9 @@ enum class StageId {
 };
 constexpr int kStageCount = int(StageId::Count);
 const char* stageName(StageId s);
+// The stages as the pipeline runs them (--stats prints them so): the emitters, traversal, the
+// retrace stages (surface first, then what it routes to), then gi's; the film comes last.
+const std::array<StageId, kStageCount>& pipelineOrder();
 
 struct StageCounters {
     std::uint64_t raysIn = 0;
@@ -90,6 +95,12 @@ struct RenderStats {
     // Mode-specific figures ("gi/photons stored", ...), printed after the table and written
     // to the JSON as an object under their category.
     std::vector<std::pair<std::string, double>> extras;
+    // Where the whole command's time went (engine/phases.h), filled by the render command:
+    // empty for renders run by serve and bench. processSeconds is the command's wall time
+    // from before the scene load to after the image write; threads the processor's.
+    std::vector<PhaseStats> phases;
+    double processSeconds = 0;
+    int threads = 0;
     std::string toTable() const;
     std::string toJson() const;
 };

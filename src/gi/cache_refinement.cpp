@@ -4,6 +4,7 @@
 #include "engine/cancel.h"
 #include "engine/film.h"
 #include "engine/intersect.h"
+#include "engine/phases.h"
 #include "engine/processor.h"
 #include "engine/shadow_stage.h"
 #include "gi/correction_stage.h"
@@ -150,7 +151,8 @@ void CacheRefinement::beginPass(int pass) {
                           m_engine.stratification, key, slots.data());
     // Not interruptible halfway: the pass's sums are all or nothing (a cancel stops the render
     // after its current pass anyway).
-    processor.run(emitter, [] { return false; });
+    timeWorkers(m_engine.phases, "cache_refinement", m_stats, processor.threads(),
+                [&] { processor.run(emitter, [] { return false; }); });
     film.commitPass();
 
     // The pass's sums, every rank's, in record order; then the records.

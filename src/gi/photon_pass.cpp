@@ -3,6 +3,7 @@
 #include "cluster/cluster.h"
 #include "engine/cancel.h"
 #include "engine/intersect.h"
+#include "engine/phases.h"
 #include "engine/processor.h"
 #include "engine/progress.h"
 #include "gi/photon_emitter.h"
@@ -44,9 +45,11 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
                    double(std::max<std::uint64_t>(emitter.photonsInRange(), 1));
         },
         [&] { return std::uint64_t(stats.merged().raysTraced); });
-    processor.run(emitter, [] { return interruptRequested(); });
+    timeWorkers(engine.phases, "photon_tracing", stats, processor.threads(),
+                [&] { processor.run(emitter, [] { return interruptRequested(); }); });
     progress.finish(!interruptRequested());
     if (interruptRequested()) return {};
+    PhaseTimer sortPhase(engine.phases, "photon_sort", PhaseKind::Parallel);
     return stage.takeKeyedPhotons([] { return interruptRequested(); });
 }
 
@@ -81,6 +84,8 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
                             const EngineSettings& engine, const Cluster& cluster,
                             const PhotonPassSpec& pass, const FocusRegion& focus, Stats& stats,
                             PhotonMap* indirect) {
+    // Besides the tracing and sorting: the kd-trees (parallel below their top levels).
+    PhaseTimer buildPhase(engine.phases, "photon_map_build", PhaseKind::Parallel);
     map.build({});
     if (indirect) indirect->build({});
     PhotonRounds done;
@@ -98,8 +103,11 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
             round.tag = kernels::hashCombine(pass.tag, std::uint64_t(rounds));
             round.label = "gi photons, another round";
         }
-        std::vector<PhotonRecord> more = mergePhotonShares(
-            cluster, tracePhotons(scene, accel, lights, s, engine, cluster, round, focus, stats));
+        std::vector<PhotonStage::KeyedPhoton> traced =
+            tracePhotons(scene, accel, lights, s, engine, cluster, round, focus, stats);
+        PhaseTimer mergePhase(engine.phases, "photon_sort", PhaseKind::Parallel);
+        std::vector<PhotonRecord> more = mergePhotonShares(cluster, std::move(traced));
+        mergePhase.stop();
         if (stopped(cluster)) return done;
         ++rounds;
         landed += std::size_t(std::count_if(more.begin(), more.end(), inView));

@@ -20,6 +20,7 @@
 #include "engine/camera_emitter.h"
 #include "engine/cancel.h"
 #include "engine/intersect.h"
+#include "engine/phases.h"
 #include "engine/processor.h"
 #include "engine/progress.h"
 #include "engine/reflection_stage.h"
@@ -183,6 +184,9 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         },
         [&] { return std::uint64_t(stats.merged().raysTraced); });
     for (int scale : kScales) {
+        // The level's own work on this thread: its film and stages, merging, sorting and
+        // inserting its records; the gathers are the workers' (cache_prepass).
+        PhaseTimer levelPhase(engine.phases, "cache_insert");
         if (stopped(cluster)) break;
         Camera cam = levelCamera(scale);
         requests.beginLevel(std::size_t(cam.width) * cam.height * 2);
@@ -214,7 +218,8 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         camera.beginPass(0, 1);
         currentPixels = double(cam.width) * cam.height;
         current = &camera;
-        processor.run(camera, [] { return interruptRequested(); });
+        timeWorkers(engine.phases, "cache_prepass", stats, processor.threads(),
+                    [&] { processor.run(camera, [] { return interruptRequested(); }); });
         current = nullptr;
         pixelsBefore = pixelsBefore.load() + double(cam.width) * cam.height;
 
@@ -355,10 +360,12 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     static const Cluster alone;
     const Cluster& cluster = engine.cluster ? *engine.cluster : alone;
     // Scene analysis: maps, cache and stages the scene cannot use are skipped.
+    PhaseTimer lightPhase(engine.phases, "light_set"); // and the scene analysis
     LightSet all = LightSet::build(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanGi);
     if (!plan.render) return blackRender(scene);
     LightSet lights = plan.sampledLights(all);
+    lightPhase.stop();
     GiData gi;
     gi.settings = s;
     gatherStrata(s.gatherRays, gi.gatherTheta, gi.gatherPhi);
@@ -366,7 +373,9 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     // Gradients need the strata layout: independent gather rays (--no-stratification) have none.
     gi.strataWanted = s.irradianceCache && s.icGradients && engine.stratification;
     // Lengths scale with the scene, or with the part the camera sees when that is much smaller.
+    PhaseTimer focusPhase(engine.phases, "focus_region"); // rays from this thread
     FocusRegion focus = cameraFocusRegion(scene, accel, engine.packetWidth);
+    focusPhase.stop();
     float diag = std::max(1e-6f, length((focus.active ? focus.bounds : scene.worldBounds()).diagonal()));
     gi.globalRadius = s.globalRadius > 0 ? s.globalRadius : 0.05f * diag;
     gi.causticRadius = s.causticRadius > 0 ? s.causticRadius : 0.02f * diag;
@@ -403,11 +412,13 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     }
     double photonSeconds = secondsSince(t0);
     auto t1 = Clock::now();
+    PhaseTimer precomputePhase(engine.phases, "irradiance_precompute", PhaseKind::Parallel);
     if (s.precomputedIrradiance && global.size() > 0 && !stopped(cluster))
         precomputePhotonIrradiance(global, s, gi.globalRadius, engine, cluster);
     if (s.precomputedIrradiance && gatherMap.size() > 0 && !stopped(cluster))
         precomputePhotonIrradiance(gatherMap, s, gi.globalRadius, engine, cluster);
     double precomputeSeconds = secondsSince(t1);
+    precomputePhase.stop();
     gi.global = &global;
     if (gatherDirect && global.size() > 0) gi.globalIndirect = &gatherMap;
     if (!progressive) gi.caustic = &caustic;

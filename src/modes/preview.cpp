@@ -1,6 +1,8 @@
 #include "modes/modes.h"
 #include "modes/render_plan.h"
 
+#include "engine/phases.h"
+
 #include <sstream>
 
 namespace rayproc {
@@ -23,14 +25,20 @@ PreviewSettings previewSettings(const SceneRenderSettings& scene, const ModeOver
 
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
                            const EngineSettings& engine) {
-    return renderPreview(scene, accel, LightSet::buildPreview(scene, accel), s, engine);
+    // The light set (serve builds it once per scene and passes it to the overload below).
+    PhaseTimer lightPhase(engine.phases, "light_set");
+    LightSet all = LightSet::buildPreview(scene, accel);
+    lightPhase.stop();
+    return renderPreview(scene, accel, all, s, engine);
 }
 
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const LightSet& all,
                            const PreviewSettings& s, const EngineSettings& engine) {
+    PhaseTimer lightPhase(engine.phases, "light_set"); // the scene analysis's part
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanPreview);
     if (!plan.render) return blackRender(scene);
     LightSet lights = plan.sampledLights(all);
+    lightPhase.stop();
     ShadingPolicy policy;
     plan.apply(policy);
     policy.stratify = engine.stratification;

@@ -1,6 +1,8 @@
 #include "modes/modes.h"
 #include "modes/render_plan.h"
 
+#include "engine/phases.h"
+
 #include <sstream>
 
 namespace rayproc {
@@ -23,10 +25,12 @@ RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOv
 
 RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
                             const RaytraceSettings& s, const EngineSettings& engine) {
+    PhaseTimer lightPhase(engine.phases, "light_set"); // and the scene analysis
     LightSet all = LightSet::build(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanRaytrace);
     if (!plan.render) return blackRender(scene);
     LightSet lights = plan.sampledLights(all);
+    lightPhase.stop();
     ShadingPolicy policy;
     policy.maxDepth = s.maxDepth;
     policy.lightSamples = s.lightSamples;

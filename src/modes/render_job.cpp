@@ -6,6 +6,7 @@
 #include "engine/intersect.h"
 #include "engine/noise_breakdown.h"
 #include "engine/path_stage.h"
+#include "engine/phases.h"
 #include "engine/processor.h"
 #include "engine/progress.h"
 #include "engine/reflection_stage.h"
@@ -69,6 +70,8 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
                           const EngineSettings& engine, RadianceStage radiance,
                           const GiData* gi, const std::function<void(int pass, int samples)>& beforePass) {
+    // The film, the stages and the log before the first pass: one thread.
+    PhaseTimer setupPhase(engine.phases, "render_setup");
     // The mode's clock: seconds from the start of its work, less the time the error log has
     // spent measuring; it decides the time limit, and the progress monitor's thread reads it.
     using Clock = std::chrono::steady_clock;
@@ -212,16 +215,29 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     auto stopRequested = [&engine] { return engine.stop && engine.stop(); };
     bool stop = cluster.distributed() ? agreeInterrupted(cluster) : interruptRequested();
     if (!cluster.distributed() && stopRequested()) stop = stopped = true;
+    setupPhase.stop();
     for (int pass = 0; pass < passes && !stop; ++pass) {
+        // What a pass does besides its hook, its processor run and the film's commit: the
+        // estimates, the log, the decisions; on this thread.
+        PhaseTimer betweenPhase(engine.phases, "between_passes");
         int first = adaptiveCount > 0 ? 0 : pass * passSpp;
         int count = adaptiveCount > 0 ? adaptiveCount : std::min(passSpp, spp - first);
-        if (beforePass) beforePass(pass, count);
+        if (beforePass) {
+            // gi's caustic maps and cache refinement time their own phases; the rest is here.
+            PhaseTimer hookPhase(engine.phases, "pass_hooks");
+            beforePass(pass, count);
+        }
         camera.beginPass(first, count);
         passInFlight = true;
-        processor.run(camera, [&] { return interruptRequested() || stopRequested(); });
+        timeWorkers(engine.phases, "render_passes", stats, processor.threads(), [&] {
+            processor.run(camera, [&] { return interruptRequested() || stopRequested(); });
+        });
         unitsBefore += std::min<std::uint64_t>(camera.unitsEmitted(), camera.unitsPerPass());
         passInFlight = false;
-        film.commitPass(pass % 2);
+        {
+            PhaseTimer commitPhase(engine.phases, "film_commit", PhaseKind::Parallel);
+            film.commitPass(pass % 2);
+        }
         if (noise) noise->commitPass();
         if (film.hasHalfBuffers()) {
             std::vector<double> parts = film.relMseParts();
@@ -300,6 +316,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
             lastProgressive = now;
         }
     }
+    PhaseTimer resolvePhase(engine.phases, "film_resolve");
     result.cancelled = interruptRequested() || stopped;
     progress.finish(!result.cancelled);
     if (errorLog && std::fclose(errorLog.release()) != 0 && result.errorLogFailure.empty())

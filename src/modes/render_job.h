@@ -102,6 +102,9 @@ struct EngineSettings {
     // statistics and the stop decisions are combined so the result is one process's, to the
     // bit. Only rank 0's result holds the whole image.
     const Cluster* cluster = nullptr;
+    // When set, every phase of the render (light set, photon passes, cache prepass, render
+    // passes, film resolve...) adds its wall time here (engine/phases.h; --stats).
+    PhaseLog* phases = nullptr;
     std::string toString() const;
 };
 

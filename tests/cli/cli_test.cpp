@@ -177,6 +177,35 @@ TEST_CASE("Statistics as JSON with --stats-json", "[cli]") {
              j["stages"]["occlude"]["rays"].get<std::uint64_t>();
     CHECK(j["rays"].get<std::uint64_t>() == traced);
     CHECK(j["stages"]["intersect"]["rays"].get<std::uint64_t>() >= 32u * 32u * 2u);
+    // The stages in pipeline order: the camera first, traversal next, the film's stages after.
+    REQUIRE(j["pipeline"].is_array());
+    CHECK(j["pipeline"].size() == j["stages"].size());
+    CHECK(j["pipeline"][0] == "camera");
+    // Phases: every part of the command's wall time, once, with how it ran.
+    REQUIRE(j["phases"].is_array());
+    double phaseSum = 0;
+    std::vector<std::string> names;
+    for (const nlohmann::json& p : j["phases"]) {
+        INFO("phase " << p.dump());
+        for (const char* key : {"name", "kind", "seconds", "threads", "count", "busy_fraction"})
+            REQUIRE(p.contains(key));
+        const std::string kind = p["kind"].get<std::string>();
+        CHECK((kind == "serial" || kind == "parallel" || kind == "workers"));
+        CHECK(p["seconds"].get<double>() >= 0);
+        CHECK(p["busy_fraction"].is_null() == (kind != "workers"));
+        phaseSum += p["seconds"].get<double>();
+        names.push_back(p["name"].get<std::string>());
+    }
+    for (const char* name : {"scene_load", "bvh_build", "light_set", "render_passes",
+                             "film_commit", "between_passes", "film_resolve", "image_write", "other"}) {
+        INFO("phase " << name);
+        CHECK(std::count(names.begin(), names.end(), name) == 1);
+    }
+    CHECK(phaseSum == Approx(j["process_seconds"].get<double>()).epsilon(1e-6));
+    CHECK(j["process_seconds"].get<double>() >= j["wall_seconds"].get<double>());
+    CHECK(j["serial_fraction"].get<double>() >= 0);
+    CHECK(j["serial_fraction"].get<double>() <= 1);
+    CHECK(j["workers_busy_fraction"].get<double>() > 0);
     Image img = readImage(out);
     CHECK(img.width == 32);
     CHECK(img.height == 32);

@@ -1,0 +1,86 @@
+// The phase log behind --stats' phases: entries add up by name in first-use order, a timer
+// around nested timers keeps only its own time, the summary's fractions follow the kinds.
+#include "engine/phases.h"
+#include "engine/stats.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
+namespace rayproc {
+
+TEST_CASE("A phase entered twice adds up, in the order phases first ran", "[engine]") {
+    PhaseLog log;
+    log.add("load", PhaseKind::Serial, 1.0);
+    log.add("render", PhaseKind::Workers, 2.0, 3.0, 2);
+    log.add("load", PhaseKind::Serial, 0.5);
+    REQUIRE(log.phases().size() == 2);
+    CHECK(log.phases()[0].name == "load");
+    CHECK(log.phases()[0].seconds == 1.5);
+    CHECK(log.phases()[0].count == 2);
+    CHECK(log.phases()[1].busyFraction() == Approx(0.75)); // 3 thread-s of 2 s x 2 threads
+    CHECK(log.phases()[0].busyFraction() < 0);             // serial: no busy figure
+    CHECK(log.recordedSeconds() == 3.5);
+}
+
+TEST_CASE("A timer around nested timers records only its own time", "[engine]") {
+    PhaseLog log;
+    {
+        PhaseTimer outer(&log, "outer");
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        log.add("inner", PhaseKind::Parallel, 10.0); // as if a nested phase took 10 s
+    }
+    REQUIRE(log.phases().size() == 2);
+    // The outer phase lasted ~20 ms of which the nested phase claimed more: it keeps nothing
+    // rather than a negative time, and no second is counted twice.
+    CHECK(log.phases()[1].name == "outer");
+    CHECK(log.phases()[1].seconds == 0);
+    PhaseTimer stopped(&log, "twice");
+    stopped.stop();
+    stopped.stop();
+    CHECK(log.phases().back().count == 1);
+    PhaseTimer none(nullptr, "no log"); // records nothing, fails nothing
+    none.stop();
+    CHECK(log.phases().size() == 3);
+}
+
+TEST_CASE("The summary's serial seconds and busy fraction", "[engine]") {
+    std::vector<PhaseStats> phases{{"a", PhaseKind::Serial, 1.0, 0, 1, 1},
+                                   {"b", PhaseKind::Parallel, 2.0, 0, 1, 1},
+                                   {"c", PhaseKind::Workers, 3.0, 3.0, 2, 1},
+                                   {"d", PhaseKind::Workers, 1.0, 2.0, 2, 1}};
+    PhaseSummary s = summarizePhases(phases);
+    CHECK(s.phaseSeconds == 7.0);
+    CHECK(s.serialSeconds == 1.0);
+    CHECK(s.workersSeconds == 4.0);
+    CHECK(s.workersBusy == Approx(5.0 / 8.0));
+}
+
+TEST_CASE("timeWorkers takes the stage seconds gained during the run", "[engine]") {
+    Stats stats;
+    stats.local().stages[int(StageId::Surface)].seconds = 5.0; // before: not this phase's
+    PhaseLog log;
+    timeWorkers(&log, "work", stats, 4, [&] {
+        stats.local().stages[int(StageId::Intersect)].seconds += 0.25;
+    });
+    REQUIRE(log.phases().size() == 1);
+    CHECK(log.phases()[0].kind == PhaseKind::Workers);
+    CHECK(log.phases()[0].busySeconds == Approx(0.25));
+    CHECK(log.phases()[0].threads == 4);
+}
+
+TEST_CASE("The stage table lists the stages in pipeline order, each once", "[engine]") {
+    const auto& order = pipelineOrder();
+    CHECK(order.front() == StageId::CameraEmit);
+    for (int i = 0; i < kStageCount; ++i)
+        CHECK(std::count(order.begin(), order.end(), StageId(i)) == 1);
+    RenderStats r;
+    std::string table = r.toTable();
+    CHECK(table.find("camera") < table.find("intersect"));
+    CHECK(table.find("intersect") < table.find("surface"));
+    CHECK(table.find("surface") < table.find("gather"));
+}
+
+} // namespace rayproc
