@@ -2,7 +2,6 @@
 // loads the page, picks and moves an object, drags the camera, starts gi, cancels, downloads
 // the partial image, saves the scene, and checks the saved file and the screenshots.
 //   node tests/e2e/serve_e2e.mjs --rayproc build/rayproc --scene scenes/cornell-box.json --out DIR
-import { spawn } from "node:child_process";
 import fs from "node:fs";
 import path from "node:path";
 import os from "node:os";
@@ -28,16 +27,8 @@ function check(ok, what) {
   if (!ok) failures++;
 }
 
-// The server, on the first free port from 18200.
-const server = spawn(rayproc, ["serve", sceneCopy, "--port", "0", "--threads", "2", "--preview-size", "128"], { cwd: work });
-let serverErr = "";
-server.stderr.on("data", (d) => { serverErr += d; });
-const url = await new Promise((resolve, reject) => {
-  let text = "";
-  server.stdout.on("data", (d) => { text += d; const m = text.match(/http:\/\/127\.0\.0\.1:\d+\//); if (m) resolve(m[0]); });
-  server.on("exit", (code) => reject(new Error("rayproc serve exited " + code + ": " + serverErr)));
-  setTimeout(() => reject(new Error("rayproc serve did not start: " + serverErr)), 20000);
-});
+// The server, on a free port.
+const { server, url } = await startServer(rayproc, sceneCopy, ["--threads", "2", "--preview-size", "128"], work);
 console.log("serving " + url);
 
 const browser = await puppeteer.launch({

@@ -4,6 +4,7 @@
 // follows its pdf (chi-square), and a sample's weight and pdf are evalBsdf's. And the walk on a
 // smooth clear coat against the layered closed form computed from Hecht's Fresnel equations in
 // the test (a truth outside rayproc's code; issue 38 item 3).
+#include "hecht_fresnel.h"
 #include "statistical/bsdf_test_util.h"
 
 using namespace rayproc;
@@ -108,23 +109,6 @@ TEST_CASE("Analytic coat: the diffuse lobe's albedo gi uses is the integral of f
     }
 }
 
-namespace {
-
-// Hecht's angle form of the unpolarised Fresnel reflectance for a ray in a medium of index n1
-// meeting one of index n2 at theta (1 past the critical angle): typed from the textbook, not
-// from kernels/fresnel.h.
-double fresnelHecht(double theta, double n1, double n2) {
-    double s = n1 / n2 * std::sin(theta);
-    if (s >= 1.0) return 1.0;
-    if (theta == 0.0) return std::pow((n1 - n2) / (n1 + n2), 2);
-    double t = std::asin(s);
-    double rs = std::sin(theta - t) / std::sin(theta + t);
-    double rp = std::tan(theta - t) / std::tan(theta + t);
-    return 0.5 * (rs * rs + rp * rp);
-}
-
-} // namespace
-
 TEST_CASE("pbrt-v4's walk through a smooth clear coat returns the layered closed form",
           "[bsdf][furnace]") {
     // A smooth dielectric interface (n = 1.5) over a Lambertian base of reflectance R, without
@@ -144,13 +128,13 @@ TEST_CASE("pbrt-v4's walk through a smooth clear coat returns the layered closed
     constexpr int kSteps = 100000;
     for (int i = 0; i < kSteps; ++i) {
         double theta = (i + 0.5) / kSteps * (kPi / 2);
-        fInt += fresnelHecht(theta, n, 1.0) * 2 * std::sin(theta) * std::cos(theta) *
+        fInt += test::fresnelHecht(theta, n, 1.0) * 2 * std::sin(theta) * std::cos(theta) *
                 (kPi / 2) / kSteps;
     }
     CHECK(fInt == Approx(0.5963).margin(2e-4));
     const Vec3 base(0.8f, 0.5f, 0.1f);
     for (float theta : {0.0f, 45.0f, 75.0f}) {
-        const double f = fresnelHecht(double(theta) * kPi / 180, 1.0, n);
+        const double f = test::fresnelHecht(double(theta) * kPi / 180, 1.0, n);
         Albedo walk = directionalAlbedo(coated(0.0f, base, 1e-7f, true), direction(theta),
                                         200000, 17);
         for (int ch = 0; ch < 3; ++ch) {

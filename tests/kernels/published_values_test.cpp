@@ -9,6 +9,7 @@
 // "Where the truth comes from").
 #include "kernels/bsdf.h"
 #include "kernels/fresnel.h"
+#include "hecht_fresnel.h"
 #include "kernels/microfacet.h"
 #include "scene/metals.h"
 
@@ -30,14 +31,6 @@ double degrees(double d) {
     return d * kPiD / 180.0;
 }
 
-// Hecht's angle form, unpolarised: the mean of R_perp and R_par.
-double fresnelAngleForm(double thetaI, double n) {
-    double thetaT = std::asin(std::sin(thetaI) / n);
-    double rPerp = std::sin(thetaI - thetaT) / std::sin(thetaI + thetaT);
-    double rPar = std::tan(thetaI - thetaT) / std::tan(thetaI + thetaT);
-    return 0.5 * (rPerp * rPerp + rPar * rPar);
-}
-
 } // namespace
 
 TEST_CASE("Dielectric Fresnel matches the textbook closed forms of glass and water",
@@ -54,14 +47,14 @@ TEST_CASE("Dielectric Fresnel matches the textbook closed forms of glass and wat
     for (int d = 15; d <= 85; d += 10) {
         INFO(d << " degrees");
         CHECK(fresnelDielectricSigned(float(std::cos(degrees(d))), 1.5f) ==
-              Approx(fresnelAngleForm(degrees(d), 1.5)).margin(2e-5));
+              Approx(test::fresnelHecht(degrees(d), 1.0, 1.5)).margin(2e-5));
     }
-    CHECK(fresnelAngleForm(degrees(45), 1.5) == Approx(0.0502).margin(1e-4));
+    CHECK(test::fresnelHecht(degrees(45), 1.0, 1.5) == Approx(0.0502).margin(1e-4));
     // Leaving glass: total internal reflection past the critical angle asin(1 / 1.5) = 41.8
     // degrees; below it the angle form with the inverted index.
     CHECK(fresnelDielectricSigned(-float(std::cos(degrees(42.0))), 1.5f) == 1.0f);
     CHECK(fresnelDielectricSigned(-float(std::cos(degrees(30.0))), 1.5f) ==
-          Approx(fresnelAngleForm(degrees(30), 1 / 1.5)).margin(2e-5));
+          Approx(test::fresnelHecht(degrees(30), 1.0, 1 / 1.5)).margin(2e-5));
 }
 
 TEST_CASE("Schlick's Fresnel is his formula R0 + (1 - R0)(1 - cos)^5", "[kernels][fresnel]") {
