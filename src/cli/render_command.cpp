@@ -449,8 +449,9 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->add_option("--light-samples", args->lightSamples,
                     "Stratified light samples per shading point, and of the sky (raytrace: "
                     "default 4; gi: default 2, whose cheaper passes reach a given error "
-                    "sooner): in all over the area lights when there are several (see "
-                    "--no-light-choice); one more per point, spot or distant light")
+                    "sooner): with several area lights, that many per light that matters at "
+                    "the point, each choosing one (see --no-light-choice); one more per "
+                    "point, spot or distant light")
         ->check(CLI::Range(1, 4096));
     cmd->add_option("--packet-width", args->packetWidth,
                     "Embree traversal: 1 = single rays (rtcIntersect1), 4/8/16 = packets "
@@ -571,9 +572,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                   "small light)");
     cmd->add_flag("--no-light-choice", args->noLightChoice,
                   "raytrace, gi: with several area lights, take --light-samples samples of "
-                  "every one of them at each hit instead of --light-samples in all, each "
-                  "choosing a light by what its power, extent and emission cone can give the "
-                  "point (slower per sample in scenes of many lights)");
+                  "every one of them at each hit instead of --light-samples per light that "
+                  "matters there, each choosing a light with path mode's light sampler (by "
+                  "what its power, extent and emission cone can give the point; slower per "
+                  "sample in scenes of many lights)");
     cmd->add_flag("--no-russian-roulette", args->noRoulette,
                   "raytrace, path, gi: paths (and gi's photons) end only at the maximum depth "
                   "or at zero throughput");
