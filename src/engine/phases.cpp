@@ -55,7 +55,7 @@ double stageSeconds(const Stats& stats) {
     return s;
 }
 
-PhaseSummary summarizePhases(const std::vector<PhaseStats>& phases) {
+PhaseSummary summarizePhases(const std::vector<PhaseStats>& phases, double processSeconds) {
     PhaseSummary s;
     double capacity = 0, busy = 0;
     for (const PhaseStats& p : phases) {
@@ -68,6 +68,10 @@ PhaseSummary summarizePhases(const std::vector<PhaseStats>& phases) {
         }
     }
     s.workersBusy = capacity > 0 ? busy / capacity : 0;
+    s.totalSeconds = processSeconds > 0 ? processSeconds : s.phaseSeconds;
+    s.otherSeconds = std::max(0.0, s.totalSeconds - s.phaseSeconds);
+    s.serialFraction =
+        s.totalSeconds > 0 ? (s.serialSeconds + s.otherSeconds) / s.totalSeconds : 0.0;
     return s;
 }
 

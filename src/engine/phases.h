@@ -94,7 +94,11 @@ struct PhaseSummary {
     double serialSeconds = 0;  // of Serial phases
     double workersSeconds = 0; // of Workers phases (wall)
     double workersBusy = 0;    // busy thread-seconds / (wall x threads) over Workers phases
+    // Against the whole command's wall time (processSeconds, or the phases' sum without it):
+    double totalSeconds = 0;   // that wall time
+    double otherSeconds = 0;   // what no phase timed (counted as serial)
+    double serialFraction = 0; // (serial phases + other) / total
 };
-PhaseSummary summarizePhases(const std::vector<PhaseStats>& phases);
+PhaseSummary summarizePhases(const std::vector<PhaseStats>& phases, double processSeconds = 0);
 
 } // namespace rayproc

@@ -76,8 +76,8 @@ const PhaseStats* findPhase(const std::vector<PhaseStats>& phases, const char* n
 // workers' busy fraction where the stage timers measure it; then the summary.
 void phaseTable(std::ostringstream& o, const RenderStats& r) {
     char line[200];
-    PhaseSummary sum = summarizePhases(r.phases);
-    const double total = r.processSeconds > 0 ? r.processSeconds : sum.phaseSeconds;
+    const PhaseSummary sum = summarizePhases(r.phases, r.processSeconds);
+    const double total = sum.totalSeconds;
     std::snprintf(line, sizeof line, "%-22s %10s %8s %-9s %6s %6s\n", "phase", "seconds", "share",
                   "runs on", "busy", "count");
     o << line;
@@ -91,12 +91,11 @@ void phaseTable(std::ostringstream& o, const RenderStats& r) {
     };
     for (const PhaseStats& p : r.phases)
         row(p.name, phaseKindName(p.kind), p.seconds, p.busyFraction(), p.count);
-    const double other = std::max(0.0, total - sum.phaseSeconds);
-    if (r.processSeconds > 0) row("other", "serial", other, -1, 1);
+    if (r.processSeconds > 0) row("other", "serial", sum.otherSeconds, -1, 1);
     std::snprintf(line, sizeof line,
                   "process %.3f s wall, %d threads: serial fraction %.1f%% (serial phases and "
                   "other), workers busy %.1f%% of %.3f s in the ray processor\n",
-                  total, r.threads, total > 0 ? 100.0 * (sum.serialSeconds + other) / total : 0.0,
+                  total, r.threads, 100.0 * sum.serialFraction,
                   100.0 * sum.workersBusy, sum.workersSeconds);
     o << line;
 }
@@ -168,9 +167,7 @@ std::string RenderStats::toJson() const {
     for (StageId id : pipelineOrder()) pipeline.push_back(stageName(id));
     j["pipeline"] = pipeline;
     if (!phases.empty()) {
-        PhaseSummary sum = summarizePhases(phases);
-        const double total = processSeconds > 0 ? processSeconds : sum.phaseSeconds;
-        const double other = std::max(0.0, total - sum.phaseSeconds);
+        const PhaseSummary sum = summarizePhases(phases, processSeconds);
         nlohmann::json list = nlohmann::json::array();
         auto add = [&](const std::string& name, PhaseKind kind, double seconds, double busy,
                        int threads, int count) {
@@ -182,11 +179,11 @@ std::string RenderStats::toJson() const {
         };
         for (const PhaseStats& p : phases)
             add(p.name, p.kind, p.seconds, p.busyFraction(), p.threads, p.count);
-        add("other", PhaseKind::Serial, other, -1, 1, 1);
+        add("other", PhaseKind::Serial, sum.otherSeconds, -1, 1, 1);
         j["phases"] = list;
-        j["process_seconds"] = total;
+        j["process_seconds"] = sum.totalSeconds;
         j["threads"] = threads;
-        j["serial_fraction"] = total > 0 ? (sum.serialSeconds + other) / total : 0.0;
+        j["serial_fraction"] = sum.serialFraction;
         j["workers_busy_fraction"] = sum.workersBusy;
         j["workers_seconds"] = sum.workersSeconds;
     }
