@@ -11,6 +11,8 @@
 #include "kernels/pbrt_bsdfs.h"
 #include "kernels/sampling.h"
 
+#include <algorithm>
+
 namespace rayproc {
 
 namespace {
@@ -29,7 +31,7 @@ CorrectionStage::CorrectionStage(const RenderContext& rc, const GatherStage& gat
     : m_policy(rc.policy),
       m_rc{rc.scene, rc.accel, rc.lights, m_policy, rc.film, rc.seed, rc.gi},
       m_gather(gather), m_paths(m_rc, kPathOutputs) {
-    if (rc.gi) m_policy.maxDepth = rc.gi->settings.maxPhotonDepth;
+    if (rc.gi) m_policy.maxDepth = std::max(1, rc.gi->settings.maxPhotonDepth - 1);
 }
 
 void CorrectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ctx) const {

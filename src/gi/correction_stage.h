@@ -32,10 +32,13 @@ class GatherStage;
 class CorrectionStage : public RetraceStage {
 public:
     // `rc`: the render's (or the cache refinement's) context. The correction paths run in a
-    // copy of it whose policy's depth limit is the photons' (GiSettings::maxPhotonDepth): they
-    // stand for the light of the photons whose estimate they replace, while gi's own maxDepth
-    // limits its specular chains (at that depth, 8, the inside-out furnace's albedo-0.8 channel
-    // came out 11% dark).
+    // copy of it whose policy's depth limit follows the photons' (GiSettings::maxPhotonDepth D):
+    // they stand for the light of the global map's photons whose estimate they replace, which
+    // hold up to D - 1 intersections (gi/photon_stage.cpp), so a correction path's vertices
+    // take light samples up to depth D - 1 and a path through it has at most D scattering
+    // events from the visible point on, as pbrt-v4's SPPM at maxdepth D. gi's own maxDepth
+    // limits its specular chains (at that depth, 8, the inside-out furnace's albedo-0.8
+    // channel came out 11% dark).
     CorrectionStage(const RenderContext& rc, const GatherStage& gather);
     // At the hits the gather stage takes in a render pass: one correction ray from each first
     // diffuse hit, the map replaced in place at those past a glossy bounce.

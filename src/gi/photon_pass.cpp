@@ -28,7 +28,12 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
     Intersector intersector(accel.root(), engine.packetWidth);
     RayProcessor processor(intersector, stats, engine.threads);
-    PhotonStage stage(rc, pass.caustic, s.maxPhotonDepth);
+    // The caustic map is read at a visible point, the global map one bounce from it (a final
+    // gather, or a camera chain through a glossy reflection): its photons stop one intersection
+    // short of maxPhotonDepth D, so that a path through either has at most D scattering events
+    // from the light to the visible point, as pbrt-v4's SPPM deposits its photons at up to D.
+    PhotonStage stage(rc, pass.caustic,
+                      pass.caustic ? s.maxPhotonDepth : std::max(1, s.maxPhotonDepth - 1));
     processor.setStage(RayKind::Photon, &stage);
     PhotonEmitter emitter(lights, scene.worldBounds(), pass.count, engine.seed, pass.tag,
                           !focus.active ? Bounds3{}
