@@ -16,6 +16,10 @@ constexpr std::uint64_t kFilmBytesPerPixel = 48 + 12 + 24 + 24;
 constexpr std::uint64_t kBytesPerGlobalPhoton = 192;
 // Caustic photons are stored only after a specular bounce: most emitted ones store nothing.
 constexpr std::uint64_t kBytesPerCausticPhoton = 96;
+// gi's caustic radius per pixel (gi/caustic_pixel_radius.h: radius, photon count and three
+// 32-bit counters), counted whenever there is a caustic map (also under
+// --no-caustic-pixel-radius, where it is not allocated: a small overestimate).
+constexpr std::uint64_t kCausticRadiusBytesPerPixel = 4 + 4 + 3 * 4;
 constexpr std::uint64_t kProcessBytes = 128ull << 20;
 
 } // namespace
@@ -25,6 +29,7 @@ MemoryEstimate estimateRenderMemory(std::uint64_t pixels, std::uint64_t globalPh
     MemoryEstimate e;
     e.filmBytes = pixels * kFilmBytesPerPixel;
     e.photonBytes = globalPhotons * kBytesPerGlobalPhoton + causticPhotons * kBytesPerCausticPhoton;
+    if (causticPhotons > 0) e.photonBytes += pixels * kCausticRadiusBytesPerPixel;
     e.baseBytes = kProcessBytes + sceneBytes;
     return e;
 }

@@ -14,6 +14,10 @@ TEST_CASE("The memory estimate grows with pixels and photons and is judged again
     // The calibration point: 5M photons of the Cornell box peaked at 1093 MB (RSS).
     MemoryEstimate box = estimateRenderMemory(64 * 64, 5000000, 0, 0);
     CHECK(double(box.total()) == Approx(1093e6).epsilon(0.15));
+    // A caustic map brings gi's caustic radius per pixel (20 bytes each) beside its photons.
+    MemoryEstimate noCaustic = estimateRenderMemory(4096 * 4096, 0, 0, 0);
+    MemoryEstimate caustic = estimateRenderMemory(4096 * 4096, 0, 1, 0);
+    CHECK(caustic.photonBytes - noCaustic.photonBytes == 96 + 4096ull * 4096 * 20);
 
     SystemMemory machine;
     machine.totalBytes = 24ull << 30;
