@@ -60,28 +60,44 @@ TEST_CASE("pbrt sppm maxdepth D: gi takes the paths of path mode at the same D (
     // first hit, light sampled there, photons deposited at their 2nd to D-th intersection) and
     // its path integrator at the same D sum the same paths: at most D scattering events. gi
     // reads its global map and traces its records' correction paths one bounce from the
-    // visible point, so both stop one intersection short of D (photon_stage.cpp,
-    // correction_stage.h). Measured at 64x64, 16 spp against path at 512 spp: gi / path
-    // 1.015 at D = 2 and 3 and 1.013 at D = 50 (gi's own excess on this box, the same at every
-    // depth); before, with the D-th photons kept and corrections one deeper, 1.07-1.11 at D = 2,
-    // gi then had every path of D + 1 events. Path at D + 1 is 5-9% above path at D here.
+    // visible point, so both stop one intersection short of D (photon_pass.cpp,
+    // correction_stage.h); with the D-th photons kept and corrections one deeper, gi had every
+    // path of D + 1 events too (docs/caustics.md, "One bounce fewer behind the gather").
+    // Means over the pixels that do not see the lamp: its edge pixels' coverage noise moves a
+    // low-spp image's whole mean by 1-4% from seed to seed. Measured so: gi / path 1.018-1.021
+    // here (gi's own excess at 32x32 on this box, 1.004-1.010 at 64x64, the same at D = 50);
+    // path at D + 1 is 11-17% above path at D, where gi was before.
     auto scene = loadScene((sourceDir() / "scenes" / "cornell-box.pbrt").string());
     scene->camera.width = scene->camera.height = 32;
     const int d = 2;
     scene->render.maxDepth = d - 1; // the importer's mapping (docs/pbrt-import.md)
     scene->render.maxPhotonDepth = d;
     EmbreeScene accel(*scene);
-    auto pathMean = [&](int maxDepth) {
+    auto pathImage = [&](int maxDepth) {
         PathSettings path = pathSettings(scene->render, ModeOverrides{1024, maxDepth, 0});
-        return imageMean(renderPath(*scene, accel, path, quietEngine(7)).image);
+        return renderPath(*scene, accel, path, quietEngine(7)).image;
     };
-    Vec3 g = imageMean(
-        renderGi(*scene, accel, giSettings(*scene, ModeOverrides{16, 0, 0}), quietEngine(1)).image);
-    Vec3 p = pathMean(0), deeper = pathMean(d);
+    const Image p = pathImage(0), deeper = pathImage(d);
+    const Image g =
+        renderGi(*scene, accel, giSettings(*scene, ModeOverrides{16, 0, 0}), quietEngine(1)).image;
+    auto unlitMean = [&](const Image& img) {
+        Vec3 sum(0.0f);
+        int n = 0;
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width; ++x) {
+                const float* r = p.at(x, y);
+                if (std::max({r[0], r[1], r[2]}) >= 1.0f) continue; // the lamp and its edges
+                sum += Vec3(img.at(x, y)[0], img.at(x, y)[1], img.at(x, y)[2]);
+                ++n;
+            }
+        REQUIRE(n > img.width * img.height / 2);
+        return sum / float(n);
+    };
+    const Vec3 gm = unlitMean(g), pm = unlitMean(p), dm = unlitMean(deeper);
     for (int c = 0; c < 3; ++c) {
-        INFO("channel " << c << ": gi " << g[c] << ", path " << p[c] << ", path at D + 1 "
-                        << deeper[c]);
-        CHECK(deeper[c] > 1.04f * p[c]); // the test separates the two depths
-        CHECK(g[c] == Approx(p[c]).epsilon(0.03));
+        INFO("channel " << c << ": gi " << gm[c] << ", path " << pm[c] << ", path at D + 1 "
+                        << dm[c]);
+        CHECK(dm[c] > 1.08f * pm[c]); // the test separates the two depths
+        CHECK(gm[c] == Approx(pm[c]).epsilon(0.03));
     }
 }
