@@ -476,16 +476,18 @@ void refineFarTrianglePoint(const Vec3& p0, const Vec3& p1, const Vec3& p2, cons
     errl = vmax(errl, own);
 }
 
-// A hit's geometry in its shape's own space, before the instance's transform.
+// A hit's geometry in its shape's own space, before the instance's transform: references to
+// the caller's variables (kept apart, not one aggregate, so that the compiler keeps them in
+// registers on the hot triangle path).
 struct LocalSurface {
-    Vec3 p, err, ng, ns, dpdu;
+    Vec3 &p, &err, &ng, &ns, &dpdu;
 };
 
 // A triangle hit from Embree's barycentrics (u, v), or from the exact double-precision test
 // on a huge triangle (exactTriangleSurface).
 void triangleSurface(const TriangleMesh& m, unsigned tri, bool exact, float u, float v,
                      const Affine* toLocal, const Vec3& rayOrigin, const Vec3& rayDir,
-                     SurfaceHit& h, LocalSurface& l) {
+                     SurfaceHit& h, const LocalSurface& l) {
     unsigned i0 = m.indices[3 * tri], i1 = m.indices[3 * tri + 1], i2 = m.indices[3 * tri + 2];
     const Vec3 &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
     if (exact && exactTriangleSurface(m, i0, i1, i2, toLocal, rayOrigin, rayDir, h, l.p, l.err,
@@ -520,7 +522,7 @@ void triangleSurface(const TriangleMesh& m, unsigned tri, bool exact, float u, f
 // Solving the quadratic again in double precision, and taking the root Embree found, makes the
 // hit point independent of the packet width and more accurate.
 void sphereSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
-                   const Vec3& rayDir, float t, LocalSurface& l) {
+                   const Vec3& rayDir, float t, const LocalSurface& l) {
     Vec3 ol = toLocal ? toLocal->point(rayOrigin) : rayOrigin;
     Vec3 dl = toLocal ? toLocal->vector(rayDir) : rayDir;
     double ocx = double(ol.x) - s.center.x, ocy = double(ol.y) - s.center.y,
@@ -542,7 +544,7 @@ void sphereSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
 
 // A disk's point projected onto its plane.
 void diskSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
-                 const Vec3& rayDir, float t, LocalSurface& l) {
+                 const Vec3& rayDir, float t, const LocalSurface& l) {
     Vec3 pw = rayOrigin + rayDir * t;
     Vec3 p = toLocal ? toLocal->point(pw) : pw;
     l.ng = s.normal;
@@ -600,7 +602,8 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
     h.shape = g->leaf;
     const Shape& s = *h.shape;
     h.material = s.material;
-    LocalSurface l;
+    Vec3 pl, errl, ngl, nsl, dpdul;
+    const LocalSurface l{pl, errl, ngl, nsl, dpdul};
     switch (s.type) {
     case ShapeType::Mesh:
         triangleSurface(*s.mesh, g->triangles ? (*g->triangles)[primId] : primId, g->exact, u, v,
