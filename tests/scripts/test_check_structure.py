@@ -78,10 +78,16 @@ std::vector<T> Widget::collect(T x) const {
 }
 enum class Colour { Red, Green };
 }  // namespace rayproc
+extern "C" {
+__attribute__((visibility("default"))) void*
+exported(int x) {
+    return nullptr;
+}
+}
 '''
 
 EXPECTED = {"open": 1, "kLambda": 3, "Widget::Widget": 3, "Widget::get": 1,
-            "Widget::operator==": 3, "Widget::Inner::f": 1, "Widget::collect": 7}
+            "Widget::operator==": 3, "Widget::Inner::f": 1, "Widget::collect": 7, "exported": 3}
 
 
 def test_measure():
