@@ -237,90 +237,100 @@ void EmbreeScene::attachGeometry(RTCScene target, RTCGeometry geom, const GeomEn
     geoms.push_back(entry);
 }
 
-void EmbreeScene::attachShape(RTCScene target, const Shape& shape, std::vector<GeomEntry>& geoms) {
-    RTCGeometry geom = nullptr;
-    switch (shape.type) {
-    case ShapeType::Mesh: {
-        const TriangleMesh& m = *shape.mesh;
-        bool alpha = shape.alpha.textured() || shape.alpha.value < 1.0f;
-        // Huge triangles (accel/huge_triangles.h) are intersected in double precision by a
-        // user geometry; the mesh's other triangles stay Embree's, their primIDs mapped back.
-        auto hugeIt = m_huge.find(&shape);
-        const std::vector<unsigned>* embreePart = nullptr;
-        std::size_t embreeCount = m.triangleCount();
-        if (hugeIt != m_huge.end()) {
-            auto exact = std::make_unique<ExactTriangles>();
-            exact->mesh = &m;
-            exact->triangles = hugeIt->second;
-            auto rest = std::make_unique<std::vector<unsigned>>();
-            for (unsigned t = 0, k = 0; t < m.triangleCount(); ++t) {
-                if (k < exact->triangles.size() && exact->triangles[k] == t) ++k;
-                else rest->push_back(t);
-            }
-            embreeCount = rest->size();
-            embreePart = rest.get();
-            m_embreeParts.push_back(std::move(rest));
-            if (alpha) {
-                m_alpha.push_back(std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, nullptr}));
-                exact->alpha = m_alpha.back().get();
-            }
-            m_stats.exactTriangles += exact->triangles.size();
-            m_exact.push_back(std::move(exact));
-        }
-        if (embreeCount > 0) {
-            geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
-            // Copies (not shared buffers): Embree reads vertex buffers with 16-byte loads and
-            // needs padding past the last vertex that a std::vector<Vec3> does not guarantee.
-            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-                geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                m.positions.size()));
-            std::memcpy(v, m.positions.data(), m.positions.size() * sizeof(Vec3));
-            auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-                geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-                embreeCount));
-            if (!embreePart) {
-                std::memcpy(idx, m.indices.data(), m.indices.size() * sizeof(unsigned));
-            } else {
-                for (std::size_t k = 0; k < embreeCount; ++k)
-                    std::memcpy(idx + 3 * k, &m.indices[3 * std::size_t((*embreePart)[k])],
-                                3 * sizeof(unsigned));
-            }
-            if (alpha) {
-                m_alpha.push_back(
-                    std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, embreePart}));
-                rtcSetGeometryUserData(geom, m_alpha.back().get());
-                rtcSetGeometryIntersectFilterFunction(geom, alphaFilter);
-                rtcSetGeometryOccludedFilterFunction(geom, alphaFilter);
-            }
-            attachGeometry(target, geom, {&shape, embreePart, false}, geoms);
-        }
-        if (hugeIt != m_huge.end()) {
-            const ExactTriangles& exact = *m_exact.back();
-            attachGeometry(target, newExactTriangleGeometry(m_device, exact),
-                           {&shape, &exact.triangles, true}, geoms);
-        }
-        return;
+namespace {
+
+// An Embree triangle geometry of the mesh's triangles, or of `part` of them (count of them).
+// Copies (not shared buffers): Embree reads vertex buffers with 16-byte loads and needs padding
+// past the last vertex that a std::vector<Vec3> does not guarantee.
+RTCGeometry newTriangleGeometry(RTCDevice device, const TriangleMesh& m,
+                                const std::vector<unsigned>* part, std::size_t count) {
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+        m.positions.size()));
+    std::memcpy(v, m.positions.data(), m.positions.size() * sizeof(Vec3));
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), count));
+    if (!part) {
+        std::memcpy(idx, m.indices.data(), m.indices.size() * sizeof(unsigned));
+    } else {
+        for (std::size_t k = 0; k < count; ++k)
+            std::memcpy(idx + 3 * k, &m.indices[3 * std::size_t((*part)[k])],
+                        3 * sizeof(unsigned));
     }
-    case ShapeType::Sphere: {
-        geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
-        v[0] = shape.center.x; v[1] = shape.center.y; v[2] = shape.center.z; v[3] = shape.radius;
-        break;
-    }
-    case ShapeType::Disk: {
-        geom = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
-        v[0] = shape.center.x; v[1] = shape.center.y; v[2] = shape.center.z; v[3] = shape.radius;
+    return geom;
+}
+
+// Embree's sphere or oriented disk primitive for an analytic shape.
+RTCGeometry newPointGeometry(RTCDevice device, const Shape& shape) {
+    const bool disk = shape.type == ShapeType::Disk;
+    RTCGeometry geom = rtcNewGeometry(device, disk ? RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT
+                                                   : RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+    v[0] = shape.center.x; v[1] = shape.center.y; v[2] = shape.center.z; v[3] = shape.radius;
+    if (disk) {
         auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(
             geom, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 1));
         Vec3 nn = normalize(shape.normal);
         n[0] = nn.x; n[1] = nn.y; n[2] = nn.z;
-        break;
     }
+    return geom;
+}
+
+} // namespace
+
+void EmbreeScene::attachShape(RTCScene target, const Shape& shape, std::vector<GeomEntry>& geoms) {
+    if (shape.type == ShapeType::Mesh) {
+        attachMesh(target, shape, geoms);
+        return;
     }
-    attachGeometry(target, geom, {&shape, nullptr, false}, geoms);
+    attachGeometry(target, newPointGeometry(m_device, shape), {&shape, nullptr, false}, geoms);
+}
+
+void EmbreeScene::attachMesh(RTCScene target, const Shape& shape, std::vector<GeomEntry>& geoms) {
+    const TriangleMesh& m = *shape.mesh;
+    bool alpha = shape.alpha.textured() || shape.alpha.value < 1.0f;
+    // Huge triangles (accel/huge_triangles.h) are intersected in double precision by a
+    // user geometry; the mesh's other triangles stay Embree's, their primIDs mapped back.
+    auto hugeIt = m_huge.find(&shape);
+    const std::vector<unsigned>* embreePart = nullptr;
+    std::size_t embreeCount = m.triangleCount();
+    if (hugeIt != m_huge.end()) {
+        auto exact = std::make_unique<ExactTriangles>();
+        exact->mesh = &m;
+        exact->triangles = hugeIt->second;
+        auto rest = std::make_unique<std::vector<unsigned>>();
+        for (unsigned t = 0, k = 0; t < m.triangleCount(); ++t) {
+            if (k < exact->triangles.size() && exact->triangles[k] == t) ++k;
+            else rest->push_back(t);
+        }
+        embreeCount = rest->size();
+        embreePart = rest.get();
+        m_embreeParts.push_back(std::move(rest));
+        if (alpha) {
+            m_alpha.push_back(std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, nullptr}));
+            exact->alpha = m_alpha.back().get();
+        }
+        m_stats.exactTriangles += exact->triangles.size();
+        m_exact.push_back(std::move(exact));
+    }
+    if (embreeCount > 0) {
+        RTCGeometry geom = newTriangleGeometry(m_device, m, embreePart, embreeCount);
+        if (alpha) {
+            m_alpha.push_back(
+                std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, embreePart}));
+            rtcSetGeometryUserData(geom, m_alpha.back().get());
+            rtcSetGeometryIntersectFilterFunction(geom, alphaFilter);
+            rtcSetGeometryOccludedFilterFunction(geom, alphaFilter);
+        }
+        attachGeometry(target, geom, {&shape, embreePart, false}, geoms);
+    }
+    if (hugeIt != m_huge.end()) {
+        const ExactTriangles& exact = *m_exact.back();
+        attachGeometry(target, newExactTriangleGeometry(m_device, exact),
+                       {&shape, &exact.triangles, true}, geoms);
+    }
 }
 
 int EmbreeScene::prototypeFor(const Node& group) {
@@ -438,6 +448,138 @@ bool exactTriangleSurface(const TriangleMesh& m, unsigned i0, unsigned i1, unsig
     return true;
 }
 
+// The far-triangle refinement: the triangle's vertices are far larger than the hit point and
+// the ray's origin (a 1e9 ground plane seen from near the origin), so the barycentric sum
+// cancels to errors of ~60 units along the plane. The ray meets the triangle's plane again in
+// double precision instead. The error bound stays the barycentric one: it is what Embree's own
+// float arithmetic on these vertices can miss the plane by, so the spawned rays' offsets still
+// clear it, raised to the refined point's own error where that is larger (along an
+// axis-aligned plane's normal the barycentric bound is 0: the vertices agree exactly there, the
+// refined point need not). Leaves pl and errl as they are if the ray is parallel to the plane.
+void refineFarTrianglePoint(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& ol,
+                            const Vec3& dl, Vec3& pl, Vec3& errl) {
+    double ax = p0.x, ay = p0.y, az = p0.z;
+    double ex = double(p1.x) - ax, ey = double(p1.y) - ay, ez = double(p1.z) - az;
+    double fx = double(p2.x) - ax, fy = double(p2.y) - ay, fz = double(p2.z) - az;
+    double nx = ey * fz - ez * fy, ny = ez * fx - ex * fz, nz = ex * fy - ey * fx;
+    double denom = nx * dl.x + ny * dl.y + nz * dl.z;
+    if (denom == 0 || !std::isfinite(denom)) return;
+    double tl = (nx * (ax - ol.x) + ny * (ay - ol.y) + nz * (az - ol.z)) / denom;
+    Vec3 refined{float(ol.x + tl * dl.x), float(ol.y + tl * dl.y), float(ol.z + tl * dl.z)};
+    if (!isFinite(refined)) return;
+    // Its own error: the double arithmetic (a few roundings of 2^-53 relative to the origin
+    // and the ray's reach), then the rounding to float.
+    double reach = maxComponent(kernels::absVec(ol)) +
+                   std::abs(tl) * maxComponent(kernels::absVec(dl));
+    Vec3 own = kernels::absVec(refined) * 0x1p-23f + Vec3(float(reach * 0x1p-48));
+    pl = refined;
+    errl = vmax(errl, own);
+}
+
+// A hit's geometry in its shape's own space, before the instance's transform: references to
+// the caller's variables (kept apart, not one aggregate, so that the compiler keeps them in
+// registers on the hot triangle path).
+struct LocalSurface {
+    Vec3 &p, &err, &ng, &ns, &dpdu;
+};
+
+// A triangle hit from Embree's barycentrics (u, v), or from the exact double-precision test
+// on a huge triangle (exactTriangleSurface).
+void triangleSurface(const TriangleMesh& m, unsigned tri, bool exact, float u, float v,
+                     const Affine* toLocal, const Vec3& rayOrigin, const Vec3& rayDir,
+                     SurfaceHit& h, const LocalSurface& l) {
+    unsigned i0 = m.indices[3 * tri], i1 = m.indices[3 * tri + 1], i2 = m.indices[3 * tri + 2];
+    const Vec3 &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
+    if (exact && exactTriangleSurface(m, i0, i1, i2, toLocal, rayOrigin, rayDir, h, l.p, l.err,
+                                      l.ng, l.ns, l.dpdu))
+        return;
+    float w = 1.0f - u - v;
+    // The point from barycentrics is more accurate than o + t d far from the origin, and
+    // its error bound is known (kernels/ray_offset.h).
+    l.p = kernels::trianglePoint(p0, p1, p2, u, v, l.err);
+    Vec3 ol = toLocal ? toLocal->point(rayOrigin) : rayOrigin;
+    if (maxComponent(l.err) > kRefineTriangleHit * std::max(maxComponent(kernels::absVec(l.p)),
+                                                            maxComponent(kernels::absVec(ol))))
+        refineFarTrianglePoint(p0, p1, p2, ol, toLocal ? toLocal->vector(rayDir) : rayDir, l.p,
+                               l.err);
+    l.ng = cross(p1 - p0, p2 - p0);
+    l.ns = m.normals.empty() ? l.ng : m.normals[i0] * w + m.normals[i1] * u + m.normals[i2] * v;
+    l.dpdu = p1 - p0; // without uvs: the first edge
+    if (!m.uvs.empty()) {
+        h.uv = {m.uvs[i0].x * w + m.uvs[i1].x * u + m.uvs[i2].x * v,
+                m.uvs[i0].y * w + m.uvs[i1].y * u + m.uvs[i2].y * v};
+        // dp/du from the triangle's two edges and their uv differences (pbrt-v4's rule).
+        Vec2 d02{m.uvs[i0].x - m.uvs[i2].x, m.uvs[i0].y - m.uvs[i2].y};
+        Vec2 d12{m.uvs[i1].x - m.uvs[i2].x, m.uvs[i1].y - m.uvs[i2].y};
+        float det = d02.x * d12.y - d02.y * d12.x;
+        if (std::abs(det) > 1e-9f) l.dpdu = ((p0 - p2) * d12.y - (p1 - p2) * d02.y) / det;
+    } else {
+        h.uv = {u, v};
+    }
+}
+
+// Embree's single-ray and packet kernels round a sphere's t differently (by an ulp or so).
+// Solving the quadratic again in double precision, and taking the root Embree found, makes the
+// hit point independent of the packet width and more accurate.
+void sphereSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
+                   const Vec3& rayDir, float t, const LocalSurface& l) {
+    Vec3 ol = toLocal ? toLocal->point(rayOrigin) : rayOrigin;
+    Vec3 dl = toLocal ? toLocal->vector(rayDir) : rayDir;
+    double ocx = double(ol.x) - s.center.x, ocy = double(ol.y) - s.center.y,
+           ocz = double(ol.z) - s.center.z;
+    double a = double(dl.x) * dl.x + double(dl.y) * dl.y + double(dl.z) * dl.z;
+    double bh = ocx * dl.x + ocy * dl.y + ocz * dl.z;
+    double c = ocx * ocx + ocy * ocy + ocz * ocz - double(s.radius) * s.radius;
+    double sq = std::sqrt(std::max(0.0, bh * bh - a * c));
+    double t0 = (-bh - sq) / a, t1 = (-bh + sq) / a;
+    double tl = std::abs(t0 - t) <= std::abs(t1 - t) ? t0 : t1;
+    Vec3 p{float(ocx + tl * dl.x), float(ocy + tl * dl.y), float(ocz + tl * dl.z)};
+    l.ng = p;
+    // Re-project onto the surface: removes what error remains along the normal.
+    l.p = s.center + robustNormalize(l.ng) * s.radius;
+    l.err = kernels::roundSurfaceError(l.p, s.center, s.radius);
+    l.ns = l.ng;
+    l.dpdu = {-(l.p.y - s.center.y), l.p.x - s.center.x, 0.0f}; // along phi about z
+}
+
+// A disk's point projected onto its plane.
+void diskSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
+                 const Vec3& rayDir, float t, const LocalSurface& l) {
+    Vec3 pw = rayOrigin + rayDir * t;
+    Vec3 p = toLocal ? toLocal->point(pw) : pw;
+    l.ng = s.normal;
+    l.p = p - l.ng * (dot(p - s.center, l.ng) / dot(l.ng, l.ng));
+    l.err = kernels::roundSurfaceError(l.p, s.center, s.radius);
+    l.ns = l.ng;
+}
+
+// The local geometry into world space, with normals that are never zero or NaN.
+void placeSurface(const LocalSurface& l, const Affine* toWorld, const Affine* toLocal,
+                  const Vec3& rayDir, SurfaceHit& h) {
+    if (toWorld) {
+        h.p = toWorld->point(l.p);
+        h.pError = kernels::transformedPointError(*toWorld, l.p, l.err);
+        h.ng = robustNormalize(toLocal->normalByInverse(l.ng));
+        h.ns = robustNormalize(toLocal->normalByInverse(l.ns));
+        h.dpdu = toWorld->vector(l.dpdu);
+        // The inverse transpose keeps the front side the side the winding named in the
+        // shape's own space, also under mirroring transforms (as pbrt's handedness flip does).
+    } else {
+        h.p = l.p;
+        h.pError = l.err;
+        h.ng = robustNormalize(l.ng);
+        h.ns = robustNormalize(l.ns);
+        h.dpdu = l.dpdu;
+    }
+    // Degenerate input never yields a zero or NaN normal: a triangle without area (Embree can
+    // still report a hit on a needle whose cross product underflows) faces the ray, and a zero,
+    // missing or non-finite shading normal falls back to the geometric one.
+    if (isBlack(h.ng)) h.ng = robustNormalize(-rayDir);
+    if (isBlack(h.ng)) h.ng = {0, 1, 0};
+    if (isBlack(h.ns)) h.ns = h.ng;
+    if (dot(h.ns, h.ng) < 0) h.ns = -h.ns;
+}
+
 } // namespace
 
 SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primId, float u,
@@ -460,126 +602,23 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
     h.shape = g->leaf;
     const Shape& s = *h.shape;
     h.material = s.material;
-    Vec3 pl, ngl, nsl, errl, dpdul;
+    Vec3 pl, errl, ngl, nsl, dpdul;
+    const LocalSurface l{pl, errl, ngl, nsl, dpdul};
     switch (s.type) {
-    case ShapeType::Mesh: {
-        const TriangleMesh& m = *s.mesh;
-        const unsigned tri = g->triangles ? (*g->triangles)[primId] : primId;
-        unsigned i0 = m.indices[3 * tri], i1 = m.indices[3 * tri + 1], i2 = m.indices[3 * tri + 2];
-        const Vec3 &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
-        if (g->exact && exactTriangleSurface(m, i0, i1, i2, toLocal, rayOrigin, rayDir, h, pl,
-                                             errl, ngl, nsl, dpdul))
-            break;
-        float w = 1.0f - u - v;
-        // The point from barycentrics is more accurate than o + t d far from the origin, and
-        // its error bound is known (kernels/ray_offset.h).
-        pl = kernels::trianglePoint(p0, p1, p2, u, v, errl);
-        Vec3 ol = toLocal ? toLocal->point(rayOrigin) : rayOrigin;
-        if (maxComponent(errl) > kRefineTriangleHit * std::max(maxComponent(kernels::absVec(pl)),
-                                                               maxComponent(kernels::absVec(ol)))) {
-            // The triangle's vertices are far larger than the hit point and the ray's origin
-            // (a 1e9 ground plane seen from near the origin): the barycentric sum cancels to
-            // errors of ~60 units along the plane. The ray meets the triangle's plane again in
-            // double precision instead. The error bound stays the barycentric one: it is what
-            // Embree's own float arithmetic on these vertices can miss the plane by, so the
-            // spawned rays' offsets still clear it, raised to the refined point's own error
-            // where that is larger (along an axis-aligned plane's normal the barycentric bound
-            // is 0: the vertices agree exactly there, the refined point need not).
-            Vec3 dl = toLocal ? toLocal->vector(rayDir) : rayDir;
-            double ax = p0.x, ay = p0.y, az = p0.z;
-            double ex = double(p1.x) - ax, ey = double(p1.y) - ay, ez = double(p1.z) - az;
-            double fx = double(p2.x) - ax, fy = double(p2.y) - ay, fz = double(p2.z) - az;
-            double nx = ey * fz - ez * fy, ny = ez * fx - ex * fz, nz = ex * fy - ey * fx;
-            double denom = nx * dl.x + ny * dl.y + nz * dl.z;
-            if (denom != 0 && std::isfinite(denom)) {
-                double tl = (nx * (ax - ol.x) + ny * (ay - ol.y) + nz * (az - ol.z)) / denom;
-                Vec3 refined{float(ol.x + tl * dl.x), float(ol.y + tl * dl.y),
-                             float(ol.z + tl * dl.z)};
-                if (isFinite(refined)) {
-                    // Its own error: the double arithmetic (a few roundings of 2^-53 relative
-                    // to the origin and the ray's reach), then the rounding to float.
-                    double reach = maxComponent(kernels::absVec(ol)) +
-                                   std::abs(tl) * maxComponent(kernels::absVec(dl));
-                    Vec3 own = kernels::absVec(refined) * 0x1p-23f + Vec3(float(reach * 0x1p-48));
-                    pl = refined;
-                    errl = vmax(errl, own);
-                }
-            }
-        }
-        ngl = cross(p1 - p0, p2 - p0);
-        nsl = m.normals.empty() ? ngl
-                                : m.normals[i0] * w + m.normals[i1] * u + m.normals[i2] * v;
-        dpdul = p1 - p0; // without uvs: the first edge
-        if (!m.uvs.empty()) {
-            h.uv = {m.uvs[i0].x * w + m.uvs[i1].x * u + m.uvs[i2].x * v,
-                    m.uvs[i0].y * w + m.uvs[i1].y * u + m.uvs[i2].y * v};
-            // dp/du from the triangle's two edges and their uv differences (pbrt-v4's rule).
-            Vec2 d02{m.uvs[i0].x - m.uvs[i2].x, m.uvs[i0].y - m.uvs[i2].y};
-            Vec2 d12{m.uvs[i1].x - m.uvs[i2].x, m.uvs[i1].y - m.uvs[i2].y};
-            float det = d02.x * d12.y - d02.y * d12.x;
-            if (std::abs(det) > 1e-9f) dpdul = ((p0 - p2) * d12.y - (p1 - p2) * d02.y) / det;
-        } else {
-            h.uv = {u, v};
-        }
+    case ShapeType::Mesh:
+        triangleSurface(*s.mesh, g->triangles ? (*g->triangles)[primId] : primId, g->exact, u, v,
+                        toLocal, rayOrigin, rayDir, h, l);
         break;
-    }
-    case ShapeType::Sphere: {
-        // Embree's single-ray and packet kernels round a sphere's t differently (by an ulp or
-        // so). Solving the quadratic again in double precision, and taking the root Embree
-        // found, makes the hit point independent of the packet width and more accurate.
-        Vec3 ol = toLocal ? toLocal->point(rayOrigin) : rayOrigin;
-        Vec3 dl = toLocal ? toLocal->vector(rayDir) : rayDir;
-        double ocx = double(ol.x) - s.center.x, ocy = double(ol.y) - s.center.y,
-               ocz = double(ol.z) - s.center.z;
-        double a = double(dl.x) * dl.x + double(dl.y) * dl.y + double(dl.z) * dl.z;
-        double bh = ocx * dl.x + ocy * dl.y + ocz * dl.z;
-        double c = ocx * ocx + ocy * ocy + ocz * ocz - double(s.radius) * s.radius;
-        double sq = std::sqrt(std::max(0.0, bh * bh - a * c));
-        double t0 = (-bh - sq) / a, t1 = (-bh + sq) / a;
-        double tl = std::abs(t0 - t) <= std::abs(t1 - t) ? t0 : t1;
-        Vec3 p{float(ocx + tl * dl.x), float(ocy + tl * dl.y), float(ocz + tl * dl.z)};
-        ngl = p;
-        // Re-project onto the surface: removes what error remains along the normal.
-        pl = s.center + robustNormalize(ngl) * s.radius;
-        errl = kernels::roundSurfaceError(pl, s.center, s.radius);
-        nsl = ngl;
-        dpdul = {-(pl.y - s.center.y), pl.x - s.center.x, 0.0f}; // along phi about z
+    case ShapeType::Sphere:
+        sphereSurface(s, toLocal, rayOrigin, rayDir, t, l);
+        h.uv = {u, v};
+        break;
+    case ShapeType::Disk:
+        diskSurface(s, toLocal, rayOrigin, rayDir, t, l);
         h.uv = {u, v};
         break;
     }
-    case ShapeType::Disk: {
-        Vec3 pw = rayOrigin + rayDir * t;
-        Vec3 p = toLocal ? toLocal->point(pw) : pw;
-        ngl = s.normal;
-        pl = p - ngl * (dot(p - s.center, ngl) / dot(ngl, ngl));
-        errl = kernels::roundSurfaceError(pl, s.center, s.radius);
-        nsl = ngl;
-        h.uv = {u, v};
-        break;
-    }
-    }
-    if (toWorld) {
-        h.p = toWorld->point(pl);
-        h.pError = kernels::transformedPointError(*toWorld, pl, errl);
-        h.ng = robustNormalize(toLocal->normalByInverse(ngl));
-        h.ns = robustNormalize(toLocal->normalByInverse(nsl));
-        h.dpdu = toWorld->vector(dpdul);
-        // The inverse transpose keeps the front side the side the winding named in the
-        // shape's own space, also under mirroring transforms (as pbrt's handedness flip does).
-    } else {
-        h.p = pl;
-        h.pError = errl;
-        h.ng = robustNormalize(ngl);
-        h.ns = robustNormalize(nsl);
-        h.dpdu = dpdul;
-    }
-    // Degenerate input never yields a zero or NaN normal: a triangle without area (Embree can
-    // still report a hit on a needle whose cross product underflows) faces the ray, and a zero,
-    // missing or non-finite shading normal falls back to the geometric one.
-    if (isBlack(h.ng)) h.ng = robustNormalize(-rayDir);
-    if (isBlack(h.ng)) h.ng = {0, 1, 0};
-    if (isBlack(h.ns)) h.ns = h.ng;
-    if (dot(h.ns, h.ng) < 0) h.ns = -h.ns;
+    placeSurface(l, toWorld, toLocal, rayDir, h);
     return h;
 }
 

@@ -120,6 +120,8 @@ private:
     void collectLeaves(const Node& group, std::vector<const Shape*>& out) const;
     // Attaches the shape's geometries to `target`, their entries to `geoms` (by geomID).
     void attachShape(RTCScene target, const Shape& shape, std::vector<GeomEntry>& geoms);
+    // A mesh's Embree triangles and, for its huge triangles, the exact user geometry.
+    void attachMesh(RTCScene target, const Shape& shape, std::vector<GeomEntry>& geoms);
     void attachGeometry(RTCScene target, RTCGeometry geom, const GeomEntry& entry,
                         std::vector<GeomEntry>& geoms);
 

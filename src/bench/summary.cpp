@@ -95,12 +95,10 @@ std::vector<double> equalTimePoints(const std::vector<BenchRow>& rows, const std
     return times;
 }
 
-std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContext& ctx) {
-    const BenchSuite& suite = *ctx.suite;
-    std::ostringstream o;
-    o << "# rayproc bench: suite `" << suite.name << "`\n\n";
-    if (ctx.interrupted)
-        o << "**Interrupted (Ctrl-C): the tables hold only the renders that completed.**\n\n";
+namespace {
+
+// When, where and how the run was made.
+void writeRunLines(std::ostringstream& o, const SummaryContext& ctx) {
     o << "- Command: `" << ctx.commandLine << "`\n";
     if (ctx.regenerated)
         o << "- This report was regenerated on " << ctx.started
@@ -114,13 +112,13 @@ std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContex
           << ". Load average (1 min) " << ctx.loadAtStart << " at the start, " << ctx.loadAtEnd
           << " at the end: on a shared machine the times are indicative only; compare modes "
              "within one run.\n";
-    const std::string size = commonRenderSize(ctx.scenes, suite);
-    if (!size.empty())
-        o << "- Every scene rendered at **" << size
-          << "** (the scene files' own resolutions are overridden; see the table below).";
-    else
-        o << "- Each scene rendered at its own size, the table's *rendered at* (the scene files' "
-             "own resolutions are overridden).";
+}
+
+// What the times count and what each mode rendered: time-limited progressive renders, or
+// spp ladders and gi's settings sweep.
+void writeBudgets(std::ostringstream& o, const std::vector<BenchRow>& rows,
+                  const SummaryContext& ctx) {
+    const BenchSuite& suite = *ctx.suite;
     const bool progressive = std::any_of(rows.begin(), rows.end(), isProgressiveRow);
     if (progressive) {
         o << " Times are seconds from the start of the mode's work to the end of a pass: for gi "
@@ -134,27 +132,29 @@ std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContex
              "every pass: each point of a curve is one pass of one render, as a user's "
              "time-limited render would show it. A curve is the render's lower envelope (the "
              "best error reached by each time).\n";
-    } else {
-        o << " Times are the wall time of one mode driver call, from the start of the mode's "
-             "work to the finished image: for gi the photon passes, precomputed irradiance and "
-             "irradiance-cache prepass included; scene loading and the BVH build excluded. One "
-             "render per budget, seed 1.\n"
-          << "- Budgets: each mode's spp ladder";
-        for (const ModeLadder& l : suite.ladders) {
-            o << "; " << l.mode << " ";
-            for (std::size_t i = 0; i < l.spp.size(); ++i) o << (i ? "," : "") << l.spp[i];
-        }
-        o << ". A ladder stops before a render predicted to take longer than "
-          << secs(ctx.timeCapSeconds > 0 ? ctx.timeCapSeconds : suite.timeCapSeconds) << ".\n"
-          << "- gi settings swept (gather rays, IC accuracy a, global photons per round; "
-             "caustic photons gi's default):";
-        for (const GiVariant& v : suite.giVariants)
-            o << " (" << v.gatherRays << ", " << v.icAccuracy << ", " << v.photons << ")";
-        o << ". gi's curve is the lower envelope: at each time, the best of these.\n";
+        return;
     }
-    o << "- Error: relMSE (docs/image-comparison.md) against the reference. Readings between "
-         "renders are log-log interpolations; nothing is extrapolated.\n";
-    for (const std::string& peer : ctx.peerCsvs) o << "- Peer results from `" << peer << "`.\n";
+    o << " Times are the wall time of one mode driver call, from the start of the mode's "
+         "work to the finished image: for gi the photon passes, precomputed irradiance and "
+         "irradiance-cache prepass included; scene loading and the BVH build excluded. One "
+         "render per budget, seed 1.\n"
+      << "- Budgets: each mode's spp ladder";
+    for (const ModeLadder& l : suite.ladders) {
+        o << "; " << l.mode << " ";
+        for (std::size_t i = 0; i < l.spp.size(); ++i) o << (i ? "," : "") << l.spp[i];
+    }
+    o << ". A ladder stops before a render predicted to take longer than "
+      << secs(ctx.timeCapSeconds > 0 ? ctx.timeCapSeconds : suite.timeCapSeconds) << ".\n"
+      << "- gi settings swept (gather rays, IC accuracy a, global photons per round; "
+         "caustic photons gi's default):";
+    for (const GiVariant& v : suite.giVariants)
+        o << " (" << v.gatherRays << ", " << v.icAccuracy << ", " << v.photons << ")";
+    o << ". gi's curve is the lower envelope: at each time, the best of these.\n";
+}
+
+// Each scene's resolutions and where its reference came from; `size` is the common render
+// size ("" if the scenes differ: then a column says each one's).
+void writeSceneTable(std::ostringstream& o, const SummaryContext& ctx, const std::string& size) {
     if (size.empty())
         o << "\n| scene | file's resolution | rendered at | reference |\n|---|---|---|---|\n";
     else
@@ -177,47 +177,78 @@ std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContex
         }
         o << " |\n";
     }
+}
 
-    const std::vector<double>& targets = suite.summaryTargets;
-    for (const std::string& scene : sceneNames(rows)) {
-        std::vector<ModeCurve> curves = modeCurves(rows, scene);
-        o << "\n## " << scene << "\n\n![" << scene << ": relMSE against time](" << plotFileName(scene)
-          << ")\n\n### Time to reach a relMSE\n\n| mode |";
-        for (double t : targets) o << " relMSE " << t << " |";
-        o << "\n|---|";
-        for (std::size_t i = 0; i < targets.size(); ++i) o << "---|";
+// One table: a row per mode, a column per value of `columns` (header cells by `header`, body
+// cells by `cell`).
+template <typename Header, typename Cell>
+void writeModeTable(std::ostringstream& o, const std::vector<ModeCurve>& curves,
+                    const std::vector<double>& columns, Header header, Cell cell) {
+    o << "| mode |";
+    for (double t : columns) o << " " << header(t) << " |";
+    o << "\n|---|";
+    for (std::size_t i = 0; i < columns.size(); ++i) o << "---|";
+    o << "\n";
+    for (const ModeCurve& c : curves) {
+        o << "| " << modeLabel(c) << " |";
+        for (double t : columns) o << " " << cell(c, t) << " |";
         o << "\n";
-        for (const ModeCurve& c : curves) {
-            o << "| " << modeLabel(c) << " |";
-            for (double t : targets) o << " " << timeCell(c, t) << " |";
-            o << "\n";
-        }
-        std::vector<double> times = equalTimePoints(rows, scene);
-        o << "\n### relMSE at equal time\n\n";
-        if (times.empty()) {
-            o << "No time (1, 2 or 5 times a power of ten seconds) lies inside the measured "
-                 "span of two modes.\n";
-        } else {
-            o << "| mode |";
-            for (double t : times) o << " " << secs(t) << " |";
-            o << "\n|---|";
-            for (std::size_t i = 0; i < times.size(); ++i) o << "---|";
-            o << "\n";
-            for (const ModeCurve& c : curves) {
-                o << "| " << modeLabel(c) << " |";
-                for (double t : times) o << " " << errorCell(c, t) << " |";
-                o << "\n";
-            }
-        }
-        for (const ModeCurve& c : curves) {
-            if (c.variants.size() < 2) continue;
-            o << "\n### " << c.mode << ": the best setting at each time (the envelope)\n\n"
-              << "| seconds | relMSE | settings |\n|---|---|---|\n";
-            for (const CurvePoint& p : c.envelope)
-                o << "| " << secs(p.seconds) << " | " << err(p.relmse) << " | `"
-                  << c.rows[std::size_t(p.tag)].settings << "` |\n";
-        }
     }
+}
+
+// A scene's plot, its time-to-error and error-at-time tables and gi's envelopes.
+void writeSceneSection(std::ostringstream& o, const std::vector<BenchRow>& rows,
+                       const std::string& scene, const std::vector<double>& targets) {
+    std::vector<ModeCurve> curves = modeCurves(rows, scene);
+    o << "\n## " << scene << "\n\n![" << scene << ": relMSE against time](" << plotFileName(scene)
+      << ")\n\n### Time to reach a relMSE\n\n";
+    writeModeTable(o, curves, targets,
+                   [](double t) {
+                       std::ostringstream h;
+                       h << "relMSE " << t;
+                       return h.str();
+                   },
+                   timeCell);
+    std::vector<double> times = equalTimePoints(rows, scene);
+    o << "\n### relMSE at equal time\n\n";
+    if (times.empty())
+        o << "No time (1, 2 or 5 times a power of ten seconds) lies inside the measured "
+             "span of two modes.\n";
+    else
+        writeModeTable(o, curves, times, secs, errorCell);
+    for (const ModeCurve& c : curves) {
+        if (c.variants.size() < 2) continue;
+        o << "\n### " << c.mode << ": the best setting at each time (the envelope)\n\n"
+          << "| seconds | relMSE | settings |\n|---|---|---|\n";
+        for (const CurvePoint& p : c.envelope)
+            o << "| " << secs(p.seconds) << " | " << err(p.relmse) << " | `"
+              << c.rows[std::size_t(p.tag)].settings << "` |\n";
+    }
+}
+
+} // namespace
+
+std::string renderSummary(const std::vector<BenchRow>& rows, const SummaryContext& ctx) {
+    const BenchSuite& suite = *ctx.suite;
+    std::ostringstream o;
+    o << "# rayproc bench: suite `" << suite.name << "`\n\n";
+    if (ctx.interrupted)
+        o << "**Interrupted (Ctrl-C): the tables hold only the renders that completed.**\n\n";
+    writeRunLines(o, ctx);
+    const std::string size = commonRenderSize(ctx.scenes, suite);
+    if (!size.empty())
+        o << "- Every scene rendered at **" << size
+          << "** (the scene files' own resolutions are overridden; see the table below).";
+    else
+        o << "- Each scene rendered at its own size, the table's *rendered at* (the scene files' "
+             "own resolutions are overridden).";
+    writeBudgets(o, rows, ctx);
+    o << "- Error: relMSE (docs/image-comparison.md) against the reference. Readings between "
+         "renders are log-log interpolations; nothing is extrapolated.\n";
+    for (const std::string& peer : ctx.peerCsvs) o << "- Peer results from `" << peer << "`.\n";
+    writeSceneTable(o, ctx, size);
+    for (const std::string& scene : sceneNames(rows))
+        writeSceneSection(o, rows, scene, suite.summaryTargets);
     if (rows.empty()) o << "\nNo render completed.\n";
     o << "\nEvery render: `results.csv` (scene, mode, settings, seconds, rays, relmse, rmse).\n";
     return o.str();

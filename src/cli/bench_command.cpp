@@ -110,8 +110,8 @@ void writeReport(std::vector<BenchRow> rows, SummaryContext& ctx, const std::str
     std::printf("%s\n", fs::absolute(summary).c_str());
 }
 
-int runBench(BenchArgs& a) {
-    std::string suiteName = a.suite.empty() ? (a.quick ? "quick" : "default") : a.suite;
+// The suite the options name, after the checks that need no file.
+const BenchSuite& selectSuite(BenchArgs& a, const std::string& suiteName) {
     if (a.quick && suiteName != "quick")
         throw InputError("--quick selects the suite 'quick'; it cannot be combined with suite '" +
                          suiteName + "'");
@@ -124,11 +124,14 @@ int runBench(BenchArgs& a) {
     if (a.ablation && !o.modes.empty())
         throw InputError("--modes selects the curves' modes; --ablation renders its own fixed "
                          "list of optimisations in path and gi mode");
-    // Scene files, --reference and --modes: fail before any work. The runs take these jobs
-    // (given references already read).
-    std::vector<SceneJob> jobs = benchSceneJobs(suite, o);
-    selectedLadders(suite, o);
-    std::string resultsPath = (fs::path(o.outDir) / "results.csv").string();
+    return suite;
+}
+
+// The run's files before any work: the peer CSVs read, no output one of the inputs, the output
+// directory made and writable.
+void checkBenchFiles(const BenchArgs& a, const std::vector<SceneJob>& jobs,
+                     const std::string& resultsPath) {
+    const BenchOptions& o = a.options;
     if (a.reportOnly && !fs::is_regular_file(resultsPath))
         throw InputError(resultsPath + ": no results to report (--report-only reads the "
                                        "results.csv of an earlier run)");
@@ -151,8 +154,61 @@ int runBench(BenchArgs& a) {
                          (ec ? " (" + ec.message() + ")" : std::string()));
     if (::access(o.outDir.c_str(), W_OK) != 0)
         throw InputError(o.outDir + ": the output directory is not writable");
+}
 
-    auto log = [&](const std::string& line) {
+// --ablation: each optimisation on and off, into ablation.csv and ablation.md.
+int runAblationBench(const std::vector<SceneJob>& jobs, const BenchSuite& suite,
+                     const BenchOptions& o, const SummaryContext& ctx, const BenchLog& log) {
+    std::string csv = (fs::path(o.outDir) / "ablation.csv").string();
+    AblationRun run = runAblation(jobs, suite, o, csv, log);
+    std::string md = (fs::path(o.outDir) / "ablation.md").string();
+    writeText(md, renderAblationMarkdown(run, suite, ctx.commandLine, ctx.loadAtStart,
+                                         loadAverage()));
+    std::printf("%s\n%s\n", fs::absolute(csv).c_str(), fs::absolute(md).c_str());
+    if (run.interrupted) {
+        std::fprintf(stderr, "rayproc bench: interrupted; kept the %zu rows that completed\n",
+                     run.rows.size());
+        return interruptExitStatus();
+    }
+    return 0;
+}
+
+// The curves: the spp ladders or the progressive renders, into results.csv and the report.
+int runCurvesBench(const std::vector<SceneJob>& jobs, const BenchSuite& suite,
+                   const BenchOptions& o, const std::string& resultsPath, SummaryContext& ctx,
+                   const BenchLog& log, std::chrono::steady_clock::time_point start) {
+    ResultsCsvWriter results(resultsPath, /*truncate=*/true);
+    LadderRun run = o.progressive ? runProgressive(jobs, suite, o, results, log)
+                                  : runLadders(jobs, suite, o, results, log);
+    ctx.scenes = run.scenes;
+    ctx.interrupted = run.interrupted;
+    ctx.loadAtEnd = loadAverage();
+    ctx.totalSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("%s\n", fs::absolute(resultsPath).c_str());
+    writeReport(run.rows, ctx, o.outDir);
+    if (run.interrupted) {
+        std::fprintf(stderr,
+                     "rayproc bench: interrupted; results.csv and the report hold the %zu "
+                     "renders that completed\n",
+                     run.rows.size());
+        return interruptExitStatus();
+    }
+    return 0;
+}
+
+int runBench(BenchArgs& a) {
+    std::string suiteName = a.suite.empty() ? (a.quick ? "quick" : "default") : a.suite;
+    const BenchSuite& suite = selectSuite(a, suiteName);
+    BenchOptions& o = a.options;
+    // Scene files, --reference and --modes: fail before any work. The runs take these jobs
+    // (given references already read).
+    std::vector<SceneJob> jobs = benchSceneJobs(suite, o);
+    selectedLadders(suite, o);
+    std::string resultsPath = (fs::path(o.outDir) / "results.csv").string();
+    checkBenchFiles(a, jobs, resultsPath);
+
+    BenchLog log = [&](const std::string& line) {
         if (!o.quiet) std::fprintf(stderr, "rayproc bench: %s\n", line.c_str());
     };
     SummaryContext ctx;
@@ -173,40 +229,8 @@ int runBench(BenchArgs& a) {
         writeReport(rows, ctx, o.outDir);
         return 0;
     }
-
-    if (a.ablation) {
-        std::string csv = (fs::path(o.outDir) / "ablation.csv").string();
-        AblationRun run = runAblation(jobs, suite, o, csv, log);
-        std::string md = (fs::path(o.outDir) / "ablation.md").string();
-        writeText(md, renderAblationMarkdown(run, suite, ctx.commandLine, ctx.loadAtStart,
-                                             loadAverage()));
-        std::printf("%s\n%s\n", fs::absolute(csv).c_str(), fs::absolute(md).c_str());
-        if (run.interrupted) {
-            std::fprintf(stderr, "rayproc bench: interrupted; kept the %zu rows that completed\n",
-                         run.rows.size());
-            return interruptExitStatus();
-        }
-        return 0;
-    }
-
-    ResultsCsvWriter results(resultsPath, /*truncate=*/true);
-    LadderRun run = o.progressive ? runProgressive(jobs, suite, o, results, log)
-                                  : runLadders(jobs, suite, o, results, log);
-    ctx.scenes = run.scenes;
-    ctx.interrupted = run.interrupted;
-    ctx.loadAtEnd = loadAverage();
-    ctx.totalSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("%s\n", fs::absolute(resultsPath).c_str());
-    writeReport(run.rows, ctx, o.outDir);
-    if (run.interrupted) {
-        std::fprintf(stderr,
-                     "rayproc bench: interrupted; results.csv and the report hold the %zu "
-                     "renders that completed\n",
-                     run.rows.size());
-        return interruptExitStatus();
-    }
-    return 0;
+    if (a.ablation) return runAblationBench(jobs, suite, o, ctx, log);
+    return runCurvesBench(jobs, suite, o, resultsPath, ctx, log, start);
 }
 
 } // namespace

@@ -209,6 +209,68 @@ int runDiff(const DiffArgs& a) {
     return exceeded.empty() ? kExitWithinLimits : kExitLimitExceeded;
 }
 
+// The images compared and how the metrics are printed.
+void addInputOptions(CLI::App* cmd, DiffArgs& args) {
+    cmd->add_option("test", args.test, "Image to check (.png, .exr, .hdr or .pfm)")->required();
+    cmd->add_option("reference", args.reference,
+                    "Reference image (the metrics' b; e.g. a high-spp path-traced render): the "
+                    "test's size, or an integer multiple f of it on both axes, in which case it "
+                    "is box-downsampled by f automatically (non-finite pixels left out of each "
+                    "average)")
+        ->required();
+    cmd->add_option("--relmse-denominator", args.relmseDenominator,
+                    "Take relMSE's b in (a-b)^2 / (b^2 + 0.01) from this image instead of the "
+                    "reference (the test's size or an integer multiple, downsampled like the "
+                    "reference), in the relmse heatmap too; the other metrics are unchanged. For "
+                    "a render's noise alone: the reference a converged render of the same mode, "
+                    "the denominator the true (e.g. path-traced) reference")
+        ->type_name("IMAGE");
+    cmd->add_flag("--json", args.json,
+                  "Print the metrics as JSON: width, height, pixels, rmse, relmse, psnr (null "
+                  "when the images are equal), mae, max_abs, mean_rel, mean_rel_rgb (signed, "
+                  "per channel), block_rel, blocks, blocks_skipped, reference_nonfinite, "
+                  "reference_downsample, exceeded (names of failed limits)");
+}
+
+// The difference image.
+void addDifferenceImageOptions(CLI::App* cmd, DiffArgs& args) {
+    cmd->add_option("-o,--output", args.output,
+                    "Write the difference image |test - reference| per channel, times --scale "
+                    "(.pfm/.exr/.hdr: linear values; .png: clamped to 1, sRGB-encoded)");
+    cmd->add_option("--scale", args.scale,
+                    "Multiply the difference image by this factor (default 1; values beyond "
+                    "float's range are clamped to 3.4e38, with a warning)")
+        ->check(finiteFloat())
+        ->check(CLI::PositiveNumber);
+}
+
+// The error heatmap: its metric, scale, range and legend.
+void addHeatmapOptions(CLI::App* cmd, DiffArgs& args) {
+    cmd->add_option("--heatmap", args.heatmap,
+                    "Write a false-colour map of the per-pixel error (inferno: black = none; "
+                    "cyan = NaN/Inf) with a colour bar and tick labels on its right")
+        ->type_name("FILE");
+    cmd->add_option("--heatmap-metric", args.heatmapMetric,
+                    "Per-pixel error the heatmap shows: relmse (default; (a-b)^2/(b^2+0.01) "
+                    "averaged over R, G, B) or abs (|a-b| averaged over R, G, B)")
+        ->check(CLI::IsMember({"relmse", "abs"}));
+    cmd->add_option("--heatmap-scale", args.heatmapScale,
+                    "Colour scale: log (default; from the largest error down at most 4 decades, "
+                    "widened to whole decades) or linear (0 to the largest error, rounded up "
+                    "to 1, 2 or 5 x 10^k)")
+        ->check(finiteNumber())
+        ->check(CLI::IsMember({"log", "linear"}));
+    cmd->add_option("--heatmap-range", args.heatmapRange,
+                    "Fixed colour range LO HI (0 <= LO < HI; LO > 0 on the log scale) instead "
+                    "of the automatic one, so heatmaps of several renders compare; errors "
+                    "outside take the end colours")
+        ->check(finiteNumber())
+        ->expected(2)
+        ->type_name("FLOAT");
+    cmd->add_flag("--no-legend", args.noLegend,
+                  "Heatmap without the colour bar: exactly the images' size");
+}
+
 } // namespace
 
 std::function<int()> addDiffCommand(CLI::App& app) {
@@ -216,56 +278,9 @@ std::function<int()> addDiffCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "diff", "Compare an image with a reference: RMSE, relMSE, PSNR, mean and maximum "
                 "absolute difference; optionally a difference image and an error heatmap");
-    cmd->add_option("test", args->test, "Image to check (.png, .exr, .hdr or .pfm)")->required();
-    cmd->add_option("reference", args->reference,
-                    "Reference image (the metrics' b; e.g. a high-spp path-traced render): the "
-                    "test's size, or an integer multiple f of it on both axes, in which case it "
-                    "is box-downsampled by f automatically (non-finite pixels left out of each "
-                    "average)")
-        ->required();
-    cmd->add_option("--relmse-denominator", args->relmseDenominator,
-                    "Take relMSE's b in (a-b)^2 / (b^2 + 0.01) from this image instead of the "
-                    "reference (the test's size or an integer multiple, downsampled like the "
-                    "reference), in the relmse heatmap too; the other metrics are unchanged. For "
-                    "a render's noise alone: the reference a converged render of the same mode, "
-                    "the denominator the true (e.g. path-traced) reference")
-        ->type_name("IMAGE");
-    cmd->add_flag("--json", args->json,
-                  "Print the metrics as JSON: width, height, pixels, rmse, relmse, psnr (null "
-                  "when the images are equal), mae, max_abs, mean_rel, mean_rel_rgb (signed, "
-                  "per channel), block_rel, blocks, blocks_skipped, reference_nonfinite, "
-                  "reference_downsample, exceeded (names of failed limits)");
-    cmd->add_option("-o,--output", args->output,
-                    "Write the difference image |test - reference| per channel, times --scale "
-                    "(.pfm/.exr/.hdr: linear values; .png: clamped to 1, sRGB-encoded)");
-    cmd->add_option("--scale", args->scale,
-                    "Multiply the difference image by this factor (default 1; values beyond "
-                    "float's range are clamped to 3.4e38, with a warning)")
-        ->check(finiteFloat())
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--heatmap", args->heatmap,
-                    "Write a false-colour map of the per-pixel error (inferno: black = none; "
-                    "cyan = NaN/Inf) with a colour bar and tick labels on its right")
-        ->type_name("FILE");
-    cmd->add_option("--heatmap-metric", args->heatmapMetric,
-                    "Per-pixel error the heatmap shows: relmse (default; (a-b)^2/(b^2+0.01) "
-                    "averaged over R, G, B) or abs (|a-b| averaged over R, G, B)")
-        ->check(CLI::IsMember({"relmse", "abs"}));
-    cmd->add_option("--heatmap-scale", args->heatmapScale,
-                    "Colour scale: log (default; from the largest error down at most 4 decades, "
-                    "widened to whole decades) or linear (0 to the largest error, rounded up "
-                    "to 1, 2 or 5 x 10^k)")
-        ->check(finiteNumber())
-        ->check(CLI::IsMember({"log", "linear"}));
-    cmd->add_option("--heatmap-range", args->heatmapRange,
-                    "Fixed colour range LO HI (0 <= LO < HI; LO > 0 on the log scale) instead "
-                    "of the automatic one, so heatmaps of several renders compare; errors "
-                    "outside take the end colours")
-        ->check(finiteNumber())
-        ->expected(2)
-        ->type_name("FLOAT");
-    cmd->add_flag("--no-legend", args->noLegend,
-                  "Heatmap without the colour bar: exactly the images' size");
+    addInputOptions(cmd, *args);
+    addDifferenceImageOptions(cmd, *args);
+    addHeatmapOptions(cmd, *args);
     cmd->add_option("--crop", args->crop,
                     "Compare only the pixels X0 <= x < X1, Y0 <= y < Y1 (top-left origin); the "
                     "difference image still covers the whole image, the heatmap outlines the "

@@ -74,6 +74,13 @@ void CameraEmitter::beginPass(int firstSample, int count) {
     }
 }
 
+// One tile's camera samples, before they become rays.
+struct CameraEmitter::TileSamples {
+    alignas(64) float fx[kBatchSize], fy[kBatchSize], lu[kBatchSize], lv[kBatchSize];
+    std::uint32_t pix[kBatchSize], samples[kBatchSize];
+    std::uint64_t keys[kBatchSize];
+};
+
 // Unit u covers the share's tile (u / passCount) for sample (firstSample + u % passCount): all the
 // samples of a tile are emitted together, which keeps rays of a region coherent in time.
 bool CameraEmitter::emit(StageContext& ctx) {
@@ -81,14 +88,25 @@ bool CameraEmitter::emit(StageContext& ctx) {
     if (unit >= unitsPerPass()) return false;
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, StageId::CameraEmit);
-    const int tile = m_tiles[std::size_t(unit / m_passCount)];
-    const int ofPass = int(unit % m_passCount);
+    TileSamples t;
+    const int n = sampleTile(m_tiles[std::size_t(unit / m_passCount)], int(unit % m_passCount), t);
+    RayBatch& b = ctx.out(RayKind::Camera);
+    // A tile is exactly one batch; start a fresh one if the open batch has other rays.
+    RayBatch* batch = &b;
+    if (batch->count != 0) {
+        ctx.flush(RayKind::Camera);
+        batch = &ctx.out(RayKind::Camera);
+    }
+    writeRays(t, n, *batch);
+    stats.samples += std::uint64_t(n);
+    stats.stages[int(StageId::CameraEmit)].raysOut += std::uint64_t(n);
+    ctx.flush(RayKind::Camera); // hand the tile to the queue now: it is a full unit of coherent work
+    return true;
+}
+
+int CameraEmitter::sampleTile(int tile, int ofPass, TileSamples& t) const {
     int x0 = (tile % m_tilesX) * kTile, y0 = (tile / m_tilesX) * kTile;
     int width = m_camera.width, height = m_camera.height;
-
-    alignas(64) float fx[kBatchSize], fy[kBatchSize], lu[kBatchSize], lv[kBatchSize];
-    std::uint32_t pix[kBatchSize], samples[kBatchSize];
-    std::uint64_t keys[kBatchSize];
     int n = 0;
     for (int y = y0; y < std::min(y0 + kTile, height); ++y) {
         for (int x = x0; x < std::min(x0 + kTile, width); ++x) {
@@ -113,50 +131,43 @@ bool CameraEmitter::emit(StageContext& ctx) {
                 // x + (0.5 - r) + 2 r s: for the default radius 0.5 exactly x + s, the film
                 // positions (and images) rayproc has always produced.
                 float rx = m_camera.filter.radius.x, ry = m_camera.filter.radius.y;
-                fx[n] = float(x) + (0.5f - rx) + 2.0f * rx * s.x;
-                fy[n] = float(y) + (0.5f - ry) + 2.0f * ry * s.y;
+                t.fx[n] = float(x) + (0.5f - rx) + 2.0f * rx * s.x;
+                t.fy[n] = float(y) + (0.5f - ry) + 2.0f * ry * s.y;
             } else {
                 kernels::FilterSample fs = m_filter.sample(s);
-                fx[n] = float(x) + 0.5f + fs.offset.x;
-                fy[n] = float(y) + 0.5f + fs.offset.y;
+                t.fx[n] = float(x) + 0.5f + fs.offset.x;
+                t.fy[n] = float(y) + 0.5f + fs.offset.y;
             }
-            lu[n] = lens.x;
-            lv[n] = lens.y;
-            pix[n] = p;
-            samples[n] = std::uint32_t(sample);
-            keys[n] = key;
+            t.lu[n] = lens.x;
+            t.lv[n] = lens.y;
+            t.pix[n] = p;
+            t.samples[n] = std::uint32_t(sample);
+            t.keys[n] = key;
             ++n;
         }
     }
-    RayBatch& b = ctx.out(RayKind::Camera);
-    // A tile is exactly one batch; start a fresh one if the open batch has other rays.
-    RayBatch* batch = &b;
-    if (batch->count != 0) {
-        ctx.flush(RayKind::Camera);
-        batch = &ctx.out(RayKind::Camera);
-    }
-    kernels::generateCameraRays(m_frame, n, fx, fy, lu, lv, batch->ox.data(), batch->oy.data(),
-                                batch->oz.data(), batch->dx.data(), batch->dy.data(),
-                                batch->dz.data());
+    return n;
+}
+
+void CameraEmitter::writeRays(const TileSamples& t, int n, RayBatch& batch) const {
+    kernels::generateCameraRays(m_frame, n, t.fx, t.fy, t.lu, t.lv, batch.ox.data(),
+                                batch.oy.data(), batch.oz.data(), batch.dx.data(),
+                                batch.dy.data(), batch.dz.data());
     for (int i = 0; i < n; ++i) {
-        batch->tnear[i] = 0.0f;
-        batch->tfar[i] = kInfinity;
-        batch->pixel[i] = pix[i];
-        batch->sample[i] = samples[i];
-        batch->prevPdf[i] = 0.0f;
-        batch->prevCos[i] = 0.0f;
-        batch->wr[i] = batch->wg[i] = batch->wb[i] = 1.0f;
-        batch->rngKey[i] = kernels::hashCombine(keys[i], 1);
-        batch->depth[i] = 0;
-        batch->specularDepth[i] = 0;
-        batch->flags[i] = kFlagCountEmission | kFlagCountEnvironment;
-        m_rc.film.addSample(pix[i]);
+        batch.tnear[i] = 0.0f;
+        batch.tfar[i] = kInfinity;
+        batch.pixel[i] = t.pix[i];
+        batch.sample[i] = t.samples[i];
+        batch.prevPdf[i] = 0.0f;
+        batch.prevCos[i] = 0.0f;
+        batch.wr[i] = batch.wg[i] = batch.wb[i] = 1.0f;
+        batch.rngKey[i] = kernels::hashCombine(t.keys[i], 1);
+        batch.depth[i] = 0;
+        batch.specularDepth[i] = 0;
+        batch.flags[i] = kFlagCountEmission | kFlagCountEnvironment;
+        m_rc.film.addSample(t.pix[i]);
     }
-    batch->count = n;
-    stats.samples += std::uint64_t(n);
-    stats.stages[int(StageId::CameraEmit)].raysOut += std::uint64_t(n);
-    ctx.flush(RayKind::Camera); // hand the tile to the queue now: it is a full unit of coherent work
-    return true;
+    batch.count = n;
 }
 
 } // namespace rayproc

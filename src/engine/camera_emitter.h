@@ -46,6 +46,12 @@ public:
     }
 
 private:
+    struct TileSamples;
+    // The film and lens positions of a tile's samples for the pass's sample ofPass; their count.
+    int sampleTile(int tile, int ofPass, TileSamples& t) const;
+    // The samples' camera rays into the empty batch, each pixel's sample counted on the film.
+    void writeRays(const TileSamples& t, int n, RayBatch& batch) const;
+
     const RenderContext& m_rc;
     Camera m_camera;
     kernels::CameraFrame m_frame;

@@ -107,90 +107,127 @@ Bounce spawnBounce(const ShadingPolicy& policy, const RayBatch& b, int i, const 
     return bs.transmitted ? Bounce::Transmitted : Bounce::Reflected;
 }
 
-void PathStage::retrace(RayBatch& b, StageContext& ctx) {
-    ThreadStats& stats = *ctx.stats;
-    StageTimer timer(stats, StageId::Surface);
-    stats.stages[int(StageId::Surface)].raysIn += std::uint64_t(b.count);
-    const LightSet& lights = m_rc.lights;
-    const ShadingPolicy& policy = m_rc.policy;
-    const std::size_t choices = lights.choiceCount();
-    const LightSampler& sampler = lights.sampler;
-    const bool sobol = policy.stratify && m_lowDiscrepancy;
-    const std::uint64_t seedKey = sampleSeedKey(m_rc.seed);
-    std::uint64_t shadowOut = 0, reflectOut = 0, refractOut = 0;
-    // Filed for --stats and the noise breakdown: reached through delta lobes after a
-    // non-delta bounce is a caustic.
-    auto file = [&](int i, std::size_t category, double lum) {
-        fileContribution(stats, m_rc.noise, lights.lights.size(), b.pixel[i], category, lum,
-                         b.depth[i] > b.specularDepth[i]);
-    };
+namespace {
 
-    for (int i = 0; i < b.count; ++i) {
-        Vec3 w = laneThroughput(b, i);
-        Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
-        bool fromDelta = b.prevPdf[i] == 0.0f;
+// One batch of path vertices: what each ray found (the sky, an emitter) goes to the film, and
+// each surface vertex samples one light and continues by one BSDF sample.
+class PathVertices {
+public:
+    PathVertices(const RenderContext& rc, const PathStage::Outputs& outputs, bool sobol,
+                 RayBatch& b, StageContext& ctx)
+        : m_rc(rc), m_lights(rc.lights), m_policy(rc.policy), m_outputs(outputs), m_b(b),
+          m_ctx(ctx), m_stats(*ctx.stats), m_sobol(sobol), m_seedKey(sampleSeedKey(rc.seed)) {}
 
-        if (!b.hit(i)) {
-            if (!lights.hasEnvironment() || (b.flags[i] & kFlagSkipEnvironment)) continue;
-            // A constant sky is sampled cosine-weighted about the previous facing normal, an
-            // image sky by its luminance (lighting/environment.h): MIS with that pdf.
-            float envPdf = lights.environment.cosineSampled()
-                               ? std::max(0.0f, b.prevCos[i]) * kInvPi
-                               : lights.environment.pdf(d, Vec3(0.0f), policy.skyCompensation);
-            float pick = sampler.pmf(o, lights.lights.size()); // the sky's fixed share
-            float mis = fromDelta ? 1.0f : kernels::powerHeuristic(b.prevPdf[i], pick * envPdf);
-            Vec3 sky = w * lights.environment.radiance(d) * mis;
-            file(i, fromDelta ? 0 : contributionOfBsdfHit(lights.lights.size()), luminance(sky));
-            m_rc.film.add(b.pixel[i], sky, stats);
-            continue;
+    void retraceLane(int i) {
+        Vec3 w = laneThroughput(m_b, i);
+        Vec3 o{m_b.ox[i], m_b.oy[i], m_b.oz[i]}, d = laneDirection(m_b, i);
+        bool fromDelta = m_b.prevPdf[i] == 0.0f;
+        if (!m_b.hit(i)) {
+            addSky(i, w, o, d, fromDelta);
+            return;
         }
-        SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
+        SurfaceHit h = m_rc.accel.surface(m_b.instId[i], m_b.geomId[i], m_b.primId[i], m_b.u[i],
+                                          m_b.v[i], o, d, m_b.t[i]);
         Vec3 wo = -d;
         w = w * interiorTransmittance(h, o, d);
-        Vec3 le = emittedRadiance(*h.shape, h.ng, wo);
-        if (!isBlack(le)) {
-            float mis = 1.0f;
-            int li = lights.indexOf(h.shape, h.instance);
-            if (!fromDelta) {
-                // The probability that the light sample at the ray's origin had come here.
-                float pl = li >= 0 ? sampler.pmf(o, std::size_t(li)) *
-                                         lights.lights[std::size_t(li)].pdf(o, h.p, h.ng)
-                                   : 0.0f;
-                mis = kernels::powerHeuristic(b.prevPdf[i], pl);
-            }
-            file(i, fromDelta || li < 0 ? 0 : contributionOfBsdfHit(std::size_t(li)),
-                 luminance(w * le * mis));
-            m_rc.film.add(b.pixel[i], w * le * mis, stats);
-        }
-        if (b.flags[i] & kFlagEmissionOnly) continue; // the last vertex's BSDF sample
+        addEmission(i, h, w, o, wo, fromDelta);
+        if (m_b.flags[i] & kFlagEmissionOnly) return; // the last vertex's BSDF sample
+        scatter(i, h, w, wo);
+    }
 
+    std::uint64_t shadowOut = 0, reflectOut = 0, refractOut = 0;
+
+private:
+    // Filed for --stats and the noise breakdown: reached through delta lobes after a
+    // non-delta bounce is a caustic.
+    void file(int i, std::size_t category, double lum) {
+        fileContribution(m_stats, m_rc.noise, m_lights.lights.size(), m_b.pixel[i], category, lum,
+                         m_b.depth[i] > m_b.specularDepth[i]);
+    }
+
+    // An escaped ray's sky, MIS-weighted against the sky's light samples.
+    void addSky(int i, const Vec3& w, const Vec3& o, const Vec3& d, bool fromDelta) {
+        if (!m_lights.hasEnvironment() || (m_b.flags[i] & kFlagSkipEnvironment)) return;
+        // A constant sky is sampled cosine-weighted about the previous facing normal, an
+        // image sky by its luminance (lighting/environment.h): MIS with that pdf.
+        float envPdf = m_lights.environment.cosineSampled()
+                           ? std::max(0.0f, m_b.prevCos[i]) * kInvPi
+                           : m_lights.environment.pdf(d, Vec3(0.0f), m_policy.skyCompensation);
+        float pick = m_lights.sampler.pmf(o, m_lights.lights.size()); // the sky's fixed share
+        float mis = fromDelta ? 1.0f : kernels::powerHeuristic(m_b.prevPdf[i], pick * envPdf);
+        Vec3 sky = w * m_lights.environment.radiance(d) * mis;
+        file(i, fromDelta ? 0 : contributionOfBsdfHit(m_lights.lights.size()), luminance(sky));
+        m_rc.film.add(m_b.pixel[i], sky, m_stats);
+    }
+
+    // The emission the ray found, MIS-weighted against the light sample at its origin.
+    void addEmission(int i, const SurfaceHit& h, const Vec3& w, const Vec3& o, const Vec3& wo,
+                     bool fromDelta) {
+        Vec3 le = emittedRadiance(*h.shape, h.ng, wo);
+        if (isBlack(le)) return;
+        float mis = 1.0f;
+        int li = m_lights.indexOf(h.shape, h.instance);
+        if (!fromDelta) {
+            // The probability that the light sample at the ray's origin had come here.
+            float pl = li >= 0 ? m_lights.sampler.pmf(o, std::size_t(li)) *
+                                     m_lights.lights[std::size_t(li)].pdf(o, h.p, h.ng)
+                               : 0.0f;
+            mis = kernels::powerHeuristic(m_b.prevPdf[i], pl);
+        }
+        file(i, fromDelta || li < 0 ? 0 : contributionOfBsdfHit(std::size_t(li)),
+             luminance(w * le * mis));
+        m_rc.film.add(m_b.pixel[i], w * le * mis, m_stats);
+    }
+
+    // One light sample and one BSDF sample at the surface vertex.
+    void scatter(int i, SurfaceHit& h, const Vec3& w, const Vec3& wo) {
         h.material = resolveMix(m_rc.scene, h.material, h, wo);
         kernels::BsdfParams bsdf = bsdfAt(m_rc.scene, h.material, h,
-                                          kernels::hashCombine(b.rngKey[i], kDimLayered));
+                                          kernels::hashCombine(m_b.rngKey[i], kDimLayered));
         const bool deltaMaterial =
             materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
         // Path mode's own paths take Sobol points, a sequence per (pixel, depth); gi's
         // correction paths their lanes' streams.
-        const SampleNumbers u(b, i, sobol, seedKey);
+        const SampleNumbers u(m_b, i, m_sobol, m_seedKey);
         const Vec2 pickLobe = u.get2D(kDimPickLobe);
         // Next-event estimation: one light (or the sky), MIS-weighted against the BSDF.
-        if (!deltaMaterial && choices > 0 &&
-            sampleOneLight(lights, b, i, h, bsdf, wo, w, u.get2D(kDimLight), pickLobe.x, false,
-                           policy.skyCompensation, ctx.out(m_outputs.shadow)))
+        if (!deltaMaterial && m_lights.choiceCount() > 0 &&
+            sampleOneLight(m_lights, m_b, i, h, bsdf, wo, w, u.get2D(kDimLight), pickLobe.x,
+                           false, m_policy.skyCompensation, m_ctx.out(m_outputs.shadow)))
             ++shadowOut;
 
         // Continue the path by sampling the BSDF.
         // Russian roulette's number: the path's own stream (stratifying it buys nothing).
-        switch (spawnBounce(policy, b, i, h, bsdf, wo, w, u.get2D(kDimBsdf), pickLobe.y,
-                            kernels::uniform(b.rngKey[i], kDimRr), 0, m_outputs, 3, ctx)) {
+        switch (spawnBounce(m_policy, m_b, i, h, bsdf, wo, w, u.get2D(kDimBsdf), pickLobe.y,
+                            kernels::uniform(m_b.rngKey[i], kDimRr), 0, m_outputs, 3, m_ctx)) {
         case Bounce::Reflected: ++reflectOut; break;
         case Bounce::Transmitted: ++refractOut; break;
         case Bounce::None: break;
         }
     }
-    stats.stages[int(StageId::Shadow)].raysOut += shadowOut;
-    stats.stages[int(StageId::Reflection)].raysOut += reflectOut;
-    stats.stages[int(StageId::Refraction)].raysOut += refractOut;
+
+    const RenderContext& m_rc;
+    const LightSet& m_lights;
+    const ShadingPolicy& m_policy;
+    const PathStage::Outputs& m_outputs;
+    RayBatch& m_b;
+    StageContext& m_ctx;
+    ThreadStats& m_stats;
+    const bool m_sobol;
+    const std::uint64_t m_seedKey;
+};
+
+} // namespace
+
+void PathStage::retrace(RayBatch& b, StageContext& ctx) {
+    ThreadStats& stats = *ctx.stats;
+    StageTimer timer(stats, StageId::Surface);
+    stats.stages[int(StageId::Surface)].raysIn += std::uint64_t(b.count);
+    PathVertices vertices(m_rc, m_outputs, m_rc.policy.stratify && m_lowDiscrepancy, b, ctx);
+    for (int i = 0; i < b.count; ++i) vertices.retraceLane(i);
+    stats.stages[int(StageId::Shadow)].raysOut += vertices.shadowOut;
+    stats.stages[int(StageId::Reflection)].raysOut += vertices.reflectOut;
+    stats.stages[int(StageId::Refraction)].raysOut += vertices.refractOut;
 }
 
 } // namespace rayproc

@@ -47,6 +47,82 @@ Bounds3 trimmedBounds(const std::vector<Vec3>& points) {
     return b;
 }
 
+// The direction a camera probe continues in past a mirror or smooth glass hit (refracted if it
+// can be, reflected otherwise; straight on through thin glass); false at other materials.
+bool specularContinuation(const Scene& scene, const SurfaceHit& h, const Vec3& d, Vec3& wi, Vec3& g) {
+    Vec3 wo = -d;
+    int material = resolveMix(scene, h.material, h, wo);
+    if (materialClass(scene.materials, material) != MaterialClass::Specular) return false;
+    const Material& m = scene.materials[std::size_t(material)];
+    bool front = dot(wo, h.ng) > 0;
+    Vec3 n = front ? h.ns : -h.ns;
+    g = front ? h.ng : -h.ng;
+    wi = kernels::reflect(wo, n);
+    if (m.type == MaterialType::Dielectric) {
+        Vec3 wt;
+        if (kernels::refract(wo, n, front ? m.ior : 1.0f / m.ior, wt)) wi = wt;
+    } else if (m.type == MaterialType::ThinDielectric) {
+        wi = d;
+    }
+    return true;
+}
+
+// Traces the camera's probe rays batch by batch, and the rays continuing past specular first
+// (or later) hits level by level; collects the hit points.
+class FocusProbe {
+public:
+    FocusProbe(const Scene& scene, const EmbreeScene& accel, int packetWidth)
+        : m_scene(scene), m_accel(accel), m_intersector(accel.root(), packetWidth),
+          m_batch(std::make_unique<RayBatch>()), m_next(std::make_unique<RayBatch>()) {}
+
+    void push(const float o[3], const float d[3]) {
+        int k = m_batch->push(o[0], o[1], o[2], d[0], d[1], d[2], 0.0f, kInfinity);
+        m_batch->pixel[k] = 0;
+        if (m_batch->full()) flush();
+    }
+
+    void flush() {
+        if (m_batch->count == 0) return;
+        traceLevel(*m_batch, *m_next, true);
+        for (int bounce = 0; bounce < kFocusSpecularBounces && m_next->count > 0; ++bounce) {
+            std::swap(m_batch, m_next);
+            traceLevel(*m_batch, *m_next, false);
+        }
+        m_next->count = 0;
+        m_batch->count = 0;
+    }
+
+    std::vector<Vec3> points;      // first hits
+    std::vector<Vec3> chainPoints; // hits past a mirror or smooth glass
+
+private:
+    void traceLevel(RayBatch& in, RayBatch& out, bool first) {
+        m_intersector.trace(in, m_stats);
+        for (int i = 0; i < in.count; ++i) {
+            if (!in.hit(i)) continue;
+            Vec3 o{in.ox[i], in.oy[i], in.oz[i]}, d{in.dx[i], in.dy[i], in.dz[i]};
+            Vec3 p = o + d * in.t[i];
+            if (!isFinite(p)) continue;
+            (first ? points : chainPoints).push_back(p);
+            if (out.full()) continue;
+            SurfaceHit h = m_accel.surface(in.instId[i], in.geomId[i], in.primId[i], in.u[i],
+                                           in.v[i], o, d, in.t[i]);
+            Vec3 wi, g;
+            if (!specularContinuation(m_scene, h, d, wi, g)) continue;
+            Vec3 no = offsetRayOrigin(h, g, wi);
+            int k = out.push(no.x, no.y, no.z, wi.x, wi.y, wi.z, 0.0f, kInfinity);
+            out.pixel[k] = 0;
+        }
+        in.count = 0;
+    }
+
+    const Scene& m_scene;
+    const EmbreeScene& m_accel;
+    Intersector m_intersector;
+    ThreadStats m_stats;
+    std::unique_ptr<RayBatch> m_batch, m_next;
+};
+
 } // namespace
 
 Bounds3 FocusRegion::emissionBounds() const { return grown(bounds); }
@@ -64,53 +140,7 @@ FocusRegion cameraFocusRegion(const Scene& scene, const EmbreeScene& accel, int 
     kernels::CameraFrame frame = cameraFrame(cam);
     frame.lensRadius = 0; // the pinhole ray through each pixel: the hits bound what is in view
 
-    Intersector intersector(accel.root(), packetWidth);
-    ThreadStats stats;
-    auto batch = std::make_unique<RayBatch>();
-    std::vector<Vec3> points;
-    std::vector<Vec3> chainPoints; // hits past a mirror or smooth glass
-    // Rays continuing past specular first (or later) hits, traced level by level.
-    auto next = std::make_unique<RayBatch>();
-    auto traceLevel = [&](RayBatch& in, RayBatch& out, bool first) {
-        intersector.trace(in, stats);
-        for (int i = 0; i < in.count; ++i) {
-            if (!in.hit(i)) continue;
-            Vec3 o{in.ox[i], in.oy[i], in.oz[i]}, d{in.dx[i], in.dy[i], in.dz[i]};
-            Vec3 p = o + d * in.t[i];
-            if (!isFinite(p)) continue;
-            (first ? points : chainPoints).push_back(p);
-            if (out.full()) continue;
-            SurfaceHit h = accel.surface(in.instId[i], in.geomId[i], in.primId[i], in.u[i],
-                                         in.v[i], o, d, in.t[i]);
-            Vec3 wo = -d;
-            int material = resolveMix(scene, h.material, h, wo);
-            if (materialClass(scene.materials, material) != MaterialClass::Specular) continue;
-            const Material& m = scene.materials[std::size_t(material)];
-            bool front = dot(wo, h.ng) > 0;
-            Vec3 n = front ? h.ns : -h.ns, g = front ? h.ng : -h.ng;
-            Vec3 wi = kernels::reflect(wo, n);
-            if (m.type == MaterialType::Dielectric) {
-                Vec3 wt;
-                if (kernels::refract(wo, n, front ? m.ior : 1.0f / m.ior, wt)) wi = wt;
-            } else if (m.type == MaterialType::ThinDielectric) {
-                wi = d;
-            }
-            Vec3 no = offsetRayOrigin(h, g, wi);
-            int k = out.push(no.x, no.y, no.z, wi.x, wi.y, wi.z, 0.0f, kInfinity);
-            out.pixel[k] = 0;
-        }
-        in.count = 0;
-    };
-    auto flush = [&] {
-        if (batch->count == 0) return;
-        traceLevel(*batch, *next, true);
-        for (int bounce = 0; bounce < kFocusSpecularBounces && next->count > 0; ++bounce) {
-            std::swap(batch, next);
-            traceLevel(*batch, *next, false);
-        }
-        next->count = 0;
-        batch->count = 0;
-    };
+    FocusProbe probe(scene, accel, packetWidth);
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             float fx = (float(i) + 0.5f) * float(cam.width) / float(nx);
@@ -118,19 +148,18 @@ FocusRegion cameraFocusRegion(const Scene& scene, const EmbreeScene& accel, int 
             float zero = 0, o[3], d[3];
             kernels::generateCameraRays(frame, 1, &fx, &fy, &zero, &zero, &o[0], &o[1], &o[2],
                                         &d[0], &d[1], &d[2]);
-            int k = batch->push(o[0], o[1], o[2], d[0], d[1], d[2], 0.0f, kInfinity);
-            batch->pixel[k] = 0;
             ++region.rays;
-            if (batch->full()) flush();
+            probe.push(o, d);
         }
-    flush();
+    probe.flush();
 
-    region.hits = points.size();
-    region.bounds = trimmedBounds(points);
+    region.hits = probe.points.size();
+    region.bounds = trimmedBounds(probe.points);
     region.specularBounds = region.bounds;
-    if (!chainPoints.empty()) {
-        chainPoints.insert(chainPoints.end(), points.begin(), points.end());
-        region.specularBounds = trimmedBounds(chainPoints);
+    if (!probe.chainPoints.empty()) {
+        probe.chainPoints.insert(probe.chainPoints.end(), probe.points.begin(),
+                                 probe.points.end());
+        region.specularBounds = trimmedBounds(probe.chainPoints);
     }
     Bounds3 world = scene.worldBounds();
     if (region.hits == 0 || world.empty()) return region;

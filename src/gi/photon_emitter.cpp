@@ -58,6 +58,22 @@ float diskRadius(const Bounds3& bounds) {
     return bounds.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(bounds.diagonal()));
 }
 
+// A point on a mesh light, uniform by area (u.x picks the triangle, its remainder and u.y the
+// point in it), its rounding error bound and the triangle's unit normal.
+Vec3 meshLightPoint(const LightSource& l, Vec2 u, Vec3& err, Vec3& n) {
+    float target = u.x * l.area;
+    std::size_t t = std::size_t(std::lower_bound(l.areaCdf.begin(), l.areaCdf.end(), target) -
+                                l.areaCdf.begin());
+    t = std::min(t, l.areaCdf.size() - 1);
+    float lo = t == 0 ? 0.0f : l.areaCdf[t - 1];
+    float w = l.areaCdf[t] - lo;
+    float ux = w > 0 ? std::clamp((target - lo) / w, 0.0f, 0.99999994f) : 0.5f;
+    Vec2 b = kernels::uniformTriangle({ux, u.y});
+    const Vec3 &a = l.triangles[3 * t], &bb = l.triangles[3 * t + 1], &cc = l.triangles[3 * t + 2];
+    n = normalize(cross(bb - a, cc - a));
+    return kernels::trianglePoint(a, bb, cc, b.x, b.y, err);
+}
+
 } // namespace
 
 double PhotonEmitter::powerUnit(const LightSet& lights, const Bounds3& sceneBounds) {
@@ -126,119 +142,119 @@ Vec3 PhotonEmitter::diskPoint(const Vec3& dir, Vec2 u, float uChoice, float& inv
 }
 
 PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
-    Emission e;
+    Choice ch;
     // Stratified choices: each dimension pair permutes the photons independently (padded).
-    Vec2 uPick = kernels::stratified2D(index, m_count, kernels::hashCombine(m_key, 1));
-    Vec2 uPos = kernels::stratified2D(index, m_count, kernels::hashCombine(m_key, 2));
-    Vec2 uDir = kernels::stratified2D(index, m_count, kernels::hashCombine(m_key, 3));
-    float target = uPick.x * m_cdf.back();
+    ch.uPick = kernels::stratified2D(index, m_count, kernels::hashCombine(m_key, 1));
+    ch.uPos = kernels::stratified2D(index, m_count, kernels::hashCombine(m_key, 2));
+    ch.uDir = kernels::stratified2D(index, m_count, kernels::hashCombine(m_key, 3));
+    float target = ch.uPick.x * m_cdf.back();
     std::size_t c = std::size_t(std::lower_bound(m_cdf.begin(), m_cdf.end(), target) - m_cdf.begin());
     c = std::min(c, m_cdf.size() - 1);
     float prev = c == 0 ? 0.0f : m_cdf[c - 1];
-    float pChoice = (m_cdf[c] - prev) / m_cdf.back();
-    if (pChoice <= 0) return e;
-    Vec3 share = m_power[c] / (pChoice * float(m_count)); // flux per photon of this light
+    ch.pChoice = (m_cdf[c] - prev) / m_cdf.back();
+    if (ch.pChoice <= 0) return Emission();
+    ch.light = c;
+    ch.share = m_power[c] / (ch.pChoice * float(m_count)); // flux per photon of this light
+    const bool sky = c == m_lights.lights.size();
+    Emission e = sky ? emitFromSky(ch) : emitFromLight(m_lights.lights[c], ch);
+    e.deltaOrSky = sky || m_lights.lights[c].delta();
+    return e;
+}
 
-    // Directional and sky photons start on a disk (uPick.y, unused by them otherwise, picks
-    // the focus or the whole disk); diskArea is the inverse density of the chosen point.
+// Directional and sky photons start on a disk (uPick.y, unused by them otherwise, picks the
+// focus or the whole disk); diskArea is the inverse density of the chosen point.
+PhotonEmitter::Emission PhotonEmitter::emitFromSky(const Choice& ch) const {
+    Emission e;
     float diskArea = 0;
-    auto disk = [&](const Vec3& dir, Vec2 u) { return diskPoint(dir, u, uPick.y, diskArea); };
-    // Lambertian emitters: cosine-weighted directions carry the flux exactly. The photon
-    // starts off the surface on the side it leaves, like every spawned ray: from the surface
-    // point itself it could hit its own emitter at t ~ 0 and be stored there (an inward
-    // emitting sphere then kept a share of its photons at the emission points).
-    // `err` bounds the rounding of p (docs/robustness.md): the photon leaves its error box.
-    auto lambertian = [&](const Vec3& p, const Vec3& err, Vec3 n, bool twoSided) {
-        if (twoSided && uPick.y < 0.5f) n = -n;
-        e.direction = kernels::toWorld(kernels::cosineHemisphere(uDir), n);
-        e.origin = kernels::offsetRayOrigin(p, err, n, e.direction);
-        e.power = share;
-        e.valid = true;
-    };
-
-    e.deltaOrSky = c == m_lights.lights.size() || m_lights.lights[c].delta();
-    if (c == m_lights.lights.size()) { // the sky
-        if (m_lights.environment.cosineSampled()) { // constant: uniform directions
-            e.direction = kernels::toWorld(kernels::uniformCone(uDir, -1.0f), {0, 0, 1});
-            e.origin = disk(e.direction, uPos);
-            e.power = m_focusShare > 0 ? share * (diskArea / (kPi * m_radius * m_radius)) : share;
-            e.valid = diskArea > 0;
-            return e;
-        }
-        // An image sky: the direction light arrives from is drawn by the sky's density, the
-        // photon travels the opposite way through the disk; its flux is L / pdf times the
-        // disk's area pi r^2, shared among this light's photons.
-        EnvironmentSample s = m_lights.environment.sampleSphere(uDir);
-        if (!s.valid) return e;
-        e.direction = -s.wi;
-        e.origin = disk(e.direction, uPos);
-        // L / pdf can pass float's range where L does not: then it is made in double.
-        Vec3 weight = isFinite(s.weight)
-                          ? scaled(s.weight, 1 / m_unit)
-                          : scaled(m_lights.environment.radiance(s.wi), 1 / (double(s.pdf) * m_unit));
-        e.power = weight * (diskArea / (pChoice * float(m_count)));
-        e.valid = isFinite(e.power);
+    if (m_lights.environment.cosineSampled()) { // constant: uniform directions
+        e.direction = kernels::toWorld(kernels::uniformCone(ch.uDir, -1.0f), {0, 0, 1});
+        e.origin = diskPoint(e.direction, ch.uPos, ch.uPick.y, diskArea);
+        e.power = m_focusShare > 0 ? ch.share * (diskArea / (kPi * m_radius * m_radius)) : ch.share;
+        e.valid = diskArea > 0;
         return e;
     }
-    const LightSource& l = m_lights.lights[c];
+    // An image sky: the direction light arrives from is drawn by the sky's density, the
+    // photon travels the opposite way through the disk; its flux is L / pdf times the
+    // disk's area pi r^2, shared among this light's photons.
+    EnvironmentSample s = m_lights.environment.sampleSphere(ch.uDir);
+    if (!s.valid) return e;
+    e.direction = -s.wi;
+    e.origin = diskPoint(e.direction, ch.uPos, ch.uPick.y, diskArea);
+    // L / pdf can pass float's range where L does not: then it is made in double.
+    Vec3 weight = isFinite(s.weight)
+                      ? scaled(s.weight, 1 / m_unit)
+                      : scaled(m_lights.environment.radiance(s.wi), 1 / (double(s.pdf) * m_unit));
+    e.power = weight * (diskArea / (ch.pChoice * float(m_count)));
+    e.valid = isFinite(e.power);
+    return e;
+}
+
+PhotonEmitter::Emission PhotonEmitter::emitFromLight(const LightSource& l, const Choice& ch) const {
+    Emission e;
     switch (l.kind) {
     case LightSource::Kind::Point:
         e.origin = l.position;
-        e.direction = kernels::toWorld(kernels::uniformCone(uDir, -1.0f), {0, 0, 1});
-        e.power = share;
+        e.direction = kernels::toWorld(kernels::uniformCone(ch.uDir, -1.0f), {0, 0, 1});
+        e.power = ch.share;
         if (l.goniometric) // uniform directions; the image's factor relative to its mean
-            e.power = share * (l.directionalFactor(e.direction) / l.goniometricMean);
+            e.power = ch.share * (l.directionalFactor(e.direction) / l.goniometricMean);
         e.valid = !isBlack(e.power);
-        break;
+        return e;
     case LightSource::Kind::Spot: {
         // Uniform in the outer cone; the falloff scales the photon's power.
         e.origin = l.position;
-        e.direction = kernels::toWorld(kernels::uniformCone(uDir, l.cosFalloff), l.direction);
+        e.direction = kernels::toWorld(kernels::uniformCone(ch.uDir, l.cosFalloff), l.direction);
         float cosT = dot(e.direction, l.direction);
         float t = l.cosCone == l.cosFalloff ? 1.0f
                   : std::clamp((cosT - l.cosFalloff) / (l.cosCone - l.cosFalloff), 0.0f, 1.0f);
         float f = t * t * (3 - 2 * t);
         float solid = 2 * kPi * (1 - l.cosFalloff);
-        e.power = scaled(l.intensity, 1 / m_unit) * (f * solid / (pChoice * float(m_count)));
+        e.power = scaled(l.intensity, 1 / m_unit) * (f * solid / (ch.pChoice * float(m_count)));
         e.valid = f > 0;
-        break;
+        return e;
     }
-    case LightSource::Kind::Directional:
+    case LightSource::Kind::Directional: {
+        float diskArea = 0;
         e.direction = l.direction;
-        e.origin = disk(l.direction, uPos);
-        e.power = m_focusShare > 0 ? share * (diskArea / (kPi * m_radius * m_radius)) : share;
+        e.origin = diskPoint(l.direction, ch.uPos, ch.uPick.y, diskArea);
+        e.power = m_focusShare > 0 ? ch.share * (diskArea / (kPi * m_radius * m_radius)) : ch.share;
         e.valid = diskArea > 0;
-        break;
+        return e;
+    }
     case LightSource::Kind::AreaMesh: {
-        float target2 = uPos.x * l.area;
-        std::size_t t = std::size_t(std::lower_bound(l.areaCdf.begin(), l.areaCdf.end(), target2) -
-                                    l.areaCdf.begin());
-        t = std::min(t, l.areaCdf.size() - 1);
-        float lo = t == 0 ? 0.0f : l.areaCdf[t - 1];
-        float w = l.areaCdf[t] - lo;
-        float ux = w > 0 ? std::clamp((target2 - lo) / w, 0.0f, 0.99999994f) : 0.5f;
-        Vec2 b = kernels::uniformTriangle({ux, uPos.y});
-        const Vec3 &a = l.triangles[3 * t], &bb = l.triangles[3 * t + 1], &cc = l.triangles[3 * t + 2];
-        Vec3 err;
-        Vec3 p = kernels::trianglePoint(a, bb, cc, b.x, b.y, err);
-        lambertian(p, err + l.placementError, normalize(cross(bb - a, cc - a)), l.twoSided);
-        break;
+        Vec3 err, n;
+        Vec3 p = meshLightPoint(l, ch.uPos, err, n);
+        return lambertian(p, err + l.placementError, n, l.twoSided, ch);
     }
     case LightSource::Kind::AreaSphere: {
-        Vec3 n = kernels::toWorld(kernels::uniformCone(uPos, -1.0f), {0, 0, 1});
+        Vec3 n = kernels::toWorld(kernels::uniformCone(ch.uPos, -1.0f), {0, 0, 1});
         Vec3 p = l.center + n * l.radius;
-        lambertian(p, kernels::roundSurfaceError(p, l.center, l.radius) + l.placementError, n,
-                   l.twoSided);
-        break;
+        return lambertian(p, kernels::roundSurfaceError(p, l.center, l.radius) + l.placementError,
+                          n, l.twoSided, ch);
     }
     case LightSource::Kind::AreaDisk: {
-        Vec2 d = kernels::concentricDisk(uPos);
+        Vec2 d = kernels::concentricDisk(ch.uPos);
         Vec3 p = l.center + kernels::toWorld({d.x * l.radius, d.y * l.radius, 0}, l.normal);
-        lambertian(p, kernels::roundSurfaceError(p, l.center, l.radius) + l.placementError,
-                   l.normal, l.twoSided);
-        break;
+        return lambertian(p, kernels::roundSurfaceError(p, l.center, l.radius) + l.placementError,
+                          l.normal, l.twoSided, ch);
     }
     }
+    return e;
+}
+
+// Lambertian emitters: cosine-weighted directions carry the flux exactly. The photon starts
+// off the surface on the side it leaves, like every spawned ray: from the surface point itself
+// it could hit its own emitter at t ~ 0 and be stored there (an inward emitting sphere then
+// kept a share of its photons at the emission points). `err` bounds the rounding of p
+// (docs/robustness.md): the photon leaves its error box.
+PhotonEmitter::Emission PhotonEmitter::lambertian(const Vec3& p, const Vec3& err, Vec3 n,
+                                                  bool twoSided, const Choice& ch) const {
+    Emission e;
+    if (twoSided && ch.uPick.y < 0.5f) n = -n;
+    e.direction = kernels::toWorld(kernels::cosineHemisphere(ch.uDir), n);
+    e.origin = kernels::offsetRayOrigin(p, err, n, e.direction);
+    e.power = ch.share;
+    e.valid = true;
     return e;
 }
 

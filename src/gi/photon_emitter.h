@@ -50,7 +50,20 @@ private:
         bool valid = false;
         bool deltaOrSky = false; // from a delta light or the sky (kPhotonDeltaOrSky)
     };
+    // A photon's light (index `light`; the sky is lights.size()), the probability it was
+    // chosen, its flux, and its stratified numbers for the choice, the position and the
+    // direction.
+    struct Choice {
+        std::size_t light;
+        float pChoice;
+        Vec3 share;
+        Vec2 uPick, uPos, uDir;
+    };
     Emission emitOne(std::uint32_t index) const;
+    Emission emitFromSky(const Choice& ch) const;
+    Emission emitFromLight(const LightSource& l, const Choice& ch) const;
+    Emission lambertian(const Vec3& p, const Vec3& err, Vec3 n, bool twoSided,
+                        const Choice& ch) const;
     // A photon origin on the emission plane behind the scene, perpendicular to dir, and the
     // inverse of its area density under the focus mixture.
     Vec3 diskPoint(const Vec3& dir, Vec2 u, float uChoice, float& invDensity) const;

@@ -184,17 +184,88 @@ void checkExrPart(const std::string& path, const ExrPart& part, std::uint64_t fi
                                  " bytes can hold (corrupt or truncated file)");
 }
 
-} // namespace
-
-void checkExrHeader(const std::string& path) {
+std::string readFileBytes(const std::string& path) {
     std::string bytes;
-    {
-        FileReader in(path);
-        char buf[65536];
-        std::size_t n;
-        while ((n = std::fread(buf, 1, sizeof buf, in.get())) > 0) bytes.append(buf, n);
+    FileReader in(path);
+    char buf[65536];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, in.get())) > 0) bytes.append(buf, n);
+    return bytes;
+}
+
+// The C++ library reads most types by their layout, not by the size field: the two must agree,
+// or it reads the attributes after this one from other offsets (a 1.1 GB opaque attribute,
+// found by the fuzzer). The attribute's value is bytes[pos, pos + size); a channel list's
+// pixel sizes add up in part.pixelBytes.
+void checkAttributeLayout(const std::string& path, const std::string& bytes, std::size_t pos,
+                          std::uint32_t size, const std::string& what, const std::string& type,
+                          ExrPart& part) {
+    auto disagree = [&](const std::string& detail) {
+        throwReadError(path, "corrupt EXR header: " + what + " is " + std::to_string(size) +
+                                 " bytes long, but " + detail);
+    };
+    const std::size_t end = pos + size;
+    if (int fixed = fixedAttributeSize(type); fixed >= 0) {
+        if (size != std::uint32_t(fixed))
+            disagree("a " + type + " is " + std::to_string(fixed) + " bytes");
+    } else if (type == "chlist") {
+        std::size_t p = pos;
+        while (p < end && bytes[p] != '\0') {
+            std::size_t nameEnd = bytes.find('\0', p);
+            if (nameEnd == std::string::npos || nameEnd + 17 > end) break;
+            // Pixel type (UINT, HALF, FLOAT), pLinear, reserved, x and y sampling.
+            const std::uint32_t pixelType = le32At(bytes, nameEnd + 1);
+            part.pixelBytes += pixelType == 1 ? 2 : 4;
+            p = nameEnd + 1 + 16;
+        }
+        if (size == 0 || p != end - 1) disagree("the channel list's entries do not end there");
+    } else if (type == "stringvector") {
+        std::size_t p = pos;
+        while (p < end) {
+            if (end - p < 4) break;
+            p += 4 + std::size_t(le32At(bytes, p));
+        }
+        if (p != end) disagree("its strings do not end there");
+    } else if (type == "floatvector") {
+        if (size % 4 != 0) disagree("floats are 4 bytes each");
+    } else if (type == "preview") {
+        if (size < 8 || std::uint64_t(le32At(bytes, pos)) * le32At(bytes, pos + 4) * 4 != size - 8)
+            disagree("a preview image of that width and height is not");
+    } else if (type == "idmanifest") {
+        if (size < 8) disagree("a manifest has at least 8");
     }
-    if (bytes.size() < 8 || bytes.compare(0, 4, "\x76\x2f\x31\x01") != 0) return;
+}
+
+// The attributes that size a part's allocations: its data window, compression, tiles, chunk
+// count and type.
+void readPartAttribute(const std::string& path, const std::string& bytes, std::size_t pos,
+                       std::uint32_t size, const std::string& name, const std::string& type,
+                       ExrPart& part) {
+    if (type == "box2i" && name == "dataWindow") {
+        part.hasWindow = true;
+        part.x0 = std::int32_t(le32At(bytes, pos));
+        part.y0 = std::int32_t(le32At(bytes, pos + 4));
+        part.x1 = std::int32_t(le32At(bytes, pos + 8));
+        part.y1 = std::int32_t(le32At(bytes, pos + 12));
+    } else if (type == "compression" && name == "compression") {
+        part.compression = std::uint8_t(bytes[pos]);
+        if (part.compression >= int(std::size(kLinesPerChunk)))
+            throwReadError(path, "corrupt EXR header: unknown compression " +
+                                     std::to_string(part.compression));
+    } else if (type == "tiledesc" && name == "tiles") {
+        part.tileW = le32At(bytes, pos);
+        part.tileH = le32At(bytes, pos + 4);
+    } else if (type == "int" && name == "chunkCount") {
+        part.chunkCount = std::int32_t(le32At(bytes, pos));
+    } else if (type == "string" && name == "type") {
+        part.tiled = bytes.compare(pos, size, "tiledimage") == 0;
+    }
+}
+
+// Walks the header (with multipart, every part's) attribute by attribute from bytes[8]: each
+// attribute's size within the file and agreeing with its type, each part's sizes within what
+// the file can hold (checkExrPart).
+void walkExrHeaders(const std::string& path, const std::string& bytes) {
     const std::uint32_t flags = le32At(bytes, 4) >> 8;
     const bool multipart = (flags & 0x10u) != 0; // bit 12 of the version field
     const bool tiledFile = (flags & 0x02u) != 0; // bit 9: a single-part tiled file
@@ -223,75 +294,21 @@ void checkExrHeader(const std::string& path) {
                 throwReadError(path, "corrupt EXR header: " + what + " claims " +
                                          std::to_string(size) + " bytes, but the file has " +
                                          std::to_string(bytes.size() - pos) + " left");
-            // The C++ library reads most types by their layout, not by the size field: the two
-            // must agree, or it reads the attributes after this one from other offsets (a 1.1
-            // GB opaque attribute, found by the fuzzer).
-            auto disagree = [&](const std::string& detail) {
-                throwReadError(path, "corrupt EXR header: " + what + " is " + std::to_string(size) +
-                                         " bytes long, but " + detail);
-            };
-            const std::size_t end = pos + size;
-            if (int fixed = fixedAttributeSize(type); fixed >= 0) {
-                if (size != std::uint32_t(fixed))
-                    disagree("a " + type + " is " + std::to_string(fixed) + " bytes");
-            } else if (type == "chlist") {
-                std::size_t p = pos;
-                while (p < end && bytes[p] != '\0') {
-                    std::size_t nameEnd = bytes.find('\0', p);
-                    if (nameEnd == std::string::npos || nameEnd + 17 > end) break;
-                    // Pixel type (UINT, HALF, FLOAT), pLinear, reserved, x and y sampling.
-                    const std::uint32_t pixelType = le32At(bytes, nameEnd + 1);
-                    part.pixelBytes += pixelType == 1 ? 2 : 4;
-                    p = nameEnd + 1 + 16;
-                }
-                if (size == 0 || p != end - 1)
-                    disagree("the channel list's entries do not end there");
-            } else if (type == "stringvector") {
-                std::size_t p = pos;
-                while (p < end) {
-                    if (end - p < 4) break;
-                    p += 4 + std::size_t(le32At(bytes, p));
-                }
-                if (p != end) disagree("its strings do not end there");
-            } else if (type == "floatvector") {
-                if (size % 4 != 0) disagree("floats are 4 bytes each");
-            } else if (type == "preview") {
-                if (size < 8 ||
-                    std::uint64_t(le32At(bytes, pos)) * le32At(bytes, pos + 4) * 4 != size - 8)
-                    disagree("a preview image of that width and height is not");
-            } else if (type == "idmanifest") {
-                if (size < 8) disagree("a manifest has at least 8");
-            }
-            if (type == "box2i" && name == "dataWindow") {
-                part.hasWindow = true;
-                part.x0 = std::int32_t(le32At(bytes, pos));
-                part.y0 = std::int32_t(le32At(bytes, pos + 4));
-                part.x1 = std::int32_t(le32At(bytes, pos + 8));
-                part.y1 = std::int32_t(le32At(bytes, pos + 12));
-            } else if (type == "compression" && name == "compression") {
-                part.compression = std::uint8_t(bytes[pos]);
-                if (part.compression >= int(std::size(kLinesPerChunk)))
-                    throwReadError(path, "corrupt EXR header: unknown compression " +
-                                             std::to_string(part.compression));
-            } else if (type == "tiledesc" && name == "tiles") {
-                part.tileW = le32At(bytes, pos);
-                part.tileH = le32At(bytes, pos + 4);
-            } else if (type == "int" && name == "chunkCount") {
-                part.chunkCount = std::int32_t(le32At(bytes, pos));
-            } else if (type == "string" && name == "type") {
-                part.tiled = bytes.compare(pos, size, "tiledimage") == 0;
-            }
-            pos = end;
+            checkAttributeLayout(path, bytes, pos, size, what, type, part);
+            readPartAttribute(path, bytes, pos, size, name, type, part);
+            pos += size;
         }
         checkExrPart(path, part, bytes.size());
         if (!multipart) break;
     }
+}
 
-    // The C++ library does not read every attribute by its size field (a channel list is read
-    // up to its terminator), so a header can be consistent for the walk above and still lead
-    // it to an arbitrary size field (1.9 GB, found by the fuzzer). OpenEXRCore's reader
-    // validates each attribute against its type and the file and allocates nothing
-    // unreasonable: a header it refuses is not handed to the C++ library.
+// The C++ library does not read every attribute by its size field (a channel list is read up
+// to its terminator), so a header can be consistent for walkExrHeaders and still lead it to an
+// arbitrary size field (1.9 GB, found by the fuzzer). OpenEXRCore's reader validates each
+// attribute against its type and the file and allocates nothing unreasonable: a header it
+// refuses is not handed to the C++ library.
+void checkWithOpenExrCore(const std::string& path) {
     struct CoreError {
         std::string message;
     } coreError;
@@ -313,6 +330,15 @@ void checkExrHeader(const std::string& path) {
                                                               ? exr_get_default_error_message(r)
                                                               : coreError.message,
                                                           160));
+}
+
+} // namespace
+
+void checkExrHeader(const std::string& path) {
+    const std::string bytes = readFileBytes(path);
+    if (bytes.size() < 8 || bytes.compare(0, 4, "\x76\x2f\x31\x01") != 0) return;
+    walkExrHeaders(path, bytes);
+    checkWithOpenExrCore(path);
 }
 
 Image readExr(const std::string& path) {

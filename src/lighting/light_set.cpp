@@ -160,83 +160,99 @@ LightSample fromAreaPoint(const LightSource& l, const Vec3& p, const Vec3& q, co
     return s;
 }
 
+// A point or spot light (with a cosine lobe where it stands for a piece of an area light).
+LightSample samplePointLight(const LightSource& l, const Vec3& p) {
+    LightSample s;
+    Vec3 d = l.position - p;
+    float dist2 = lengthSquared(d);
+    if (dist2 <= 0) return s;
+    s.distance = std::sqrt(dist2);
+    s.wi = d / s.distance;
+    float f = l.directionalFactor(-s.wi);
+    if (l.lobe) {
+        float c = dot(l.lobeNormal, -s.wi);
+        f *= l.lobeTwoSided ? std::abs(c) : std::max(0.0f, c);
+    }
+    if (f <= 0) return s;
+    s.weight = l.intensity * (f / dist2);
+    s.point = l.position;
+    s.valid = isFinite(s.weight);
+    return s;
+}
+
+// A mesh light: a triangle picked by area with u.x, then the remainder of u.x reused inside it.
+LightSample sampleMeshLight(const LightSource& l, const Vec3& p, Vec2 u) {
+    float target = u.x * l.area;
+    std::size_t t =
+        std::lower_bound(l.areaCdf.begin(), l.areaCdf.end(), target) - l.areaCdf.begin();
+    t = std::min(t, l.areaCdf.size() - 1);
+    float lo = t == 0 ? 0.0f : l.areaCdf[t - 1];
+    float width = l.areaCdf[t] - lo;
+    float ux = width > 0 ? std::clamp((target - lo) / width, 0.0f, 0.99999994f) : 0.5f;
+    Vec2 b = kernels::uniformTriangle({ux, u.y});
+    const Vec3 &a = l.triangles[3 * t], &bb = l.triangles[3 * t + 1], &c = l.triangles[3 * t + 2];
+    Vec3 qErr;
+    Vec3 q = kernels::trianglePoint(a, bb, c, b.x, b.y, qErr);
+    Vec3 n = normalize(cross(bb - a, c - a));
+    return fromAreaPoint(l, p, q, qErr, n, 1.0f / l.area);
+}
+
+// A sphere light: uniform over the cone of directions it subtends from p, or over its area
+// from inside it.
+LightSample sampleSphereLight(const LightSource& l, const Vec3& p, Vec2 u) {
+    LightSample s;
+    Vec3 toC = l.center - p;
+    float d2 = lengthSquared(toC);
+    if (d2 <= l.radius * l.radius * 1.0001f) {
+        // Inside (or on) the sphere: uniform area sampling.
+        Vec3 dir = kernels::toWorld(kernels::uniformCone(u, -1.0f), {0, 0, 1});
+        Vec3 q = l.center + dir * l.radius;
+        return fromAreaPoint(l, p, q, kernels::roundSurfaceError(q, l.center, l.radius), dir,
+                             1.0f / l.area);
+    }
+    // Uniform over the cone of directions the sphere subtends (pdf 1 / solid angle).
+    float dist = std::sqrt(d2);
+    float sinMax2 = l.radius * l.radius / d2;
+    float cosMax = std::sqrt(std::max(0.0f, 1.0f - sinMax2));
+    Vec3 axis = toC / dist;
+    Vec3 wi = kernels::toWorld(kernels::uniformCone(u, cosMax), axis);
+    // Distance to the near intersection with the sphere.
+    float b = dot(wi, toC);
+    float disc = b * b - (d2 - l.radius * l.radius);
+    float t = b - std::sqrt(std::max(0.0f, disc));
+    s.wi = wi;
+    s.distance = t;
+    s.pdf = 1.0f / (2 * kPi * (1 - cosMax));
+    if (!(s.pdf > 0) || !std::isfinite(s.pdf)) return s; // the cone is too thin for float
+    s.weight = l.radiance / s.pdf;
+    // The point on the sphere, re-projected onto it (p + t wi carries the error of p and t).
+    Vec3 n = normalize(p + wi * t - l.center);
+    s.point = l.center + n * l.radius;
+    s.pointError = kernels::roundSurfaceError(s.point, l.center, l.radius) + l.placementError;
+    s.normal = n;
+    s.valid = isFinite(s.weight);
+    return s;
+}
+
 } // namespace
 
 LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
-    LightSample s;
     switch (kind) {
     case Kind::Point:
-    case Kind::Spot: {
-        Vec3 d = position - p;
-        float dist2 = lengthSquared(d);
-        if (dist2 <= 0) return s;
-        s.distance = std::sqrt(dist2);
-        s.wi = d / s.distance;
-        float f = directionalFactor(-s.wi);
-        if (lobe) {
-            float c = dot(lobeNormal, -s.wi);
-            f *= lobeTwoSided ? std::abs(c) : std::max(0.0f, c);
-        }
-        if (f <= 0) return s;
-        s.weight = intensity * (f / dist2);
-        s.point = position;
-        s.valid = isFinite(s.weight);
-        return s;
-    }
-    case Kind::Directional:
+    case Kind::Spot:
+        return samplePointLight(*this, p);
+    case Kind::Directional: {
+        LightSample s;
         s.wi = -direction;
         s.distance = kInfinity;
         s.weight = intensity;
         s.valid = true;
         return s;
-    case Kind::AreaMesh: {
-        // Pick a triangle by area with u.x, then reuse the remainder of u.x inside it.
-        float target = u.x * area;
-        std::size_t t = std::lower_bound(areaCdf.begin(), areaCdf.end(), target) - areaCdf.begin();
-        t = std::min(t, areaCdf.size() - 1);
-        float lo = t == 0 ? 0.0f : areaCdf[t - 1];
-        float width = areaCdf[t] - lo;
-        float ux = width > 0 ? std::clamp((target - lo) / width, 0.0f, 0.99999994f) : 0.5f;
-        Vec2 b = kernels::uniformTriangle({ux, u.y});
-        const Vec3 &a = triangles[3 * t], &bb = triangles[3 * t + 1], &c = triangles[3 * t + 2];
-        Vec3 qErr;
-        Vec3 q = kernels::trianglePoint(a, bb, c, b.x, b.y, qErr);
-        Vec3 n = normalize(cross(bb - a, c - a));
-        return fromAreaPoint(*this, p, q, qErr, n, 1.0f / area);
     }
-    case Kind::AreaSphere: {
-        Vec3 toC = center - p;
-        float d2 = lengthSquared(toC);
-        if (d2 <= radius * radius * 1.0001f) {
-            // Inside (or on) the sphere: uniform area sampling.
-            Vec3 dir = kernels::toWorld(kernels::uniformCone(u, -1.0f), {0, 0, 1});
-            Vec3 q = center + dir * radius;
-            return fromAreaPoint(*this, p, q, kernels::roundSurfaceError(q, center, radius), dir,
-                                 1.0f / area);
-        }
-        // Uniform over the cone of directions the sphere subtends (pdf 1 / solid angle).
-        float dist = std::sqrt(d2);
-        float sinMax2 = radius * radius / d2;
-        float cosMax = std::sqrt(std::max(0.0f, 1.0f - sinMax2));
-        Vec3 axis = toC / dist;
-        Vec3 wi = kernels::toWorld(kernels::uniformCone(u, cosMax), axis);
-        // Distance to the near intersection with the sphere.
-        float b = dot(wi, toC);
-        float disc = b * b - (d2 - radius * radius);
-        float t = b - std::sqrt(std::max(0.0f, disc));
-        s.wi = wi;
-        s.distance = t;
-        s.pdf = 1.0f / (2 * kPi * (1 - cosMax));
-        if (!(s.pdf > 0) || !std::isfinite(s.pdf)) return s; // the cone is too thin for float
-        s.weight = radiance / s.pdf;
-        // The point on the sphere, re-projected onto it (p + t wi carries the error of p and t).
-        Vec3 n = normalize(p + wi * t - center);
-        s.point = center + n * radius;
-        s.pointError = kernels::roundSurfaceError(s.point, center, radius) + placementError;
-        s.normal = n;
-        s.valid = isFinite(s.weight);
-        return s;
-    }
+    case Kind::AreaMesh:
+        return sampleMeshLight(*this, p, u);
+    case Kind::AreaSphere:
+        return sampleSphereLight(*this, p, u);
     case Kind::AreaDisk: {
         Vec2 d = kernels::concentricDisk(u);
         Vec3 q = kernels::toWorld({d.x * radius, d.y * radius, 0}, normal) + center;
@@ -244,7 +260,7 @@ LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
                              1.0f / area);
     }
     }
-    return s;
+    return LightSample();
 }
 
 float LightSource::directionalFactor(const Vec3& wOut) const {

@@ -171,23 +171,21 @@ TriangleMesh loadObjMesh(const std::string& path) {
     return parseObjMesh(std::move(text), path);
 }
 
-TriangleMesh parseObjMesh(std::string text, const std::string& path) {
-    StrictObjCheck check(path);
-    std::size_t lineNumber = 0;
-    for (std::size_t start = 0; start < text.size();) {
-        std::size_t end = text.find('\n', start);
-        if (end == std::string::npos) end = text.size();
-        check.line(std::string_view(text).substr(start, end - start), ++lineNumber);
-        start = end + 1;
-    }
-    std::istringstream in(std::move(text));
+namespace {
 
+// What tinyobjloader read: the attributes and the shapes' faces.
+struct ObjData {
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
+};
+
+ObjData readWithTinyObj(std::string text, const std::string& path) {
+    std::istringstream in(std::move(text));
+    ObjData obj;
     std::vector<tinyobj::material_t> materials;
     std::string warn, err;
     // No material reader: "mtllib" lines are skipped, so a missing .mtl is no concern.
-    bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, nullptr,
+    bool ok = tinyobj::LoadObj(&obj.attrib, &obj.shapes, &materials, &warn, &err, &in, nullptr,
                                /*triangulate=*/true, /*default_vcols_fallback=*/false);
     if (!ok || !err.empty()) fail(path, "malformed OBJ file: " + trimmed(err.empty() ? warn : err));
     // tinyobjloader only warns about faces that name vertices the file lacks; for a renderer
@@ -195,18 +193,27 @@ TriangleMesh parseObjMesh(std::string text, const std::string& path) {
     if (warn.find("out of bounds") != std::string::npos ||
         warn.find("invalid vertex index") != std::string::npos)
         fail(path, "malformed OBJ file: " + trimmed(warn));
+    return obj;
+}
 
+// Which attributes the mesh keeps, and its triangle count.
+struct CornerUse {
+    bool keepNormals, keepUvs;
+    std::size_t faceCount = 0;
+};
+
+// Every corner's vertex exists and every position is finite; normals and uvs survive only if
+// every corner of every face has a valid one (and every normal can shade).
+CornerUse checkCorners(const ObjData& obj, const std::string& path) {
+    const tinyobj::attrib_t& attrib = obj.attrib;
     const int numPositions = int(attrib.vertices.size() / 3);
     const int numNormals = int(attrib.normals.size() / 3);
     const int numUvs = int(attrib.texcoords.size() / 2);
-
-    // Normals and uvs survive only if every corner of every face has a valid one.
-    bool keepNormals = numNormals > 0, keepUvs = numUvs > 0;
-    std::size_t faceCount = 0;
-    for (const tinyobj::shape_t& s : shapes) {
+    CornerUse use{numNormals > 0, numUvs > 0};
+    for (const tinyobj::shape_t& s : obj.shapes) {
         std::size_t offset = 0;
         for (unsigned char fv : s.mesh.num_face_vertices) {
-            if (fv == 3) ++faceCount;
+            if (fv == 3) ++use.faceCount;
             for (std::size_t c = 0; c < fv; ++c) {
                 const tinyobj::index_t& idx = s.mesh.indices[offset + c];
                 if (idx.vertex_index < 0 || idx.vertex_index >= numPositions) {
@@ -214,27 +221,33 @@ TriangleMesh parseObjMesh(std::string text, const std::string& path) {
                                    ", but the file has " + std::to_string(numPositions) +
                                    " vertices");
                 }
-                keepNormals = keepNormals && idx.normal_index >= 0 && idx.normal_index < numNormals;
-                keepUvs = keepUvs && idx.texcoord_index >= 0 && idx.texcoord_index < numUvs;
+                use.keepNormals =
+                    use.keepNormals && idx.normal_index >= 0 && idx.normal_index < numNormals;
+                use.keepUvs = use.keepUvs && idx.texcoord_index >= 0 && idx.texcoord_index < numUvs;
             }
             offset += fv;
         }
     }
-    if (faceCount == 0) fail(path, "the OBJ file has no faces");
+    if (use.faceCount == 0) fail(path, "the OBJ file has no faces");
     for (float x : attrib.vertices)
         if (!std::isfinite(x)) fail(path, "a vertex position is not a finite number");
-    if (keepNormals) {
+    if (use.keepNormals) {
         // A zero or non-finite normal cannot shade; fall back to the geometric normal.
-        for (int i = 0; i < numNormals && keepNormals; ++i) {
+        for (int i = 0; i < numNormals && use.keepNormals; ++i) {
             Vec3 n{attrib.normals[3 * i], attrib.normals[3 * i + 1], attrib.normals[3 * i + 2]};
-            keepNormals = isFinite(n) && lengthSquared(n) > 0;
+            use.keepNormals = isFinite(n) && lengthSquared(n) > 0;
         }
     }
+    return use;
+}
 
+// The triangles, with one mesh vertex per distinct (position, normal, uv) corner.
+TriangleMesh weldCorners(const ObjData& obj, const CornerUse& use) {
+    const tinyobj::attrib_t& attrib = obj.attrib;
     TriangleMesh mesh;
     std::unordered_map<CornerKey, std::uint32_t, CornerKeyHash> vertexOf;
-    mesh.indices.reserve(faceCount * 3);
-    for (const tinyobj::shape_t& s : shapes) {
+    mesh.indices.reserve(use.faceCount * 3);
+    for (const tinyobj::shape_t& s : obj.shapes) {
         std::size_t offset = 0;
         for (unsigned char fv : s.mesh.num_face_vertices) {
             if (fv != 3) { // tinyobjloader leaves degenerate polygons as they are
@@ -243,17 +256,17 @@ TriangleMesh parseObjMesh(std::string text, const std::string& path) {
             }
             for (std::size_t c = 0; c < 3; ++c) {
                 const tinyobj::index_t& idx = s.mesh.indices[offset + c];
-                CornerKey key{idx.vertex_index, keepNormals ? idx.normal_index : -1,
-                              keepUvs ? idx.texcoord_index : -1};
+                CornerKey key{idx.vertex_index, use.keepNormals ? idx.normal_index : -1,
+                              use.keepUvs ? idx.texcoord_index : -1};
                 auto [it, added] = vertexOf.try_emplace(key, std::uint32_t(mesh.positions.size()));
                 if (added) {
                     const auto* p = &attrib.vertices[3 * std::size_t(key.position)];
                     mesh.positions.push_back({p[0], p[1], p[2]});
-                    if (keepNormals) {
+                    if (use.keepNormals) {
                         const auto* n = &attrib.normals[3 * std::size_t(key.normal)];
                         mesh.normals.push_back(normalize(Vec3{n[0], n[1], n[2]}));
                     }
-                    if (keepUvs) {
+                    if (use.keepUvs) {
                         const auto* t = &attrib.texcoords[2 * std::size_t(key.uv)];
                         mesh.uvs.push_back({t[0], t[1]});
                     }
@@ -264,6 +277,21 @@ TriangleMesh parseObjMesh(std::string text, const std::string& path) {
         }
     }
     return mesh;
+}
+
+} // namespace
+
+TriangleMesh parseObjMesh(std::string text, const std::string& path) {
+    StrictObjCheck check(path);
+    std::size_t lineNumber = 0;
+    for (std::size_t start = 0; start < text.size();) {
+        std::size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        check.line(std::string_view(text).substr(start, end - start), ++lineNumber);
+        start = end + 1;
+    }
+    const ObjData obj = readWithTinyObj(std::move(text), path);
+    return weldCorners(obj, checkCorners(obj, path));
 }
 
 } // namespace rayproc

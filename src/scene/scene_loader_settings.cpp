@@ -144,6 +144,54 @@ void textureOperand(const JsonRef& v, const Scene& scene, int& index, Vec3& valu
     else value = v.color();
 }
 
+// The texture coordinates' scale (uscale, vscale) and offset (udelta, vdelta).
+void parseUvMapping(const JsonRef& t, Texture& tex) {
+    if (t.has("uscale")) tex.su = t["uscale"].number();
+    if (t.has("vscale")) tex.sv = t["vscale"].number();
+    if (t.has("udelta")) tex.du = t["udelta"].number();
+    if (t.has("vdelta")) tex.dv = t["vdelta"].number();
+}
+
+// An image texture: its file relative to the scene file, its filter, wrap and encoding.
+void parseImageTexture(const JsonRef& t, Texture& tex) {
+    t.expectObject({"type", "file", "uscale", "vscale", "udelta", "vdelta", "filter", "wrap",
+                    "encoding", "scale", "invert"},
+                   "an image texture");
+    tex.type = TextureType::Image;
+    parseUvMapping(t, tex);
+    if (t.has("scale")) tex.scale = t["scale"].number();
+    if (t.has("invert")) tex.invert = t["invert"].boolean();
+    if (t.has("filter")) {
+        std::string f = t["filter"].string();
+        if (f == "point") tex.filter = TextureFilter::Point;
+        else if (f == "bilinear") tex.filter = TextureFilter::Bilinear;
+        else if (f == "trilinear") tex.filter = TextureFilter::Trilinear;
+        else t["filter"].fail("expected \"point\", \"bilinear\" or \"trilinear\"");
+    }
+    if (t.has("wrap")) {
+        std::string w = t["wrap"].string();
+        if (w == "repeat") tex.wrap = TextureWrap::Repeat;
+        else if (w == "clamp") tex.wrap = TextureWrap::Clamp;
+        else if (w == "black") tex.wrap = TextureWrap::Black;
+        else t["wrap"].fail("expected \"repeat\", \"clamp\" or \"black\"");
+    }
+    TextureEncoding encoding;
+    if (t.has("encoding")) {
+        std::string e = t["encoding"].string();
+        if (e == "linear") encoding.kind = TextureEncoding::Kind::Linear;
+        else if (e != "srgb") t["encoding"].fail("expected \"srgb\" or \"linear\"");
+    }
+    JsonRef file = t["file"];
+    std::filesystem::path p(file.nonEmptyString());
+    if (p.is_relative()) p = std::filesystem::path(t.file()).parent_path() / p;
+    tex.filename = p.string();
+    try {
+        tex.image = loadTextureImage(tex.filename, encoding);
+    } catch (const ImageIoError& e) {
+        file.fail(e.what());
+    }
+}
+
 } // namespace
 
 // "textures": named textures, each defined before the ones that use it (so no cycles).
@@ -157,49 +205,8 @@ void parseTextures(const JsonRef& v, Scene& scene) {
         std::string type = parseType(t, "texture", kTypes);
         Texture tex;
         tex.name = name;
-        auto mapping = [&]() {
-            if (t.has("uscale")) tex.su = t["uscale"].number();
-            if (t.has("vscale")) tex.sv = t["vscale"].number();
-            if (t.has("udelta")) tex.du = t["udelta"].number();
-            if (t.has("vdelta")) tex.dv = t["vdelta"].number();
-        };
         if (type == "image") {
-            t.expectObject({"type", "file", "uscale", "vscale", "udelta", "vdelta", "filter",
-                            "wrap", "encoding", "scale", "invert"},
-                           "an image texture");
-            tex.type = TextureType::Image;
-            mapping();
-            if (t.has("scale")) tex.scale = t["scale"].number();
-            if (t.has("invert")) tex.invert = t["invert"].boolean();
-            if (t.has("filter")) {
-                std::string f = t["filter"].string();
-                if (f == "point") tex.filter = TextureFilter::Point;
-                else if (f == "bilinear") tex.filter = TextureFilter::Bilinear;
-                else if (f == "trilinear") tex.filter = TextureFilter::Trilinear;
-                else t["filter"].fail("expected \"point\", \"bilinear\" or \"trilinear\"");
-            }
-            if (t.has("wrap")) {
-                std::string w = t["wrap"].string();
-                if (w == "repeat") tex.wrap = TextureWrap::Repeat;
-                else if (w == "clamp") tex.wrap = TextureWrap::Clamp;
-                else if (w == "black") tex.wrap = TextureWrap::Black;
-                else t["wrap"].fail("expected \"repeat\", \"clamp\" or \"black\"");
-            }
-            TextureEncoding encoding;
-            if (t.has("encoding")) {
-                std::string e = t["encoding"].string();
-                if (e == "linear") encoding.kind = TextureEncoding::Kind::Linear;
-                else if (e != "srgb") t["encoding"].fail("expected \"srgb\" or \"linear\"");
-            }
-            JsonRef file = t["file"];
-            std::filesystem::path p(file.nonEmptyString());
-            if (p.is_relative()) p = std::filesystem::path(t.file()).parent_path() / p;
-            tex.filename = p.string();
-            try {
-                tex.image = loadTextureImage(tex.filename, encoding);
-            } catch (const ImageIoError& e) {
-                file.fail(e.what());
-            }
+            parseImageTexture(t, tex);
         } else if (type == "constant") {
             t.expectObject({"type", "value"}, "a constant texture");
             tex.value = t["value"].color();
@@ -224,7 +231,7 @@ void parseTextures(const JsonRef& v, Scene& scene) {
                            "a checkerboard texture");
             tex.type = TextureType::Checkerboard;
             tex.bValue = Vec3(0.0f);
-            mapping();
+            parseUvMapping(t, tex);
             if (t.has("tex1")) textureOperand(t["tex1"], scene, tex.a, tex.aValue);
             if (t.has("tex2")) textureOperand(t["tex2"], scene, tex.b, tex.bValue);
         }
@@ -269,6 +276,106 @@ void parseConductor(const JsonRef& m, Material& mat) {
     parseRoughness(m, mat);
 }
 
+void parseCoatedDiffuse(const JsonRef& m, Material& mat) {
+    m.expectObject({"type", "color", "ior", "roughness", "u_roughness", "v_roughness",
+                    "remap_roughness", "thickness", "albedo", "g", "max_depth", "samples",
+                    "model"},
+                   "a coateddiffuse material");
+    mat.type = MaterialType::CoatedDiffuse;
+    mat.color = Vec3(0.5f);
+    if (m.has("ior")) mat.ior = m["ior"].positive();
+    parseRoughness(m, mat);
+    if (m.has("thickness")) mat.thickness.value = m["thickness"].positive();
+    if (m.has("albedo")) mat.albedo.value = m["albedo"].albedo();
+    if (m.has("g")) mat.g = m["g"].numberIn(-0.999f, 0.999f);
+    if (m.has("max_depth")) mat.maxDepth = int(m["max_depth"].integer(1, 1000));
+    if (m.has("samples")) mat.nSamples = int(m["samples"].integer(1, 1000));
+    if (m.has("model")) {
+        std::string model = m["model"].nonEmptyString();
+        if (model == "auto") mat.coatModel = Material::CoatModel::Auto;
+        else if (model == "analytic") mat.coatModel = Material::CoatModel::Analytic;
+        else if (model == "random-walk") mat.coatModel = Material::CoatModel::RandomWalk;
+        else m["model"].fail("expected \"auto\", \"analytic\" or \"random-walk\"");
+    }
+}
+
+// One material of the given type, its keys checked against the type's. A mix's two materials
+// are resolved once the whole block is read (resolveMixes).
+Material parseMaterial(const JsonRef& m, const std::string& name, const std::string& type,
+                       Scene& scene) {
+    Material mat;
+    mat.name = name;
+    mat.color = Vec3(1.0f);
+    if (type == "diffuse") {
+        m.expectObject({"type", "color"}, "a diffuse material");
+        mat.type = MaterialType::Diffuse;
+        mat.color = Vec3(0.5f);
+    } else if (type == "mirror") {
+        m.expectObject({"type", "color"}, "a mirror material");
+        mat.type = MaterialType::Mirror;
+    } else if (type == "dielectric") {
+        m.expectObject({"type", "color", "ior", "roughness", "u_roughness", "v_roughness",
+                        "remap_roughness"},
+                       "a dielectric material");
+        mat.type = MaterialType::Dielectric;
+        if (m.has("ior")) mat.ior = m["ior"].positive();
+        parseRoughness(m, mat);
+    } else if (type == "glossy") {
+        m.expectObject({"type", "color", "roughness"}, "a glossy material");
+        mat.type = MaterialType::Glossy;
+        if (m.has("roughness")) mat.roughness = m["roughness"].numberIn(0, 1);
+    } else if (type == "conductor") {
+        m.expectObject({"type", "metal", "eta", "k", "reflectance", "roughness", "u_roughness",
+                        "v_roughness", "remap_roughness"},
+                       "a conductor material");
+        mat.type = MaterialType::Conductor;
+        parseConductor(m, mat);
+    } else if (type == "coateddiffuse") {
+        parseCoatedDiffuse(m, mat);
+    } else if (type == "thindielectric") {
+        m.expectObject({"type", "ior"}, "a thindielectric material");
+        mat.type = MaterialType::ThinDielectric;
+        if (m.has("ior")) mat.ior = m["ior"].positive();
+    } else if (type == "diffusetransmission") {
+        m.expectObject({"type", "color", "transmittance", "scale"},
+                       "a diffusetransmission material");
+        mat.type = MaterialType::DiffuseTransmission;
+        mat.color = Vec3(0.25f);
+        if (m.has("transmittance")) mat.transmittance = colorParam(m["transmittance"], scene, true);
+        if (m.has("scale")) mat.scale = m["scale"].numberIn(0, 1e6f);
+    } else {
+        m.expectObject({"type", "materials", "amount"}, "a mix material");
+        mat.type = MaterialType::Mix;
+        if (m.has("amount")) mat.amount.value = m["amount"].numberIn(0, 1);
+    }
+    if (m.has("color")) {
+        ColorParam c = colorParam(m["color"], scene, true);
+        mat.color = c.textured() ? Vec3(0.5f) : c.value;
+        mat.colorTexture = c.texture;
+    }
+    return mat;
+}
+
+// A mix names two materials of this block (from index `first` on), in any order; it must not
+// contain itself. `mixes`: each mix's index and JSON.
+void resolveMixes(const std::vector<std::pair<std::size_t, JsonRef>>& mixes, std::size_t first,
+                  Scene& scene) {
+    for (auto& [index, m] : mixes) {
+        JsonRef names = m["materials"];
+        if (!names.isArray() || names.arraySize() != 2)
+            names.fail("expected an array of two material names");
+        for (std::size_t k = 0; k < 2; ++k) {
+            std::string ref = names[k].nonEmptyString();
+            int found = scene.findMaterial(ref);
+            if (found < int(first)) names[k].fail("unknown material \"" + ref + "\"");
+            scene.materials[index].mix[k] = found;
+        }
+    }
+    for (auto& [index, m] : mixes)
+        if (mixContainsItself(scene.materials, int(index)))
+            m["materials"].fail("the mix contains itself");
+}
+
 } // namespace
 
 void parseMaterials(const JsonRef& v, Scene& scene) {
@@ -284,94 +391,11 @@ void parseMaterials(const JsonRef& v, Scene& scene) {
         if (name.rfind("__", 0) == 0)
             m.fail("material names starting with \"__\" are reserved for the loader");
         std::string type = parseType(m, "material", kTypes);
-
-        Material mat;
-        mat.name = name;
-        mat.color = Vec3(1.0f);
-        if (type == "diffuse") {
-            m.expectObject({"type", "color"}, "a diffuse material");
-            mat.type = MaterialType::Diffuse;
-            mat.color = Vec3(0.5f);
-        } else if (type == "mirror") {
-            m.expectObject({"type", "color"}, "a mirror material");
-            mat.type = MaterialType::Mirror;
-        } else if (type == "dielectric") {
-            m.expectObject({"type", "color", "ior", "roughness", "u_roughness", "v_roughness",
-                            "remap_roughness"},
-                           "a dielectric material");
-            mat.type = MaterialType::Dielectric;
-            if (m.has("ior")) mat.ior = m["ior"].positive();
-            parseRoughness(m, mat);
-        } else if (type == "glossy") {
-            m.expectObject({"type", "color", "roughness"}, "a glossy material");
-            mat.type = MaterialType::Glossy;
-            if (m.has("roughness")) mat.roughness = m["roughness"].numberIn(0, 1);
-        } else if (type == "conductor") {
-            m.expectObject({"type", "metal", "eta", "k", "reflectance", "roughness", "u_roughness",
-                            "v_roughness", "remap_roughness"},
-                           "a conductor material");
-            mat.type = MaterialType::Conductor;
-            parseConductor(m, mat);
-        } else if (type == "coateddiffuse") {
-            m.expectObject({"type", "color", "ior", "roughness", "u_roughness", "v_roughness",
-                            "remap_roughness", "thickness", "albedo", "g", "max_depth",
-                            "samples", "model"},
-                           "a coateddiffuse material");
-            mat.type = MaterialType::CoatedDiffuse;
-            mat.color = Vec3(0.5f);
-            if (m.has("ior")) mat.ior = m["ior"].positive();
-            parseRoughness(m, mat);
-            if (m.has("thickness")) mat.thickness.value = m["thickness"].positive();
-            if (m.has("albedo")) mat.albedo.value = m["albedo"].albedo();
-            if (m.has("g")) mat.g = m["g"].numberIn(-0.999f, 0.999f);
-            if (m.has("max_depth")) mat.maxDepth = int(m["max_depth"].integer(1, 1000));
-            if (m.has("samples")) mat.nSamples = int(m["samples"].integer(1, 1000));
-            if (m.has("model")) {
-                std::string model = m["model"].nonEmptyString();
-                if (model == "auto") mat.coatModel = Material::CoatModel::Auto;
-                else if (model == "analytic") mat.coatModel = Material::CoatModel::Analytic;
-                else if (model == "random-walk") mat.coatModel = Material::CoatModel::RandomWalk;
-                else m["model"].fail("expected \"auto\", \"analytic\" or \"random-walk\"");
-            }
-        } else if (type == "thindielectric") {
-            m.expectObject({"type", "ior"}, "a thindielectric material");
-            mat.type = MaterialType::ThinDielectric;
-            if (m.has("ior")) mat.ior = m["ior"].positive();
-        } else if (type == "diffusetransmission") {
-            m.expectObject({"type", "color", "transmittance", "scale"},
-                           "a diffusetransmission material");
-            mat.type = MaterialType::DiffuseTransmission;
-            mat.color = Vec3(0.25f);
-            if (m.has("transmittance")) mat.transmittance = colorParam(m["transmittance"], scene, true);
-            if (m.has("scale")) mat.scale = m["scale"].numberIn(0, 1e6f);
-        } else {
-            m.expectObject({"type", "materials", "amount"}, "a mix material");
-            mat.type = MaterialType::Mix;
-            if (m.has("amount")) mat.amount.value = m["amount"].numberIn(0, 1);
-            mixes.push_back({scene.materials.size(), m});
-        }
-        if (m.has("color")) {
-            ColorParam c = colorParam(m["color"], scene, true);
-            mat.color = c.textured() ? Vec3(0.5f) : c.value;
-            mat.colorTexture = c.texture;
-        }
+        Material mat = parseMaterial(m, name, type, scene);
+        if (mat.type == MaterialType::Mix) mixes.push_back({scene.materials.size(), m});
         scene.materials.push_back(mat);
     }
-    // A mix names two materials of this block, in any order; it must not contain itself.
-    for (auto& [index, m] : mixes) {
-        JsonRef names = m["materials"];
-        if (!names.isArray() || names.arraySize() != 2)
-            names.fail("expected an array of two material names");
-        for (std::size_t k = 0; k < 2; ++k) {
-            std::string ref = names[k].nonEmptyString();
-            int found = scene.findMaterial(ref);
-            if (found < int(first)) names[k].fail("unknown material \"" + ref + "\"");
-            scene.materials[index].mix[k] = found;
-        }
-    }
-    for (auto& [index, m] : mixes)
-        if (mixContainsItself(scene.materials, int(index)))
-            m["materials"].fail("the mix contains itself");
+    resolveMixes(mixes, first, scene);
 }
 
 // "image": a file relative to the scene file, read as linear RGB; "mapping" says how it covers

@@ -79,6 +79,69 @@ void conductor(const ParamList& params, const ValueReader& values, const SourceL
     readRoughness(params, values, loc, m);
 }
 
+// The material's base colour from the spectrum or texture parameter `name`.
+void baseColor(const ParamList& params, const ValueReader& values, std::string_view name,
+               Vec3 def, Material& m) {
+    ColorParam c = colorParam(params, values, name, SpectrumUse::Albedo, def);
+    m.color = c.value;
+    m.colorTexture = c.texture;
+}
+
+void coatedDiffuse(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
+                   Material& m) {
+    m.type = MaterialType::CoatedDiffuse;
+    baseColor(params, values, "reflectance", Vec3(0.5f), m);
+    readRoughness(params, values, loc, m);
+    m.ior = etaParam(params, values, loc, 1.5f);
+    m.thickness = floatParam(params, values, "thickness", 0.01f);
+    m.albedo = colorParam(params, values, "albedo", SpectrumUse::Albedo, Vec3(0.0f));
+    m.g = values.scalar(params, "g", 0.0f);
+    m.maxDepth = int(params.getInt("maxdepth", 10));
+    m.nSamples = int(params.getInt("nsamples", 1));
+    if (!(m.g > -1 && m.g < 1)) failAt(loc, "\"g\" must lie in (-1, 1)");
+    if (m.maxDepth < 1 || m.nSamples < 1)
+        failAt(loc, "\"maxdepth\" and \"nsamples\" must be at least 1");
+    if (!(m.thickness.value > 0)) failAt(loc, "\"thickness\" must be positive");
+}
+
+// A coated conductor: its conductor alone, without the dielectric coat (said in a warning).
+void coatedConductor(const ParamList& params, const ValueReader& values, Warnings& warnings,
+                     const SourceLoc& loc, Material& m) {
+    warnings.add(loc, "Material \"coatedconductor\" is rendered as its conductor without the "
+                      "dielectric coat");
+    m.type = MaterialType::Conductor;
+    Vec3 cuEta, cuK;
+    namedMetalSpectrum("metal-Cu-eta", cuEta);
+    namedMetalSpectrum("metal-Cu-k", cuK);
+    if (params.find("reflectance")) {
+        baseColor(params, values, "reflectance", Vec3(0.9f), m);
+        m.useReflectance = true;
+    } else {
+        m.eta = metalParam(params, values, "conductor.eta", cuEta);
+        m.k = metalParam(params, values, "conductor.k", cuK);
+    }
+    FloatParam r = floatParam(params, values, "conductor.roughness", 0.0f);
+    m.uRoughness = params.find("conductor.uroughness")
+                       ? floatParam(params, values, "conductor.uroughness", 0.0f) : r;
+    m.vRoughness = params.find("conductor.vroughness")
+                       ? floatParam(params, values, "conductor.vroughness", 0.0f) : r;
+    m.remapRoughness = params.getBool("remaproughness", true);
+    for (const Param& p : params.all()) p.used = true; // the coat is reported above
+}
+
+// A mix: its two materials' names (resolved by the caller) and the amount.
+void mixMaterial(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
+                 MaterialResult& r) {
+    r.material.type = MaterialType::Mix;
+    const Param* names = params.get("materials", {"string"});
+    if (!names || names->strings.size() != 2)
+        failAt(names ? names->loc : loc, "Material \"mix\" needs \"string materials\" with "
+                                         "two material names");
+    r.mixNames[0] = names->strings[0];
+    r.mixNames[1] = names->strings[1];
+    r.material.amount = floatParam(params, values, "amount", 0.5f);
+}
+
 } // namespace
 
 MaterialResult convertMaterial(const std::string& type, const ParamList& params,
@@ -88,11 +151,6 @@ MaterialResult convertMaterial(const std::string& type, const ParamList& params,
     Material& m = r.material;
     m.type = MaterialType::Diffuse;
     m.color = Vec3(0.5f);
-    auto base = [&](std::string_view name, Vec3 def) {
-        ColorParam c = colorParam(params, values, name, SpectrumUse::Albedo, def);
-        m.color = c.value;
-        m.colorTexture = c.texture;
-    };
     for (const char* unsupported : {"displacement", "normalmap"})
         if (const Param* p = params.find(unsupported)) {
             warnings.add(p->loc, "parameter " + p->decl() + " (bump / normal mapping) is not "
@@ -100,44 +158,13 @@ MaterialResult convertMaterial(const std::string& type, const ParamList& params,
             p->used = true;
         }
     if (type == "diffuse") {
-        base("reflectance", Vec3(0.5f));
+        baseColor(params, values, "reflectance", Vec3(0.5f), m);
     } else if (type == "coateddiffuse") {
-        m.type = MaterialType::CoatedDiffuse;
-        base("reflectance", Vec3(0.5f));
-        readRoughness(params, values, loc, m);
-        m.ior = etaParam(params, values, loc, 1.5f);
-        m.thickness = floatParam(params, values, "thickness", 0.01f);
-        m.albedo = colorParam(params, values, "albedo", SpectrumUse::Albedo, Vec3(0.0f));
-        m.g = values.scalar(params, "g", 0.0f);
-        m.maxDepth = int(params.getInt("maxdepth", 10));
-        m.nSamples = int(params.getInt("nsamples", 1));
-        if (!(m.g > -1 && m.g < 1)) failAt(loc, "\"g\" must lie in (-1, 1)");
-        if (m.maxDepth < 1 || m.nSamples < 1)
-            failAt(loc, "\"maxdepth\" and \"nsamples\" must be at least 1");
-        if (!(m.thickness.value > 0)) failAt(loc, "\"thickness\" must be positive");
+        coatedDiffuse(params, values, loc, m);
     } else if (type == "conductor") {
         conductor(params, values, loc, m);
     } else if (type == "coatedconductor") {
-        warnings.add(loc, "Material \"coatedconductor\" is rendered as its conductor without the "
-                          "dielectric coat");
-        m.type = MaterialType::Conductor;
-        Vec3 cuEta, cuK;
-        namedMetalSpectrum("metal-Cu-eta", cuEta);
-        namedMetalSpectrum("metal-Cu-k", cuK);
-        if (params.find("reflectance")) {
-            base("reflectance", Vec3(0.9f));
-            m.useReflectance = true;
-        } else {
-            m.eta = metalParam(params, values, "conductor.eta", cuEta);
-            m.k = metalParam(params, values, "conductor.k", cuK);
-        }
-        FloatParam r = floatParam(params, values, "conductor.roughness", 0.0f);
-        m.uRoughness = params.find("conductor.uroughness")
-                           ? floatParam(params, values, "conductor.uroughness", 0.0f) : r;
-        m.vRoughness = params.find("conductor.vroughness")
-                           ? floatParam(params, values, "conductor.vroughness", 0.0f) : r;
-        m.remapRoughness = params.getBool("remaproughness", true);
-        for (const Param& p : params.all()) p.used = true; // the coat is reported above
+        coatedConductor(params, values, warnings, loc, m);
     } else if (type == "dielectric") {
         m.type = MaterialType::Dielectric;
         m.color = Vec3(1.0f);
@@ -149,20 +176,13 @@ MaterialResult convertMaterial(const std::string& type, const ParamList& params,
         m.ior = etaParam(params, values, loc, 1.5f);
     } else if (type == "diffusetransmission") {
         m.type = MaterialType::DiffuseTransmission;
-        base("reflectance", Vec3(0.25f));
+        baseColor(params, values, "reflectance", Vec3(0.25f), m);
         m.transmittance =
             colorParam(params, values, "transmittance", SpectrumUse::Albedo, Vec3(0.25f));
         m.scale = values.scalar(params, "scale", 1.0f);
         if (!(m.scale >= 0)) failAt(loc, "\"scale\" must not be negative");
     } else if (type == "mix") {
-        m.type = MaterialType::Mix;
-        const Param* names = params.get("materials", {"string"});
-        if (!names || names->strings.size() != 2)
-            failAt(names ? names->loc : loc, "Material \"mix\" needs \"string materials\" with "
-                                             "two material names");
-        r.mixNames[0] = names->strings[0];
-        r.mixNames[1] = names->strings[1];
-        m.amount = floatParam(params, values, "amount", 0.5f);
+        mixMaterial(params, values, loc, r);
     } else if (type == "interface" || type == "" || type == "none") {
         r.interface = true;
         m.type = MaterialType::Dielectric; // if it must stand somewhere: pass straight through

@@ -116,6 +116,11 @@ private:
     }
 
     void directive(const Token& d);
+    // Each handles its directives and says whether d was one of them.
+    bool sceneDirective(const Token& d);     // shapes, materials, textures, lights, media
+    bool blockDirective(const Token& d);     // attribute, object and world blocks, includes
+    bool transformDirective(const Token& d); // the current transform
+    bool optionDirective(const Token& d);    // camera, film, sampler and other render options
 
     SceneBuilder& m_builder;
     std::deque<std::string>& m_names;
@@ -125,20 +130,84 @@ private:
 };
 
 void Parser::directive(const Token& d) {
+    if (sceneDirective(d) || blockDirective(d) || transformDirective(d) || optionDirective(d))
+        return;
+    failAt(d.loc, "unknown directive \"" + std::string(d.text) + "\"");
+}
+
+bool Parser::sceneDirective(const Token& d) {
+    const std::string_view n = d.text;
+    const SourceLoc& loc = d.loc;
+    SceneBuilder& b = m_builder;
+    if (n == "Shape") {
+        std::string type = string(d, "shape type");
+        b.shape(type, params(), loc, m_sources.back()->dir);
+    } else if (n == "Material") {
+        std::string type = string(d, "material type");
+        b.material(type, params(), loc);
+    } else if (n == "MakeNamedMaterial") {
+        std::string name = string(d, "material name");
+        b.makeNamedMaterial(name, params(), loc);
+    } else if (n == "NamedMaterial") {
+        b.namedMaterial(string(d, "material name"), loc);
+    } else if (n == "Texture") {
+        std::string name = string(d, "texture name");
+        std::string type = string(d, "texture type");
+        std::string cls = string(d, "texture class");
+        b.texture(name, type, cls, params(), loc);
+    } else if (n == "LightSource") {
+        std::string type = string(d, "light type");
+        b.lightSource(type, params(), loc);
+    } else if (n == "AreaLightSource") {
+        std::string type = string(d, "area light type");
+        b.areaLightSource(type, params(), loc);
+    } else if (n == "MakeNamedMedium") {
+        std::string name = string(d, "medium name");
+        b.makeNamedMedium(name, params(), loc);
+    } else if (n == "MediumInterface") {
+        std::string inside = string(d, "medium name"), outside = inside;
+        if (tok().peek().is(Token::Kind::String)) outside = string(d, "medium name");
+        b.mediumInterface(inside, outside, loc);
+    } else {
+        return false;
+    }
+    return true;
+}
+
+bool Parser::blockDirective(const Token& d) {
+    const std::string_view n = d.text;
+    const SourceLoc& loc = d.loc;
+    SceneBuilder& b = m_builder;
+    if (n == "AttributeBegin" || n == "TransformBegin") {
+        b.begin(n == "AttributeBegin" ? "Attribute" : "Transform", loc);
+    } else if (n == "AttributeEnd" || n == "TransformEnd") {
+        b.end(n == "AttributeEnd" ? "Attribute" : "Transform", loc);
+    } else if (n == "ObjectBegin") {
+        b.objectBegin(string(d, "object name"), loc);
+    } else if (n == "ObjectEnd") {
+        b.objectEnd(loc);
+    } else if (n == "ObjectInstance") {
+        b.objectInstance(string(d, "object name"), loc);
+    } else if (n == "Include" || n == "Import") {
+        include(d);
+    } else if (n == "WorldBegin") {
+        b.worldBegin(loc);
+    } else if (n == "WorldEnd") {
+        b.worldEnd(loc);
+    } else {
+        return false;
+    }
+    return true;
+}
+
+bool Parser::transformDirective(const Token& d) {
     const std::string_view n = d.text;
     const SourceLoc& loc = d.loc;
     SceneBuilder& b = m_builder;
     auto xform = [&](auto&& f) {
         if (!m_ignoreTransforms) f();
     };
-    if (n == "Shape") {
-        std::string type = string(d, "shape type");
-        b.shape(type, params(), loc, m_sources.back()->dir);
-    } else if (n == "AttributeBegin" || n == "TransformBegin") {
-        b.begin(n == "AttributeBegin" ? "Attribute" : "Transform", loc);
-    } else if (n == "AttributeEnd" || n == "TransformEnd") {
-        b.end(n == "AttributeEnd" ? "Attribute" : "Transform", loc);
-    } else if (n == "Identity") {
+    if (n == "Identity") {
         xform([&] { b.identity(); });
     } else if (n == "Translate" || n == "Scale") {
         double v[3];
@@ -175,38 +244,17 @@ void Parser::directive(const Token& d) {
     } else if (n == "TransformTimes") {
         number(d);
         number(d);
-    } else if (n == "Material") {
-        std::string type = string(d, "material type");
-        b.material(type, params(), loc);
-    } else if (n == "MakeNamedMaterial") {
-        std::string name = string(d, "material name");
-        b.makeNamedMaterial(name, params(), loc);
-    } else if (n == "NamedMaterial") {
-        b.namedMaterial(string(d, "material name"), loc);
-    } else if (n == "Texture") {
-        std::string name = string(d, "texture name");
-        std::string type = string(d, "texture type");
-        std::string cls = string(d, "texture class");
-        b.texture(name, type, cls, params(), loc);
-    } else if (n == "LightSource") {
-        std::string type = string(d, "light type");
-        b.lightSource(type, params(), loc);
-    } else if (n == "AreaLightSource") {
-        std::string type = string(d, "area light type");
-        b.areaLightSource(type, params(), loc);
-    } else if (n == "ObjectBegin") {
-        b.objectBegin(string(d, "object name"), loc);
-    } else if (n == "ObjectEnd") {
-        b.objectEnd(loc);
-    } else if (n == "ObjectInstance") {
-        b.objectInstance(string(d, "object name"), loc);
-    } else if (n == "Include" || n == "Import") {
-        include(d);
-    } else if (n == "WorldBegin") {
-        b.worldBegin(loc);
-    } else if (n == "WorldEnd") {
-        b.worldEnd(loc);
-    } else if (n == "Camera") {
+    } else {
+        return false;
+    }
+    return true;
+}
+
+bool Parser::optionDirective(const Token& d) {
+    const std::string_view n = d.text;
+    const SourceLoc& loc = d.loc;
+    SceneBuilder& b = m_builder;
+    if (n == "Camera") {
         std::string type = string(d, "camera type");
         b.camera(type, params(), loc);
     } else if (n == "Film") {
@@ -236,16 +284,10 @@ void Parser::directive(const Token& d) {
         string(d, "attribute target");
         params();
         b.unsupported("Attribute (default parameters)", "ignored", loc);
-    } else if (n == "MakeNamedMedium") {
-        std::string name = string(d, "medium name");
-        b.makeNamedMedium(name, params(), loc);
-    } else if (n == "MediumInterface") {
-        std::string inside = string(d, "medium name"), outside = inside;
-        if (tok().peek().is(Token::Kind::String)) outside = string(d, "medium name");
-        b.mediumInterface(inside, outside, loc);
     } else {
-        failAt(loc, "unknown directive \"" + std::string(n) + "\"");
+        return false;
     }
+    return true;
 }
 
 } // namespace
