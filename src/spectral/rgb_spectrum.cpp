@@ -53,7 +53,9 @@ const Table& table(ColorSpaceId id) {
 int rgbTableResolution() { return table(ColorSpaceId::Srgb).res; }
 
 SigmoidPolynomial rgbToCoefficients(const ColorSpace& cs, float r, float g, float b) {
-    float rgb[3] = {std::clamp(r, 0.0f, 1.0f), std::clamp(g, 0.0f, 1.0f), std::clamp(b, 0.0f, 1.0f)};
+    // Clamped to the cube; NaN counts as 0 (the comparisons are false for it).
+    auto clamp01 = [](float v) { return v > 0 ? (v < 1 ? v : 1.0f) : 0.0f; };
+    float rgb[3] = {clamp01(r), clamp01(g), clamp01(b)};
     SigmoidPolynomial p;
     if (rgb[0] == rgb[1] && rgb[1] == rgb[2]) {
         // S(c2) = v: c2 = (v - 1/2) / sqrt(v (1 - v)); infinite at 0 and 1.
@@ -96,9 +98,8 @@ SigmoidPolynomial rgbToCoefficientsRefined(const ColorSpace& cs, float r, float 
     SigmoidCoefficients c{p.c[0], p.c[1], p.c[2]};
     // fit() only takes steps that lower the CIELAB residual, so the result is never worse
     // than the table's.
-    fitters[int(cs.id)].fit({std::clamp(double(r), 0.0, 1.0), std::clamp(double(g), 0.0, 1.0),
-                             std::clamp(double(b), 0.0, 1.0)},
-                            c);
+    auto clamp01 = [](float v) { return v > 0 ? (v < 1 ? double(v) : 1.0) : 0.0; };
+    fitters[int(cs.id)].fit({clamp01(r), clamp01(g), clamp01(b)}, c);
     for (int q = 0; q < 3; ++q) p.c[q] = float(c[q]);
     return p;
 }
@@ -109,6 +110,7 @@ RgbAlbedoSpectrum::RgbAlbedoSpectrum(const ColorSpace& cs, float r, float g, flo
 RgbUnboundedSpectrum::RgbUnboundedSpectrum(const ColorSpace& cs, float r, float g, float b) {
     float m = std::max({r, g, b});
     scale = 2 * m;
+    if (!(scale > 0) || !std::isfinite(scale)) scale = 0; // no light, no NaN
     p = scale > 0 ? rgbToCoefficientsRefined(cs, r / scale, g / scale, b / scale)
                   : rgbToCoefficients(cs, 0, 0, 0);
 }

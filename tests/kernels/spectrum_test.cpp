@@ -1,5 +1,6 @@
 // kernels/spectrum.h: the wavelength density integrates to 1 and its sampling follows it
 // (chi-square), hero wavelengths estimate XYZ without bias, the sigmoid's limits, Planck's law.
+#include "core/math.h"
 #include "kernels/spectrum.h"
 #include "spectral/spectra.h"
 
@@ -111,5 +112,5 @@ TEST_CASE("Sigmoid polynomial limits and Planck's law", "[kernels][spectral]") {
     // Stefan-Boltzmann: pi times the integral of Planck's law over wavelength is sigma T^4.
     double sum = 0;
     for (double nm = 10; nm < 100000; nm += 1) sum += planck(nm + 0.5, 5000) * 1e-9;
-    CHECK(M_PI * sum == Approx(5.670374419e-8 * std::pow(5000.0, 4)).epsilon(1e-3));
+    CHECK(kPi * sum == Approx(5.670374419e-8 * std::pow(5000.0, 4)).epsilon(1e-3));
 }

@@ -106,9 +106,13 @@ TEST_CASE("RGB upsampling: edge cases 0, 1, grey and saturated primaries", "[spe
         CHECK(white(nm) == 1.0f);
         CHECK(grey(nm) == Approx(0.25f).epsilon(1e-6));
     }
-    // Out-of-range inputs are clamped to the cube.
+    // Out-of-range inputs are clamped to the cube; NaN counts as 0.
     RgbAlbedoSpectrum over(cs, 2, -1, 0.5f);
     CHECK(maxDiff(reflectedRgb(cs, over), 1, 0, 0.5) < 2e-3);
+    RgbAlbedoSpectrum nan(cs, NAN, 0.5f, 0.25f);
+    CHECK(maxDiff(reflectedRgb(cs, nan), 0, 0.5, 0.25) < 1e-4);
+    RgbUnboundedSpectrum nanScale(cs, NAN, NAN, NAN);
+    CHECK(nanScale(550) == 0.0f);
     // The saturated corners: refined from the table, each within 1e-4 (measured 1e-6). The
     // table's own cells at pure green and magenta stay 0.2 away in CIELAB (docs/spectral.md).
     struct Case {

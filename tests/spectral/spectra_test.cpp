@@ -43,7 +43,7 @@ TEST_CASE("CIE 1931 tables: published peaks, integral and white points", "[spect
     CHECK(y == Approx(0.35851).margin(5e-4));
 }
 
-TEST_CASE("Named illuminants have luminance 1; unknown names are null", "[spectral]") {
+TEST_CASE("Named illuminants have luminance 1, unknown names are null", "[spectral]") {
     for (const std::string& name : cieIlluminantNames()) {
         INFO(name);
         const DenseSpectrum* s = cieIlluminant(name);
