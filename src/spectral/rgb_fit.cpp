@@ -136,9 +136,9 @@ double RgbFitter::fit(const std::array<double, 3>& rgb, SigmoidCoefficients& c) 
         for (double scale = 1; scale > 1e-4; scale *= 0.5) {
             for (int k = 0; k < 3; ++k) next[k] = c[k] - scale * step[k];
             // Saturated colours push the coefficients towards infinity (a step spectrum);
-            // bounding them keeps the iteration finite (the paper's implementation bounds them
-            // at 200; rayproc at 5000, which brings the sRGB table's cells that miss by more
-            // than 1e-3 in CIELAB from 10% to 2% of the 16^3 table, docs/spectral.md).
+            // bounding them keeps the iteration finite. 5000 rather than 200 brings the cells
+            // of a 16^3 sRGB table that miss by more than 1e-3 in CIELAB from 10% to 2%
+            // (docs/spectral.md).
             double m = std::max({std::fabs(next[0]), std::fabs(next[1]), std::fabs(next[2])});
             if (m > kCoefficientBound)
                 for (double& v : next) v *= kCoefficientBound / m;
