@@ -200,15 +200,36 @@ TEST_CASE("Blackbody colours: Planck's law through the CIE 1931 observer, lumina
     CHECK(warm.y > warm.z);
     Vec3 cool = blackbodyRgb(12000);
     CHECK(cool.z > cool.x);
-    // The colour matching fit peaks where the CIE tables do.
+    // The CIE tables' values (CIE 15:2004), and between their 5 nm samples linear.
     double x, y, z;
     cieColorMatch(555, x, y, z);
-    CHECK(y == Approx(1.0).margin(0.02));
+    CHECK(y == 1.0);
     cieColorMatch(600, x, y, z);
-    CHECK(x == Approx(1.06).margin(0.03));
-    // Flat reflectance spectra are grey; flat emission is white with luminance 1.
-    CHECK(near(sampledReflectanceRgb({400, 0.5, 700, 0.5}), Vec3(0.5f), 1e-3f));
+    CHECK(x == Approx(1.0622));
+    cieColorMatch(602.5, x, y, z);
+    CHECK(x == Approx((1.0622 + 1.0456) / 2));
+    // A 2856 K blackbody is CIE illuminant A: chromaticity 0.44757, 0.40745 (CIE 15:2004).
+    Vec3 a = blackbodyRgb(2856), tabulatedA;
+    REQUIRE(namedIlluminantRgb("stdillum-A", tabulatedA));
+    CHECK(near(a, tabulatedA, 3e-3f));
+    // Flat reflectance spectra over the whole range are grey; flat emission is white with
+    // luminance 1.
+    CHECK(near(sampledReflectanceRgb({360, 0.5, 830, 0.5}), Vec3(0.5f), 1e-4f));
     CHECK(luminance(sampledEmissionRgb({360, 2, 830, 2})) == Approx(1.0f).epsilon(1e-4));
+    // Pairs are zero outside their range (pbrt-v4): 400-700 nm loses a little red and blue.
+    Vec3 cut = sampledReflectanceRgb({400, 0.5, 700, 0.5});
+    CHECK(cut.x < 0.4995f);
+    CHECK(cut.z < 0.4995f);
+    CHECK(cut.x > 0.49f);
+    // pbrt-v4's named illuminants: D65 is sRGB's white; B is not one of pbrt-v4's names.
+    Vec3 d65;
+    REQUIRE(namedIlluminantRgb("stdillum-D65", d65));
+    CHECK(near(d65, Vec3(1.0f), 1e-5f));
+    Vec3 f11;
+    CHECK(namedIlluminantRgb("stdillum-F11", f11));
+    CHECK(luminance(f11) == Approx(1.0f).epsilon(1e-4));
+    CHECK_FALSE(namedIlluminantRgb("stdillum-B", f11));
+    CHECK_FALSE(namedIlluminantRgb("D65", f11));
 }
 
 TEST_CASE("Lights: point, spot, distant, infinite, area, scale, power and blackbody", "[pbrt]") {

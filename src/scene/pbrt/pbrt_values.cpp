@@ -254,10 +254,8 @@ Vec3 ValueReader::convert(const Param& p, SpectrumUse use, Vec3 def) const {
     } else { // a named spectrum
         const std::string& name = p.strings[0];
         double ior = 0;
-        if (name == "stdillum-D65" && use == SpectrumUse::Illuminant) {
-            c = Vec3(1.0f); // sRGB's white point
-        } else if (name == "stdillum-A" && use == SpectrumUse::Illuminant) {
-            c = blackbodyRgb(2856.0); // CIE illuminant A is a 2856 K blackbody
+        if (use == SpectrumUse::Illuminant && namedIlluminantRgb(name, c)) {
+            // the tabulated CIE illuminant's colour, luminance 1
         } else if (namedGlassIor(name, ior) && use == SpectrumUse::Unbounded) {
             c = Vec3(float(ior));
         } else {
