@@ -293,198 +293,224 @@ Session::Step Session::swapStep(const Step& step) {
     return back;
 }
 
+// Each message type is answered by its own function (docs/serve.md lists them).
 Json Session::reply(const Json& m, int client) {
+    using Handler = Json (Session::*)(const Json&, int);
+    static const std::vector<std::pair<std::string, Handler>> handlers = {
+        {"state", &Session::replyState},       {"camera", &Session::replyCamera},
+        {"pick", &Session::replyPick},         {"transform", &Session::replyTransform},
+        {"material", &Session::replyMaterial}, {"emission", &Session::replyEmission},
+        {"light", &Session::replyLight},       {"undo", &Session::replyUndoRedo},
+        {"redo", &Session::replyUndoRedo},     {"save", &Session::replySave},
+        {"render", &Session::replyRender},     {"cancel", &Session::replyCancel}};
     const std::string type = m["type"].get<std::string>();
-    if (type == "state") {
-        expectKeys(m, {});
-        Json s = state();
-        s["type"] = "state";
-        return s;
-    }
-    if (type == "camera") {
-        expectKeys(m, {"position", "look_at", "up", "fov", "undo_step"});
-        bool undoStep = false;
-        if (m.contains("undo_step")) {
-            if (!m["undo_step"].is_boolean()) refuse("camera.undo_step: expected true or false");
-            undoStep = m["undo_step"].get<bool>();
-        }
-        std::lock_guard<std::mutex> lk(m_mutex);
-        if (m_rendering || m_request) refuse("camera: a render is running; cancel it first");
-        Camera c = m_camera;
-        if (m.contains("position")) c.position = vec3(m["position"], "camera.position");
-        if (m.contains("look_at")) c.lookAt = vec3(m["look_at"], "camera.look_at");
-        if (m.contains("up")) c.up = vec3(m["up"], "camera.up");
-        if (m.contains("fov")) c.fovY = float(finite(m["fov"], "camera.fov"));
-        // The check the scene loaders make: a camera serve accepts (and saves) renders.
-        if (auto problem = cameraProblem(c))
-            refuse("camera." + problem->field + ": " + problem->message);
-        if (undoStep) pushUndo({std::nullopt, m_camera});
-        setCamera(c);
-        changed();
-        // The version the new view's frames carry: the page sends its next view once one of
-        // them has arrived.
-        return {{"type", "camera"}, {"version", std::uint32_t(m_version)}};
-    }
-    if (type == "pick") {
-        expectKeys(m, {"x", "y"});
-        return pick(m);
-    }
-    if (type == "transform") {
-        expectKeys(m, {"object", "translate", "rotate", "scale"});
-        const Json& obj = field(m, "object", "transform");
-        if (!obj.is_number_integer()) refuse("transform.object: expected an object index");
-        long long index = obj.get<long long>();
-        Affine edit = Affine::identity();
-        Vec3 translate{0, 0, 0};
-        if (m.contains("translate")) {
-            translate = vec3(m["translate"], "transform.translate");
-            // One move at most kMaxTranslate along each axis (the page's step is refused
-            // beyond it too): 1e9 would put the object where Embree loses all precision.
-            for (float t : {translate.x, translate.y, translate.z})
-                if (!(std::abs(t) <= kMaxTranslate))
-                    refuse("transform.translate: each component must be in [-" +
-                           std::to_string(int(kMaxTranslate)) + ", " +
-                           std::to_string(int(kMaxTranslate)) + "] (repeat a move to go further)");
-        }
-        Affine about = Affine::identity();
-        if (m.contains("rotate")) {
-            const Json& r = m["rotate"];
-            if (!r.is_object()) refuse("transform.rotate: expected {\"angle\": degrees, \"axis\": [x, y, z]}");
-            Vec3 axis = vec3(field(r, "axis", "transform.rotate"), "transform.rotate.axis");
-            if (!(length(axis) > 0)) refuse("transform.rotate.axis: must not be zero");
-            about = Affine::rotate(float(finite(field(r, "angle", "transform.rotate"), "transform.rotate.angle")), axis) * about;
-        }
-        if (m.contains("scale")) {
-            double s = finite(m["scale"], "transform.scale");
-            if (!(s > 1e-3 && s < 1e3)) refuse("transform.scale: expected a factor in (0.001, 1000)");
-            about = Affine::scale(Vec3(float(s))) * about;
-        }
-        return applyEdit(m, [&](Json& doc) {
-            if (!doc.contains("nodes") || index < 0 || index >= (long long)doc["nodes"].size())
-                refuse("transform.object: no object " + std::to_string(index));
-            Json& node = doc["nodes"][std::size_t(index)];
-            std::string file = m_path;
-            Affine old = Affine::identity();
-            if (node.contains("transform"))
-                old = scene_json::parseTransform(scene_json::JsonRef(
-                    node["transform"], file, "/nodes/" + std::to_string(index) + "/transform"));
-            // Rotation and scale about the object's centre (its bounds in the world), then
-            // the translation: new = T * C * R S * C^-1 * old.
-            Vec3 centre{0, 0, 0};
-            const Scene& scene = *m_loaded->scene; // applyEdit holds the lock
-            if (std::size_t(index) < scene.root->children.size())
-                centre = scene.root->children[std::size_t(index)]->bounds.center();
-            edit = Affine::translate(translate) * Affine::translate(centre) * about *
-                   Affine::translate(-centre) * old;
-            Json matrix = Json::array();
-            for (int r = 0; r < 3; ++r)
-                for (int c = 0; c < 4; ++c) matrix.push_back(double(edit.m[r][c]));
-            node["transform"] = matrix;
-        });
-    }
-    if (type == "material") {
-        expectKeys(m, {"name", "material"});
-        const Json& name = field(m, "name", "material");
-        if (!name.is_string()) refuse("material.name: expected a string");
-        const Json& value = field(m, "material", "material");
-        if (!value.is_object()) refuse("material.material: expected a material object");
-        return applyEdit(m, [&](Json& doc) {
-            std::string n = name.get<std::string>();
-            if (!doc.contains("materials") || !doc["materials"].contains(n))
-                refuse("material.name: no material \"" + n + "\"");
-            doc["materials"][n] = value;
-        });
-    }
-    if (type == "emission") {
-        expectKeys(m, {"object", "emission"});
-        const Json& obj = field(m, "object", "emission");
-        if (!obj.is_number_integer()) refuse("emission.object: expected an object index");
-        long long index = obj.get<long long>();
-        Vec3 e = vec3(field(m, "emission", "emission"), "emission.emission");
-        return applyEdit(m, [&](Json& doc) {
-            if (!doc.contains("nodes") || index < 0 || index >= (long long)doc["nodes"].size())
-                refuse("emission.object: no object " + std::to_string(index));
-            Json& node = doc["nodes"][std::size_t(index)];
-            if (e.x == 0 && e.y == 0 && e.z == 0)
-                node.erase("emission");
-            else
-                node["emission"] = vec3Json(e);
-        });
-    }
-    if (type == "light") {
-        expectKeys(m, {"index", "set"});
-        const Json& idx = field(m, "index", "light");
-        if (!idx.is_number_integer()) refuse("light.index: expected a light index");
-        long long index = idx.get<long long>();
-        const Json& set = field(m, "set", "light");
-        if (!set.is_object()) refuse("light.set: expected an object of light fields");
-        return applyEdit(m, [&](Json& doc) {
-            if (!doc.contains("lights") || index < 0 || index >= (long long)doc["lights"].size())
-                refuse("light.index: no light " + std::to_string(index));
-            for (auto it = set.begin(); it != set.end(); ++it)
-                doc["lights"][std::size_t(index)][it.key()] = it.value();
-        });
-    }
-    if (type == "undo" || type == "redo") {
-        expectKeys(m, {});
-        std::lock_guard<std::mutex> lk(m_mutex);
-        if (m_rendering || m_request) refuse(type + ": a render is running; cancel it first");
-        std::vector<Step>& from = type == "undo" ? m_undo : m_redo;
-        std::vector<Step>& to = type == "undo" ? m_redo : m_undo;
-        if (from.empty()) refuse(type + ": nothing to " + type);
-        Step back = swapStep(from.back());
-        from.pop_back();
-        to.push_back(std::move(back));
-        return {{"type", "edited"}, {"undo_depth", m_undo.size()}, {"redo_depth", m_redo.size()}};
-    }
-    if (type == "save") {
-        expectKeys(m, {"path"});
-        const Json& p = field(m, "path", "save");
-        if (!p.is_string() || p.get<std::string>().empty()) refuse("save.path: expected a file name");
-        std::string path = p.get<std::string>();
-        if (std::filesystem::path(path).extension() != ".json")
-            refuse("save.path: the scene is saved as JSON: give a name ending in .json");
-        std::string text;
-        {
-            std::lock_guard<std::mutex> lk(m_mutex);
-            if (!m_editable) refuse("save: only JSON scenes can be saved (" + m_path + " is not one)");
-            text = toText(m_doc, 2) + "\n";
-        }
-        try {
-            writeFileAtomically(path, text);
-        } catch (const ImageIoError& e) {
-            refuse(std::string("save: ") + e.what());
-        }
-        return {{"type", "saved"}, {"path", std::filesystem::absolute(path).string()}};
-    }
-    if (type == "render") {
-        expectKeys(m, {"mode", "spp"});
-        const Json& mode = field(m, "mode", "render");
-        if (!mode.is_string() || (mode != "raytrace" && mode != "gi" && mode != "path" && mode != "preview"))
-            refuse("render.mode: expected preview, raytrace, gi or path");
-        int spp = 0;
-        if (m.contains("spp")) {
-            if (!m["spp"].is_number_integer() || m["spp"].get<long long>() < 1 ||
-                m["spp"].get<long long>() > 65536)
-                refuse("render.spp: expected a whole number of samples in 1..65536");
-            spp = m["spp"].get<int>();
-        }
-        std::lock_guard<std::mutex> lk(m_mutex);
-        if (m_rendering || m_request) refuse("render: a render is already running");
-        m_request = RenderRequest{mode.get<std::string>(), spp, client};
-        m_wake.notify_all();
-        return {{"type", "render_started"}, {"mode", mode}};
-    }
-    if (type == "cancel") {
-        expectKeys(m, {});
-        std::lock_guard<std::mutex> lk(m_mutex);
-        if (!m_rendering && !m_request) refuse("cancel: no render is running");
-        m_request.reset();
-        if (m_rendering) requestInterrupt();
-        return {{"type", "cancelling"}};
-    }
+    for (const auto& [name, handler] : handlers)
+        if (name == type) return (this->*handler)(m, client);
     refuse("unknown message type \"" + type + "\"; known types: " +
            scene_json::joinNames(kMessageTypes));
+}
+
+Json Session::replyState(const Json& m, int) {
+    expectKeys(m, {});
+    Json s = state();
+    s["type"] = "state";
+    return s;
+}
+
+Json Session::replyCamera(const Json& m, int) {
+    expectKeys(m, {"position", "look_at", "up", "fov", "undo_step"});
+    bool undoStep = false;
+    if (m.contains("undo_step")) {
+        if (!m["undo_step"].is_boolean()) refuse("camera.undo_step: expected true or false");
+        undoStep = m["undo_step"].get<bool>();
+    }
+    std::lock_guard<std::mutex> lk(m_mutex);
+    if (m_rendering || m_request) refuse("camera: a render is running; cancel it first");
+    Camera c = m_camera;
+    if (m.contains("position")) c.position = vec3(m["position"], "camera.position");
+    if (m.contains("look_at")) c.lookAt = vec3(m["look_at"], "camera.look_at");
+    if (m.contains("up")) c.up = vec3(m["up"], "camera.up");
+    if (m.contains("fov")) c.fovY = float(finite(m["fov"], "camera.fov"));
+    // The check the scene loaders make: a camera serve accepts (and saves) renders.
+    if (auto problem = cameraProblem(c))
+        refuse("camera." + problem->field + ": " + problem->message);
+    if (undoStep) pushUndo({std::nullopt, m_camera});
+    setCamera(c);
+    changed();
+    // The version the new view's frames carry: the page sends its next view once one of
+    // them has arrived.
+    return {{"type", "camera"}, {"version", std::uint32_t(m_version)}};
+}
+
+Json Session::replyPick(const Json& m, int) {
+    expectKeys(m, {"x", "y"});
+    return pick(m);
+}
+
+// A move, a rotation and a scale of one top-level object, as a new transform in the document.
+Json Session::replyTransform(const Json& m, int) {
+    expectKeys(m, {"object", "translate", "rotate", "scale"});
+    const Json& obj = field(m, "object", "transform");
+    if (!obj.is_number_integer()) refuse("transform.object: expected an object index");
+    long long index = obj.get<long long>();
+    Vec3 translate{0, 0, 0};
+    if (m.contains("translate")) {
+        translate = vec3(m["translate"], "transform.translate");
+        // One move at most kMaxTranslate along each axis (the page's step is refused
+        // beyond it too): 1e9 would put the object where Embree loses all precision.
+        for (float t : {translate.x, translate.y, translate.z})
+            if (!(std::abs(t) <= kMaxTranslate))
+                refuse("transform.translate: each component must be in [-" +
+                       std::to_string(int(kMaxTranslate)) + ", " +
+                       std::to_string(int(kMaxTranslate)) + "] (repeat a move to go further)");
+    }
+    Affine about = Affine::identity();
+    if (m.contains("rotate")) {
+        const Json& r = m["rotate"];
+        if (!r.is_object()) refuse("transform.rotate: expected {\"angle\": degrees, \"axis\": [x, y, z]}");
+        Vec3 axis = vec3(field(r, "axis", "transform.rotate"), "transform.rotate.axis");
+        if (!(length(axis) > 0)) refuse("transform.rotate.axis: must not be zero");
+        about = Affine::rotate(float(finite(field(r, "angle", "transform.rotate"), "transform.rotate.angle")), axis) * about;
+    }
+    if (m.contains("scale")) {
+        double s = finite(m["scale"], "transform.scale");
+        if (!(s > 1e-3 && s < 1e3)) refuse("transform.scale: expected a factor in (0.001, 1000)");
+        about = Affine::scale(Vec3(float(s))) * about;
+    }
+    return applyEdit(m, [&](Json& doc) { transformNode(doc, index, translate, about); });
+}
+
+void Session::transformNode(Json& doc, long long index, const Vec3& translate,
+                            const Affine& about) const {
+    if (!doc.contains("nodes") || index < 0 || index >= (long long)doc["nodes"].size())
+        refuse("transform.object: no object " + std::to_string(index));
+    Json& node = doc["nodes"][std::size_t(index)];
+    std::string file = m_path;
+    Affine old = Affine::identity();
+    if (node.contains("transform"))
+        old = scene_json::parseTransform(scene_json::JsonRef(
+            node["transform"], file, "/nodes/" + std::to_string(index) + "/transform"));
+    // Rotation and scale about the object's centre (its bounds in the world), then
+    // the translation: new = T * C * R S * C^-1 * old.
+    Vec3 centre{0, 0, 0};
+    const Scene& scene = *m_loaded->scene; // applyEdit holds the lock
+    if (std::size_t(index) < scene.root->children.size())
+        centre = scene.root->children[std::size_t(index)]->bounds.center();
+    Affine edit = Affine::translate(translate) * Affine::translate(centre) * about *
+                  Affine::translate(-centre) * old;
+    Json matrix = Json::array();
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) matrix.push_back(double(edit.m[r][c]));
+    node["transform"] = matrix;
+}
+
+Json Session::replyMaterial(const Json& m, int) {
+    expectKeys(m, {"name", "material"});
+    const Json& name = field(m, "name", "material");
+    if (!name.is_string()) refuse("material.name: expected a string");
+    const Json& value = field(m, "material", "material");
+    if (!value.is_object()) refuse("material.material: expected a material object");
+    return applyEdit(m, [&](Json& doc) {
+        std::string n = name.get<std::string>();
+        if (!doc.contains("materials") || !doc["materials"].contains(n))
+            refuse("material.name: no material \"" + n + "\"");
+        doc["materials"][n] = value;
+    });
+}
+
+Json Session::replyEmission(const Json& m, int) {
+    expectKeys(m, {"object", "emission"});
+    const Json& obj = field(m, "object", "emission");
+    if (!obj.is_number_integer()) refuse("emission.object: expected an object index");
+    long long index = obj.get<long long>();
+    Vec3 e = vec3(field(m, "emission", "emission"), "emission.emission");
+    return applyEdit(m, [&](Json& doc) {
+        if (!doc.contains("nodes") || index < 0 || index >= (long long)doc["nodes"].size())
+            refuse("emission.object: no object " + std::to_string(index));
+        Json& node = doc["nodes"][std::size_t(index)];
+        if (e.x == 0 && e.y == 0 && e.z == 0)
+            node.erase("emission");
+        else
+            node["emission"] = vec3Json(e);
+    });
+}
+
+Json Session::replyLight(const Json& m, int) {
+    expectKeys(m, {"index", "set"});
+    const Json& idx = field(m, "index", "light");
+    if (!idx.is_number_integer()) refuse("light.index: expected a light index");
+    long long index = idx.get<long long>();
+    const Json& set = field(m, "set", "light");
+    if (!set.is_object()) refuse("light.set: expected an object of light fields");
+    return applyEdit(m, [&](Json& doc) {
+        if (!doc.contains("lights") || index < 0 || index >= (long long)doc["lights"].size())
+            refuse("light.index: no light " + std::to_string(index));
+        for (auto it = set.begin(); it != set.end(); ++it)
+            doc["lights"][std::size_t(index)][it.key()] = it.value();
+    });
+}
+
+Json Session::replyUndoRedo(const Json& m, int) {
+    const std::string type = m["type"].get<std::string>();
+    expectKeys(m, {});
+    std::lock_guard<std::mutex> lk(m_mutex);
+    if (m_rendering || m_request) refuse(type + ": a render is running; cancel it first");
+    std::vector<Step>& from = type == "undo" ? m_undo : m_redo;
+    std::vector<Step>& to = type == "undo" ? m_redo : m_undo;
+    if (from.empty()) refuse(type + ": nothing to " + type);
+    Step back = swapStep(from.back());
+    from.pop_back();
+    to.push_back(std::move(back));
+    return {{"type", "edited"}, {"undo_depth", m_undo.size()}, {"redo_depth", m_redo.size()}};
+}
+
+Json Session::replySave(const Json& m, int) {
+    expectKeys(m, {"path"});
+    const Json& p = field(m, "path", "save");
+    if (!p.is_string() || p.get<std::string>().empty()) refuse("save.path: expected a file name");
+    std::string path = p.get<std::string>();
+    if (std::filesystem::path(path).extension() != ".json")
+        refuse("save.path: the scene is saved as JSON: give a name ending in .json");
+    std::string text;
+    {
+        std::lock_guard<std::mutex> lk(m_mutex);
+        if (!m_editable) refuse("save: only JSON scenes can be saved (" + m_path + " is not one)");
+        text = toText(m_doc, 2) + "\n";
+    }
+    try {
+        writeFileAtomically(path, text);
+    } catch (const ImageIoError& e) {
+        refuse(std::string("save: ") + e.what());
+    }
+    return {{"type", "saved"}, {"path", std::filesystem::absolute(path).string()}};
+}
+
+Json Session::replyRender(const Json& m, int client) {
+    expectKeys(m, {"mode", "spp"});
+    const Json& mode = field(m, "mode", "render");
+    if (!mode.is_string() || (mode != "raytrace" && mode != "gi" && mode != "path" && mode != "preview"))
+        refuse("render.mode: expected preview, raytrace, gi or path");
+    int spp = 0;
+    if (m.contains("spp")) {
+        if (!m["spp"].is_number_integer() || m["spp"].get<long long>() < 1 ||
+            m["spp"].get<long long>() > 65536)
+            refuse("render.spp: expected a whole number of samples in 1..65536");
+        spp = m["spp"].get<int>();
+    }
+    std::lock_guard<std::mutex> lk(m_mutex);
+    if (m_rendering || m_request) refuse("render: a render is already running");
+    m_request = RenderRequest{mode.get<std::string>(), spp, client};
+    m_wake.notify_all();
+    return {{"type", "render_started"}, {"mode", mode}};
+}
+
+Json Session::replyCancel(const Json& m, int) {
+    expectKeys(m, {});
+    std::lock_guard<std::mutex> lk(m_mutex);
+    if (!m_rendering && !m_request) refuse("cancel: no render is running");
+    m_request.reset();
+    if (m_rendering) requestInterrupt();
+    return {{"type", "cancelling"}};
 }
 
 Json Session::pick(const Json& m) const {

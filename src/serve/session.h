@@ -109,6 +109,22 @@ private:
     };
 
     Json reply(const Json& message, int client);
+    // One function per message type (reply dispatches); each validates its message.
+    Json replyState(const Json& m, int client);
+    Json replyCamera(const Json& m, int client);
+    Json replyPick(const Json& m, int client);
+    Json replyTransform(const Json& m, int client);
+    Json replyMaterial(const Json& m, int client);
+    Json replyEmission(const Json& m, int client);
+    Json replyLight(const Json& m, int client);
+    Json replyUndoRedo(const Json& m, int client);
+    Json replySave(const Json& m, int client);
+    Json replyRender(const Json& m, int client);
+    Json replyCancel(const Json& m, int client);
+    // The document's node `index` moved by `translate` after `about` (rotation and scale
+    // about its centre); m_mutex held.
+    void transformNode(Json& doc, long long index, const Vec3& translate,
+                       const Affine& about) const;
     Json applyEdit(const Json& message, const std::function<void(Json& doc)>& edit);
     void load(const Json& doc); // throws InputError; replaces m_loaded on success
     Json pick(const Json& message) const;
