@@ -12,12 +12,14 @@
 #include "modes/render_plan.h"
 #include "modes/render_watch.h"
 #include "scene/camera_check.h"
+#include "scene/pbrt/pbrt_loader.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_loader_detail.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -33,10 +35,13 @@ constexpr std::chrono::milliseconds kMotionGap{250}, kMotionWait{50};
 // A drag's coarse frames aim to take at most this (20 frames/s with the page's round trip):
 // slower, the next is coarser (1/8, then 1/16 of each side); three times faster, finer again.
 constexpr std::chrono::milliseconds kMotionFrame{40};
+// A view unchanged this long after its last change refines (Session::refinePreview): longer
+// than the gaps of a drag, a wheel spin or a key repeat (kMotionGap).
+constexpr std::chrono::milliseconds kRefineRest{kMotionGap};
 
 const std::vector<std::string> kMessageTypes = {
     "state", "camera", "pick", "transform", "material", "emission", "light",
-    "undo", "redo", "save", "render", "cancel"};
+    "undo", "redo", "save", "render", "cancel", "display"};
 constexpr std::size_t kUndoDepth = 256;
 
 [[noreturn]] void refuse(const std::string& what) { throw InputError(what); }
@@ -107,10 +112,43 @@ Json sceneBounds(const Scene& scene) {
     return {{"lo", vec3Json(all.lo)}, {"hi", vec3Json(all.hi)}, {"extent", double(extent)}};
 }
 
+const std::vector<std::pair<std::string, ToneMap>> kToneMaps = {
+    {"clamp", ToneMap::Clamp}, {"reinhard", ToneMap::Reinhard}, {"aces", ToneMap::Aces}};
+
+Json displayJson(const ToneMapSettings& tm) {
+    std::string op;
+    for (const auto& [name, value] : kToneMaps)
+        if (value == tm.op) op = name;
+    return {{"exposure", double(tm.exposure)}, {"tone_map", op}};
+}
+
+// A pbrt scene's lights without geometry (the sun, the sky...) in the JSON scene format's
+// terms, read-only: the page's lights panel lists them.
+Json sceneLightsJson(const Scene& scene) {
+    Json lights = Json::array();
+    for (const Light& l : scene.lights) {
+        Json j;
+        switch (l.type) {
+        case LightType::Point: j = {{"type", "point"}, {"intensity", vec3Json(l.intensity)}}; break;
+        case LightType::Spot: j = {{"type", "spot"}, {"intensity", vec3Json(l.intensity)}}; break;
+        case LightType::Directional:
+            j = {{"type", "directional"}, {"irradiance", vec3Json(l.intensity)},
+                 {"direction", vec3Json(l.direction)}};
+            break;
+        case LightType::Environment: j = {{"type", "environment"}, {"radiance", vec3Json(l.intensity)}}; break;
+        case LightType::Goniometric: j = {{"type", "goniometric"}, {"intensity", vec3Json(l.intensity)}}; break;
+        }
+        if (!l.name.empty()) j["name"] = l.name;
+        if (!l.imageFile.empty()) j["image"] = l.imageFile;
+        lights.push_back(j);
+    }
+    return lights;
+}
+
 } // namespace
 
 std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
-                                      std::uint64_t version) {
+                                      std::uint64_t version, const ToneMapSettings& tm) {
     constexpr std::size_t h = kFrameHeaderBytes;
     std::vector<std::uint8_t> out(h + std::size_t(image.width) * std::size_t(image.height) * 4);
     auto put = [&](std::size_t at, std::uint32_t v) {
@@ -121,7 +159,6 @@ std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
     put(8, std::uint32_t(image.height));
     put(12, number);
     put(16, std::uint32_t(version));
-    ToneMapSettings tm;
     std::size_t n = std::size_t(image.width) * std::size_t(image.height);
     for (std::size_t p = 0; p < n; ++p) {
         for (int c = 0; c < 3; ++c)
@@ -161,7 +198,14 @@ Session::Session(const std::string& scenePath, const Options& options)
         load(m_doc);
     } else {
         auto loaded = std::make_shared<Loaded>();
-        loaded->scene = loadScene(scenePath);
+        // The pbrt loader's warnings (a missing texture, an unsupported material...) go to
+        // the page, and to stderr as `rayproc render` prints them.
+        if (isPbrtPath(scenePath)) {
+            loaded->scene = loadPbrtScene(scenePath, &m_warnings);
+            for (const std::string& w : m_warnings) std::fprintf(stderr, "%s\n", w.c_str());
+        } else {
+            loaded->scene = loadScene(scenePath);
+        }
         loaded->accel = std::make_unique<EmbreeScene>(*loaded->scene);
         loaded->bounds = sceneBounds(*loaded->scene);
         m_camera = loaded->scene->camera;
@@ -274,6 +318,7 @@ void Session::setCamera(const Camera& c) {
     cam["look_at"] = vec3Json(c.lookAt);
     cam["up"] = vec3Json(c.up);
     cam["fov"] = double(c.fovY);
+    cam["resolution"] = {c.width, c.height};
 }
 
 Session::Step Session::swapStep(const Step& step) {
@@ -302,7 +347,8 @@ Json Session::reply(const Json& m, int client) {
         {"material", &Session::replyMaterial}, {"emission", &Session::replyEmission},
         {"light", &Session::replyLight},       {"undo", &Session::replyUndoRedo},
         {"redo", &Session::replyUndoRedo},     {"save", &Session::replySave},
-        {"render", &Session::replyRender},     {"cancel", &Session::replyCancel}};
+        {"render", &Session::replyRender},     {"cancel", &Session::replyCancel},
+        {"display", &Session::replyDisplay}};
     const std::string type = m["type"].get<std::string>();
     for (const auto& [name, handler] : handlers)
         if (name == type) return (this->*handler)(m, client);
@@ -318,7 +364,7 @@ Json Session::replyState(const Json& m, int) {
 }
 
 Json Session::replyCamera(const Json& m, int) {
-    expectKeys(m, {"position", "look_at", "up", "fov", "undo_step"});
+    expectKeys(m, {"position", "look_at", "up", "fov", "resolution", "undo_step"});
     bool undoStep = false;
     if (m.contains("undo_step")) {
         if (!m["undo_step"].is_boolean()) refuse("camera.undo_step: expected true or false");
@@ -331,6 +377,18 @@ Json Session::replyCamera(const Json& m, int) {
     if (m.contains("look_at")) c.lookAt = vec3(m["look_at"], "camera.look_at");
     if (m.contains("up")) c.up = vec3(m["up"], "camera.up");
     if (m.contains("fov")) c.fovY = float(finite(m["fov"], "camera.fov"));
+    if (m.contains("resolution")) {
+        const Json& r = m["resolution"];
+        auto side = [&](std::size_t i) {
+            if (!r[i].is_number_integer() || r[i].get<long long>() < 1 || r[i].get<long long>() > 16384)
+                refuse("camera.resolution: expected [width, height], whole numbers in 1..16384");
+            return r[i].get<int>();
+        };
+        if (!r.is_array() || r.size() != 2)
+            refuse("camera.resolution: expected [width, height], whole numbers in 1..16384");
+        c.width = side(0);
+        c.height = side(1);
+    }
     // The check the scene loaders make: a camera serve accepts (and saves) renders.
     if (auto problem = cameraProblem(c))
         refuse("camera." + problem->field + ": " + problem->message);
@@ -500,8 +558,40 @@ Json Session::replyRender(const Json& m, int client) {
     std::lock_guard<std::mutex> lk(m_mutex);
     if (m_rendering || m_request) refuse("render: a render is already running");
     m_request = RenderRequest{mode.get<std::string>(), spp, client};
+    m_requestPending = true; // a refining preview stops for it
     m_wake.notify_all();
     return {{"type", "render_started"}, {"mode", mode}};
+}
+
+// The page's exposure (stops) and tone map, as `rayproc render --exposure --tone-map` apply
+// them: every page's frames and the PNG download follow; the last frame is sent again at once.
+Json Session::replyDisplay(const Json& m, int) {
+    expectKeys(m, {"exposure", "tone_map"});
+    std::lock_guard<std::mutex> lk(m_frameMutex);
+    ToneMapSettings tm = m_display;
+    if (m.contains("exposure")) {
+        double e = finite(m["exposure"], "display.exposure");
+        if (!(e >= -20 && e <= 20)) refuse("display.exposure: expected stops in [-20, 20]");
+        tm.exposure = float(e);
+    }
+    if (m.contains("tone_map")) {
+        const Json& op = m["tone_map"];
+        bool known = false;
+        for (const auto& [name, value] : kToneMaps)
+            if (op.is_string() && op.get<std::string>() == name) tm.op = value, known = true;
+        if (!known) refuse("display.tone_map: expected clamp, reinhard or aces");
+    }
+    m_display = tm;
+    if (m_lastImage.width > 0 && m_events.frame)
+        m_events.frame(encodeFrame(m_lastImage, ++m_frameNumber, m_lastImageVersion, tm));
+    Json out = displayJson(tm);
+    out["type"] = "display";
+    return out;
+}
+
+ToneMapSettings Session::display() const {
+    std::lock_guard<std::mutex> lk(m_frameMutex);
+    return m_display;
 }
 
 Json Session::replyCancel(const Json& m, int) {
@@ -509,6 +599,7 @@ Json Session::replyCancel(const Json& m, int) {
     std::lock_guard<std::mutex> lk(m_mutex);
     if (!m_rendering && !m_request) refuse("cancel: no render is running");
     m_request.reset();
+    m_requestPending = false;
     if (m_rendering) requestInterrupt();
     return {{"type", "cancelling"}};
 }
@@ -577,6 +668,31 @@ std::string Session::previewSizeNote(int requested) const {
            "camera's resolution in the scene for a larger one)";
 }
 
+// The objects a page lists: a JSON scene's nodes (editable); a pbrt scene's top-level nodes
+// (the objects a pick can name), read-only. m_mutex held.
+Json Session::objectsJson() const {
+    Json objects = Json::array();
+    if (m_editable && m_doc.contains("nodes")) {
+        for (std::size_t i = 0; i < m_doc["nodes"].size(); ++i) {
+            const Json& n = m_doc["nodes"][i];
+            Json o = {{"index", i}, {"type", n.value("type", "")}, {"name", n.value("name", "")}};
+            if (n.contains("material")) o["material"] = n["material"];
+            if (n.contains("emission")) o["emission"] = n["emission"];
+            objects.push_back(o);
+        }
+    } else if (!m_editable) {
+        const Scene& scene = *m_loaded->scene;
+        for (std::size_t i = 0; i < scene.root->children.size(); ++i) {
+            const Node& n = *scene.root->children[i];
+            const char* kind = n.kind == Node::Kind::Shape      ? "shape"
+                               : n.kind == Node::Kind::Instance ? "instance"
+                                                                : "group";
+            objects.push_back({{"index", i}, {"type", kind}, {"name", n.name}});
+        }
+    }
+    return objects;
+}
+
 Json Session::state() const {
     std::lock_guard<std::mutex> lk(m_mutex);
     Json s;
@@ -588,31 +704,18 @@ Json Session::state() const {
                    {"up", vec3Json(m_camera.up)},
                    {"fov", double(m_camera.fovY)},
                    {"resolution", {m_camera.width, m_camera.height}}};
-    Json objects = Json::array();
-    if (m_editable && m_doc.contains("nodes")) {
-        for (std::size_t i = 0; i < m_doc["nodes"].size(); ++i) {
-            const Json& n = m_doc["nodes"][i];
-            Json o = {{"index", i}, {"type", n.value("type", "")}, {"name", n.value("name", "")}};
-            if (n.contains("material")) o["material"] = n["material"];
-            if (n.contains("emission")) o["emission"] = n["emission"];
-            objects.push_back(o);
-        }
-    } else if (!m_editable) {
-        // A pbrt scene: the objects a pick can name (the scene's top-level nodes), read-only,
-        // so the page lists what the server picks.
-        const Scene& scene = *m_loaded->scene;
-        for (std::size_t i = 0; i < scene.root->children.size(); ++i) {
-            const Node& n = *scene.root->children[i];
-            const char* kind = n.kind == Node::Kind::Shape      ? "shape"
-                               : n.kind == Node::Kind::Instance ? "instance"
-                                                                : "group";
-            objects.push_back({{"index", i}, {"type", kind}, {"name", n.name}});
-        }
-    }
-    s["objects"] = objects;
+    s["objects"] = objectsJson();
     s["materials"] = m_editable && m_doc.contains("materials") ? m_doc["materials"] : Json::object();
-    s["lights"] = m_editable && m_doc.contains("lights") ? m_doc["lights"] : Json::array();
+    // A pbrt scene's lights are listed read-only (the sun and the sky among them).
+    s["lights"] = m_editable ? (m_doc.contains("lights") ? m_doc["lights"] : Json::array())
+                             : sceneLightsJson(*m_loaded->scene);
+    s["warnings"] = m_warnings;
     s["analysis"] = m_loaded->analysis;
+    // The samples per pixel a render takes when the page gives none, per mode.
+    const Scene& scene = *m_loaded->scene;
+    s["default_spp"] = {{"raytrace", raytraceSettings(scene.render, {}).spp},
+                        {"gi", giSettings(scene, {}).spp},
+                        {"path", pathSettings(scene.render, {}).spp}};
     s["undo_depth"] = m_undo.size();
     s["redo_depth"] = m_redo.size();
     s["home"] = {{"position", vec3Json(m_home.position)},
@@ -622,6 +725,11 @@ Json Session::state() const {
     // The page scales its fly, zoom and orbit pivot to the scene's extent.
     if (!m_loaded->bounds.empty()) s["bounds"] = m_loaded->bounds;
     s["rendering"] = m_rendering || m_request.has_value();
+    s["refine"] = m_options.refine;
+    {
+        std::lock_guard<std::mutex> frames(m_frameMutex);
+        s["display"] = displayJson(m_display);
+    }
     s["version"] = std::uint32_t(m_version); // as in the frames' header
     return s;
 }
@@ -643,7 +751,10 @@ bool Session::lastRender(Image& out) const {
 
 void Session::clientClosed(int client) {
     std::lock_guard<std::mutex> lk(m_mutex);
-    if (m_request && m_request->client == client) m_request.reset();
+    if (m_request && m_request->client == client) {
+        m_request.reset();
+        m_requestPending = false;
+    }
     if (m_rendering && m_renderClient == client) requestInterrupt();
 }
 
@@ -669,11 +780,11 @@ void Session::changed() {
 }
 
 bool Session::sendFrame(Image image, std::uint64_t version) {
-    std::vector<std::uint8_t> frame = encodeFrame(image, ++m_frameNumber, version);
     // Checked and sent under the lock a change takes: a page that has the reply to its camera
     // move (or the state after it) gets no frame of the view before it.
     std::lock_guard<std::mutex> lk(m_frameMutex);
     if (m_version != version) return false;
+    std::vector<std::uint8_t> frame = encodeFrame(image, ++m_frameNumber, version, m_display);
     m_lastImage = std::move(image);
     m_lastImageVersion = version;
     if (m_events.frame) m_events.frame(frame);
@@ -694,6 +805,7 @@ void Session::worker() {
         if (m_request) {
             RenderRequest request = *m_request;
             m_request.reset();
+            m_requestPending = false;
             m_rendering = true;
             m_renderClient = request.client;
             lk.unlock();
@@ -711,21 +823,90 @@ void Session::worker() {
         }
         lk.unlock();
         loaded->scene->camera = view;
-        renderPreview(loaded, version);
+        bool shown = renderPreview(loaded, version);
         lk.lock();
         // A change during the render is shown by the next round.
         m_previewedVersion = version;
+        if (!shown || !m_options.refine) continue;
+        // The preview is on screen (waitIdle returns); once the view has rested for
+        // kRefineRest, its raytrace passes follow. A drag's changes come faster than that.
+        m_busy = false;
+        m_idle.notify_all();
+        bool moved = m_wake.wait_until(lk, m_lastChange + kRefineRest, [&] {
+            return m_quit || m_request || m_version != version;
+        });
+        if (moved) continue;
+        // Not busy while refining: waitIdle (tests) waits for the preview, not the passes.
+        lk.unlock();
+        loaded->scene->camera = view;
+        refinePreview(loaded, version);
+        lk.lock();
     }
 }
 
-void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version) {
+void Session::previewSize(const Camera& full, int& width, int& height) const {
+    int maxSide = std::max(full.width, full.height);
+    double shrink = std::min(1.0, double(m_options.previewMaxSide) / double(maxSide));
+    width = std::max(1, int(std::lround(full.width * shrink)));
+    height = std::max(1, int(std::lround(full.height * shrink)));
+}
+
+std::function<bool()> Session::staleStop(std::uint64_t version) const {
+    // Atomics only: the render's threads poll it before each emission.
+    return [this, version] {
+        return m_version.load(std::memory_order_relaxed) != version ||
+               m_requestPending.load(std::memory_order_relaxed) ||
+               m_quit.load(std::memory_order_relaxed);
+    };
+}
+
+// Cycles' viewport does the same: a still view keeps improving. raytrace mode (soft shadows,
+// antialiasing, the mode's spp) renders at the preview's size, and the image after each pass
+// goes out as a frame of the same version, followed by a "refine" message with the samples so
+// far; the last one ("done") is the raytrace render of that view at that size.
+void Session::refinePreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version) {
+    Scene& scene = *loaded->scene;
+    const Camera full = scene.camera;
+    previewSize(full, scene.camera.width, scene.camera.height);
+    EngineSettings engine;
+    engine.threads = m_options.threads;
+    engine.quiet = true;
+    engine.stop = staleStop(version);
+    engine.progressiveSeconds = 0; // every pass
+    const RaytraceSettings settings = raytraceSettings(scene.render, {});
+    std::function<double()> fraction; // of the passes done, while they run
+    EngineSettings::Watcher watcher{
+        [&](const Film&, std::function<double()> f, std::function<std::uint64_t()>) {
+            fraction = std::move(f);
+        },
+        [&] { fraction = nullptr; }};
+    engine.watcher = &watcher;
+    auto send = [&](Image image, int spp, bool done) {
+        if (!sendFrame(std::move(image), version)) return;
+        sendText({{"type", "refine"}, {"version", std::uint32_t(version)}, {"spp", spp},
+                  {"of", settings.spp}, {"done", done}});
+    };
+    engine.onProgress = [&](const Image& image) {
+        double f = fraction ? fraction() : 0.0;
+        send(image, int(std::lround(f * settings.spp)), false);
+    };
+    RenderResult r;
+    try {
+        r = renderRaytrace(scene, *loaded->accel, settings, engine);
+    } catch (const std::exception& e) {
+        sendText({{"type", "error"}, {"message", std::string("refining the view: ") + e.what()}});
+        r.cancelled = true;
+    }
+    if (!r.cancelled) send(std::move(r.image), r.samplesDone, true);
+    scene.camera = full;
+}
+
+bool Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version) {
     Scene& scene = *loaded->scene;
     Camera full = scene.camera;
     // The live view's size: the scene's aspect, the longer side at most previewMaxSide.
-    int maxSide = std::max(full.width, full.height);
-    double shrink = std::min(1.0, double(m_options.previewMaxSide) / double(maxSide));
-    int w = std::max(1, int(std::lround(full.width * shrink)));
-    int h = std::max(1, int(std::lround(full.height * shrink)));
+    int w = 0, h = 0;
+    previewSize(full, w, h);
     EngineSettings engine;
     engine.threads = m_options.threads;
     engine.quiet = true;
@@ -733,10 +914,7 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     // A newer change (a camera drag sends one per mouse move) makes this preview stale: it
     // stops emitting at once, through the engine's own stop rather than the interrupt, which
     // is Ctrl-C's and a render's Cancel.
-    engine.stop = [this, version] {
-        return m_version.load(std::memory_order_relaxed) != version ||
-               m_quit.load(std::memory_order_relaxed);
-    };
+    engine.stop = staleStop(version);
     // Coarse first (a quarter of each side; during a drag, coarser while frames take longer
     // than kMotionFrame), then full while nothing changed.
     bool motion;
@@ -745,6 +923,7 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
         motion = m_lastChange - m_changeBefore < kMotionGap;
     }
     const int coarse = motion ? m_motionStep : 4;
+    bool fullSent = false;
     for (int step : {coarse, 1}) {
         {
             std::unique_lock<std::mutex> lk(m_mutex);
@@ -775,9 +954,46 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
             else if (!r.cancelled && took < kMotionFrame / 3 && m_motionStep > 4) m_motionStep /= 2;
         }
         if (r.cancelled || !sendFrame(std::move(r.image), version)) break;
+        fullSent = step == 1;
     }
     scene.camera = full;
+    return fullSent;
 }
+
+// Until a render's passes begin (gi traces its photons and fills its irradiance cache first:
+// seconds on a large scene), the page hears that it is starting, at once and then every
+// quarter second.
+class Session::StartingTicker {
+public:
+    StartingTicker(const Session& session, const std::string& mode) {
+        auto start = std::chrono::steady_clock::now();
+        m_thread = std::thread([this, &session, mode, start] {
+            std::unique_lock<std::mutex> lk(m_mutex);
+            do { // at once, then every quarter second
+                double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                session.sendText({{"type", "progress"}, {"mode", mode}, {"phase", "starting"},
+                                  {"what", mode == "gi" ? "photon passes, irradiance cache prepass"
+                                                        : "light set, scene analysis"},
+                                  {"seconds", seconds}, {"fraction", 0.0}});
+            } while (!m_wake.wait_for(lk, std::chrono::milliseconds(250), [&] { return m_done; }));
+        });
+    }
+    ~StartingTicker() { stop(); }
+    void stop() {
+        {
+            std::lock_guard<std::mutex> lk(m_mutex);
+            m_done = true;
+        }
+        m_wake.notify_all();
+        if (m_thread.joinable()) m_thread.join();
+    }
+
+private:
+    std::mutex m_mutex;
+    std::condition_variable m_wake;
+    bool m_done = false;
+    std::thread m_thread;
+};
 
 void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequest& request,
                          std::uint64_t version) {
@@ -786,7 +1002,7 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     engine.threads = m_options.threads;
     engine.quiet = true;
     // While the passes run, four times a second: the image with the tiles done so far, and
-    // the progress.
+    // the progress. Before them, the StartingTicker's messages.
     PeriodicReport watch(0.25, [&](const Film& film, const PeriodicReport::Progress& p) {
         sendFrame(film.resolveInProgress(), version);
         sendText({{"type", "progress"}, {"mode", request.mode}, {"fraction", p.fraction},
@@ -794,23 +1010,25 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
                   {"eta_seconds", p.fraction > 0 ? p.seconds * (1 - p.fraction) / p.fraction : -1.0},
                   {"rays_per_second", p.seconds > 0 ? double(p.rays) / p.seconds : 0.0}});
     });
-    engine.watcher = watch.watcher();
-    ModeOverrides overrides{request.spp, 0, 0};
     sendText({{"type", "render_begin"}, {"mode", request.mode}});
+    StartingTicker starting(*this, request.mode);
+    const EngineSettings::Watcher* report = watch.watcher();
+    EngineSettings::Watcher watcher{
+        [&](const Film& film, std::function<double()> fraction, std::function<std::uint64_t()> rays) {
+            starting.stop();
+            report->begin(film, std::move(fraction), std::move(rays));
+        },
+        [&] { report->end(); }};
+    engine.watcher = &watcher;
     RenderResult r;
     try {
-        if (request.mode == "raytrace")
-            r = renderRaytrace(scene, *loaded->accel, raytraceSettings(scene.render, overrides), engine);
-        else if (request.mode == "gi")
-            r = renderGi(scene, *loaded->accel, giSettings(scene, overrides), engine);
-        else if (request.mode == "path")
-            r = renderPath(scene, *loaded->accel, pathSettings(scene.render, overrides), engine);
-        else
-            r = rayproc::renderPreview(scene, *loaded->accel, previewSettings(scene.render, overrides), engine);
+        r = runMode(scene, *loaded->accel, request, engine);
     } catch (const std::exception& e) {
+        starting.stop();
         sendText({{"type", "error"}, {"message", std::string("render: ") + e.what()}});
         return;
     }
+    starting.stop();
     sendFrame(r.image, version);
     {
         std::lock_guard<std::mutex> lk(m_mutex);
@@ -819,6 +1037,17 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     Json stats = Json::parse(r.stats.toJson());
     sendText({{"type", "render_end"}, {"mode", request.mode}, {"cancelled", r.cancelled},
               {"spp", r.samplesDone}, {"seconds", r.stats.wallSeconds}, {"stats", stats}});
+}
+
+RenderResult Session::runMode(const Scene& scene, const EmbreeScene& accel,
+                              const RenderRequest& request, const EngineSettings& engine) {
+    ModeOverrides overrides{request.spp, 0, 0};
+    if (request.mode == "raytrace")
+        return renderRaytrace(scene, accel, raytraceSettings(scene.render, overrides), engine);
+    if (request.mode == "gi") return renderGi(scene, accel, giSettings(scene, overrides), engine);
+    if (request.mode == "path")
+        return renderPath(scene, accel, pathSettings(scene.render, overrides), engine);
+    return rayproc::renderPreview(scene, accel, previewSettings(scene.render, overrides), engine);
 }
 
 } // namespace rayproc::serve
