@@ -131,6 +131,10 @@ function send(m) {
   if (!online) { showError("the server is gone: reconnecting (nothing was sent)"); return; }
   $("error").textContent = ""; ws.send(JSON.stringify(m));
 }
+// DOM writes only where something changed: a drag brings a state message per frame, and each
+// write makes the browser lay the page out again.
+function setText(id, text) { const e = $(id); if (e.textContent !== text) e.textContent = text; }
+function setProp(id, key, value) { const e = $(id); if (e[key] !== value) e[key] = value; }
 function sub(a, b) { return [a[0]-b[0], a[1]-b[1], a[2]-b[2]]; }
 function add(a, b) { return [a[0]+b[0], a[1]+b[1], a[2]+b[2]]; }
 function mul(a, s) { return [a[0]*s, a[1]*s, a[2]*s]; }
@@ -323,6 +327,7 @@ function previewScale() { const r = state.camera.resolution; return Math.min(1, 
 function previewWidth() { return Math.max(1, Math.round(state.camera.resolution[0] * previewScale())); }
 function previewHeight() { return Math.max(1, Math.round(state.camera.resolution[1] * previewScale())); }
 
+let shownLights = null, shownWarnings = null;
 function showState(s) {
   state = s;
   // The canvas has a full frame's size (drawFrame): the preview's until a frame says otherwise,
@@ -333,20 +338,25 @@ function showState(s) {
   }
   // While a view of ours is unsent or unanswered, the page's camera is ahead of the server's.
   if (!cameraInFlight && !cameraDirty) camera = JSON.parse(JSON.stringify(s.camera));
-  $("undo-depth").textContent = s.undo_depth + " to undo, " + (s.redo_depth || 0) + " to redo (edits and views)";
-  $("analysis").textContent = s.analysis.map((a) => a.modes.join(",") + ": skipped " + a.what + ": " + a.why).join("\n") || "nothing skipped";
-  showLights(s);
+  setText("undo-depth", s.undo_depth + " to undo, " + (s.redo_depth || 0) + " to redo (edits and views)");
+  setText("analysis", s.analysis.map((a) => a.modes.join(",") + ": skipped " + a.what + ": " + a.why).join("\n") || "nothing skipped");
+  // Rebuilt only when they changed: a drag brings a state per frame.
+  const lightsKey = JSON.stringify([s.lights, s.objects.filter((o) => o.emission), s.editable]);
+  if (lightsKey !== shownLights) { shownLights = lightsKey; showLights(s); }
   showViewFields(s);
   if (s.display) showDisplay(s.display);
   const d = s.default_spp || {};
-  $("spp").placeholder = "default";
-  $("spp-defaults").textContent = "without spp: raytrace " + d.raytrace + ", gi " + d.gi + ", path " + d.path + " spp";
+  setText("spp-defaults", "without spp: raytrace " + d.raytrace + ", gi " + d.gi + ", path " + d.path + " spp");
   // pbrt scenes are read-only: a banner says so and the edit controls are disabled.
-  $("read-only").hidden = s.editable;
-  $("banner").hidden = s.editable;
-  $("banner").textContent = "Read-only: " + s.scene + " is not a JSON scene. The camera, renders and downloads work; edits do not.";
-  const warnings = $("warnings"); warnings.innerHTML = "";
-  (s.warnings || []).forEach((w) => { const div = document.createElement("div"); div.className = "warning"; div.textContent = w; warnings.append(div); });
+  setProp("read-only", "hidden", s.editable);
+  setProp("banner", "hidden", s.editable);
+  setText("banner", "Read-only: " + s.scene + " is not a JSON scene. The camera, renders and downloads work; edits do not.");
+  const warningsKey = JSON.stringify(s.warnings || []);
+  if (warningsKey !== shownWarnings) {
+    shownWarnings = warningsKey;
+    const warnings = $("warnings"); warnings.innerHTML = "";
+    (s.warnings || []).forEach((w) => { const div = document.createElement("div"); div.className = "warning"; div.textContent = w; warnings.append(div); });
+  }
   rendering = s.rendering;
   updateControls();
   if (selected !== null) showSelection();
@@ -358,11 +368,12 @@ function showState(s) {
 function updateControls() {
   const editable = online && state && state.editable;
   document.querySelectorAll("[data-edit]").forEach((el) => {
-    el.disabled = !editable || (("select" in el.dataset) && selected === null);
+    const off = !editable || (("select" in el.dataset) && selected === null);
+    if (el.disabled !== off) el.disabled = off;
   });
   for (const id of ["mode-raytrace", "mode-gi", "mode-path", "home", "view-apply", "undo", "redo", "undo-view",
-                    "redo-view", "exposure", "tone-map"]) $(id).disabled = !online;
-  $("cancel").disabled = !online || !rendering;
+                    "redo-view", "exposure", "tone-map"]) setProp(id, "disabled", !online);
+  setProp("cancel", "disabled", !online || !rendering);
 }
 
 // The scene's lights: a JSON scene's are editable (one field per channel, so a coloured light
@@ -398,16 +409,16 @@ function showLights(s) {
 // The resolution and field of view fields, unless the user is typing in one.
 function showViewFields(s) {
   const typing = document.activeElement;
-  if (typing !== $("res-w")) $("res-w").value = s.camera.resolution[0];
-  if (typing !== $("res-h")) $("res-h").value = s.camera.resolution[1];
-  if (typing !== $("fov")) $("fov").value = +s.camera.fov.toFixed(3);
-  $("preview-size").textContent = "live preview " + previewWidth() + "x" + previewHeight() +
-    (s.refine ? ", refined toward raytrace while still" : "");
+  if (typing !== $("res-w")) setProp("res-w", "value", String(s.camera.resolution[0]));
+  if (typing !== $("res-h")) setProp("res-h", "value", String(s.camera.resolution[1]));
+  if (typing !== $("fov")) setProp("fov", "value", String(+s.camera.fov.toFixed(3)));
+  setText("preview-size", "live preview " + previewWidth() + "x" + previewHeight() +
+    (s.refine ? ", refined toward raytrace while still" : ""));
 }
 
 function showDisplay(d) {
-  if (document.activeElement !== $("exposure")) $("exposure").value = d.exposure;
-  $("tone-map").value = d.tone_map;
+  if (document.activeElement !== $("exposure")) setProp("exposure", "value", String(d.exposure));
+  setProp("tone-map", "value", d.tone_map);
 }
 $("exposure").onchange = () => {
   const e = parseFloat($("exposure").value);

@@ -178,7 +178,19 @@ struct Session::Loaded {
     std::optional<LightSet> previewLights; // made at the first preview, kept for every frame
     Json analysis = Json::array();         // what each mode skips and why
     Json bounds;                           // the page's scale (sceneBounds)
+    Json defaultSpp;                       // per mode, without an spp (state's default_spp)
 };
+
+namespace {
+
+// Read at load: the worker thread changes the scene's camera later, state() must not read it.
+Json defaultSppOf(const Scene& scene) {
+    return {{"raytrace", raytraceSettings(scene.render, {}).spp},
+            {"gi", giSettings(scene, {}).spp},
+            {"path", pathSettings(scene.render, {}).spp}};
+}
+
+} // namespace
 
 Session::Session(const std::string& scenePath, const Options& options)
     : m_path(scenePath), m_options(options) {
@@ -208,6 +220,7 @@ Session::Session(const std::string& scenePath, const Options& options)
         }
         loaded->accel = std::make_unique<EmbreeScene>(*loaded->scene);
         loaded->bounds = sceneBounds(*loaded->scene);
+        loaded->defaultSpp = defaultSppOf(*loaded->scene);
         m_camera = loaded->scene->camera;
         m_loaded = loaded;
     }
@@ -257,6 +270,7 @@ void Session::load(const Json& doc) {
         loaded->analysis.push_back({{"what", s.what}, {"why", s.why}, {"modes", modes}});
     }
     loaded->bounds = sceneBounds(*loaded->scene);
+    loaded->defaultSpp = defaultSppOf(*loaded->scene);
     m_camera = loaded->scene->camera;
     m_loaded = loaded;
 }
@@ -712,10 +726,7 @@ Json Session::state() const {
     s["warnings"] = m_warnings;
     s["analysis"] = m_loaded->analysis;
     // The samples per pixel a render takes when the page gives none, per mode.
-    const Scene& scene = *m_loaded->scene;
-    s["default_spp"] = {{"raytrace", raytraceSettings(scene.render, {}).spp},
-                        {"gi", giSettings(scene, {}).spp},
-                        {"path", pathSettings(scene.render, {}).spp}};
+    s["default_spp"] = m_loaded->defaultSpp;
     s["undo_depth"] = m_undo.size();
     s["redo_depth"] = m_redo.size();
     s["home"] = {{"position", vec3Json(m_home.position)},
@@ -780,11 +791,15 @@ void Session::changed() {
 }
 
 bool Session::sendFrame(Image image, std::uint64_t version) {
+    // Encoded before the lock, so a camera message (which takes it) does not wait for that.
+    ToneMapSettings tm = display();
+    std::vector<std::uint8_t> frame = encodeFrame(image, ++m_frameNumber, version, tm);
     // Checked and sent under the lock a change takes: a page that has the reply to its camera
     // move (or the state after it) gets no frame of the view before it.
     std::lock_guard<std::mutex> lk(m_frameMutex);
     if (m_version != version) return false;
-    std::vector<std::uint8_t> frame = encodeFrame(image, ++m_frameNumber, version, m_display);
+    if (m_display.exposure != tm.exposure || m_display.op != tm.op) // changed meanwhile
+        frame = encodeFrame(image, m_frameNumber, version, m_display);
     m_lastImage = std::move(image);
     m_lastImageVersion = version;
     if (m_events.frame) m_events.frame(frame);
