@@ -16,6 +16,7 @@ const char* const kPage = R"PAGE(<!doctype html>
   #view { flex: 1; display: flex; flex-direction: column; min-width: 0; height: 100vh; box-sizing: border-box; padding: 6px; }
   #stage { flex: 1; position: relative; overflow: hidden; background: #111; min-height: 120px; }
   canvas { position: absolute; background: #000; cursor: crosshair; image-rendering: auto; }
+  #overlay { background: transparent; pointer-events: none; }
   canvas.pixels { image-rendering: pixelated; }
   #banner { position: absolute; left: 0; right: 0; top: 0; padding: 4px 8px; background: rgba(120, 90, 0, 0.85); color: #fff; }
   #side { width: 350px; flex: none; padding: 8px; overflow-y: auto; height: 100vh; box-sizing: border-box; background: #262626; }
@@ -60,6 +61,7 @@ const char* const kPage = R"PAGE(<!doctype html>
   </div>
   <div id="stage">
     <canvas id="canvas" width="512" height="512" tabindex="0"></canvas>
+    <canvas id="overlay" width="512" height="512"></canvas>
     <div id="banner" hidden></div>
   </div>
   <div class="bar"><span id="status">connecting...</span><span id="fps"></span><span id="refine"></span></div>
@@ -122,6 +124,7 @@ window.rayproc = { get state() { return state; }, get selected() { return select
                    get lastFrameVersion() { return lastFrameVersion; }, get lastFrameWidth() { return lastFrameWidth; },
                    get cameraMessagesSent() { return cameraMessagesSent; }, get camera() { return camera; },
                    get online() { return online; }, get imageZoom() { return effectiveZoom(); },
+                   get outlineBox() { return outlineBox; },
                    send: (m) => send(m), lastReply: null, lastError: null, lastProgress: null, lastRefine: null, lastStarting: null,
                    refineLog: null, connects: 0 };
 
@@ -149,7 +152,7 @@ function cross(a, b) { return [a[1]*b[2]-a[2]*b[1], a[2]*b[0]-a[0]*b[2], a[0]*b[
 const kCameraBudgetMs = 250;
 let cameraInFlight = false, cameraDirty = false, cameraSentAt = 0, cameraAwaited = null, cameraTimer = null;
 let newestFrameVersion = -1, cameraMessagesSent = 0, pendingResolution = null;
-function sendCamera() { cameraDirty = true; flushCamera(); }
+function sendCamera() { cameraDirty = true; drawOutline(); flushCamera(); }
 function flushCamera() {
   if (!cameraDirty || !camera) return;
   const waited = performance.now() - cameraSentAt;
@@ -295,8 +298,49 @@ function layout() {
   canvas.style.left = ((stage.clientWidth - w) / 2 + panX) + "px";
   canvas.style.top = ((stage.clientHeight - h) / 2 + panY) + "px";
   canvas.className = z * (window.devicePixelRatio || 1) >= 2 ? "pixels" : ""; // zoomed in: crisp pixels
+  for (const k of ["width", "height", "left", "top"]) overlay.style[k] = canvas.style[k];
+  drawOutline();
   $("zoom").textContent = (imageZoom === null ? "fit, " : "") + Math.round(100 * z * (window.devicePixelRatio || 1)) + "%";
 }
+// The selection's box: its top-level object's world bounds projected with the page's camera
+// (so it follows a drag at once), drawn over the image. Edges with a corner behind the camera
+// are left out.
+const overlay = document.getElementById("overlay");
+let outlineBox = null; // the last box drawn: [x0, y0, x1, y1] in fractions of the image (tests)
+function project(p) {
+  const f = norm(sub(camera.look_at, camera.position)), r = norm(cross(f, camera.up)), u = cross(r, f);
+  const d = sub(p, camera.position), z = dotp(d, f);
+  if (z <= 1e-6) return null;
+  const res = state.camera.resolution, t = Math.tan(camera.fov * Math.PI / 360);
+  const x = dotp(d, r) / (z * t * res[0] / res[1]), y = dotp(d, u) / (z * t);
+  return [(x + 1) / 2, (1 - y) / 2];
+}
+function drawOutline() {
+  const w = parseFloat(overlay.style.width) || 0, h = parseFloat(overlay.style.height) || 0;
+  const dpr = window.devicePixelRatio || 1;
+  if (overlay.width !== Math.round(w * dpr) || overlay.height !== Math.round(h * dpr)) {
+    overlay.width = Math.round(w * dpr); overlay.height = Math.round(h * dpr);
+  }
+  const g = overlay.getContext("2d");
+  g.clearRect(0, 0, overlay.width, overlay.height);
+  outlineBox = null;
+  const o = state && camera && selected !== null && state.objects[selected];
+  if (!o || !o.bounds) return;
+  const lo = o.bounds.lo, hi = o.bounds.hi;
+  const corners = [0, 1, 2, 3, 4, 5, 6, 7].map((i) => project([i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]]));
+  g.strokeStyle = "#ffa020"; g.lineWidth = 1.5 * dpr; g.beginPath();
+  const seen = corners.filter((c) => c);
+  if (seen.length) outlineBox = [Math.min(...seen.map((c) => c[0])), Math.min(...seen.map((c) => c[1])),
+                                 Math.max(...seen.map((c) => c[0])), Math.max(...seen.map((c) => c[1]))];
+  for (let a = 0; a < 8; a++) for (const bit of [1, 2, 4]) {
+    const b = a | bit;
+    if (b === a || !corners[a] || !corners[b]) continue;
+    g.moveTo(corners[a][0] * overlay.width, corners[a][1] * overlay.height);
+    g.lineTo(corners[b][0] * overlay.width, corners[b][1] * overlay.height);
+  }
+  g.stroke();
+}
+
 // A zoom by `factor` keeping the image point under (x, y) (stage coordinates) in place.
 function zoomImage(factor, x, y) {
   const z = effectiveZoom(), nz = Math.min(64, Math.max(1 / 64, z * factor));
@@ -360,6 +404,7 @@ function showState(s) {
   rendering = s.rendering;
   updateControls();
   if (selected !== null) showSelection();
+  drawOutline();
 }
 
 // What each control needs: the server (every one), an editable scene (data-edit), a selection
@@ -450,6 +495,7 @@ function showPick(m) {
   picked = m;
   showSelection();
   updateControls();
+  drawOutline();
 }
 
 function showSelection() {

@@ -686,13 +686,20 @@ std::string Session::previewSizeNote(int requested) const {
 // (the objects a pick can name), read-only. m_mutex held.
 Json Session::objectsJson() const {
     Json objects = Json::array();
+    // Each top-level object's world bounds: the page draws the selection's box over the image.
+    const auto& nodes = m_loaded->scene->root->children;
+    auto withBounds = [&](Json o, std::size_t i) {
+        if (i < nodes.size() && !nodes[i]->bounds.empty())
+            o["bounds"] = {{"lo", vec3Json(nodes[i]->bounds.lo)}, {"hi", vec3Json(nodes[i]->bounds.hi)}};
+        return o;
+    };
     if (m_editable && m_doc.contains("nodes")) {
         for (std::size_t i = 0; i < m_doc["nodes"].size(); ++i) {
             const Json& n = m_doc["nodes"][i];
             Json o = {{"index", i}, {"type", n.value("type", "")}, {"name", n.value("name", "")}};
             if (n.contains("material")) o["material"] = n["material"];
             if (n.contains("emission")) o["emission"] = n["emission"];
-            objects.push_back(o);
+            objects.push_back(withBounds(o, i));
         }
     } else if (!m_editable) {
         const Scene& scene = *m_loaded->scene;
@@ -701,7 +708,7 @@ Json Session::objectsJson() const {
             const char* kind = n.kind == Node::Kind::Shape      ? "shape"
                                : n.kind == Node::Kind::Instance ? "instance"
                                                                 : "group";
-            objects.push_back({{"index", i}, {"type", kind}, {"name", n.name}});
+            objects.push_back(withBounds({{"index", i}, {"type", kind}, {"name", n.name}}, i));
         }
     }
     return objects;

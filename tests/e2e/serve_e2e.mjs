@@ -78,6 +78,11 @@ try {
   await waitFor(() => window.rayproc.selected !== null);
   const picked = await page.evaluate(() => window.rayproc.state.objects[window.rayproc.selected].name);
   check(picked === "TallBox", "clicking the tall box selects it (got " + picked + ")");
+  // Its box is drawn over the image where it was clicked (the click at 0.38, 0.5 is inside it;
+  // a mirrored or misplaced projection would not hold it).
+  const outline = await page.evaluate(() => window.rayproc.outlineBox);
+  check(outline && outline[0] < 0.38 && 0.38 < outline[2] && outline[1] < 0.5 && 0.5 < outline[3] && outline[2] < 0.7,
+        "the selection's box is drawn around the click (" + JSON.stringify(outline && outline.map((v) => +v.toFixed(3))) + ")");
   for (let i = 0; i < 3; i++) {
     await page.click('[data-move="0,1,0"]');
     await waitFor((n) => window.rayproc.state.undo_depth === n, i + 1);

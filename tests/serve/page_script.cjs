@@ -23,7 +23,7 @@ function element(tag, attrs = {}) {
     set innerHTML(v) { this.children = []; },
     get innerHTML() { return ""; },
     addEventListener(type, fn) { (this.listeners[type] = this.listeners[type] || []).push(fn); },
-    getContext() { return { putImageData() {}, drawImage() {} }; },
+    getContext() { return { putImageData() {}, drawImage() {}, clearRect() {}, beginPath() {}, moveTo() {}, lineTo() {}, stroke() {} }; },
     getBoundingClientRect() { return { left: 0, top: 0, width: 512, height: 512 }; },
     focus() {},
   };

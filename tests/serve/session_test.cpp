@@ -78,6 +78,9 @@ TEST_CASE("serve: the state lists objects, materials, lights, the camera and the
     CHECK(s["editable"] == true);
     CHECK(s["objects"].size() == 8);
     CHECK(s["objects"][6]["name"] == "TallBox");
+    // Its world bounds, for the page's selection box.
+    REQUIRE(s["objects"][6].contains("bounds"));
+    CHECK(s["objects"][6]["bounds"]["hi"][1].get<double>() > s["objects"][6]["bounds"]["lo"][1].get<double>());
     CHECK(s["materials"].contains("TallBox"));
     CHECK(s["camera"]["resolution"] == Json::array({512, 512}));
     CHECK(s["analysis"].size() >= 1); // no glass: the caustic map and refraction are skipped
