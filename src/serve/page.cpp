@@ -11,85 +11,133 @@ const char* const kPage = R"PAGE(<!doctype html>
 <meta charset="utf-8">
 <title>rayproc serve</title>
 <style>
+  html, body { height: 100%; }
   body { margin: 0; font: 13px system-ui, sans-serif; display: flex; background: #1e1e1e; color: #ddd; }
-  #view { flex: 1; display: flex; flex-direction: column; align-items: center; padding: 8px; }
-  canvas { background: #000; image-rendering: auto; cursor: crosshair; max-width: 100%; }
-  #side { width: 330px; padding: 8px; overflow-y: auto; height: 100vh; box-sizing: border-box; background: #262626; }
+  #view { flex: 1; display: flex; flex-direction: column; min-width: 0; height: 100vh; box-sizing: border-box; padding: 6px; }
+  #stage { flex: 1; position: relative; overflow: hidden; background: #111; min-height: 120px; }
+  canvas { position: absolute; background: #000; cursor: crosshair; image-rendering: auto; }
+  #overlay { background: transparent; pointer-events: none; }
+  canvas.pixels { image-rendering: pixelated; }
+  #banner { position: absolute; left: 0; right: 0; top: 0; padding: 4px 8px; background: rgba(120, 90, 0, 0.85); color: #fff; }
+  #side { width: 350px; flex: none; padding: 8px; overflow-y: auto; height: 100vh; box-sizing: border-box; background: #262626; }
   h3 { margin: 10px 0 4px; font-size: 13px; color: #fff; }
   button { margin: 2px; }
-  input[type=number] { width: 64px; }
-  #status, #error { min-height: 1.2em; }
+  button:disabled, input:disabled, select:disabled { opacity: 0.45; }
+  input[type=number] { width: 56px; }
+  #res-w, #res-h { width: 56px; }
+  #status, #error, #refine { min-height: 1.2em; }
   #error { color: #ff8080; }
+  #status.offline { color: #ffb060; }
   pre { white-space: pre-wrap; font-size: 11px; background: #1a1a1a; padding: 4px; max-height: 220px; overflow: auto; }
+  table.stats { font-size: 11px; border-collapse: collapse; width: 100%; }
+  table.stats td { padding: 1px 4px; border-bottom: 1px solid #333; }
+  table.stats td:last-child { text-align: right; font-variant-numeric: tabular-nums; }
   .row { display: flex; align-items: center; gap: 4px; flex-wrap: wrap; }
+  .bar { display: flex; align-items: center; gap: 10px; flex-wrap: wrap; padding: 2px 0; }
+  .download { display: inline-block; padding: 2px 8px; margin: 2px; background: #3a5a8a; color: #fff; border-radius: 3px; text-decoration: none; }
+  .warning { color: #ffcc66; font-size: 12px; overflow-wrap: anywhere; margin: 2px 0; }
   #progress { width: 100%; }
+  .help { color: #999; font-size: 12px; }
 </style>
 </head>
 <body>
 <div id="view">
-  <canvas id="canvas" width="512" height="512" tabindex="0"></canvas>
-  <div id="status">connecting...</div>
-  <div id="fps"></div>
+  <div class="bar">
+    <span><button id="home" title="the scene file's view">Home view</button><button id="undo-view" title="Ctrl+Z">Undo</button><button
+      id="redo-view" title="Ctrl+Shift+Z">Redo</button></span>
+    <span title="the image on screen: fit the area, one image pixel per screen pixel, or zoom (Alt+wheel; Alt+drag or middle drag pans)">image
+      <button id="zoom-fit">Fit</button><button id="zoom-1">1:1</button><button id="zoom-out">&minus;</button><button id="zoom-in">+</button>
+      <span id="zoom"></span></span>
+    <span title="as rayproc render --exposure and --tone-map; the PNG download follows">exposure
+      <input id="exposure" type="number" min="-20" max="20" step="0.5" value="0"> tone map
+      <select id="tone-map"><option>clamp</option><option>reinhard</option><option>aces</option></select></span>
+  </div>
+  <div class="bar">
+    <span title="the scene's camera: renders are this size; the live preview is at most --preview-size on its longer side">resolution
+      <input id="res-w" type="number" min="1" max="16384"> x <input id="res-h" type="number" min="1" max="16384">
+      field of view <input id="fov" type="number" min="0.1" max="179" step="1">&deg;
+      <button id="view-apply">Apply</button></span>
+    <span id="preview-size"></span>
+  </div>
+  <div id="stage">
+    <canvas id="canvas" width="512" height="512" tabindex="0"></canvas>
+    <canvas id="overlay" width="512" height="512"></canvas>
+    <div id="banner" hidden></div>
+  </div>
+  <div class="bar"><span id="status">connecting...</span><span id="fps"></span><span id="refine"></span></div>
   <div id="error"></div>
-  <div class="row"><button id="home" title="the scene file's view">Home view</button>
-    <button id="undo-view" title="Ctrl+Z">Undo</button><button id="redo-view" title="Ctrl+Shift+Z">Redo</button></div>
-  <div class="help">drag: orbit - shift+drag or right drag: pan - wheel: zoom (passes the pivot) - W A S D Q E: fly - click: pick - Ctrl+Z / Ctrl+Shift+Z: undo / redo (edits and views)</div>
+  <div class="help">drag: orbit - shift+drag or right drag: pan - wheel: zoom (passes the pivot) - W A S D Q E: fly - click: pick - Ctrl+Z / Ctrl+Shift+Z: undo / redo (edits and views) - Alt+wheel, Alt+drag: zoom and pan the image</div>
 </div>
 <div id="side">
-  <h3>Mode</h3>
+  <h3>Render</h3>
   <div class="row">
     <button id="mode-raytrace">raytrace</button><button id="mode-gi">gi</button><button id="mode-path">path</button>
     spp <input id="spp" type="number" min="1" max="65536" placeholder="default">
   </div>
+  <div id="spp-defaults" class="help"></div>
   <div class="row"><button id="cancel" disabled>Cancel</button>
-    <a href="/image.png" download="render.png">PNG</a> <a href="/image.exr" download="render.exr">EXR</a></div>
+    <a class="download" href="/image.png" download="render.png">Download PNG</a> <a class="download" href="/image.exr" download="render.exr">Download EXR</a></div>
   <progress id="progress" max="1" value="0"></progress>
   <div id="render-info"></div>
   <h3>Selection</h3>
   <div id="selection">none (click the image)</div>
   <div id="read-only" hidden>This scene is read-only: only JSON scenes can be edited (the camera, renders and downloads still work).</div>
-  <div class="row">move <button data-edit data-move="-1,0,0">-x</button><button data-edit data-move="1,0,0">+x</button>
-    <button data-edit data-move="0,-1,0">-y</button><button data-edit data-move="0,1,0">+y</button>
-    <button data-edit data-move="0,0,-1">-z</button><button data-edit data-move="0,0,1">+z</button>
+  <div class="row">move <button data-edit data-select data-move="-1,0,0">-x</button><button data-edit data-select data-move="1,0,0">+x</button>
+    <button data-edit data-select data-move="0,-1,0">-y</button><button data-edit data-select data-move="0,1,0">+y</button>
+    <button data-edit data-select data-move="0,0,-1">-z</button><button data-edit data-select data-move="0,0,1">+z</button>
     step <input id="step" type="number" value="0.1" step="0.05" min="-1000" max="1000"></div>
-  <div class="row">rotate y <button id="rot-minus" data-edit>-15&deg;</button><button id="rot-plus" data-edit>+15&deg;</button>
-    scale <button id="scale-down" data-edit>&divide;1.1</button><button id="scale-up" data-edit>&times;1.1</button></div>
+  <div class="row">rotate y <button id="rot-minus" data-edit data-select>-15&deg;</button><button id="rot-plus" data-edit data-select>+15&deg;</button>
+    scale <button id="scale-down" data-edit data-select>&divide;1.1</button><button id="scale-up" data-edit data-select>&times;1.1</button></div>
   <h3>Material</h3>
   <div class="row">type <select id="mat-type">
     <option>diffuse</option><option>mirror</option><option>dielectric</option><option>glossy</option></select></div>
   <div class="row">colour <input id="mat-color" type="color" value="#b9b5ad">
     roughness <input id="mat-roughness" type="number" min="0" max="1" step="0.05" value="0.2">
     ior <input id="mat-ior" type="number" min="1" max="3" step="0.05" value="1.5"></div>
-  <div class="row"><button id="mat-apply" data-edit>Apply material</button></div>
+  <div class="row"><button id="mat-apply" data-edit data-select>Apply material</button></div>
   <div class="row">emission r g b <input id="emission-r" type="number" min="0" step="1" value="0"><input
     id="emission-g" type="number" min="0" step="1" value="0"><input id="emission-b" type="number" min="0" step="1" value="0">
-    <button id="emission-apply" data-edit>Apply emission</button></div>
+    <button id="emission-apply" data-edit data-select>Apply emission</button></div>
   <h3>Scene</h3>
   <div class="row"><button id="undo">Undo</button><button id="redo">Redo</button> <span id="undo-depth"></span></div>
   <div class="row"><input id="save-path" value="edited.json"> <button id="save" data-edit>Save JSON</button></div>
+  <div id="warnings"></div>
   <h3>Lights</h3>
   <div id="lights"></div>
   <h3>Scene analysis</h3>
   <pre id="analysis"></pre>
   <h3>Statistics of the last render</h3>
-  <pre id="stats"></pre>
+  <div id="stats"></div>
 </div>
 <script>
 "use strict";
 const canvas = document.getElementById("canvas");
 const ctx2d = canvas.getContext("2d");
 const $ = (id) => document.getElementById(id);
-let ws, state = null, camera = null, selected = null, rendering = false;
-let framesShown = 0, lastFrameVersion = -1, lastFrameWidth = 0;
+const stage = document.getElementById("stage");
+let ws, state = null, camera = null, selected = null, rendering = false, online = false;
+let framesShown = 0, lastFrameVersion = -1, lastFrameWidth = 0, lastFramePixels = null;
+// Tests read the page through window.rayproc; refineLog, when a test sets it to [], collects
+// every frame drawn ({version, width, height, pixels}) and the refine message that followed it.
 window.rayproc = { get state() { return state; }, get selected() { return selected; },
                    get framesShown() { return framesShown; }, get rendering() { return rendering; },
                    get lastFrameVersion() { return lastFrameVersion; }, get lastFrameWidth() { return lastFrameWidth; },
                    get cameraMessagesSent() { return cameraMessagesSent; }, get camera() { return camera; },
-                   send: (m) => send(m), lastReply: null, lastError: null, lastProgress: null };
+                   get online() { return online; }, get imageZoom() { return effectiveZoom(); },
+                   get outlineBox() { return outlineBox; },
+                   send: (m) => send(m), lastReply: null, lastError: null, lastProgress: null, lastRefine: null, lastStarting: null,
+                   refineLog: null, connects: 0 };
 
 // Every message is the user's doing: an error shown stays until the next one (progress and
 // other replies do not clear it).
-function send(m) { $("error").textContent = ""; ws.send(JSON.stringify(m)); }
+function send(m) {
+  if (!online) { showError("the server is gone: reconnecting (nothing was sent)"); return; }
+  $("error").textContent = ""; ws.send(JSON.stringify(m));
+}
+// DOM writes only where something changed: a drag brings a state message per frame, and each
+// write makes the browser lay the page out again.
+function setText(id, text) { const e = $(id); if (e.textContent !== text) e.textContent = text; }
+function setProp(id, key, value) { const e = $(id); if (e[key] !== value) e[key] = value; }
 function sub(a, b) { return [a[0]-b[0], a[1]-b[1], a[2]-b[2]]; }
 function add(a, b) { return [a[0]+b[0], a[1]+b[1], a[2]+b[2]]; }
 function mul(a, s) { return [a[0]*s, a[1]*s, a[2]*s]; }
@@ -103,8 +151,8 @@ function cross(a, b) { return [a[1]*b[2]-a[2]*b[1], a[2]*b[0]-a[0]*b[2], a[0]*b[
 // instead of stopping each coarse frame for the next mouse event (issue 37, bug 2).
 const kCameraBudgetMs = 250;
 let cameraInFlight = false, cameraDirty = false, cameraSentAt = 0, cameraAwaited = null, cameraTimer = null;
-let newestFrameVersion = -1, cameraMessagesSent = 0;
-function sendCamera() { cameraDirty = true; flushCamera(); }
+let newestFrameVersion = -1, cameraMessagesSent = 0, pendingResolution = null;
+function sendCamera() { cameraDirty = true; drawOutline(); flushCamera(); }
 function flushCamera() {
   if (!cameraDirty || !camera) return;
   const waited = performance.now() - cameraSentAt;
@@ -115,6 +163,7 @@ function flushCamera() {
   cameraDirty = false; cameraInFlight = true; cameraAwaited = null; cameraSentAt = performance.now();
   cameraMessagesSent++;
   const m = {type: "camera", position: camera.position, look_at: camera.look_at, up: camera.up, fov: camera.fov};
+  if (pendingResolution) { m.resolution = pendingResolution; pendingResolution = null; }
   if (gestureStarted) { m.undo_step = true; gestureStarted = false; }
   send(m);
 }
@@ -125,11 +174,25 @@ function cameraAccepted(version) {
 }
 function cameraAnswered() { cameraInFlight = false; cameraAwaited = null; flushCamera(); }
 
+// The connection: when the server goes, the page says so, disables what needs it and tries
+// again (after 0.5 s, then up to every 4 s); the state that arrives on reconnecting is the truth.
+let reconnectDelay = 500;
 function connect() {
   ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws");
   ws.binaryType = "arraybuffer";
-  ws.onopen = () => { $("status").textContent = "connected"; };
-  ws.onclose = () => { $("status").textContent = "disconnected (reload to reconnect)"; };
+  ws.onopen = () => {
+    online = true; reconnectDelay = 500; window.rayproc.connects++;
+    $("status").textContent = "connected"; $("status").className = ""; updateControls();
+  };
+  ws.onclose = () => {
+    const was = online;
+    online = false; cameraInFlight = false; cameraDirty = false;
+    $("status").textContent = (was ? "disconnected" : "server not reachable") + ": reconnecting in " +
+      (reconnectDelay / 1000).toFixed(1) + " s";
+    $("status").className = "offline"; updateControls();
+    setTimeout(connect, reconnectDelay);
+    reconnectDelay = Math.min(4000, reconnectDelay * 2);
+  };
   ws.onmessage = (ev) => {
     if (typeof ev.data !== "string") return drawFrame(ev.data);
     const m = JSON.parse(ev.data);
@@ -142,21 +205,65 @@ function connect() {
     if (m.type === "camera") cameraAccepted(m.version);
     else if (m.type === "state") showState(m);
     else if (m.type === "picked") showPick(m);
-    else if (m.type === "render_begin") { rendering = true; $("cancel").disabled = false; $("progress").value = 0;
+    else if (m.type === "refine") showRefine(m);
+    else if (m.type === "display") showDisplay(m);
+    else if (m.type === "render_begin") { rendering = true; $("progress").value = 0; updateControls();
       $("render-info").textContent = m.mode + ": starting"; }
-    else if (m.type === "progress") { window.rayproc.lastProgress = m; $("progress").value = m.fraction;
-      $("render-info").textContent = m.mode + ": " + (100*m.fraction).toFixed(1) + "% - " + m.seconds.toFixed(1) +
-        " s - ETA " + (m.eta_seconds >= 0 ? m.eta_seconds.toFixed(1) + " s" : "?") + " - " +
-        (m.rays_per_second/1e6).toFixed(2) + " Mrays/s"; }
-    else if (m.type === "render_end") { rendering = false; $("cancel").disabled = true;
+    else if (m.type === "progress") showProgress(m);
+    else if (m.type === "render_end") { rendering = false; updateControls();
       $("render-info").textContent = m.mode + (m.cancelled ? ": cancelled" : ": done") + " after " +
         m.spp + " spp, " + m.seconds.toFixed(2) + " s";
-      $("stats").textContent = JSON.stringify(m.stats, null, 1); }
+      showStats(m.stats); }
     else if (m.type === "saved") $("status").textContent = "saved " + m.path;
   };
 }
 
+function showProgress(m) {
+  window.rayproc.lastProgress = m;
+  if (m.phase === "starting") { // gi's photon passes and cache prepass: no pass has begun yet
+    window.rayproc.lastStarting = m;
+    $("render-info").textContent = m.mode + ": starting (" + m.what + ") " + m.seconds.toFixed(1) + " s";
+    return;
+  }
+  $("progress").value = m.fraction;
+  $("render-info").textContent = m.mode + ": " + (100*m.fraction).toFixed(1) + "% - " + m.seconds.toFixed(1) +
+    " s - ETA " + (m.eta_seconds >= 0 ? m.eta_seconds.toFixed(1) + " s" : "?") + " - " +
+    (m.rays_per_second/1e6).toFixed(2) + " Mrays/s";
+}
+
+// A still view refines toward the raytrace image (the server's raytrace passes at the preview's
+// size): how far it got.
+function showRefine(m) {
+  window.rayproc.lastRefine = m;
+  const log = window.rayproc.refineLog;
+  if (log && log.length && log[log.length - 1].version === m.version && !log[log.length - 1].refine)
+    log[log.length - 1].refine = m;
+  $("refine").textContent = m.done ? "refined: raytrace, " + m.spp + " spp" :
+    "refining toward raytrace: " + m.spp + " of " + m.of + " spp";
+}
+
+// The last render's statistics as a short table (the whole JSON is in the title).
+function showStats(st) {
+  const rows = [["wall time", st.wall_seconds.toFixed(2) + " s"], ["rays traced", (st.rays / 1e6).toFixed(2) + " M"],
+    ["rays per second", (st.rays_per_second / 1e6).toFixed(2) + " M"], ["samples", (st.samples / 1e6).toFixed(2) + " M"],
+    ["peak memory", (st.peak_memory_bytes / 1048576).toFixed(0) + " MiB"]];
+  if (st.clamped_samples) rows.push(["clamped samples", String(st.clamped_samples)]);
+  if (st.invalid_samples) rows.push(["invalid samples", String(st.invalid_samples)]);
+  for (const [group, values] of Object.entries(st))
+    if (values && typeof values === "object" && !Array.isArray(values) && group !== "stages")
+      for (const [k, v] of Object.entries(values)) if (typeof v === "number")
+        rows.push([group + ": " + k.replace(/_/g, " "), String(Number.isInteger(v) ? v : +v.toPrecision(4))]);
+  const table = document.createElement("table"); table.className = "stats";
+  for (const [k, v] of rows) {
+    const tr = document.createElement("tr"), a = document.createElement("td"), b = document.createElement("td");
+    a.textContent = k; b.textContent = v; tr.append(a, b); table.append(tr);
+  }
+  const box = $("stats"); box.innerHTML = ""; box.title = JSON.stringify(st, null, 1); box.append(table);
+}
+
 // A frame: "RPF2", width, height, frame number, version (u32 each), then RGBA (encodeFrame).
+// The canvas takes the size of a full frame (the preview's, or a render's at the scene's
+// resolution, so 1:1 shows every pixel of a render); a drag's coarse frames are scaled into it.
 function drawFrame(buffer) {
   const head = new DataView(buffer, 0, 20);
   if (String.fromCharCode(head.getUint8(0), head.getUint8(1), head.getUint8(2), head.getUint8(3)) !== "RPF2") return;
@@ -165,17 +272,88 @@ function drawFrame(buffer) {
   if (state && version < state.version) return;
   const pixels = new Uint8ClampedArray(buffer, 20, w * h * 4);
   const img = new ImageData(pixels, w, h);
-  if (state && (canvas.width !== previewWidth() || canvas.height !== previewHeight())) {
-    canvas.width = previewWidth(); canvas.height = previewHeight();
-  }
+  const full = !state || (w === previewWidth() && h === previewHeight()) ||
+    (w === state.camera.resolution[0] && h === state.camera.resolution[1]);
+  if (full && (canvas.width !== w || canvas.height !== h)) { canvas.width = w; canvas.height = h; layout(); }
   if (w === canvas.width && h === canvas.height) ctx2d.putImageData(img, 0, 0);
   else createImageBitmap(img).then((bmp) => ctx2d.drawImage(bmp, 0, 0, canvas.width, canvas.height));
   framesShown++;
-  lastFrameVersion = version; lastFrameWidth = w;
+  lastFrameVersion = version; lastFrameWidth = w; lastFramePixels = pixels;
+  const log = window.rayproc.refineLog;
+  if (log) log.push({version, width: w, height: h, pixels: pixels.slice(), refine: null});
   showRate(w, h);
   newestFrameVersion = Math.max(newestFrameVersion, version);
   if (cameraInFlight && cameraAwaited !== null && version >= cameraAwaited) cameraAnswered();
 }
+
+// The image on the stage: fitted to it (imageZoom null) or at imageZoom CSS pixels per image
+// pixel, moved by the pan. Alt+wheel zooms about the cursor; Alt+drag or a middle drag pans.
+let imageZoom = null, panX = 0, panY = 0;
+function fitZoom() { return Math.min(stage.clientWidth / canvas.width, stage.clientHeight / canvas.height) || 1; }
+function effectiveZoom() { return imageZoom === null ? fitZoom() : imageZoom; }
+function layout() {
+  const z = effectiveZoom(), w = canvas.width * z, h = canvas.height * z;
+  if (imageZoom === null) { panX = 0; panY = 0; }
+  canvas.style.width = w + "px"; canvas.style.height = h + "px";
+  canvas.style.left = ((stage.clientWidth - w) / 2 + panX) + "px";
+  canvas.style.top = ((stage.clientHeight - h) / 2 + panY) + "px";
+  canvas.className = z * (window.devicePixelRatio || 1) >= 2 ? "pixels" : ""; // zoomed in: crisp pixels
+  for (const k of ["width", "height", "left", "top"]) overlay.style[k] = canvas.style[k];
+  drawOutline();
+  $("zoom").textContent = (imageZoom === null ? "fit, " : "") + Math.round(100 * z * (window.devicePixelRatio || 1)) + "%";
+}
+// The selection's box: its top-level object's world bounds projected with the page's camera
+// (so it follows a drag at once), drawn over the image. Edges with a corner behind the camera
+// are left out.
+const overlay = document.getElementById("overlay");
+let outlineBox = null; // the last box drawn: [x0, y0, x1, y1] in fractions of the image (tests)
+function project(p) {
+  const f = norm(sub(camera.look_at, camera.position)), r = norm(cross(f, camera.up)), u = cross(r, f);
+  const d = sub(p, camera.position), z = dotp(d, f);
+  if (z <= 1e-6) return null;
+  const res = state.camera.resolution, t = Math.tan(camera.fov * Math.PI / 360);
+  const x = dotp(d, r) / (z * t * res[0] / res[1]), y = dotp(d, u) / (z * t);
+  return [(x + 1) / 2, (1 - y) / 2];
+}
+function drawOutline() {
+  const w = parseFloat(overlay.style.width) || 0, h = parseFloat(overlay.style.height) || 0;
+  const dpr = window.devicePixelRatio || 1;
+  if (overlay.width !== Math.round(w * dpr) || overlay.height !== Math.round(h * dpr)) {
+    overlay.width = Math.round(w * dpr); overlay.height = Math.round(h * dpr);
+  }
+  const g = overlay.getContext("2d");
+  g.clearRect(0, 0, overlay.width, overlay.height);
+  outlineBox = null;
+  const o = state && camera && selected !== null && state.objects[selected];
+  if (!o || !o.bounds) return;
+  const lo = o.bounds.lo, hi = o.bounds.hi;
+  const corners = [0, 1, 2, 3, 4, 5, 6, 7].map((i) => project([i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]]));
+  g.strokeStyle = "#ffa020"; g.lineWidth = 1.5 * dpr; g.beginPath();
+  const seen = corners.filter((c) => c);
+  if (seen.length) outlineBox = [Math.min(...seen.map((c) => c[0])), Math.min(...seen.map((c) => c[1])),
+                                 Math.max(...seen.map((c) => c[0])), Math.max(...seen.map((c) => c[1]))];
+  for (let a = 0; a < 8; a++) for (const bit of [1, 2, 4]) {
+    const b = a | bit;
+    if (b === a || !corners[a] || !corners[b]) continue;
+    g.moveTo(corners[a][0] * overlay.width, corners[a][1] * overlay.height);
+    g.lineTo(corners[b][0] * overlay.width, corners[b][1] * overlay.height);
+  }
+  g.stroke();
+}
+
+// A zoom by `factor` keeping the image point under (x, y) (stage coordinates) in place.
+function zoomImage(factor, x, y) {
+  const z = effectiveZoom(), nz = Math.min(64, Math.max(1 / 64, z * factor));
+  const cx = stage.clientWidth / 2 + panX, cy = stage.clientHeight / 2 + panY; // the image centre
+  if (x === undefined) { x = stage.clientWidth / 2; y = stage.clientHeight / 2; }
+  panX += (x - cx) * (1 - nz / z); panY += (y - cy) * (1 - nz / z);
+  imageZoom = nz; layout();
+}
+window.addEventListener("resize", layout);
+$("zoom-fit").onclick = () => { imageZoom = null; layout(); };
+$("zoom-1").onclick = () => { imageZoom = 1 / (window.devicePixelRatio || 1); panX = 0; panY = 0; layout(); };
+$("zoom-in").onclick = () => zoomImage(2);
+$("zoom-out").onclick = () => zoomImage(0.5);
 
 // The frame-rate readout: frames drawn in the last second and the last one's size (a drag's
 // frames are coarse; the full-size frame follows when the view rests).
@@ -184,27 +362,75 @@ function showRate(w, h) {
   const now = performance.now();
   frameTimes.push(now);
   while (frameTimes.length && frameTimes[0] < now - 1000) frameTimes.shift();
-  $("fps").textContent = w + "x" + h + ", " + frameTimes.length + " frames in the last second";
+  const gap = frameTimes.length > 1 ? (frameTimes[frameTimes.length - 1] - frameTimes[frameTimes.length - 2]).toFixed(0) + " ms since the last" : "";
+  $("fps").textContent = w + "x" + h + ", " + frameTimes.length + " frames in the last second" + (gap ? " (" + gap + ")" : "");
 }
 
-// The canvas keeps the live preview's size; renders at the scene's resolution are scaled to it.
+// The live preview's size: the scene's resolution, its longer side at most --preview-size.
 function previewScale() { const r = state.camera.resolution; return Math.min(1, state.preview_max_side / Math.max(r[0], r[1])); }
 function previewWidth() { return Math.max(1, Math.round(state.camera.resolution[0] * previewScale())); }
 function previewHeight() { return Math.max(1, Math.round(state.camera.resolution[1] * previewScale())); }
 
+let shownLights = null, shownWarnings = null;
 function showState(s) {
   state = s;
+  // The canvas has a full frame's size (drawFrame): the preview's until a frame says otherwise,
+  // so the coarse frames before it have the scene's aspect.
+  const r = s.camera.resolution;
+  if (!((canvas.width === previewWidth() && canvas.height === previewHeight()) || (canvas.width === r[0] && canvas.height === r[1]))) {
+    canvas.width = previewWidth(); canvas.height = previewHeight(); layout();
+  }
   // While a view of ours is unsent or unanswered, the page's camera is ahead of the server's.
   if (!cameraInFlight && !cameraDirty) camera = JSON.parse(JSON.stringify(s.camera));
-  $("undo-depth").textContent = s.undo_depth + " to undo, " + (s.redo_depth || 0) + " to redo (edits and views)";
-  $("analysis").textContent = s.analysis.map((a) => a.modes.join(",") + ": skipped " + a.what + ": " + a.why).join("\n") || "nothing skipped";
+  setText("undo-depth", s.undo_depth + " to undo, " + (s.redo_depth || 0) + " to redo (edits and views)");
+  setText("analysis", s.analysis.map((a) => a.modes.join(",") + ": skipped " + a.what + ": " + a.why).join("\n") || "nothing skipped");
+  // Rebuilt only when they changed: a drag brings a state per frame.
+  const lightsKey = JSON.stringify([s.lights, s.objects.filter((o) => o.emission), s.editable]);
+  if (lightsKey !== shownLights) { shownLights = lightsKey; showLights(s); }
+  showViewFields(s);
+  if (s.display) showDisplay(s.display);
+  const d = s.default_spp || {};
+  setText("spp-defaults", "without spp: raytrace " + d.raytrace + ", gi " + d.gi + ", path " + d.path + " spp");
+  // pbrt scenes are read-only: a banner says so and the edit controls are disabled.
+  setProp("read-only", "hidden", s.editable);
+  setProp("banner", "hidden", s.editable);
+  setText("banner", "Read-only: " + s.scene + " is not a JSON scene. The camera, renders and downloads work; edits do not.");
+  const warningsKey = JSON.stringify(s.warnings || []);
+  if (warningsKey !== shownWarnings) {
+    shownWarnings = warningsKey;
+    const warnings = $("warnings"); warnings.innerHTML = "";
+    (s.warnings || []).forEach((w) => { const div = document.createElement("div"); div.className = "warning"; div.textContent = w; warnings.append(div); });
+  }
+  rendering = s.rendering;
+  updateControls();
+  if (selected !== null) showSelection();
+  drawOutline();
+}
+
+// What each control needs: the server (every one), an editable scene (data-edit), a selection
+// (data-select), a render running (Cancel). The view and mode buttons stay enabled during a
+// render: their error says why nothing happens.
+function updateControls() {
+  const editable = online && state && state.editable;
+  document.querySelectorAll("[data-edit]").forEach((el) => {
+    const off = !editable || (("select" in el.dataset) && selected === null);
+    if (el.disabled !== off) el.disabled = off;
+  });
+  for (const id of ["mode-raytrace", "mode-gi", "mode-path", "home", "view-apply", "undo", "redo", "undo-view",
+                    "redo-view", "exposure", "tone-map"]) setProp(id, "disabled", !online);
+  setProp("cancel", "disabled", !online || !rendering);
+}
+
+// The scene's lights: a JSON scene's are editable (one field per channel, so a coloured light
+// keeps its colour); a pbrt scene's (the sun, the sky) are listed read-only. Emissive objects
+// (area lights) follow, with a button that selects them for the emission fields.
+function showLights(s) {
   const lights = $("lights"); lights.innerHTML = "";
   s.lights.forEach((l, i) => {
     const row = document.createElement("div"); row.className = "row";
-    row.textContent = (l.name || l.type) + " ";
-    if (l.intensity || l.radiance) {
-      const key = l.intensity ? "intensity" : "radiance";
-      // One field per channel: a coloured light keeps its colour (a number means grey).
+    const key = ["intensity", "radiance", "irradiance"].find((k) => l[k] !== undefined);
+    row.textContent = (l.name ? l.name + " (" + l.type + ")" : l.type) + (l.image ? " image " + l.image.split("/").pop() : "") + " ";
+    if (key) {
       const rgb = Array.isArray(l[key]) ? l[key] : [l[key], l[key], l[key]];
       const inputs = rgb.map((c) => { const input = document.createElement("input"); input.type = "number";
         input.step = "0.5"; input.min = "0"; input.value = c; input.disabled = !s.editable; return input; });
@@ -214,12 +440,46 @@ function showState(s) {
     }
     lights.append(row);
   });
-  rendering = s.rendering; $("cancel").disabled = !rendering;
-  // pbrt scenes are read-only: the edit controls say so instead of sending what is refused.
-  $("read-only").hidden = s.editable;
-  document.querySelectorAll("[data-edit]").forEach((el) => { el.disabled = !s.editable; });
-  if (selected !== null) showSelection();
+  s.objects.filter((o) => o.emission).forEach((o) => {
+    const row = document.createElement("div"); row.className = "row";
+    row.textContent = (o.name || o.type) + " (emissive object) " + JSON.stringify(o.emission) + " ";
+    const b = document.createElement("button"); b.textContent = "select";
+    b.onclick = () => showPick({object: o.index, name: o.name});
+    row.append(b);
+    lights.append(row);
+  });
+  if (!lights.children.length) lights.textContent = "none";
 }
+
+// The resolution and field of view fields, unless the user is typing in one.
+function showViewFields(s) {
+  const typing = document.activeElement;
+  if (typing !== $("res-w")) setProp("res-w", "value", String(s.camera.resolution[0]));
+  if (typing !== $("res-h")) setProp("res-h", "value", String(s.camera.resolution[1]));
+  if (typing !== $("fov")) setProp("fov", "value", String(+s.camera.fov.toFixed(3)));
+  setText("preview-size", "live preview " + previewWidth() + "x" + previewHeight() +
+    (s.refine ? ", refined toward raytrace while still" : ""));
+}
+
+function showDisplay(d) {
+  if (document.activeElement !== $("exposure")) setProp("exposure", "value", String(d.exposure));
+  setProp("tone-map", "value", d.tone_map);
+}
+$("exposure").onchange = () => {
+  const e = parseFloat($("exposure").value);
+  if (!Number.isFinite(e) || e < -20 || e > 20) { showError("exposure: expected stops in [-20, 20]"); return; }
+  send({type: "display", exposure: e});
+};
+$("tone-map").onchange = () => send({type: "display", tone_map: $("tone-map").value});
+// A new resolution or field of view: one undoable camera change.
+$("view-apply").onclick = () => {
+  if (!camera || refuseWhileRendering()) return;
+  const w = parseInt($("res-w").value), h = parseInt($("res-h").value), fov = parseFloat($("fov").value);
+  if (![w, h].every((v) => Number.isInteger(v) && v >= 1 && v <= 16384)) { showError("resolution: expected whole numbers in 1..16384"); return; }
+  if (!(fov > 0 && fov < 180)) { showError("field of view: expected degrees in (0, 180)"); return; }
+  camera.fov = fov; pendingResolution = [w, h]; gestureStarted = true;
+  sendCamera();
+};
 
 // Three number fields as an RGB triple, or null (with the reason shown) if one is not a number >= 0.
 function readRgb(inputs, what) {
@@ -234,10 +494,12 @@ function showPick(m) {
   selected = m.object === null ? null : m.object;
   picked = m;
   showSelection();
+  updateControls();
+  drawOutline();
 }
 
 function showSelection() {
-  if (selected === null) { $("selection").textContent = "none"; return; }
+  if (selected === null) { $("selection").textContent = "none (click the image)"; return; }
   const o = state.objects[selected] || {};
   const name = o.name || (picked && picked.object === selected && picked.name) || o.type || "object";
   const material = o.material || (picked && picked.object === selected && picked.material);
@@ -292,12 +554,15 @@ function refuseWhileRendering() {
 let drag = null;
 canvas.addEventListener("contextmenu", (e) => e.preventDefault());
 canvas.addEventListener("mousedown", (e) => {
-  drag = {x: e.clientX, y: e.clientY, moved: false, pan: e.shiftKey || e.button === 2};
-  gestureStarted = true; canvas.focus();
+  const image = e.altKey || e.button === 1; // pans the image on the page, not the camera
+  drag = {x: e.clientX, y: e.clientY, moved: false, pan: e.shiftKey || e.button === 2, image};
+  if (image) e.preventDefault();
+  else gestureStarted = true;
+  canvas.focus();
 });
 window.addEventListener("mouseup", (e) => {
   // A release after a drag (even one a render refused) picks nothing.
-  if (drag && !drag.moved && e.target === canvas) {
+  if (drag && !drag.moved && !drag.image && e.target === canvas) {
     const r = canvas.getBoundingClientRect();
     send({type: "pick", x: (e.clientX - r.left) / r.width, y: (e.clientY - r.top) / r.height});
   }
@@ -309,6 +574,10 @@ window.addEventListener("mousemove", (e) => {
   if (Math.abs(dx) + Math.abs(dy) < 2) return;
   const first = !drag.moved;
   drag.moved = true; drag.x = e.clientX; drag.y = e.clientY;
+  if (drag.image) {
+    if (imageZoom === null) imageZoom = fitZoom();
+    panX += dx; panY += dy; layout(); return;
+  }
   if (rendering) { if (first) refuseWhileRendering(); return; }
   const dist = pivotDistance();
   const offset = sub(camera.position, camera.look_at);
@@ -334,6 +603,11 @@ window.addEventListener("mousemove", (e) => {
 });
 canvas.addEventListener("wheel", (e) => {
   e.preventDefault();
+  if (e.altKey) { // the image, about the cursor
+    const r = stage.getBoundingClientRect();
+    zoomImage(e.deltaY < 0 ? 1.25 : 0.8, e.clientX - r.left, e.clientY - r.top);
+    return;
+  }
   if (!camera || refuseWhileRendering()) return;
   const now = performance.now();
   if (now - lastWheel > 400) gestureStarted = true;
@@ -423,6 +697,7 @@ for (const mode of ["raytrace", "gi", "path"])
     send(Number.isFinite(spp) ? {type: "render", mode, spp} : {type: "render", mode});
   };
 $("cancel").onclick = () => send({type: "cancel"});
+layout();
 connect();
 </script>
 </body>

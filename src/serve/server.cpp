@@ -35,12 +35,13 @@ int onDataTrampoline(mg_connection* conn, int flags, char* data, size_t length, 
 }
 void onCloseTrampoline(const mg_connection* conn, void*) { serverOf(conn)->onClose(conn); }
 
-// The image as a file's bytes, through the writers `rayproc render` uses.
-std::string imageBytes(const Image& img, const std::string& extension) {
+// The image as a file's bytes, through the writers `rayproc render` uses (a PNG with the page's
+// exposure and tone map; an EXR stays linear).
+std::string imageBytes(const Image& img, const std::string& extension, const ToneMapSettings& tm) {
     std::string dir = std::filesystem::temp_directory_path().string();
     std::string path = dir + "/rayproc-serve-" + std::to_string(::getpid()) + "-" +
                        std::to_string(reinterpret_cast<std::uintptr_t>(&img)) + extension;
-    writeImage(path, img);
+    writeImage(path, img, tm);
     std::ifstream in(path, std::ios::binary);
     std::stringstream bytes;
     bytes << in.rdbuf();
@@ -199,7 +200,7 @@ int Server::onRequest(mg_connection* conn, const std::string& uri) {
         bool png = uri == "/image.png";
         try {
             return send(200, png ? "image/png" : "image/x-exr",
-                        imageBytes(img, png ? ".png" : ".exr"),
+                        imageBytes(img, png ? ".png" : ".exr", m_session.display()),
                         png ? "Content-Disposition: attachment; filename=\"render.png\"\r\n"
                             : "Content-Disposition: attachment; filename=\"render.exr\"\r\n");
         } catch (const std::exception& e) {
@@ -277,7 +278,7 @@ int Server::handleData(mg_connection* conn, int flags, const char* data, std::si
     sendTo(conn, MG_WEBSOCKET_OPCODE_TEXT, reply);
     // Every page shows the same scene: a change reaches them all.
     Json r = Json::parse(reply);
-    if (r["type"] == "edited" || r["type"] == "camera") {
+    if (r["type"] == "edited" || r["type"] == "camera" || r["type"] == "display") {
         Json s = m_session.state();
         s["type"] = "state";
         std::string text = toText(s);

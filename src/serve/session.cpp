@@ -1,4 +1,5 @@
 #include "serve/session.h"
+#include "serve/session_detail.h"
 
 #include "accel/embree_scene.h"
 #include "core/error.h"
@@ -11,18 +12,21 @@
 #include "modes/modes.h"
 #include "modes/render_plan.h"
 #include "modes/render_watch.h"
-#include "scene/camera_check.h"
+#include "scene/pbrt/pbrt_loader.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_loader_detail.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 namespace rayproc::serve {
+
+using namespace session_detail;
 
 namespace {
 
@@ -33,42 +37,11 @@ constexpr std::chrono::milliseconds kMotionGap{250}, kMotionWait{50};
 // A drag's coarse frames aim to take at most this (20 frames/s with the page's round trip):
 // slower, the next is coarser (1/8, then 1/16 of each side); three times faster, finer again.
 constexpr std::chrono::milliseconds kMotionFrame{40};
+// A view unchanged this long after its last change refines (Session::refinePreview): longer
+// than the gaps of a drag, a wheel spin or a key repeat (kMotionGap).
+constexpr std::chrono::milliseconds kRefineRest{kMotionGap};
 
-const std::vector<std::string> kMessageTypes = {
-    "state", "camera", "pick", "transform", "material", "emission", "light",
-    "undo", "redo", "save", "render", "cancel"};
 constexpr std::size_t kUndoDepth = 256;
-
-[[noreturn]] void refuse(const std::string& what) { throw InputError(what); }
-
-const Json& field(const Json& m, const char* key, const char* type) {
-    if (!m.contains(key)) refuse(std::string(type) + ": missing \"" + key + "\"");
-    return m[key];
-}
-
-double finite(const Json& v, const std::string& where) {
-    if (!v.is_number()) refuse(where + ": expected a number");
-    double d = v.get<double>();
-    if (!std::isfinite(d) || std::abs(d) > 3.0e38) refuse(where + ": expected a finite number");
-    return d;
-}
-
-Vec3 vec3(const Json& v, const std::string& where) {
-    if (!v.is_array() || v.size() != 3) refuse(where + ": expected an array of 3 numbers");
-    return {float(finite(v[0], where)), float(finite(v[1], where)), float(finite(v[2], where))};
-}
-
-Json vec3Json(const Vec3& v) { return Json::array({double(v.x), double(v.y), double(v.z)}); }
-
-// Keys a message may carry, besides "type".
-void expectKeys(const Json& m, std::initializer_list<const char*> allowed) {
-    for (auto it = m.begin(); it != m.end(); ++it) {
-        if (it.key() == "type") continue;
-        bool ok = false;
-        for (const char* a : allowed) ok |= it.key() == a;
-        if (!ok) refuse(m["type"].get<std::string>() + ": unknown key \"" + it.key() + "\"");
-    }
-}
 
 // The top-level node an Embree hit belongs to: the node whose subtree holds the hit shape
 // (instances: whose prototype does), the one whose bounds hold the hit point when several do.
@@ -107,10 +80,33 @@ Json sceneBounds(const Scene& scene) {
     return {{"lo", vec3Json(all.lo)}, {"hi", vec3Json(all.hi)}, {"extent", double(extent)}};
 }
 
+// A pbrt scene's lights without geometry (the sun, the sky...) in the JSON scene format's
+// terms, read-only: the page's lights panel lists them.
+Json sceneLightsJson(const Scene& scene) {
+    Json lights = Json::array();
+    for (const Light& l : scene.lights) {
+        Json j;
+        switch (l.type) {
+        case LightType::Point: j = {{"type", "point"}, {"intensity", vec3Json(l.intensity)}}; break;
+        case LightType::Spot: j = {{"type", "spot"}, {"intensity", vec3Json(l.intensity)}}; break;
+        case LightType::Directional:
+            j = {{"type", "directional"}, {"irradiance", vec3Json(l.intensity)},
+                 {"direction", vec3Json(l.direction)}};
+            break;
+        case LightType::Environment: j = {{"type", "environment"}, {"radiance", vec3Json(l.intensity)}}; break;
+        case LightType::Goniometric: j = {{"type", "goniometric"}, {"intensity", vec3Json(l.intensity)}}; break;
+        }
+        if (!l.name.empty()) j["name"] = l.name;
+        if (!l.imageFile.empty()) j["image"] = l.imageFile;
+        lights.push_back(j);
+    }
+    return lights;
+}
+
 } // namespace
 
 std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
-                                      std::uint64_t version) {
+                                      std::uint64_t version, const ToneMapSettings& tm) {
     constexpr std::size_t h = kFrameHeaderBytes;
     std::vector<std::uint8_t> out(h + std::size_t(image.width) * std::size_t(image.height) * 4);
     auto put = [&](std::size_t at, std::uint32_t v) {
@@ -121,7 +117,6 @@ std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
     put(8, std::uint32_t(image.height));
     put(12, number);
     put(16, std::uint32_t(version));
-    ToneMapSettings tm;
     std::size_t n = std::size_t(image.width) * std::size_t(image.height);
     for (std::size_t p = 0; p < n; ++p) {
         for (int c = 0; c < 3; ++c)
@@ -141,7 +136,19 @@ struct Session::Loaded {
     std::optional<LightSet> previewLights; // made at the first preview, kept for every frame
     Json analysis = Json::array();         // what each mode skips and why
     Json bounds;                           // the page's scale (sceneBounds)
+    Json defaultSpp;                       // per mode, without an spp (state's default_spp)
 };
+
+namespace {
+
+// Read at load: the worker thread changes the scene's camera later, state() must not read it.
+Json defaultSppOf(const Scene& scene) {
+    return {{"raytrace", raytraceSettings(scene.render, {}).spp},
+            {"gi", giSettings(scene, {}).spp},
+            {"path", pathSettings(scene.render, {}).spp}};
+}
+
+} // namespace
 
 Session::Session(const std::string& scenePath, const Options& options)
     : m_path(scenePath), m_options(options) {
@@ -161,9 +168,17 @@ Session::Session(const std::string& scenePath, const Options& options)
         load(m_doc);
     } else {
         auto loaded = std::make_shared<Loaded>();
-        loaded->scene = loadScene(scenePath);
+        // The pbrt loader's warnings (a missing texture, an unsupported material...) go to
+        // the page, and to stderr as `rayproc render` prints them.
+        if (isPbrtPath(scenePath)) {
+            loaded->scene = loadPbrtScene(scenePath, &m_warnings);
+            for (const std::string& w : m_warnings) std::fprintf(stderr, "%s\n", w.c_str());
+        } else {
+            loaded->scene = loadScene(scenePath);
+        }
         loaded->accel = std::make_unique<EmbreeScene>(*loaded->scene);
         loaded->bounds = sceneBounds(*loaded->scene);
+        loaded->defaultSpp = defaultSppOf(*loaded->scene);
         m_camera = loaded->scene->camera;
         m_loaded = loaded;
     }
@@ -213,6 +228,7 @@ void Session::load(const Json& doc) {
         loaded->analysis.push_back({{"what", s.what}, {"why", s.why}, {"modes", modes}});
     }
     loaded->bounds = sceneBounds(*loaded->scene);
+    loaded->defaultSpp = defaultSppOf(*loaded->scene);
     m_camera = loaded->scene->camera;
     m_loaded = loaded;
 }
@@ -274,6 +290,7 @@ void Session::setCamera(const Camera& c) {
     cam["look_at"] = vec3Json(c.lookAt);
     cam["up"] = vec3Json(c.up);
     cam["fov"] = double(c.fovY);
+    cam["resolution"] = {c.width, c.height};
 }
 
 Session::Step Session::swapStep(const Step& step) {
@@ -293,198 +310,28 @@ Session::Step Session::swapStep(const Step& step) {
     return back;
 }
 
-Json Session::reply(const Json& m, int client) {
-    const std::string type = m["type"].get<std::string>();
-    if (type == "state") {
-        expectKeys(m, {});
-        Json s = state();
-        s["type"] = "state";
-        return s;
-    }
-    if (type == "camera") {
-        expectKeys(m, {"position", "look_at", "up", "fov", "undo_step"});
-        bool undoStep = false;
-        if (m.contains("undo_step")) {
-            if (!m["undo_step"].is_boolean()) refuse("camera.undo_step: expected true or false");
-            undoStep = m["undo_step"].get<bool>();
-        }
-        std::lock_guard<std::mutex> lk(m_mutex);
-        if (m_rendering || m_request) refuse("camera: a render is running; cancel it first");
-        Camera c = m_camera;
-        if (m.contains("position")) c.position = vec3(m["position"], "camera.position");
-        if (m.contains("look_at")) c.lookAt = vec3(m["look_at"], "camera.look_at");
-        if (m.contains("up")) c.up = vec3(m["up"], "camera.up");
-        if (m.contains("fov")) c.fovY = float(finite(m["fov"], "camera.fov"));
-        // The check the scene loaders make: a camera serve accepts (and saves) renders.
-        if (auto problem = cameraProblem(c))
-            refuse("camera." + problem->field + ": " + problem->message);
-        if (undoStep) pushUndo({std::nullopt, m_camera});
-        setCamera(c);
-        changed();
-        // The version the new view's frames carry: the page sends its next view once one of
-        // them has arrived.
-        return {{"type", "camera"}, {"version", std::uint32_t(m_version)}};
-    }
-    if (type == "pick") {
-        expectKeys(m, {"x", "y"});
-        return pick(m);
-    }
-    if (type == "transform") {
-        expectKeys(m, {"object", "translate", "rotate", "scale"});
-        const Json& obj = field(m, "object", "transform");
-        if (!obj.is_number_integer()) refuse("transform.object: expected an object index");
-        long long index = obj.get<long long>();
-        Affine edit = Affine::identity();
-        Vec3 translate{0, 0, 0};
-        if (m.contains("translate")) {
-            translate = vec3(m["translate"], "transform.translate");
-            // One move at most kMaxTranslate along each axis (the page's step is refused
-            // beyond it too): 1e9 would put the object where Embree loses all precision.
-            for (float t : {translate.x, translate.y, translate.z})
-                if (!(std::abs(t) <= kMaxTranslate))
-                    refuse("transform.translate: each component must be in [-" +
-                           std::to_string(int(kMaxTranslate)) + ", " +
-                           std::to_string(int(kMaxTranslate)) + "] (repeat a move to go further)");
-        }
-        Affine about = Affine::identity();
-        if (m.contains("rotate")) {
-            const Json& r = m["rotate"];
-            if (!r.is_object()) refuse("transform.rotate: expected {\"angle\": degrees, \"axis\": [x, y, z]}");
-            Vec3 axis = vec3(field(r, "axis", "transform.rotate"), "transform.rotate.axis");
-            if (!(length(axis) > 0)) refuse("transform.rotate.axis: must not be zero");
-            about = Affine::rotate(float(finite(field(r, "angle", "transform.rotate"), "transform.rotate.angle")), axis) * about;
-        }
-        if (m.contains("scale")) {
-            double s = finite(m["scale"], "transform.scale");
-            if (!(s > 1e-3 && s < 1e3)) refuse("transform.scale: expected a factor in (0.001, 1000)");
-            about = Affine::scale(Vec3(float(s))) * about;
-        }
-        return applyEdit(m, [&](Json& doc) {
-            if (!doc.contains("nodes") || index < 0 || index >= (long long)doc["nodes"].size())
-                refuse("transform.object: no object " + std::to_string(index));
-            Json& node = doc["nodes"][std::size_t(index)];
-            std::string file = m_path;
-            Affine old = Affine::identity();
-            if (node.contains("transform"))
-                old = scene_json::parseTransform(scene_json::JsonRef(
-                    node["transform"], file, "/nodes/" + std::to_string(index) + "/transform"));
-            // Rotation and scale about the object's centre (its bounds in the world), then
-            // the translation: new = T * C * R S * C^-1 * old.
-            Vec3 centre{0, 0, 0};
-            const Scene& scene = *m_loaded->scene; // applyEdit holds the lock
-            if (std::size_t(index) < scene.root->children.size())
-                centre = scene.root->children[std::size_t(index)]->bounds.center();
-            edit = Affine::translate(translate) * Affine::translate(centre) * about *
-                   Affine::translate(-centre) * old;
-            Json matrix = Json::array();
-            for (int r = 0; r < 3; ++r)
-                for (int c = 0; c < 4; ++c) matrix.push_back(double(edit.m[r][c]));
-            node["transform"] = matrix;
-        });
-    }
-    if (type == "material") {
-        expectKeys(m, {"name", "material"});
-        const Json& name = field(m, "name", "material");
-        if (!name.is_string()) refuse("material.name: expected a string");
-        const Json& value = field(m, "material", "material");
-        if (!value.is_object()) refuse("material.material: expected a material object");
-        return applyEdit(m, [&](Json& doc) {
-            std::string n = name.get<std::string>();
-            if (!doc.contains("materials") || !doc["materials"].contains(n))
-                refuse("material.name: no material \"" + n + "\"");
-            doc["materials"][n] = value;
-        });
-    }
-    if (type == "emission") {
-        expectKeys(m, {"object", "emission"});
-        const Json& obj = field(m, "object", "emission");
-        if (!obj.is_number_integer()) refuse("emission.object: expected an object index");
-        long long index = obj.get<long long>();
-        Vec3 e = vec3(field(m, "emission", "emission"), "emission.emission");
-        return applyEdit(m, [&](Json& doc) {
-            if (!doc.contains("nodes") || index < 0 || index >= (long long)doc["nodes"].size())
-                refuse("emission.object: no object " + std::to_string(index));
-            Json& node = doc["nodes"][std::size_t(index)];
-            if (e.x == 0 && e.y == 0 && e.z == 0)
-                node.erase("emission");
-            else
-                node["emission"] = vec3Json(e);
-        });
-    }
-    if (type == "light") {
-        expectKeys(m, {"index", "set"});
-        const Json& idx = field(m, "index", "light");
-        if (!idx.is_number_integer()) refuse("light.index: expected a light index");
-        long long index = idx.get<long long>();
-        const Json& set = field(m, "set", "light");
-        if (!set.is_object()) refuse("light.set: expected an object of light fields");
-        return applyEdit(m, [&](Json& doc) {
-            if (!doc.contains("lights") || index < 0 || index >= (long long)doc["lights"].size())
-                refuse("light.index: no light " + std::to_string(index));
-            for (auto it = set.begin(); it != set.end(); ++it)
-                doc["lights"][std::size_t(index)][it.key()] = it.value();
-        });
-    }
-    if (type == "undo" || type == "redo") {
-        expectKeys(m, {});
-        std::lock_guard<std::mutex> lk(m_mutex);
-        if (m_rendering || m_request) refuse(type + ": a render is running; cancel it first");
-        std::vector<Step>& from = type == "undo" ? m_undo : m_redo;
-        std::vector<Step>& to = type == "undo" ? m_redo : m_undo;
-        if (from.empty()) refuse(type + ": nothing to " + type);
-        Step back = swapStep(from.back());
-        from.pop_back();
-        to.push_back(std::move(back));
-        return {{"type", "edited"}, {"undo_depth", m_undo.size()}, {"redo_depth", m_redo.size()}};
-    }
-    if (type == "save") {
-        expectKeys(m, {"path"});
-        const Json& p = field(m, "path", "save");
-        if (!p.is_string() || p.get<std::string>().empty()) refuse("save.path: expected a file name");
-        std::string path = p.get<std::string>();
-        if (std::filesystem::path(path).extension() != ".json")
-            refuse("save.path: the scene is saved as JSON: give a name ending in .json");
-        std::string text;
-        {
-            std::lock_guard<std::mutex> lk(m_mutex);
-            if (!m_editable) refuse("save: only JSON scenes can be saved (" + m_path + " is not one)");
-            text = toText(m_doc, 2) + "\n";
-        }
-        try {
-            writeFileAtomically(path, text);
-        } catch (const ImageIoError& e) {
-            refuse(std::string("save: ") + e.what());
-        }
-        return {{"type", "saved"}, {"path", std::filesystem::absolute(path).string()}};
-    }
-    if (type == "render") {
-        expectKeys(m, {"mode", "spp"});
-        const Json& mode = field(m, "mode", "render");
-        if (!mode.is_string() || (mode != "raytrace" && mode != "gi" && mode != "path" && mode != "preview"))
-            refuse("render.mode: expected preview, raytrace, gi or path");
-        int spp = 0;
-        if (m.contains("spp")) {
-            if (!m["spp"].is_number_integer() || m["spp"].get<long long>() < 1 ||
-                m["spp"].get<long long>() > 65536)
-                refuse("render.spp: expected a whole number of samples in 1..65536");
-            spp = m["spp"].get<int>();
-        }
-        std::lock_guard<std::mutex> lk(m_mutex);
-        if (m_rendering || m_request) refuse("render: a render is already running");
-        m_request = RenderRequest{mode.get<std::string>(), spp, client};
-        m_wake.notify_all();
-        return {{"type", "render_started"}, {"mode", mode}};
-    }
-    if (type == "cancel") {
-        expectKeys(m, {});
-        std::lock_guard<std::mutex> lk(m_mutex);
-        if (!m_rendering && !m_request) refuse("cancel: no render is running");
-        m_request.reset();
-        if (m_rendering) requestInterrupt();
-        return {{"type", "cancelling"}};
-    }
-    refuse("unknown message type \"" + type + "\"; known types: " +
-           scene_json::joinNames(kMessageTypes));
+void Session::transformNode(Json& doc, long long index, const Vec3& translate,
+                            const Affine& about) const {
+    if (!doc.contains("nodes") || index < 0 || index >= (long long)doc["nodes"].size())
+        refuse("transform.object: no object " + std::to_string(index));
+    Json& node = doc["nodes"][std::size_t(index)];
+    std::string file = m_path;
+    Affine old = Affine::identity();
+    if (node.contains("transform"))
+        old = scene_json::parseTransform(scene_json::JsonRef(
+            node["transform"], file, "/nodes/" + std::to_string(index) + "/transform"));
+    // Rotation and scale about the object's centre (its bounds in the world), then
+    // the translation: new = T * C * R S * C^-1 * old.
+    Vec3 centre{0, 0, 0};
+    const Scene& scene = *m_loaded->scene; // applyEdit holds the lock
+    if (std::size_t(index) < scene.root->children.size())
+        centre = scene.root->children[std::size_t(index)]->bounds.center();
+    Affine edit = Affine::translate(translate) * Affine::translate(centre) * about *
+                  Affine::translate(-centre) * old;
+    Json matrix = Json::array();
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) matrix.push_back(double(edit.m[r][c]));
+    node["transform"] = matrix;
 }
 
 Json Session::pick(const Json& m) const {
@@ -551,6 +398,38 @@ std::string Session::previewSizeNote(int requested) const {
            "camera's resolution in the scene for a larger one)";
 }
 
+// The objects a page lists: a JSON scene's nodes (editable); a pbrt scene's top-level nodes
+// (the objects a pick can name), read-only. m_mutex held.
+Json Session::objectsJson() const {
+    Json objects = Json::array();
+    // Each top-level object's world bounds: the page draws the selection's box over the image.
+    const auto& nodes = m_loaded->scene->root->children;
+    auto withBounds = [&](Json o, std::size_t i) {
+        if (i < nodes.size() && !nodes[i]->bounds.empty())
+            o["bounds"] = {{"lo", vec3Json(nodes[i]->bounds.lo)}, {"hi", vec3Json(nodes[i]->bounds.hi)}};
+        return o;
+    };
+    if (m_editable && m_doc.contains("nodes")) {
+        for (std::size_t i = 0; i < m_doc["nodes"].size(); ++i) {
+            const Json& n = m_doc["nodes"][i];
+            Json o = {{"index", i}, {"type", n.value("type", "")}, {"name", n.value("name", "")}};
+            if (n.contains("material")) o["material"] = n["material"];
+            if (n.contains("emission")) o["emission"] = n["emission"];
+            objects.push_back(withBounds(o, i));
+        }
+    } else if (!m_editable) {
+        const Scene& scene = *m_loaded->scene;
+        for (std::size_t i = 0; i < scene.root->children.size(); ++i) {
+            const Node& n = *scene.root->children[i];
+            const char* kind = n.kind == Node::Kind::Shape      ? "shape"
+                               : n.kind == Node::Kind::Instance ? "instance"
+                                                                : "group";
+            objects.push_back(withBounds({{"index", i}, {"type", kind}, {"name", n.name}}, i));
+        }
+    }
+    return objects;
+}
+
 Json Session::state() const {
     std::lock_guard<std::mutex> lk(m_mutex);
     Json s;
@@ -562,31 +441,15 @@ Json Session::state() const {
                    {"up", vec3Json(m_camera.up)},
                    {"fov", double(m_camera.fovY)},
                    {"resolution", {m_camera.width, m_camera.height}}};
-    Json objects = Json::array();
-    if (m_editable && m_doc.contains("nodes")) {
-        for (std::size_t i = 0; i < m_doc["nodes"].size(); ++i) {
-            const Json& n = m_doc["nodes"][i];
-            Json o = {{"index", i}, {"type", n.value("type", "")}, {"name", n.value("name", "")}};
-            if (n.contains("material")) o["material"] = n["material"];
-            if (n.contains("emission")) o["emission"] = n["emission"];
-            objects.push_back(o);
-        }
-    } else if (!m_editable) {
-        // A pbrt scene: the objects a pick can name (the scene's top-level nodes), read-only,
-        // so the page lists what the server picks.
-        const Scene& scene = *m_loaded->scene;
-        for (std::size_t i = 0; i < scene.root->children.size(); ++i) {
-            const Node& n = *scene.root->children[i];
-            const char* kind = n.kind == Node::Kind::Shape      ? "shape"
-                               : n.kind == Node::Kind::Instance ? "instance"
-                                                                : "group";
-            objects.push_back({{"index", i}, {"type", kind}, {"name", n.name}});
-        }
-    }
-    s["objects"] = objects;
+    s["objects"] = objectsJson();
     s["materials"] = m_editable && m_doc.contains("materials") ? m_doc["materials"] : Json::object();
-    s["lights"] = m_editable && m_doc.contains("lights") ? m_doc["lights"] : Json::array();
+    // A pbrt scene's lights are listed read-only (the sun and the sky among them).
+    s["lights"] = m_editable ? (m_doc.contains("lights") ? m_doc["lights"] : Json::array())
+                             : sceneLightsJson(*m_loaded->scene);
+    s["warnings"] = m_warnings;
     s["analysis"] = m_loaded->analysis;
+    // The samples per pixel a render takes when the page gives none, per mode.
+    s["default_spp"] = m_loaded->defaultSpp;
     s["undo_depth"] = m_undo.size();
     s["redo_depth"] = m_redo.size();
     s["home"] = {{"position", vec3Json(m_home.position)},
@@ -596,6 +459,11 @@ Json Session::state() const {
     // The page scales its fly, zoom and orbit pivot to the scene's extent.
     if (!m_loaded->bounds.empty()) s["bounds"] = m_loaded->bounds;
     s["rendering"] = m_rendering || m_request.has_value();
+    s["refine"] = m_options.refine;
+    {
+        std::lock_guard<std::mutex> frames(m_frameMutex);
+        s["display"] = displayJson(m_display);
+    }
     s["version"] = std::uint32_t(m_version); // as in the frames' header
     return s;
 }
@@ -617,7 +485,10 @@ bool Session::lastRender(Image& out) const {
 
 void Session::clientClosed(int client) {
     std::lock_guard<std::mutex> lk(m_mutex);
-    if (m_request && m_request->client == client) m_request.reset();
+    if (m_request && m_request->client == client) {
+        m_request.reset();
+        m_requestPending = false;
+    }
     if (m_rendering && m_renderClient == client) requestInterrupt();
 }
 
@@ -643,11 +514,15 @@ void Session::changed() {
 }
 
 bool Session::sendFrame(Image image, std::uint64_t version) {
-    std::vector<std::uint8_t> frame = encodeFrame(image, ++m_frameNumber, version);
+    // Encoded before the lock, so a camera message (which takes it) does not wait for that.
+    ToneMapSettings tm = display();
+    std::vector<std::uint8_t> frame = encodeFrame(image, ++m_frameNumber, version, tm);
     // Checked and sent under the lock a change takes: a page that has the reply to its camera
     // move (or the state after it) gets no frame of the view before it.
     std::lock_guard<std::mutex> lk(m_frameMutex);
     if (m_version != version) return false;
+    if (m_display.exposure != tm.exposure || m_display.op != tm.op) // changed meanwhile
+        frame = encodeFrame(image, m_frameNumber, version, m_display);
     m_lastImage = std::move(image);
     m_lastImageVersion = version;
     if (m_events.frame) m_events.frame(frame);
@@ -668,6 +543,7 @@ void Session::worker() {
         if (m_request) {
             RenderRequest request = *m_request;
             m_request.reset();
+            m_requestPending = false;
             m_rendering = true;
             m_renderClient = request.client;
             lk.unlock();
@@ -685,21 +561,90 @@ void Session::worker() {
         }
         lk.unlock();
         loaded->scene->camera = view;
-        renderPreview(loaded, version);
+        bool shown = renderPreview(loaded, version);
         lk.lock();
         // A change during the render is shown by the next round.
         m_previewedVersion = version;
+        if (!shown || !m_options.refine) continue;
+        // The preview is on screen (waitIdle returns); once the view has rested for
+        // kRefineRest, its raytrace passes follow. A drag's changes come faster than that.
+        m_busy = false;
+        m_idle.notify_all();
+        bool moved = m_wake.wait_until(lk, m_lastChange + kRefineRest, [&] {
+            return m_quit || m_request || m_version != version;
+        });
+        if (moved) continue;
+        // Not busy while refining: waitIdle (tests) waits for the preview, not the passes.
+        lk.unlock();
+        loaded->scene->camera = view;
+        refinePreview(loaded, version);
+        lk.lock();
     }
 }
 
-void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version) {
+void Session::previewSize(const Camera& full, int& width, int& height) const {
+    int maxSide = std::max(full.width, full.height);
+    double shrink = std::min(1.0, double(m_options.previewMaxSide) / double(maxSide));
+    width = std::max(1, int(std::lround(full.width * shrink)));
+    height = std::max(1, int(std::lround(full.height * shrink)));
+}
+
+std::function<bool()> Session::staleStop(std::uint64_t version) const {
+    // Atomics only: the render's threads poll it before each emission.
+    return [this, version] {
+        return m_version.load(std::memory_order_relaxed) != version ||
+               m_requestPending.load(std::memory_order_relaxed) ||
+               m_quit.load(std::memory_order_relaxed);
+    };
+}
+
+// Cycles' viewport does the same: a still view keeps improving. raytrace mode (soft shadows,
+// antialiasing, the mode's spp) renders at the preview's size, and the image after each pass
+// goes out as a frame of the same version, followed by a "refine" message with the samples so
+// far; the last one ("done") is the raytrace render of that view at that size.
+void Session::refinePreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version) {
+    Scene& scene = *loaded->scene;
+    const Camera full = scene.camera;
+    previewSize(full, scene.camera.width, scene.camera.height);
+    EngineSettings engine;
+    engine.threads = m_options.threads;
+    engine.quiet = true;
+    engine.stop = staleStop(version);
+    engine.progressiveSeconds = 0; // every pass
+    const RaytraceSettings settings = raytraceSettings(scene.render, {});
+    std::function<double()> fraction; // of the passes done, while they run
+    EngineSettings::Watcher watcher{
+        [&](const Film&, std::function<double()> f, std::function<std::uint64_t()>) {
+            fraction = std::move(f);
+        },
+        [&] { fraction = nullptr; }};
+    engine.watcher = &watcher;
+    auto send = [&](Image image, int spp, bool done) {
+        if (!sendFrame(std::move(image), version)) return;
+        sendText({{"type", "refine"}, {"version", std::uint32_t(version)}, {"spp", spp},
+                  {"of", settings.spp}, {"done", done}});
+    };
+    engine.onProgress = [&](const Image& image) {
+        double f = fraction ? fraction() : 0.0;
+        send(image, int(std::lround(f * settings.spp)), false);
+    };
+    RenderResult r;
+    try {
+        r = renderRaytrace(scene, *loaded->accel, settings, engine);
+    } catch (const std::exception& e) {
+        sendText({{"type", "error"}, {"message", std::string("refining the view: ") + e.what()}});
+        r.cancelled = true;
+    }
+    if (!r.cancelled) send(std::move(r.image), r.samplesDone, true);
+    scene.camera = full;
+}
+
+bool Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version) {
     Scene& scene = *loaded->scene;
     Camera full = scene.camera;
     // The live view's size: the scene's aspect, the longer side at most previewMaxSide.
-    int maxSide = std::max(full.width, full.height);
-    double shrink = std::min(1.0, double(m_options.previewMaxSide) / double(maxSide));
-    int w = std::max(1, int(std::lround(full.width * shrink)));
-    int h = std::max(1, int(std::lround(full.height * shrink)));
+    int w = 0, h = 0;
+    previewSize(full, w, h);
     EngineSettings engine;
     engine.threads = m_options.threads;
     engine.quiet = true;
@@ -707,10 +652,7 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     // A newer change (a camera drag sends one per mouse move) makes this preview stale: it
     // stops emitting at once, through the engine's own stop rather than the interrupt, which
     // is Ctrl-C's and a render's Cancel.
-    engine.stop = [this, version] {
-        return m_version.load(std::memory_order_relaxed) != version ||
-               m_quit.load(std::memory_order_relaxed);
-    };
+    engine.stop = staleStop(version);
     // Coarse first (a quarter of each side; during a drag, coarser while frames take longer
     // than kMotionFrame), then full while nothing changed.
     bool motion;
@@ -719,6 +661,7 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
         motion = m_lastChange - m_changeBefore < kMotionGap;
     }
     const int coarse = motion ? m_motionStep : 4;
+    bool fullSent = false;
     for (int step : {coarse, 1}) {
         {
             std::unique_lock<std::mutex> lk(m_mutex);
@@ -749,9 +692,46 @@ void Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
             else if (!r.cancelled && took < kMotionFrame / 3 && m_motionStep > 4) m_motionStep /= 2;
         }
         if (r.cancelled || !sendFrame(std::move(r.image), version)) break;
+        fullSent = step == 1;
     }
     scene.camera = full;
+    return fullSent;
 }
+
+// Until a render's passes begin (gi traces its photons and fills its irradiance cache first:
+// seconds on a large scene), the page hears that it is starting, at once and then every
+// quarter second.
+class Session::StartingTicker {
+public:
+    StartingTicker(const Session& session, const std::string& mode) {
+        auto start = std::chrono::steady_clock::now();
+        m_thread = std::thread([this, &session, mode, start] {
+            std::unique_lock<std::mutex> lk(m_mutex);
+            do { // at once, then every quarter second
+                double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                session.sendText({{"type", "progress"}, {"mode", mode}, {"phase", "starting"},
+                                  {"what", mode == "gi" ? "photon passes, irradiance cache prepass"
+                                                        : "light set, scene analysis"},
+                                  {"seconds", seconds}, {"fraction", 0.0}});
+            } while (!m_wake.wait_for(lk, std::chrono::milliseconds(250), [&] { return m_done; }));
+        });
+    }
+    ~StartingTicker() { stop(); }
+    void stop() {
+        {
+            std::lock_guard<std::mutex> lk(m_mutex);
+            m_done = true;
+        }
+        m_wake.notify_all();
+        if (m_thread.joinable()) m_thread.join();
+    }
+
+private:
+    std::mutex m_mutex;
+    std::condition_variable m_wake;
+    bool m_done = false;
+    std::thread m_thread;
+};
 
 void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequest& request,
                          std::uint64_t version) {
@@ -760,7 +740,7 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     engine.threads = m_options.threads;
     engine.quiet = true;
     // While the passes run, four times a second: the image with the tiles done so far, and
-    // the progress.
+    // the progress. Before them, the StartingTicker's messages.
     PeriodicReport watch(0.25, [&](const Film& film, const PeriodicReport::Progress& p) {
         sendFrame(film.resolveInProgress(), version);
         sendText({{"type", "progress"}, {"mode", request.mode}, {"fraction", p.fraction},
@@ -768,23 +748,25 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
                   {"eta_seconds", p.fraction > 0 ? p.seconds * (1 - p.fraction) / p.fraction : -1.0},
                   {"rays_per_second", p.seconds > 0 ? double(p.rays) / p.seconds : 0.0}});
     });
-    engine.watcher = watch.watcher();
-    ModeOverrides overrides{request.spp, 0, 0};
     sendText({{"type", "render_begin"}, {"mode", request.mode}});
+    StartingTicker starting(*this, request.mode);
+    const EngineSettings::Watcher* report = watch.watcher();
+    EngineSettings::Watcher watcher{
+        [&](const Film& film, std::function<double()> fraction, std::function<std::uint64_t()> rays) {
+            starting.stop();
+            report->begin(film, std::move(fraction), std::move(rays));
+        },
+        [&] { report->end(); }};
+    engine.watcher = &watcher;
     RenderResult r;
     try {
-        if (request.mode == "raytrace")
-            r = renderRaytrace(scene, *loaded->accel, raytraceSettings(scene.render, overrides), engine);
-        else if (request.mode == "gi")
-            r = renderGi(scene, *loaded->accel, giSettings(scene, overrides), engine);
-        else if (request.mode == "path")
-            r = renderPath(scene, *loaded->accel, pathSettings(scene.render, overrides), engine);
-        else
-            r = rayproc::renderPreview(scene, *loaded->accel, previewSettings(scene.render, overrides), engine);
+        r = runMode(scene, *loaded->accel, request, engine);
     } catch (const std::exception& e) {
+        starting.stop();
         sendText({{"type", "error"}, {"message", std::string("render: ") + e.what()}});
         return;
     }
+    starting.stop();
     sendFrame(r.image, version);
     {
         std::lock_guard<std::mutex> lk(m_mutex);
@@ -793,6 +775,17 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     Json stats = Json::parse(r.stats.toJson());
     sendText({{"type", "render_end"}, {"mode", request.mode}, {"cancelled", r.cancelled},
               {"spp", r.samplesDone}, {"seconds", r.stats.wallSeconds}, {"stats", stats}});
+}
+
+RenderResult Session::runMode(const Scene& scene, const EmbreeScene& accel,
+                              const RenderRequest& request, const EngineSettings& engine) {
+    ModeOverrides overrides{request.spp, 0, 0};
+    if (request.mode == "raytrace")
+        return renderRaytrace(scene, accel, raytraceSettings(scene.render, overrides), engine);
+    if (request.mode == "gi") return renderGi(scene, accel, giSettings(scene, overrides), engine);
+    if (request.mode == "path")
+        return renderPath(scene, accel, pathSettings(scene.render, overrides), engine);
+    return rayproc::renderPreview(scene, accel, previewSettings(scene.render, overrides), engine);
 }
 
 } // namespace rayproc::serve

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "image/image.h"
+#include "modes/render_job.h"
 #include "scene/scene.h"
 
 #include <nlohmann/json.hpp>
@@ -40,8 +41,9 @@ using Json = nlohmann::ordered_json;
 // (8-bit sRGB, the PNG tone map). The version is that of the scene and view the frame shows
 // (the low 32 bits of Session's, as in the state's "version").
 constexpr std::size_t kFrameHeaderBytes = 20;
+// `tm`: the page's exposure and tone map (the "display" message).
 std::vector<std::uint8_t> encodeFrame(const Image& image, std::uint32_t number,
-                                      std::uint64_t version);
+                                      std::uint64_t version, const ToneMapSettings& tm = {});
 
 // JSON text for the pages. Bytes that are not UTF-8 in a string (a client's malformed message
 // quoted in an error, a file name) become U+FFFD: nlohmann's dump would throw (type_error 316).
@@ -62,6 +64,9 @@ public:
     struct Options {
         int threads = 0;
         int previewMaxSide = 512; // the live preview's longer side (the aspect is the scene's)
+        // A still view refines after its preview: raytrace mode's passes at the preview's
+        // size, each sent as a frame with a "refine" message (docs/serve.md).
+        bool refine = true;
     };
 
     // Loads the scene (JSON scenes are editable; pbrt scenes can be viewed and rendered).
@@ -85,6 +90,8 @@ public:
     // The image shown last (a preview or a render's frame) and the version it shows; false
     // before the first.
     bool lastFrame(Image& out, std::uint64_t* version = nullptr) const;
+    // The page's exposure and tone map: the frames' and the PNG download's.
+    ToneMapSettings display() const;
     // The last render in raytrace, gi or path mode, partial when it was cancelled (it stays
     // downloadable after the live preview resumes); false before the first.
     bool lastRender(Image& out) const;
@@ -109,15 +116,46 @@ private:
     };
 
     Json reply(const Json& message, int client);
+    // One function per message type (reply dispatches); each validates its message.
+    Json replyState(const Json& m, int client);
+    Json replyCamera(const Json& m, int client);
+    Json replyPick(const Json& m, int client);
+    Json replyTransform(const Json& m, int client);
+    Json replyMaterial(const Json& m, int client);
+    Json replyEmission(const Json& m, int client);
+    Json replyLight(const Json& m, int client);
+    Json replyUndoRedo(const Json& m, int client);
+    Json replySave(const Json& m, int client);
+    Json replyRender(const Json& m, int client);
+    Json replyCancel(const Json& m, int client);
+    Json replyDisplay(const Json& m, int client);
+    // The document's node `index` moved by `translate` after `about` (rotation and scale
+    // about its centre); m_mutex held.
+    void transformNode(Json& doc, long long index, const Vec3& translate,
+                       const Affine& about) const;
     Json applyEdit(const Json& message, const std::function<void(Json& doc)>& edit);
     void load(const Json& doc); // throws InputError; replaces m_loaded on success
     Json pick(const Json& message) const;
+    Json objectsJson() const; // the state's "objects" (m_mutex held)
     void worker();
     // `version`: the m_version the scene and view are of (the frames carry it). A newer change
     // stops the preview in progress, and its frame is not sent.
-    void renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version);
+    // True when the full-size frame was sent.
+    bool renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version);
+    // The still view's raytrace passes at the preview's size, until they end or a change or
+    // a render request stops them.
+    void refinePreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t version);
+    // The preview's size for the scene's camera (the longer side at most previewMaxSide).
+    void previewSize(const Camera& full, int& width, int& height) const;
+    // Stops a preview (or its refinement) once a newer change, a render request or the end
+    // makes it stale.
+    std::function<bool()> staleStop(std::uint64_t version) const;
     void renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequest& request,
                     std::uint64_t version);
+    class StartingTicker;
+    // The render the request names (its mode and spp), with the engine settings given.
+    static RenderResult runMode(const Scene& scene, const EmbreeScene& accel,
+                                const RenderRequest& request, const EngineSettings& engine);
     void sendText(const Json& json) const;
     // Sends the frame unless a change made it stale (false then).
     bool sendFrame(Image image, std::uint64_t version);
@@ -154,6 +192,8 @@ private:
     std::chrono::steady_clock::time_point m_lastChange{}, m_changeBefore{};
     int m_motionStep = 4; // a drag's coarse frames: 1/m_motionStep of each side (worker only)
     std::optional<RenderRequest> m_request;
+    std::atomic<bool> m_requestPending{false}; // m_request is set (read by staleStop)
+    std::vector<std::string> m_warnings;       // the pbrt loader's, for the page
     bool m_rendering = false;
     int m_renderClient = -1;
     std::atomic<bool> m_quit{false};
@@ -165,6 +205,7 @@ private:
     // Taken after m_mutex, never before.
     mutable std::mutex m_frameMutex;
     Image m_lastImage;
+    ToneMapSettings m_display;
     std::uint64_t m_lastImageVersion = 0;
     Image m_lastRender;
     std::condition_variable m_idle;

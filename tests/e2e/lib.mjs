@@ -18,6 +18,13 @@ export async function startServer(rayproc, scene, serveArgs, cwd) {
   return { server, url, started: (Date.now() - t0) / 1000, stderr: () => serverErr };
 }
 
+// Whether the page shows the end of the refinement of the view it shows (a function for
+// page.evaluate).
+export function refined() {
+  const r = window.rayproc.lastRefine, s = window.rayproc.state;
+  return !!(r && s && r.done && r.version === s.version && window.rayproc.lastFrameVersion === s.version);
+}
+
 export async function stopServer(server) {
   if (server.exitCode !== null || server.signalCode !== null) return;
   const exited = new Promise((r) => server.on("exit", r));
@@ -27,11 +34,13 @@ export async function stopServer(server) {
 
 export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
-// Waits until no frame has arrived for 300 ms (the preview is complete), at most `limitMs`.
+// Waits until no frame has arrived for 300 ms (the preview is complete) or the still view's
+// refinement has ended, at most `limitMs`.
 export async function settle(page, limitMs = 30000) {
   const t0 = Date.now();
   let last = -1, since = Date.now();
   while (Date.now() - t0 < limitMs) {
+    if (await page.evaluate(refined)) return;
     const n = await page.evaluate(() => window.rayproc.framesShown);
     if (n !== last) { last = n; since = Date.now(); }
     else if (Date.now() - since >= 300) return;

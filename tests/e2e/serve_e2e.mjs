@@ -6,7 +6,7 @@ import fs from "node:fs";
 import path from "node:path";
 import os from "node:os";
 import puppeteer from "puppeteer-core";
-import { startServer, stopServer, settle, dragCamera } from "./lib.mjs";
+import { startServer, stopServer, settle, dragCamera, refined, sleep } from "./lib.mjs";
 
 const args = Object.fromEntries(
   process.argv.slice(2).reduce((pairs, a, i, all) => (a.startsWith("--") ? [...pairs, [a.slice(2), all[i + 1]]] : pairs), []));
@@ -54,9 +54,10 @@ try {
     await page.screenshot({ path: file, clip: canvasBox });
     return fs.readFileSync(file);
   };
-  const settle = async () => { // frames stop arriving: the preview is complete
+  const settle = async () => { // frames stop arriving, or the refinement ended: the view is complete
     let last = -1;
     for (let i = 0; i < 100; i++) {
+      if (await page.evaluate(refined)) return;
       const n = await page.evaluate(() => window.rayproc.framesShown);
       if (n === last) return;
       last = n;
@@ -77,6 +78,11 @@ try {
   await waitFor(() => window.rayproc.selected !== null);
   const picked = await page.evaluate(() => window.rayproc.state.objects[window.rayproc.selected].name);
   check(picked === "TallBox", "clicking the tall box selects it (got " + picked + ")");
+  // Its box is drawn over the image where it was clicked (the click at 0.38, 0.5 is inside it;
+  // a mirrored or misplaced projection would not hold it).
+  const outline = await page.evaluate(() => window.rayproc.outlineBox);
+  check(outline && outline[0] < 0.38 && 0.38 < outline[2] && outline[1] < 0.5 && 0.5 < outline[3] && outline[2] < 0.7,
+        "the selection's box is drawn around the click (" + JSON.stringify(outline && outline.map((v) => +v.toFixed(3))) + ")");
   for (let i = 0; i < 3; i++) {
     await page.click('[data-move="0,1,0"]');
     await waitFor((n) => window.rayproc.state.undo_depth === n, i + 1);
@@ -153,6 +159,9 @@ try {
   await waitFor(() => window.rayproc.lastProgress.fraction > 0.008);
   const info = await page.$eval("#render-info", (e) => e.textContent);
   check(/ETA/.test(info) && /Mrays\/s/.test(info), "gi shows progress, ETA and rays/s (" + info + ")");
+  const starting = await page.evaluate(() => window.rayproc.lastStarting);
+  check(starting && starting.mode === "gi" && /photon/.test(starting.what),
+        "before its passes gi says it is starting (" + JSON.stringify(starting) + ")");
   await shot("4b-gi-running");
   // During a render (issue 37 bug 4): a drag says why the view does not move, the message
   // outlives the progress that follows, and the release picks nothing; so does a refused render.
@@ -205,7 +214,8 @@ try {
 
   // A malformed edit is refused and changes nothing.
   const depth = await page.evaluate(() => window.rayproc.state.undo_depth);
-  await page.evaluate(() => window.rayproc.send({ type: "material", name: "TallBox", material: { type: "plastic" } }));
+  // (lastError is cleared first: an earlier error would end the wait before the reply came.)
+  await page.evaluate(() => { window.rayproc.lastError = null; window.rayproc.send({ type: "material", name: "TallBox", material: { type: "plastic" } }); });
   await waitFor(() => window.rayproc.lastError !== null);
   const error = await page.$eval("#error", (e) => e.textContent);
   check(/TallBox/.test(error), "a bad material is refused with the loader's message (" + error + ")");
@@ -242,6 +252,85 @@ try {
   }
 }
 
+// A still view refines toward the raytrace image (issue 37): the Cornell box at 128 x 128 with
+// a 128-pixel preview, so the preview, its refining passes and a raytrace render of the same
+// view have one size. The reference is raytrace at 4x its default spp; each frame of the view
+// (the 1-spp preview, then the passes) is compared with it, and the error must fall. A camera
+// move and an edit each restart the passes.
+{
+  const refineScene = path.join(work, "refine.json");
+  const doc = JSON.parse(fs.readFileSync(scene, "utf8"));
+  doc.camera.resolution = [128, 128];
+  fs.writeFileSync(refineScene, JSON.stringify(doc, null, 1));
+  const srv = await startServer(rayproc, refineScene, ["--threads", "2", "--preview-size", "128"], work);
+  try {
+    const page = await browser.newPage();
+    await page.setViewport({ width: 1000, height: 700 });
+    const pageErrors = [];
+    page.on("pageerror", (e) => pageErrors.push(String(e)));
+    await page.goto(srv.url);
+    const waitFor = (fn, arg, timeout = 120000) => page.waitForFunction(fn, { timeout, polling: 50 }, arg);
+    await waitFor(() => window.rayproc.state !== null && window.rayproc.framesShown > 0);
+    const defaults = await page.$eval("#spp-defaults", (e) => e.textContent);
+    const spp = await page.evaluate(() => window.rayproc.state.default_spp.raytrace);
+    check(defaults.includes("raytrace " + spp), "the default spp are shown (" + defaults + ")");
+    await page.type("#spp", String(4 * spp));
+    await page.click("#mode-raytrace");
+    await waitFor(() => /raytrace: done/.test(document.getElementById("render-info").textContent));
+    const recordView = async (action) => {
+      const before = await page.evaluate(() => window.rayproc.state.version);
+      await page.evaluate(() => { window.rayproc.refineLog = []; });
+      await action();
+      await waitFor((v) => window.rayproc.state.version > v, before);
+      await waitFor(refined);
+      return page.evaluate(() => window.rayproc.state.version);
+    };
+    // The same view again (Home): its preview, then the passes.
+    const home = await recordView(() => page.click("#home"));
+    const measured = await page.evaluate(async (version) => {
+      const bitmap = await createImageBitmap(await (await fetch("/image.png")).blob());
+      const c = document.createElement("canvas");
+      c.width = bitmap.width; c.height = bitmap.height;
+      const g = c.getContext("2d");
+      g.drawImage(bitmap, 0, 0);
+      const ref = g.getImageData(0, 0, c.width, c.height).data;
+      const rmse = (p) => { let sum = 0; for (let i = 0; i < p.length; i++) if (i % 4 !== 3) sum += (p[i] - ref[i]) ** 2; return Math.sqrt(sum / (0.75 * p.length)); };
+      return window.rayproc.refineLog.filter((f) => f.version === version && f.width === c.width && f.height === c.height)
+        .map((f) => ({ spp: f.refine ? f.refine.spp : 0, rmse: +rmse(f.pixels).toFixed(3) }));
+    }, home);
+    console.log("     refinement vs raytrace at " + 4 * spp + " spp (8-bit RMSE): " + measured.map((m) => m.spp + " spp " + m.rmse).join(", "));
+    const preview = measured.find((m) => m.spp === 0), passes = measured.filter((m) => m.spp > 0);
+    check(preview && passes.length >= 3 && passes[passes.length - 1].spp === spp,
+          "the still view's preview is followed by raytrace passes up to " + spp + " spp (" + passes.length + " passes)");
+    const first = passes[0].rmse, last = passes[passes.length - 1].rmse;
+    check(preview.rmse > last && last < 0.6 * first && passes.every((m, i) => i === 0 || m.rmse <= 1.05 * passes[i - 1].rmse + 0.1),
+          "its error against the raytrace render falls as it refines: preview " + preview.rmse + ", first pass " + first +
+          ", last " + last);
+    const refineText = await page.$eval("#refine", (e) => e.textContent);
+    check(/refined: raytrace, \d+ spp/.test(refineText), "the page says the view is refined (" + refineText + ")");
+    // A camera move (W) and an edit restart the passes from the first.
+    await page.focus("#canvas");
+    const firstPassAfter = async (version) => page.evaluate((v) => {
+      const f = window.rayproc.refineLog.find((e) => e.version === v && e.refine);
+      return f ? f.refine.spp : -1;
+    }, version);
+    const afterMove = await firstPassAfter(await recordView(() => page.keyboard.press("w")));
+    const afterEdit = await firstPassAfter(await recordView(() =>
+      page.evaluate(() => window.rayproc.send({ type: "transform", object: 6, translate: [0, 0.05, 0] }))));
+    check(afterMove === passes[0].spp && afterEdit === passes[0].spp,
+          "a camera move and an edit restart the refinement (first pass " + afterMove + " and " + afterEdit + " spp)");
+    // The refined view (docs/serve.md shows it: docs/images/serve-cornell-box.png).
+    await page.screenshot({ path: path.join(out, "page-cornell-box.png"), clip: { x: 0, y: 0, width: 1000, height: 700, scale: 0.75 } });
+    check(pageErrors.length === 0, "no script errors while refining (" + pageErrors.join("; ") + ")");
+    await page.close();
+  } catch (e) {
+    console.log("FAIL " + e.stack);
+    failures++;
+  } finally {
+    await stopServer(srv.server);
+  }
+}
+
 // A pbrt-v4 scene (the classroom when ../shared/scenes is there) at a 1024-pixel preview: a drag
 // at 60 mouse events a second for 3 s shows frames at an interactive rate and ends on the final
 // view (issue 37 bug 2); picks and moves throw nothing on the page.
@@ -258,6 +347,11 @@ if (args["pbrt-scene"]) {
     await page.goto(pbrt.url);
     await page.waitForFunction(() => window.rayproc.state !== null && window.rayproc.framesShown > 0, { timeout: 120000, polling: 50 });
     await settle(page);
+    // The page as it loaded, refining (docs/serve.md shows it: docs/images/serve-pbrt.png): the
+    // full-size frame, and the first refining pass if it comes within 30 s.
+    await page.waitForFunction((w) => window.rayproc.lastFrameWidth === w, { timeout: 120000, polling: 50 }, pbrtPreview);
+    await page.waitForFunction(() => window.rayproc.lastRefine !== null, { timeout: 30000, polling: 100 }).catch(() => {});
+    await page.screenshot({ path: path.join(out, "page-pbrt.png"), clip: { x: 0, y: 0, width: 1400, height: 900, scale: 0.5 } });
     const box = await (await page.$("#canvas")).boundingBox();
     const drag = await dragCamera(page, box, { seconds: 3, rate: 60 });
     const minFps = Number(args["min-drag-fps"] || 0);
@@ -276,6 +370,7 @@ if (args["pbrt-scene"]) {
     // A pick names the object; nothing throws.
     await page.mouse.click(box.x + 0.5 * box.width, box.y + 0.7 * box.height);
     await page.waitForFunction(() => window.rayproc.lastReply && window.rayproc.lastReply.type === "picked", { timeout: 30000, polling: 50 });
+    const picked0 = await page.evaluate(() => window.rayproc.lastReply);
     // Walking through the room (issue 37 bug 6): W steps 2% of the scene's extent, 20 wheel
     // notches cross it, passing the pivot, and W is no shorter after.
     const cameraNow = () => page.evaluate(() => ({ ...window.rayproc.camera, extent: window.rayproc.state.bounds.extent }));
@@ -301,6 +396,17 @@ if (args["pbrt-scene"]) {
           "W steps " + (100 * w1).toFixed(2) + "% of the scene's extent (" + beforeZoom.extent.toFixed(1) + "), 20 wheel notches " +
           (100 * zoom).toFixed(1) + "% passing the pivot (" + passed + "), W after it " + (100 * w2).toFixed(2) + "%");
     const selection = await page.$eval("#selection", (e) => e.textContent);
+    // Read-only, said and shown (issue 37): the banner over the image, the edit controls
+    // disabled, the picked object's name and material, the sun and the sky among the lights.
+    const ro = await page.evaluate(() => ({
+      banner: !document.getElementById("banner").hidden && document.getElementById("banner").textContent,
+      disabled: [...document.querySelectorAll("[data-edit]")].every((b) => b.disabled),
+      lights: document.getElementById("lights").textContent,
+      picked: window.rayproc.lastReply && window.rayproc.lastReply.type === "picked" ? window.rayproc.lastReply : null }));
+    check(/Read-only/.test(ro.banner || "") && ro.disabled, "a pbrt scene shows a read-only banner and disabled edit controls (" + ro.banner + ")");
+    check(/directional/.test(ro.lights) && /environment/.test(ro.lights), "the lights panel lists the sun and the sky (" + ro.lights + ")");
+    check(!!picked0 && !!picked0.material && selection.includes(picked0.material),
+          "the selection names the picked object's material (" + selection + ")");
     check(pageErrors.length === 0, "no script errors on the pbrt page (" + pageErrors.join("; ") + "; selection " + selection + ")");
     await page.close();
   } catch (e) {

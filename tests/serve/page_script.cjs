@@ -18,12 +18,12 @@ function element(tag, attrs = {}) {
   return {
     tagName: tag, textContent: "", value: attrs.value || "", disabled: false, hidden: false,
     className: "", type: "", step: "", min: "", dataset: attrs.dataset || {}, children: [],
-    width: 512, height: 512, onclick: null, listeners: {},
+    width: 512, height: 512, onclick: null, listeners: {}, style: {}, clientWidth: 800, clientHeight: 600,
     append(...c) { this.children.push(...c); },
     set innerHTML(v) { this.children = []; },
     get innerHTML() { return ""; },
     addEventListener(type, fn) { (this.listeners[type] = this.listeners[type] || []).push(fn); },
-    getContext() { return { putImageData() {}, drawImage() {} }; },
+    getContext() { return { putImageData() {}, drawImage() {}, clearRect() {}, beginPath() {}, moveTo() {}, lineTo() {}, stroke() {} }; },
     getBoundingClientRect() { return { left: 0, top: 0, width: 512, height: 512 }; },
     focus() {},
   };
@@ -42,6 +42,7 @@ for (const m of html.matchAll(/<button([^>]*)>/g)) {
   const move = /data-move="([^"]+)"/.exec(attrs);
   if (move) el.dataset.move = move[1];
   if (/\bdata-edit\b/.test(attrs)) el.dataset.edit = "";
+  if (/\bdata-select\b/.test(attrs)) el.dataset.select = "";
   dataButtons.push(el);
 }
 const sent = [];
@@ -50,6 +51,7 @@ class FakeWebSocket { constructor() { socket = this; } send(text) { sent.push(JS
 const windowListeners = {};
 const context = {
   document: {
+    activeElement: null,
     getElementById: (id) => byId[id] || null,
     createElement: (tag) => element(tag),
     querySelectorAll: (sel) => sel === "[data-move]" ? dataButtons.filter((b) => b.dataset.move)
@@ -74,6 +76,7 @@ function advance(ms) {
 context.window = context;
 vm.createContext(context);
 vm.runInContext(script, context);
+socket.onopen(); // connected
 
 const receive = (m) => socket.onmessage({ data: JSON.stringify(m) });
 // A frame message (encodeFrame): "RPF2", width, height, number, version, then RGBA.
@@ -250,6 +253,55 @@ const scenarios = {
       check(sent.length === before, "a step of " + bad + " is not sent");
       check(byId.error.textContent.includes("1000"), "the error names the range: " + byId.error.textContent);
     }
+  },
+  // Issue 37's viewer: the refinement's progress, exposure and tone map, the resolution and field
+  // of view, the default spp, readable statistics, controls that need a selection or the server,
+  // and a reconnect when the server goes.
+  viewer_controls() {
+    receive(state(true, { default_spp: { raytrace: 16, gi: 8, path: 64 }, display: { exposure: 0, tone_map: "clamp" },
+                          objects: [{ index: 0, type: "sphere", name: "ball", emission: [1, 2, 3] }] }));
+    check(byId["spp-defaults"].textContent.includes("raytrace 16, gi 8, path 64"), "the default spp are shown: " + byId["spp-defaults"].textContent);
+    check(byId["res-w"].value == 64 && byId["fov"].value == 40, "resolution and field of view are shown");
+    receiveFrame(1, 64, 64);
+    receive({ type: "refine", version: 1, spp: 5, of: 16, done: false });
+    check(byId.refine.textContent === "refining toward raytrace: 5 of 16 spp", "the refinement's progress: " + byId.refine.textContent);
+    receive({ type: "refine", version: 1, spp: 16, of: 16, done: true });
+    check(byId.refine.textContent === "refined: raytrace, 16 spp", "its end: " + byId.refine.textContent);
+    byId.exposure.value = "1.5";
+    byId.exposure.onchange();
+    check(JSON.stringify(lastSent()) === JSON.stringify({ type: "display", exposure: 1.5 }), "exposure sends display: " + JSON.stringify(lastSent()));
+    byId["tone-map"].value = "aces";
+    byId["tone-map"].onchange();
+    check(JSON.stringify(lastSent()) === JSON.stringify({ type: "display", tone_map: "aces" }), "the tone map sends display");
+    byId["res-w"].value = "320"; byId["res-h"].value = "200"; byId.fov.value = "30";
+    click("view-apply");
+    const cam = lastSent();
+    check(cam.type === "camera" && JSON.stringify(cam.resolution) === "[320,200]" && cam.fov === 30 && cam.undo_step === true,
+          "Apply sends the resolution and field of view as one undo step: " + JSON.stringify(cam));
+    const moveUp = dataButtons.find((b) => b.dataset.move === "0,1,0");
+    check(moveUp.disabled && byId["mat-apply"].disabled && !byId.save.disabled, "with nothing selected the selection's edits are disabled, Save is not");
+    byId.lights.children[0].children.find((c) => c.tagName === "button").onclick(); // an emissive object's select
+    check(!moveUp.disabled && context.window.rayproc.selected === 0, "selecting the emissive object from the lights panel enables them");
+    receive({ type: "render_end", mode: "gi", cancelled: false, spp: 8, seconds: 1.5,
+             stats: { wall_seconds: 1.5, rays: 3e6, rays_per_second: 2e6, samples: 1e5, peak_memory_bytes: 1 << 26, gi: { photons_stored: 12345 } } });
+    const rows = byId.stats.children[0].children.map((tr) => tr.children.map((td) => td.textContent).join(" "));
+    check(rows.includes("rays traced 3.00 M") && rows.includes("gi: photons stored 12345"), "statistics as a table: " + rows.join("; "));
+    click("zoom-1");
+    check(context.window.rayproc.imageZoom === 1, "1:1 shows one image pixel per screen pixel: " + context.window.rayproc.imageZoom);
+    click("zoom-fit");
+    check(Math.abs(context.window.rayproc.imageZoom - 600 / 64) < 1e-9, "Fit fills the stage: " + context.window.rayproc.imageZoom);
+    // The server goes: controls are disabled, nothing is sent, and the page reconnects.
+    const old = socket;
+    old.onclose();
+    check(byId.status.textContent.includes("reconnecting") && byId["mode-path"].disabled && byId.undo.disabled,
+          "when the server goes the page says so and disables its controls: " + byId.status.textContent);
+    const before = sent.length;
+    click("undo");
+    check(sent.length === before && byId.error.textContent.includes("reconnecting"), "a click then sends nothing and says why");
+    advance(600);
+    check(socket !== old, "the page connects again");
+    socket.onopen();
+    check(!byId["mode-path"].disabled && byId.status.textContent === "connected", "and enables its controls once connected");
   },
 };
 

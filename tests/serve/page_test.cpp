@@ -81,3 +81,12 @@ TEST_CASE("serve page: a 150-pixel orbit stays within a field of view - a gestur
     INFO(out);
     CHECK(rc == 0);
 }
+
+TEST_CASE("serve page: refinement progress, exposure, resolution, statistics, reconnect",
+          "[serve]") {
+    if (!haveNode()) RAYPROC_SKIP("node is not installed");
+    std::string out;
+    int rc = runScenario("viewer_controls", out);
+    INFO(out);
+    CHECK(rc == 0);
+}

@@ -78,6 +78,9 @@ TEST_CASE("serve: the state lists objects, materials, lights, the camera and the
     CHECK(s["editable"] == true);
     CHECK(s["objects"].size() == 8);
     CHECK(s["objects"][6]["name"] == "TallBox");
+    // Its world bounds, for the page's selection box.
+    REQUIRE(s["objects"][6].contains("bounds"));
+    CHECK(s["objects"][6]["bounds"]["hi"][1].get<double>() > s["objects"][6]["bounds"]["lo"][1].get<double>());
     CHECK(s["materials"].contains("TallBox"));
     CHECK(s["camera"]["resolution"] == Json::array({512, 512}));
     CHECK(s["analysis"].size() >= 1); // no glass: the caustic map and refraction are skipped
@@ -236,7 +239,7 @@ TEST_CASE("serve: a render streams progress and frames - cancel returns to the p
     REQUIRE(r["type"] == "render_started");
     h.session.waitIdle();
     CHECK(h.sawText("render_begin"));
-    CHECK(h.sawText("progress"));
+    CHECK(h.sawText("progress", [](const Json& t) { return !t.contains("phase"); })); // a pass's
     CHECK(h.sawText("render_end", [](const Json& t) {
         return t["cancelled"] == false && t["spp"] == 4 && t["stats"]["samples"] == 512 * 512 * 4;
     }));
@@ -252,6 +255,10 @@ TEST_CASE("serve: a render streams progress and frames - cancel returns to the p
     for (int i = 0; i < 2400 && !h.sawText("progress", onePassDone); ++i)
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     REQUIRE(h.sawText("progress", onePassDone));
+    // Before its passes, gi said it was starting (its photon passes; issue 37).
+    CHECK(h.sawText("progress", [](const Json& t) {
+        return t["mode"] == "gi" && t.value("phase", "") == "starting" && t["fraction"] == 0.0;
+    }));
     CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "path"}})), Catch::Contains("already running"));
     CHECK_THAT(messageOf(h.send({{"type", "transform"}, {"object", 6}, {"translate", {1, 0, 0}}})),
                Catch::Contains("cancel it first"));
@@ -340,7 +347,8 @@ TEST_CASE(
     std::condition_variable arrived;
     std::vector<Frame> frames;
     std::atomic<bool> badHeader{false};
-    Session session(dir.file("box.json"), Session::Options{2, 1024});
+    // Without the still view's refinement: this test counts the preview's frames exactly.
+    Session session(dir.file("box.json"), Session::Options{2, 1024, false});
     session.start({[](const std::string&) {},
                    [&](const std::vector<std::uint8_t>& f) {
                        auto u32 = [&](std::size_t at) {
@@ -569,4 +577,133 @@ TEST_CASE("serve: a client sending views faster than frames come still gets fram
     CHECK(during >= 10);
 #endif
     session.waitIdle();
+}
+
+TEST_CASE("serve: a still view refines to the raytrace render of that view, and a move restarts it",
+          "[serve]") {
+    // Issue 37: the live view stayed one hard-shadowed 1-spp frame. Now raytrace passes follow
+    // the preview while the view rests; the last is the raytrace render at the preview's size.
+    Harness h(scenePath("cornell-box"));
+    auto refines = [&](std::uint32_t version) {
+        std::lock_guard<std::mutex> lk(h.mutex);
+        std::vector<Json> out;
+        for (const Json& t : h.texts)
+            if (t["type"] == "refine" && t["version"] == version) out.push_back(t);
+        return out;
+    };
+    auto waitDone = [&](std::uint32_t version) {
+        for (int i = 0; i < 120000; ++i) {
+            std::vector<Json> r = refines(version);
+            if (!r.empty() && r.back()["done"] == true) return r;
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        return refines(version);
+    };
+    std::uint32_t v1 = h.send({{"type", "state"}})["version"].get<std::uint32_t>();
+    std::vector<Json> r1 = waitDone(v1);
+    REQUIRE(!r1.empty());
+    REQUIRE(r1.back()["done"] == true);
+    const int spp = r1.back()["of"].get<int>();
+    CHECK(r1.back()["spp"] == spp);
+    CHECK(r1.size() >= 2); // passes before the last
+    for (std::size_t i = 1; i < r1.size(); ++i) CHECK(r1[i]["spp"] >= r1[i - 1]["spp"]);
+    CHECK(r1.front()["spp"].get<int>() < spp);
+    // The last frame is raytrace mode's image of the view at the preview's size, to the bit.
+    Image shown;
+    REQUIRE(h.session.lastFrame(shown));
+    auto scene = loadScene(scenePath("cornell-box"));
+    scene->camera.width = shown.width;
+    scene->camera.height = shown.height;
+    EmbreeScene accel(*scene);
+    EngineSettings engine;
+    engine.threads = 2;
+    engine.quiet = true;
+    RenderResult ref = renderRaytrace(*scene, accel, raytraceSettings(scene->render, {}), engine);
+    CHECK(ref.samplesDone == spp);
+    CHECK(shown.pixels == ref.image.pixels);
+    // A camera move restarts it from the first pass.
+    Json moved = h.send({{"type", "camera"}, {"position", {0.3, 1, 6.8}}});
+    std::uint32_t v2 = moved["version"].get<std::uint32_t>();
+    std::vector<Json> r2 = waitDone(v2);
+    REQUIRE(!r2.empty());
+    CHECK(r2.front()["spp"].get<int>() < spp);
+    CHECK(r2.back()["done"] == true);
+    // A render request stops a refinement at once (its frames are the render's then).
+    h.send({{"type", "camera"}, {"position", {0.2, 1, 6.8}}});
+    h.session.waitIdle();
+    CHECK(h.send({{"type", "render"}, {"mode", "raytrace"}, {"spp", 1}})["type"] == "render_started");
+    for (int i = 0; i < 120000 && !h.sawText("render_end"); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    CHECK(h.sawText("render_end"));
+}
+
+TEST_CASE("serve: exposure and tone map apply to the frames - bad values are refused", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    h.session.waitIdle();
+    Json s = h.send({{"type", "state"}});
+    CHECK(s["display"] == Json({{"exposure", 0.0}, {"tone_map", "clamp"}}));
+    int frames = h.frames.load();
+    Json r = h.send({{"type", "display"}, {"exposure", 1.5}, {"tone_map", "aces"}});
+    CHECK(r["type"] == "display");
+    CHECK(r["tone_map"] == "aces");
+    CHECK(h.frames.load() > frames); // the last frame again, at once
+    CHECK(h.session.display().exposure == 1.5f);
+    CHECK(h.session.display().op == ToneMap::Aces);
+    CHECK(h.send({{"type", "state"}})["display"]["exposure"] == 1.5);
+    CHECK_THAT(messageOf(h.send({{"type", "display"}, {"tone_map", "filmic"}})),
+               Catch::Contains("display.tone_map: expected clamp, reinhard or aces"));
+    CHECK_THAT(messageOf(h.send({{"type", "display"}, {"exposure", 99}})),
+               Catch::Contains("display.exposure"));
+    CHECK(h.session.display().op == ToneMap::Aces);
+}
+
+TEST_CASE("serve: the camera's resolution is editable, and the preview follows it", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    Json r = h.send({{"type", "camera"}, {"resolution", {200, 100}}, {"fov", 30}, {"undo_step", true}});
+    REQUIRE(r["type"] == "camera");
+    Json s = h.send({{"type", "state"}});
+    CHECK(s["camera"]["resolution"] == Json::array({200, 100}));
+    CHECK(s["camera"]["fov"] == 30.0);
+    h.session.waitIdle();
+    Image img;
+    REQUIRE(h.session.lastFrame(img));
+    CHECK(img.width == 64); // the preview: the longer side 64, the new aspect
+    CHECK(img.height == 32);
+    CHECK_THAT(messageOf(h.send({{"type", "camera"}, {"resolution", {0, 100}}})),
+               Catch::Contains("camera.resolution: expected [width, height]"));
+    CHECK_THAT(messageOf(h.send({{"type", "camera"}, {"resolution", {100}}})),
+               Catch::Contains("camera.resolution"));
+    h.send({{"type", "undo"}});
+    CHECK(h.send({{"type", "state"}})["camera"]["resolution"] == Json::array({512, 512}));
+    // The defaults a render takes without an spp, per mode.
+    Json d = s["default_spp"];
+    CHECK(d["raytrace"] == raytraceSettings(loadScene(scenePath("cornell-box"))->render, {}).spp);
+    CHECK(d["path"].get<int>() >= 1);
+    CHECK(d["gi"].get<int>() >= 1);
+}
+
+TEST_CASE("serve: a pbrt scene's sun and sky are in the state, and its loader warnings", "[serve]") {
+    TempDir dir;
+    std::string path = dir.file("sky.pbrt");
+    std::ofstream(path) << R"(LookAt 0 1 4  0 0.5 0  0 1 0
+Camera "perspective" "float fov" [40]
+Film "rgb" "integer xresolution" [32] "integer yresolution" [24]
+WorldBegin
+LightSource "infinite" "rgb L" [0.2 0.3 0.5]
+LightSource "distant" "point3 from" [0 10 0] "point3 to" [0 0 0] "rgb L" [3 3 3]
+Texture "wood" "spectrum" "imagemap" "string filename" "missing-wood.png"
+Material "diffuse" "texture reflectance" "wood"
+Shape "sphere" "float radius" [0.5]
+)";
+    Harness h(path);
+    Json s = h.send({{"type", "state"}});
+    CHECK(s["editable"] == false);
+    std::vector<std::string> types;
+    for (const Json& l : s["lights"]) types.push_back(l["type"].get<std::string>());
+    INFO(s["lights"].dump());
+    CHECK(std::count(types.begin(), types.end(), "environment") == 1);
+    CHECK(std::count(types.begin(), types.end(), "directional") == 1);
+    INFO(s["warnings"].dump());
+    REQUIRE(s["warnings"].size() >= 1);
+    CHECK_THAT(s["warnings"][0].get<std::string>(), Catch::Contains("missing-wood.png"));
 }
