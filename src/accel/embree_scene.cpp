@@ -415,7 +415,8 @@ namespace {
 // mapped here, is parallel to the plane (the caller falls back to Embree's barycentrics).
 bool exactTriangleSurface(const TriangleMesh& m, unsigned i0, unsigned i1, unsigned i2,
                           const Affine* toLocal, const Vec3& rayOrigin, const Vec3& rayDir,
-                          SurfaceHit& h, Vec3& pl, Vec3& errl, Vec3& ngl, Vec3& nsl, Vec3& dpdul) {
+                          SurfaceHit& h, Vec3& pl, Vec3& errl, Vec3& ngl, Vec3& nsl, Vec3& dpdul,
+                          Vec3& dpdvl) {
     const Vec3 &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
     Vec3 ol = toLocal ? toLocal->point(rayOrigin) : rayOrigin;
     Vec3 dl = toLocal ? toLocal->vector(rayDir) : rayDir;
@@ -436,12 +437,16 @@ bool exactTriangleSurface(const TriangleMesh& m, unsigned i0, unsigned i1, unsig
     };
     nsl = m.normals.empty() ? ngl : blend(m.normals[i0], m.normals[i1], m.normals[i2]);
     dpdul = p1 - p0;
+    dpdvl = p2 - p0;
     if (!m.uvs.empty()) {
         const Vec2 &a = m.uvs[i0], &b = m.uvs[i1], &c = m.uvs[i2];
         h.uv = {float(w * a.x + u * b.x + v * c.x), float(w * a.y + u * b.y + v * c.y)};
         Vec2 d02{a.x - c.x, a.y - c.y}, d12{b.x - c.x, b.y - c.y};
         float det = d02.x * d12.y - d02.y * d12.x;
-        if (std::abs(det) > 1e-9f) dpdul = ((p0 - p2) * d12.y - (p1 - p2) * d02.y) / det;
+        if (std::abs(det) > 1e-9f) {
+            dpdul = ((p0 - p2) * d12.y - (p1 - p2) * d02.y) / det;
+            dpdvl = ((p1 - p2) * d02.x - (p0 - p2) * d12.x) / det;
+        }
     } else {
         h.uv = {float(u), float(v)};
     }
@@ -480,7 +485,7 @@ void refineFarTrianglePoint(const Vec3& p0, const Vec3& p1, const Vec3& p2, cons
 // the caller's variables (kept apart, not one aggregate, so that the compiler keeps them in
 // registers on the hot triangle path).
 struct LocalSurface {
-    Vec3 &p, &err, &ng, &ns, &dpdu;
+    Vec3 &p, &err, &ng, &ns, &dpdu, &dpdv;
 };
 
 // A triangle hit from Embree's barycentrics (u, v), or from the exact double-precision test
@@ -491,7 +496,7 @@ void triangleSurface(const TriangleMesh& m, unsigned tri, bool exact, float u, f
     unsigned i0 = m.indices[3 * tri], i1 = m.indices[3 * tri + 1], i2 = m.indices[3 * tri + 2];
     const Vec3 &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
     if (exact && exactTriangleSurface(m, i0, i1, i2, toLocal, rayOrigin, rayDir, h, l.p, l.err,
-                                      l.ng, l.ns, l.dpdu))
+                                      l.ng, l.ns, l.dpdu, l.dpdv))
         return;
     float w = 1.0f - u - v;
     // The point from barycentrics is more accurate than o + t d far from the origin, and
@@ -504,15 +509,20 @@ void triangleSurface(const TriangleMesh& m, unsigned tri, bool exact, float u, f
                                l.err);
     l.ng = cross(p1 - p0, p2 - p0);
     l.ns = m.normals.empty() ? l.ng : m.normals[i0] * w + m.normals[i1] * u + m.normals[i2] * v;
-    l.dpdu = p1 - p0; // without uvs: the first edge
+    l.dpdu = p1 - p0; // without uvs: the first edge and the second
+    l.dpdv = p2 - p0;
     if (!m.uvs.empty()) {
         h.uv = {m.uvs[i0].x * w + m.uvs[i1].x * u + m.uvs[i2].x * v,
                 m.uvs[i0].y * w + m.uvs[i1].y * u + m.uvs[i2].y * v};
-        // dp/du from the triangle's two edges and their uv differences (pbrt-v4's rule).
+        // dp/du and dp/dv from the triangle's two edges and their uv differences (pbrt-v4's
+        // rule).
         Vec2 d02{m.uvs[i0].x - m.uvs[i2].x, m.uvs[i0].y - m.uvs[i2].y};
         Vec2 d12{m.uvs[i1].x - m.uvs[i2].x, m.uvs[i1].y - m.uvs[i2].y};
         float det = d02.x * d12.y - d02.y * d12.x;
-        if (std::abs(det) > 1e-9f) l.dpdu = ((p0 - p2) * d12.y - (p1 - p2) * d02.y) / det;
+        if (std::abs(det) > 1e-9f) {
+            l.dpdu = ((p0 - p2) * d12.y - (p1 - p2) * d02.y) / det;
+            l.dpdv = ((p1 - p2) * d02.x - (p0 - p2) * d12.x) / det;
+        }
     } else {
         h.uv = {u, v};
     }
@@ -540,6 +550,7 @@ void sphereSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
     l.err = kernels::roundSurfaceError(l.p, s.center, s.radius);
     l.ns = l.ng;
     l.dpdu = {-(l.p.y - s.center.y), l.p.x - s.center.x, 0.0f}; // along phi about z
+    l.dpdv = cross(l.ns, l.dpdu);
 }
 
 // A disk's point projected onto its plane.
@@ -551,6 +562,7 @@ void diskSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
     l.p = p - l.ng * (dot(p - s.center, l.ng) / dot(l.ng, l.ng));
     l.err = kernels::roundSurfaceError(l.p, s.center, s.radius);
     l.ns = l.ng;
+    l.dpdv = cross(l.ns, l.dpdu);
 }
 
 // The local geometry into world space, with normals that are never zero or NaN.
@@ -562,6 +574,7 @@ void placeSurface(const LocalSurface& l, const Affine* toWorld, const Affine* to
         h.ng = robustNormalize(toLocal->normalByInverse(l.ng));
         h.ns = robustNormalize(toLocal->normalByInverse(l.ns));
         h.dpdu = toWorld->vector(l.dpdu);
+        h.dpdv = toWorld->vector(l.dpdv);
         // The inverse transpose keeps the front side the side the winding named in the
         // shape's own space, also under mirroring transforms (as pbrt's handedness flip does).
     } else {
@@ -570,6 +583,7 @@ void placeSurface(const LocalSurface& l, const Affine* toWorld, const Affine* to
         h.ng = robustNormalize(l.ng);
         h.ns = robustNormalize(l.ns);
         h.dpdu = l.dpdu;
+        h.dpdv = l.dpdv;
     }
     // Degenerate input never yields a zero or NaN normal: a triangle without area (Embree can
     // still report a hit on a needle whose cross product underflows) faces the ray, and a zero,
@@ -602,8 +616,8 @@ SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primI
     h.shape = g->leaf;
     const Shape& s = *h.shape;
     h.material = s.material;
-    Vec3 pl, errl, ngl, nsl, dpdul;
-    const LocalSurface l{pl, errl, ngl, nsl, dpdul};
+    Vec3 pl, errl, ngl, nsl, dpdul, dpdvl;
+    const LocalSurface l{pl, errl, ngl, nsl, dpdul, dpdvl};
     switch (s.type) {
     case ShapeType::Mesh:
         triangleSurface(*s.mesh, g->triangles ? (*g->triangles)[primId] : primId, g->exact, u, v,

@@ -52,6 +52,8 @@ struct SurfaceHit {
     Vec3 ns;       // unit shading normal, on the same side as ng
     Vec2 uv;
     Vec3 dpdu;     // world-space dp/du (the tangent of anisotropic roughness), not normalised
+    Vec3 dpdv;     // world-space dp/dv (bump mapping); a mesh without uvs: the third vertex
+                   // minus the first; spheres and disks: ns x dpdu
     const Shape* shape = nullptr;
     int material = 0;
     int instance = -1; // index of the InstanceRecord, -1 for root-level leaves

@@ -107,6 +107,81 @@ int resolveMix(const Scene& scene, int material, const SurfaceHit& hit, const Ve
     return material; // a cycle the loaders reject; never reached for valid scenes
 }
 
+namespace {
+
+// The shading frame pbrt-v4 perturbs: a mesh with per-vertex normals shades with dp/du projected
+// onto the shading normal's plane and dp/dv = ns x dp/du (the triangle's own dp/dv is not kept),
+// other surfaces with their own dp/du and dp/dv; a surface without a tangent gets a unit frame.
+void shadingFrame(const SurfaceHit& hit, Vec3& dpdu, Vec3& dpdv) {
+    dpdu = hit.dpdu;
+    dpdv = hit.dpdv;
+    const Vec3& n = hit.ns;
+    const bool interpolated =
+        hit.shape && hit.shape->type == ShapeType::Mesh && !hit.shape->mesh->normals.empty();
+    Vec3 ts = cross(n, dpdu);
+    if (dot(ts, ts) > 0 && std::isfinite(dot(ts, ts))) {
+        if (interpolated) {
+            dpdu = cross(ts, n);
+            dpdv = ts;
+        }
+        if (dot(dpdv, dpdv) > 0) return;
+    }
+    orthonormalBasis(n, dpdu, dpdv);
+}
+
+// pbrt-v4's NormalMap: the image's 2 c - 1, normalised, in the frame (dp/du, ns x dp/du, ns).
+void normalMapped(const Scene& scene, int texture, const TextureContext& tc, const Vec3& n,
+                  Vec3& dpdu, Vec3& dpdv) {
+    Vec3 c = evalTexture(scene, texture, tc);
+    Vec3 t = c * 2.0f - Vec3(1.0f);
+    if (!(dot(t, t) > 0)) return;
+    t = normalize(t);
+    Vec3 x = normalize(dpdu - n * dot(n, dpdu)), y = cross(n, x);
+    Vec3 ns = x * t.x + y * t.y + n * t.z;
+    float ulen = length(dpdu), vlen = length(dpdv);
+    Vec3 u = dpdu - ns * dot(ns, dpdu);
+    if (!(dot(u, u) > 0)) return;
+    dpdu = normalize(u) * ulen;
+    dpdv = normalize(cross(ns, dpdu)) * vlen;
+}
+
+// pbrt-v4's BumpMap: the displaced surface p + d(u, v) n differentiated by forward differences.
+void bumpMapped(const Scene& scene, int texture, const SurfaceHit& hit, const TextureContext& tc,
+                const Vec3& n, Vec3& dpdu, Vec3& dpdv) {
+    constexpr float kStep = 0.0005f;
+    const float d = evalFloatTexture(scene, texture, tc);
+    TextureContext shifted = tc;
+    shifted.p = hit.p + dpdu * kStep;
+    shifted.uv = {tc.uv.x + kStep, tc.uv.y};
+    const float du = evalFloatTexture(scene, texture, shifted);
+    shifted.p = hit.p + dpdv * kStep;
+    shifted.uv = {tc.uv.x, tc.uv.y + kStep};
+    const float dv = evalFloatTexture(scene, texture, shifted);
+    dpdu = dpdu + n * ((du - d) / kStep);
+    dpdv = dpdv + n * ((dv - d) / kStep);
+}
+
+} // namespace
+
+void shadeHit(const Scene& scene, SurfaceHit& hit, const Vec3& wo) {
+    hit.material = resolveMix(scene, hit.material, hit, wo);
+    const Material& m = scene.materials[std::size_t(hit.material)];
+    if (m.normalMap < 0 && m.displacement < 0) return;
+    Vec3 dpdu, dpdv;
+    shadingFrame(hit, dpdu, dpdv);
+    const TextureContext tc = textureContext(hit);
+    if (m.normalMap >= 0) normalMapped(scene, m.normalMap, tc, hit.ns, dpdu, dpdv);
+    else bumpMapped(scene, m.displacement, hit, tc, hit.ns, dpdu, dpdv);
+    // SetShadingGeometry: the new normal on the geometric normal's side.
+    Vec3 ns = cross(dpdu, dpdv);
+    float len2 = dot(ns, ns);
+    if (!(len2 > 0) || !std::isfinite(len2)) return; // a degenerate frame keeps the old normal
+    ns = ns / std::sqrt(len2);
+    hit.ns = dot(ns, hit.ng) < 0 ? -ns : ns;
+    hit.dpdu = dpdu;
+    hit.dpdv = dpdv;
+}
+
 kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& hit,
                            std::uint64_t key) {
     TextureContext tc = textureContext(hit);

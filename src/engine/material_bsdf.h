@@ -16,6 +16,13 @@ namespace rayproc {
 // point and the outgoing direction compared with `amount`.
 int resolveMix(const Scene& scene, int material, const SurfaceHit& hit, const Vec3& wo);
 
+// What every stage does with a hit before shading it: the material it shades with
+// (resolveMix), and that material's shading normal where it has a bump or normal map
+// (`hit.ns`, `hit.dpdu` and `hit.dpdv` replaced as pbrt-v4's BumpMap / NormalMap and
+// SetShadingGeometry do; without differentials the bump's finite differences step 0.0005 in u
+// and v, pbrt-v4's own fallback, and the normal's derivatives are taken as zero).
+void shadeHit(const Scene& scene, SurfaceHit& hit, const Vec3& wo);
+
 // The BSDF of Scene::materials[material] (not a mix: see resolveMix) at `hit`. `key` seeds the
 // stochastic evaluation of layered materials.
 kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& hit,

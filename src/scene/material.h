@@ -85,6 +85,13 @@ struct Material {
     // Mix: Scene::materials[mix[0]] or [mix[1]]: the second with probability `amount`.
     int mix[2] = {-1, -1};
     FloatParam amount{0.5f};
+
+    // Shading normals perturbed as pbrt-v4 does (engine/material_bsdf.h, shadeHit): bump
+    // mapping by a float texture of displacement along the normal, or a tangent-space normal
+    // map (an RGB image texture, 2 x colour - 1 in the frame (dp/du, ns x dp/du, ns)); Scene::
+    // textures indices, -1 for none. A normal map takes precedence, as in pbrt-v4.
+    int displacement = -1;
+    int normalMap = -1;
 };
 
 const char* materialTypeName(MaterialType t);

@@ -3,6 +3,7 @@
 #include "pbrt_test_util.h"
 
 #include "engine/material_bsdf.h"
+#include "image/image.h"
 #include "scene/metals.h"
 #include "scene/pbrt/pbrt_spectrum.h"
 
@@ -305,4 +306,40 @@ TEST_CASE("Media: absorbing media fill their shapes, others warn where used", "[
     std::string e = pbrtErrorOf(std::string(kPbrtHeader) + "MediumInterface \"nope\"\n"
                                                            "Shape \"sphere\"\n");
     CHECK_THAT(e, Catch::Contains(":5:1: MediumInterface names \"nope\", which was never defined"));
+}
+
+TEST_CASE("displacement textures and normal maps reach the material (bump mapping)", "[pbrt]") {
+    // Image files for a float displacement texture and a normal map, written beside the scene.
+    Image ramp(4, 1), flat(2, 2);
+    for (int x = 0; x < 4; ++x) ramp.at(x, 0)[0] = ramp.at(x, 0)[1] = ramp.at(x, 0)[2] = 0.1f * x;
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) {
+            float* c = flat.at(x, y);
+            c[0] = c[1] = 0.5f;
+            c[2] = 1.0f;
+        }
+    writeImage((pbrtTestDir() / "bump-ramp.pfm").string(), ramp);
+    writeImage((pbrtTestDir() / "bump-flat-normals.pfm").string(), flat);
+    std::vector<std::string> warnings;
+    Material bumped = materialOf("Texture \"ramp\" \"float\" \"imagemap\" \"string filename\" "
+                                 "\"bump-ramp.pfm\"\n"
+                                 "Material \"diffuse\" \"texture displacement\" \"ramp\"",
+                                 &warnings);
+    CHECK(warnings.empty());
+    CHECK(bumped.displacement >= 0);
+    CHECK(bumped.normalMap < 0);
+    Material mapped = materialOf(
+        "Material \"conductor\" \"string normalmap\" \"bump-flat-normals.pfm\"", &warnings);
+    CHECK(warnings.empty());
+    CHECK(mapped.normalMap >= 0);
+    // A constant displacement changes no normal: nothing to evaluate.
+    CHECK(materialOf("Material \"diffuse\" \"float displacement\" 0.2", &warnings).displacement <
+          0);
+    CHECK(warnings.empty());
+    // A missing normal map warns and keeps the material's own normals.
+    Material missing =
+        materialOf("Material \"diffuse\" \"string normalmap\" \"no-such-normals.png\"", &warnings);
+    CHECK(missing.normalMap < 0);
+    CHECK(anyContains(warnings, "no-such-normals.png"));
+    CHECK(anyContains(warnings, "keeps its own normals"));
 }

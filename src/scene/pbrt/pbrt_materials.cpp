@@ -79,6 +79,17 @@ void conductor(const ParamList& params, const ValueReader& values, const SourceL
     readRoughness(params, values, loc, m);
 }
 
+// Bump and normal mapping (engine/material_bsdf.h, shadeHit): a "displacement" float texture
+// (a constant displaces the whole surface and changes no normal), a "normalmap" image file.
+void shadingNormals(const ParamList& params, const ValueReader& values, Material& m) {
+    m.displacement = floatParam(params, values, "displacement", 0.0f).texture;
+    if (const Param* p = params.find("normalmap")) {
+        p->used = true;
+        std::string file = params.getString("normalmap", "");
+        if (!file.empty()) m.normalMap = values.normalMapTexture(file, p->loc);
+    }
+}
+
 // The material's base colour from the spectrum or texture parameter `name`.
 void baseColor(const ParamList& params, const ValueReader& values, std::string_view name,
                Vec3 def, Material& m) {
@@ -151,12 +162,7 @@ MaterialResult convertMaterial(const std::string& type, const ParamList& params,
     Material& m = r.material;
     m.type = MaterialType::Diffuse;
     m.color = Vec3(0.5f);
-    for (const char* unsupported : {"displacement", "normalmap"})
-        if (const Param* p = params.find(unsupported)) {
-            warnings.add(p->loc, "parameter " + p->decl() + " (bump / normal mapping) is not "
-                                 "supported; ignored");
-            p->used = true;
-        }
+    shadingNormals(params, values, m);
     if (type == "diffuse") {
         baseColor(params, values, "reflectance", Vec3(0.5f), m);
     } else if (type == "coateddiffuse") {

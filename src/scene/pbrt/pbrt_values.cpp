@@ -83,6 +83,26 @@ rayproc::Texture ValueReader::imageTexture(const std::string& name, const ParamL
     return t;
 }
 
+int ValueReader::normalMapTexture(const std::string& file, const SourceLoc& loc) const {
+    if (!m_table) return -1;
+    rayproc::Texture t;
+    t.type = TextureType::Image;
+    t.name = "normalmap " + file;
+    t.filter = TextureFilter::Bilinear;
+    t.wrap = TextureWrap::Repeat;
+    std::filesystem::path path(file);
+    if (path.is_relative()) path = m_dir / path;
+    t.filename = path.string();
+    try {
+        t.image = loadTextureImage(t.filename, parseEncoding("linear", loc));
+    } catch (const ImageIoError& e) {
+        m_warnings.add(loc, std::string(e.what()) + "; the material keeps its own normals");
+        return -1;
+    }
+    m_table->push_back(std::move(t));
+    return int(m_table->size()) - 1;
+}
+
 void ValueReader::operand(const ParamList& params, std::string_view name, bool isFloat, Vec3 def,
                           int& index, Vec3& value) const {
     index = -1;

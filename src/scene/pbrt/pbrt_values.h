@@ -45,6 +45,11 @@ public:
                           Vec3 def) const;
     FloatParam floatParam(const ParamList& params, std::string_view name, float def) const;
 
+    // A material's "normalmap" image (pbrt-v4 reads it linear, bilinear, repeating) as a new
+    // Scene::textures entry: its index, or -1 when the file is missing or unreadable (warned at
+    // `loc`; the material then shades with its own normals).
+    int normalMapTexture(const std::string& file, const SourceLoc& loc) const;
+
     // A colour parameter's value as written (rgb, spectrum constant or blackbody); false if it
     // is absent, a named or sampled spectrum, or a texture.
     static bool plainColor(const Param& p, Vec3& out);
