@@ -277,9 +277,9 @@ void parseConductor(const JsonRef& m, Material& mat) {
 }
 
 void parseCoatedDiffuse(const JsonRef& m, Material& mat) {
-    m.expectObject({"type", "color", "ior", "roughness", "u_roughness", "v_roughness",
-                    "remap_roughness", "thickness", "albedo", "g", "max_depth", "samples",
-                    "model"},
+    m.expectObject({"type", "displacement", "normal_map", "color", "ior", "roughness",
+                    "u_roughness", "v_roughness", "remap_roughness", "thickness", "albedo", "g",
+                    "max_depth", "samples", "model"},
                    "a coateddiffuse material");
     mat.type = MaterialType::CoatedDiffuse;
     mat.color = Vec3(0.5f);
@@ -307,37 +307,38 @@ Material parseMaterial(const JsonRef& m, const std::string& name, const std::str
     mat.name = name;
     mat.color = Vec3(1.0f);
     if (type == "diffuse") {
-        m.expectObject({"type", "color"}, "a diffuse material");
+        m.expectObject({"type", "displacement", "normal_map", "color"}, "a diffuse material");
         mat.type = MaterialType::Diffuse;
         mat.color = Vec3(0.5f);
     } else if (type == "mirror") {
-        m.expectObject({"type", "color"}, "a mirror material");
+        m.expectObject({"type", "displacement", "normal_map", "color"}, "a mirror material");
         mat.type = MaterialType::Mirror;
     } else if (type == "dielectric") {
-        m.expectObject({"type", "color", "ior", "roughness", "u_roughness", "v_roughness",
-                        "remap_roughness"},
+        m.expectObject({"type", "displacement", "normal_map", "color", "ior", "roughness",
+                        "u_roughness", "v_roughness", "remap_roughness"},
                        "a dielectric material");
         mat.type = MaterialType::Dielectric;
         if (m.has("ior")) mat.ior = m["ior"].positive();
         parseRoughness(m, mat);
     } else if (type == "glossy") {
-        m.expectObject({"type", "color", "roughness"}, "a glossy material");
+        m.expectObject({"type", "displacement", "normal_map", "color", "roughness"},
+                       "a glossy material");
         mat.type = MaterialType::Glossy;
         if (m.has("roughness")) mat.roughness = m["roughness"].numberIn(0, 1);
     } else if (type == "conductor") {
-        m.expectObject({"type", "metal", "eta", "k", "reflectance", "roughness", "u_roughness",
-                        "v_roughness", "remap_roughness"},
+        m.expectObject({"type", "displacement", "normal_map", "metal", "eta", "k", "reflectance",
+                        "roughness", "u_roughness", "v_roughness", "remap_roughness"},
                        "a conductor material");
         mat.type = MaterialType::Conductor;
         parseConductor(m, mat);
     } else if (type == "coateddiffuse") {
         parseCoatedDiffuse(m, mat);
     } else if (type == "thindielectric") {
-        m.expectObject({"type", "ior"}, "a thindielectric material");
+        m.expectObject({"type", "displacement", "normal_map", "ior"}, "a thindielectric material");
         mat.type = MaterialType::ThinDielectric;
         if (m.has("ior")) mat.ior = m["ior"].positive();
     } else if (type == "diffusetransmission") {
-        m.expectObject({"type", "color", "transmittance", "scale"},
+        m.expectObject({"type", "displacement", "normal_map", "color", "transmittance", "scale"},
                        "a diffusetransmission material");
         mat.type = MaterialType::DiffuseTransmission;
         mat.color = Vec3(0.25f);
@@ -353,6 +354,9 @@ Material parseMaterial(const JsonRef& m, const std::string& name, const std::str
         mat.color = c.textured() ? Vec3(0.5f) : c.value;
         mat.colorTexture = c.texture;
     }
+    // Bump and normal mapping (engine/material_bsdf.h, shadeHit): texture names.
+    if (m.has("displacement")) mat.displacement = textureNamed(m["displacement"], scene);
+    if (m.has("normal_map")) mat.normalMap = textureNamed(m["normal_map"], scene);
     return mat;
 }
 

@@ -149,3 +149,29 @@ TEST_CASE("Bump mapping in a render: a floor under an overhead light dims as the
     CHECK(flat.x > 0.05f);
     CHECK(bumped.x / flat.x == Approx(cosTilt).epsilon(0.01));
 }
+
+TEST_CASE("JSON materials name their displacement and normal-map textures", "[engine][bump]") {
+    const std::string base = R"({
+        "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "resolution": [4, 4]},
+        "textures": {"bumps": {"type": "constant", "value": [0.2, 0.2, 0.2]},
+                     "normals": {"type": "constant", "value": [0.5, 0.5, 1]}},
+        "materials": {"floor": {"type": "conductor", MATERIAL}},
+        "nodes": [{"type": "sphere", "material": "floor", "radius": 1}]})";
+    auto withMaterial = [&](const std::string& keys) {
+        std::string json = base;
+        json.replace(json.find("MATERIAL"), 8, keys);
+        return json;
+    };
+    auto scene = sceneFromJson(withMaterial(R"("displacement": "bumps", "normal_map": "normals")"));
+    const Material& m = scene->materials[0];
+    CHECK(m.displacement == 0);
+    CHECK(m.normalMap == 1);
+    try {
+        sceneFromJson(withMaterial(R"("displacement": "no-such-texture")"));
+        FAIL("an unknown texture name was accepted");
+    } catch (const std::exception& e) {
+        std::string what = e.what();
+        CHECK(what.find("/materials/floor/displacement") != std::string::npos);
+        CHECK(what.find("no-such-texture") != std::string::npos);
+    }
+}
