@@ -163,7 +163,7 @@ void bumpMapped(const Scene& scene, int texture, const SurfaceHit& hit, const Te
 
 } // namespace
 
-void shadeHit(const Scene& scene, SurfaceHit& hit, const Vec3& wo) {
+void resolveShading(const Scene& scene, SurfaceHit& hit, const Vec3& wo) {
     hit.material = resolveMix(scene, hit.material, hit, wo);
     const Material& m = scene.materials[std::size_t(hit.material)];
     if (m.normalMap < 0 && m.displacement < 0) return;

@@ -21,7 +21,7 @@ int resolveMix(const Scene& scene, int material, const SurfaceHit& hit, const Ve
 // (`hit.ns`, `hit.dpdu` and `hit.dpdv` replaced as pbrt-v4's BumpMap / NormalMap and
 // SetShadingGeometry do; without differentials the bump's finite differences step 0.0005 in u
 // and v, pbrt-v4's own fallback, and the normal's derivatives are taken as zero).
-void shadeHit(const Scene& scene, SurfaceHit& hit, const Vec3& wo);
+void resolveShading(const Scene& scene, SurfaceHit& hit, const Vec3& wo);
 
 // The BSDF of Scene::materials[material] (not a mix: see resolveMix) at `hit`. `key` seeds the
 // stochastic evaluation of layered materials.

@@ -181,7 +181,7 @@ private:
 
     // One light sample and one BSDF sample at the surface vertex.
     void scatter(int i, SurfaceHit& h, const Vec3& w, const Vec3& wo) {
-        shadeHit(m_rc.scene, h, wo);
+        resolveShading(m_rc.scene, h, wo);
         kernels::BsdfParams bsdf = bsdfAt(m_rc.scene, h.material, h,
                                           kernels::hashCombine(m_b.rngKey[i], kDimLayered));
         const bool deltaMaterial =

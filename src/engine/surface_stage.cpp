@@ -59,7 +59,7 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             }
             if (b.flags[i] & kFlagEmissionOnly) continue; // a last vertex's MIS partner
 
-            shadeHit(m_rc.scene, h, -d);
+            resolveShading(m_rc.scene, h, -d);
             const MaterialType type = materials[h.material].type;
             const MaterialClass cls = materialClass(materials, h.material);
             switch (type) {

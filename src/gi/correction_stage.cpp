@@ -80,7 +80,7 @@ void CorrectionStage::retrace(RayBatch& b, StageContext& ctx) {
         Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
         SurfaceHit h =
             m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
-        shadeHit(m_rc.scene, h, -d);
+        resolveShading(m_rc.scene, h, -d);
         // The gather's far end: its BSDF stream (GatherStage::retrace).
         spawned += replaceMap(b, i, h, true, kernels::hashCombine(b.rngKey[i], 43), ctx);
     }

@@ -263,7 +263,7 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
             // packet widths, and the cache's record radii must not (determinism).
             distance = length(h.p - o);
             if (pastGlossy) radiance += emittedRadiance(*h.shape, h.ng, -d);
-            shadeHit(m_rc.scene, h, -d);
+            resolveShading(m_rc.scene, h, -d);
             // Emitters are light sampled at the gather's origin, and light reaching it through
             // specular surfaces (a coat's reflection included) straight from an emitter is the
             // caustic map's: neither is added here. At a diffuse surface the global map gives

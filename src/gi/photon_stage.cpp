@@ -28,7 +28,7 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
         SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
         Vec3 wo = -d;
-        shadeHit(m_rc.scene, h, wo);
+        resolveShading(m_rc.scene, h, wo);
         Vec3 power = laneThroughput(b, i) * interiorTransmittance(h, o, d);
         // Photons are stored where a lookup may read them: at diffuse and glossy surfaces.
         bool specularSurface =

@@ -86,7 +86,7 @@ struct Material {
     int mix[2] = {-1, -1};
     FloatParam amount{0.5f};
 
-    // Shading normals perturbed as pbrt-v4 does (engine/material_bsdf.h, shadeHit): bump
+    // Shading normals perturbed as pbrt-v4 does (engine/material_bsdf.h, resolveShading): bump
     // mapping by a float texture of displacement along the normal, or a tangent-space normal
     // map (an RGB image texture, 2 x colour - 1 in the frame (dp/du, ns x dp/du, ns)); Scene::
     // textures indices, -1 for none. A normal map takes precedence, as in pbrt-v4.

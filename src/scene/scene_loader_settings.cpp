@@ -354,7 +354,7 @@ Material parseMaterial(const JsonRef& m, const std::string& name, const std::str
         mat.color = c.textured() ? Vec3(0.5f) : c.value;
         mat.colorTexture = c.texture;
     }
-    // Bump and normal mapping (engine/material_bsdf.h, shadeHit): texture names.
+    // Bump and normal mapping (engine/material_bsdf.h, resolveShading): texture names.
     if (m.has("displacement")) mat.displacement = textureNamed(m["displacement"], scene);
     if (m.has("normal_map")) mat.normalMap = textureNamed(m["normal_map"], scene);
     return mat;

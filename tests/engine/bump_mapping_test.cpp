@@ -1,6 +1,6 @@
-// Bump and normal mapping (engine/material_bsdf.h, shadeHit) as pbrt-v4 defines them: the shading
-// normal of a displaced surface p + d(u, v) n and of a tangent-space normal map, checked against
-// their closed forms on a flat patch, and a render whose light follows the tilted normal.
+// Bump and normal mapping (engine/material_bsdf.h, resolveShading) as pbrt-v4 defines them: the
+// shading normal of a displaced surface p + d(u, v) n and of a tangent-space normal map, checked
+// against their closed forms on a flat patch, and a render whose light follows the tilted normal.
 #include "engine/material_bsdf.h"
 #include "test_util.h"
 #include "texture/texture_image.h"
@@ -63,7 +63,7 @@ TEST_CASE("Bump mapping: a displacement rising k over the patch tilts the normal
         m.displacement = addImageTexture(scene, 64, [k](float u) { return Vec3(k * u); }, true);
         scene.materials.push_back(m);
         SurfaceHit h = patchHit(size);
-        shadeHit(scene, h, {0, 0, 1});
+        resolveShading(scene, h, {0, 0, 1});
         Vec3 expected = normalize(Vec3(-k / size, 0, 1));
         INFO("k " << k << ": ns " << h.ns.x << " " << h.ns.y << " " << h.ns.z);
         CHECK(near(h.ns, expected, 2e-3f));
@@ -82,7 +82,7 @@ TEST_CASE("Bump mapping: a constant displacement and a material without one leav
     for (int material : {0, 1}) {
         SurfaceHit h = patchHit(1.0f);
         h.material = material;
-        shadeHit(scene, h, {0, 0, 1});
+        resolveShading(scene, h, {0, 0, 1});
         CHECK(near(h.ns, {0, 0, 1}, 1e-6f));
     }
 }
@@ -107,7 +107,7 @@ TEST_CASE("Normal mapping: the image's 2c - 1 in the frame (dp/du, n x dp/du, n)
         m.normalMap = addImageTexture(scene, 4, [colour](float) { return colour; }, false);
         scene.materials.push_back(m);
         SurfaceHit h = patchHit(3.0f);
-        shadeHit(scene, h, {0, 0, 1});
+        resolveShading(scene, h, {0, 0, 1});
         INFO("map normal " << c.tangentNormal.x << " " << c.tangentNormal.y << " "
                            << c.tangentNormal.z << ": ns " << h.ns.x << " " << h.ns.y << " "
                            << h.ns.z);

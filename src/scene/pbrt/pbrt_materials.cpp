@@ -79,7 +79,7 @@ void conductor(const ParamList& params, const ValueReader& values, const SourceL
     readRoughness(params, values, loc, m);
 }
 
-// Bump and normal mapping (engine/material_bsdf.h, shadeHit): a "displacement" float texture
+// Bump and normal mapping (engine/material_bsdf.h, resolveShading): a "displacement" float texture
 // (a constant displaces the whole surface and changes no normal), a "normalmap" image file.
 void shadingNormals(const ParamList& params, const ValueReader& values, Material& m) {
     m.displacement = floatParam(params, values, "displacement", 0.0f).texture;
