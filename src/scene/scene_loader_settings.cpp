@@ -277,9 +277,9 @@ void parseConductor(const JsonRef& m, Material& mat) {
 }
 
 void parseCoatedDiffuse(const JsonRef& m, Material& mat) {
-    m.expectObject({"type", "displacement", "normal_map", "color", "ior", "roughness",
-                    "u_roughness", "v_roughness", "remap_roughness", "thickness", "albedo", "g",
-                    "max_depth", "samples", "model"},
+    m.expectObject({"type", "color", "ior", "roughness", "u_roughness", "v_roughness",
+                    "remap_roughness", "thickness", "albedo", "g", "max_depth", "samples", "model",
+                    "displacement", "normal_map"},
                    "a coateddiffuse material");
     mat.type = MaterialType::CoatedDiffuse;
     mat.color = Vec3(0.5f);
@@ -292,10 +292,14 @@ void parseCoatedDiffuse(const JsonRef& m, Material& mat) {
     if (m.has("samples")) mat.nSamples = int(m["samples"].integer(1, 1000));
     if (m.has("model")) {
         std::string model = m["model"].nonEmptyString();
-        if (model == "auto") mat.coatModel = Material::CoatModel::Auto;
-        else if (model == "analytic") mat.coatModel = Material::CoatModel::Analytic;
-        else if (model == "random-walk") mat.coatModel = Material::CoatModel::RandomWalk;
-        else m["model"].fail("expected \"auto\", \"analytic\" or \"random-walk\"");
+        if (model == "auto")
+            mat.coatModel = Material::CoatModel::Auto;
+        else if (model == "analytic")
+            mat.coatModel = Material::CoatModel::Analytic;
+        else if (model == "random-walk")
+            mat.coatModel = Material::CoatModel::RandomWalk;
+        else
+            m["model"].fail("expected \"auto\", \"analytic\" or \"random-walk\"");
     }
 }
 
@@ -307,38 +311,38 @@ Material parseMaterial(const JsonRef& m, const std::string& name, const std::str
     mat.name = name;
     mat.color = Vec3(1.0f);
     if (type == "diffuse") {
-        m.expectObject({"type", "displacement", "normal_map", "color"}, "a diffuse material");
+        m.expectObject({"type", "color", "displacement", "normal_map"}, "a diffuse material");
         mat.type = MaterialType::Diffuse;
         mat.color = Vec3(0.5f);
     } else if (type == "mirror") {
-        m.expectObject({"type", "displacement", "normal_map", "color"}, "a mirror material");
+        m.expectObject({"type", "color", "displacement", "normal_map"}, "a mirror material");
         mat.type = MaterialType::Mirror;
     } else if (type == "dielectric") {
-        m.expectObject({"type", "displacement", "normal_map", "color", "ior", "roughness",
-                        "u_roughness", "v_roughness", "remap_roughness"},
+        m.expectObject({"type", "color", "ior", "roughness", "u_roughness", "v_roughness",
+                        "remap_roughness", "displacement", "normal_map"},
                        "a dielectric material");
         mat.type = MaterialType::Dielectric;
         if (m.has("ior")) mat.ior = m["ior"].positive();
         parseRoughness(m, mat);
     } else if (type == "glossy") {
-        m.expectObject({"type", "displacement", "normal_map", "color", "roughness"},
+        m.expectObject({"type", "color", "roughness", "displacement", "normal_map"},
                        "a glossy material");
         mat.type = MaterialType::Glossy;
         if (m.has("roughness")) mat.roughness = m["roughness"].numberIn(0, 1);
     } else if (type == "conductor") {
-        m.expectObject({"type", "displacement", "normal_map", "metal", "eta", "k", "reflectance",
-                        "roughness", "u_roughness", "v_roughness", "remap_roughness"},
+        m.expectObject({"type", "metal", "eta", "k", "reflectance", "roughness", "u_roughness",
+                        "v_roughness", "remap_roughness", "displacement", "normal_map"},
                        "a conductor material");
         mat.type = MaterialType::Conductor;
         parseConductor(m, mat);
     } else if (type == "coateddiffuse") {
         parseCoatedDiffuse(m, mat);
     } else if (type == "thindielectric") {
-        m.expectObject({"type", "displacement", "normal_map", "ior"}, "a thindielectric material");
+        m.expectObject({"type", "ior", "displacement", "normal_map"}, "a thindielectric material");
         mat.type = MaterialType::ThinDielectric;
         if (m.has("ior")) mat.ior = m["ior"].positive();
     } else if (type == "diffusetransmission") {
-        m.expectObject({"type", "displacement", "normal_map", "color", "transmittance", "scale"},
+        m.expectObject({"type", "color", "transmittance", "scale", "displacement", "normal_map"},
                        "a diffusetransmission material");
         mat.type = MaterialType::DiffuseTransmission;
         mat.color = Vec3(0.25f);
