@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,7 +70,7 @@ struct StageRig {
     ShadowStage shadow;
     ReflectionStage reflection;
     RefractionStage refraction;
-    GatherStage gather;
+    std::optional<GatherStage> gather; // with gi's data: the surface stage's diffuse handler
     SurfaceStage surface;
     PathStage path;
 
@@ -78,17 +79,21 @@ struct StageRig {
           policy(p), film(loaded.scene->camera.width, loaded.scene->camera.height),
           rc{*loaded.scene, *loaded.accel, lights, policy, film, 1}, ctx(queue, pool),
           intersector(loaded.accel->root(), 16), shadow(rc), reflection(rc), refraction(rc),
-          gather(rc), surface(rc, shadow, reflection, refraction, gi ? &gather : nullptr),
-          path(rc) {
-        rc.gi = gi;
+          surface(rc, shadow, reflection, refraction), path(rc) {
+        if (gi) {
+            gather.emplace(rc, *gi);
+            surface.addDiffuseHandler(*gather);
+        }
         ctx.stats = &stats;
     }
     ~StageRig() {
         ctx.flush();
-        drain(RayKind::Count, 0);
+        drainAll();
     }
     StageRig(const StageRig&) = delete;
 
+    // Pops every queued batch and returns it to the pool.
+    void drainAll() { drain(RayKind::Camera, 0); }
     // Pops every queued batch; keeps copies of those of `kind`, at most `keep` of them
     // (appended to `out` when given); returns them to the pool.
     void drain(RayKind kind, std::size_t keep, Batches* out = nullptr) {
@@ -111,7 +116,7 @@ struct StageRig {
             if (u % stride == 0)
                 drain(RayKind::Camera, count, &out);
             else
-                drain(RayKind::Count, 0);
+                drainAll();
         }
         return out;
     }

@@ -4,16 +4,15 @@
 #include "engine/glossy_mis.h"
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
-#include "gi/correction_stage.h"
-#include "gi/gather_stage.h"
 
 namespace rayproc {
 
 void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     HitList direct, reflect, refract, indirect;
-    const bool gi = m_gather != nullptr;
-    const bool prepass = m_rc.policy.icPrepass;
+    // With diffuse-hit handlers, the light past a non-specular bounce is theirs (gi).
+    const bool handled = !m_diffuseHandlers.empty();
+    const bool prepass = m_rc.policy.handlersOnly; // gi: the irradiance cache's prepass
     const bool addDirect = m_rc.policy.directLight && !prepass;
     {
         StageTimer timer(stats, StageId::Surface);
@@ -67,12 +66,12 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             case MaterialType::DiffuseTransmission:
             case MaterialType::CoatedDiffuse:
                 // gi: past a glossy bounce the global map gives all reflected light, direct too.
-                if (addDirect && (!gi || countEmission)) direct.add(i, h);
-                if (gi) indirect.add(i, h);
+                if (addDirect && (!handled || countEmission)) direct.add(i, h);
+                if (handled) indirect.add(i, h);
                 // The coat's reflection of the scene, mirror or rough, traced by the
                 // reflection stage (kernels::sampleCoatReflection).
                 if (type == MaterialType::CoatedDiffuse && !prepass)
-                    reflect.add(i, h, addDirect && (!gi || countEmission));
+                    reflect.add(i, h, addDirect && (!handled || countEmission));
                 break;
             case MaterialType::Glossy:
                 if (prepass) break;
@@ -104,8 +103,8 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
     RAYPROC_CHECK(policy.reflectionStage || reflect.count == 0);
     RAYPROC_CHECK(policy.refractionStage || refract.count == 0);
     if (direct.count) m_shadow.spawn(b, direct, ctx);
-    if (indirect.count) m_gather->spawn(b, indirect, ctx);
-    if (indirect.count && m_correction) m_correction->spawn(b, indirect, ctx);
+    if (indirect.count)
+        for (DiffuseHitHandler* handler : m_diffuseHandlers) handler->spawn(b, indirect, ctx);
     if (reflect.count) m_reflection.spawn(b, reflect, ctx);
     if (refract.count) m_refraction.spawn(b, refract, ctx);
 }

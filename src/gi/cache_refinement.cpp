@@ -119,7 +119,7 @@ void CacheRefinement::beginPass(int pass) {
     Film film(correcting ? int(std::max<std::uint64_t>(last - first, 1)) : 1, 1, filmExponent);
     ShadingPolicy policy;
     policy.maxDepth = s.maxDepth;
-    policy.icPrepass = true;
+    policy.handlersOnly = true;
     policy.stratify = m_engine.stratification;
     policy.rouletteEnabled = s.roulette;
     RenderContext rc{m_scene, m_accel, m_lights, policy, film, m_engine.seed};
@@ -131,19 +131,13 @@ void CacheRefinement::beginPass(int pass) {
         ~RequestsScope() { gi.requests = saved; }
     } scope{m_gi, m_gi.requests};
     m_gi.requests = &requests;
-    rc.gi = &m_gi;
     Intersector intersector(m_accel.root(), m_engine.packetWidth);
     RayProcessor processor(intersector, m_stats, m_engine.threads);
-    GatherStage gather(rc);
-    CorrectionStage correction(rc, gather);
+    GatherStage gather(rc, m_gi);
+    CorrectionStage correction(rc, m_gi, gather);
     ShadowStage shadow(rc);
-    processor.setStage(RayKind::Gather, &gather);
-    processor.setStage(RayKind::GatherShadow, &gather);
-    if (correcting) {
-        processor.setStage(RayKind::Correction, &correction);
-        processor.setStage(RayKind::CorrectionPath, &correction.pathStage());
-        processor.setStage(RayKind::Shadow, &shadow);
-    }
+    routeGatherRays(processor, gather);
+    if (correcting) routeCorrectionRays(processor, correction, shadow);
     const std::uint64_t key =
         kernels::hashCombine(kernels::hashCombine(m_engine.seed, 0x1c7e), std::uint64_t(pass));
     RecordEmitter emitter(records, std::size_t(first), std::size_t(last),

@@ -21,7 +21,7 @@
 // noise in it is that of all its rays, as before.
 //
 // Correction (`GiSettings::icCorrectionRays`, 4 by default): the map's bias at the records,
-// taken out with the passes. Each record also traces that many RayKind::Correction rays per
+// taken out with the passes. Each record also traces that many kCorrectionRay rays per
 // pass (cosine strata from its gather origin); at a ray's far end the correction stage
 // subtracts the map's estimate exactly as a gather reads it and traces a path in its place
 // (path mode's vertex: one light sample, one BSDF sample, then gi's PathStage, as deep as the
@@ -48,10 +48,11 @@
 // contiguous share of the records and the sums are added over the ranks.
 #pragma once
 
+#include "engine/engine_settings.h"
 #include "engine/stats.h"
 #include "gi/correction_smoothing.h"
 #include "gi/gi_context.h"
-#include "modes/render_job.h"
+#include "gi/gi_pipeline.h"
 
 #include <cstdint>
 #include <vector>

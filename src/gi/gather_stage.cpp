@@ -2,6 +2,7 @@
 
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
+#include "engine/processor.h"
 #include "engine/sample_numbers.h"
 #include "gi/caustic_pixel_radius.h"
 #include "gi/gi_context.h"
@@ -24,7 +25,7 @@ constexpr std::uint8_t kFlagPastGlossy = kFlagCountEmission;
 } // namespace
 
 Vec3 GatherStage::mapIrradiance(const PhotonMap* map, const Vec3& p, const Vec3& n) const {
-    const GiData& gi = *m_rc.gi;
+    const GiData& gi = m_gi;
     if (!map || map->size() == 0) return Vec3(0.0f);
     if (gi.settings.precomputedIrradiance && map->hasPrecomputedIrradiance())
         return map->irradianceFast(p, n, gi.settings.globalK, gi.globalRadius);
@@ -42,7 +43,7 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
         if (dot(wi, ng) <= 0 || !(c > 0)) return;
         Vec3 contribution = reflect * weight * c;
         if (isBlack(contribution) || !isFinite(contribution)) return;
-        RayBatch& out = ctx.out(RayKind::GatherShadow);
+        RayBatch& out = ctx.out(kGatherShadowRay);
         spawnShadowRay(out, b, i, h, ng, wi, light, contribution);
         out.flags[out.count - 1] = std::uint8_t(b.flags[i] & kFlagGatherRecord);
         ++spawned;
@@ -64,7 +65,7 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
 void GatherStage::deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const {
     if (isBlack(l)) return;
     if (b.flags[i] & kFlagGatherRecord) {
-        IcRequests& requests = *m_rc.gi->requests;
+        IcRequests& requests = *m_gi.requests;
         requests[b.pixel[i]].add(b.sample[i], l, requests.radianceScale());
     } else {
         m_rc.film.add(b.pixel[i], l, stats);
@@ -73,15 +74,15 @@ void GatherStage::deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& 
 
 void GatherStage::retraceShadow(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
-    StageTimer timer(stats, StageId::Gather);
-    stats.stages[int(StageId::Gather)].raysIn += std::uint64_t(b.count);
+    StageTimer timer(stats, kGatherStageId);
+    stats.stages[int(kGatherStageId)].raysIn += std::uint64_t(b.count);
     for (int i = 0; i < b.count; ++i)
         if (!b.occluded(i)) deposit(b, i, laneThroughput(b, i), stats);
 }
 
 Vec3 GatherStage::glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceHit& h,
                                  const Vec3& wo, const Vec3& n) const {
-    const GiData& gi = *m_rc.gi;
+    const GiData& gi = m_gi;
     if (!gi.global || gi.global->size() == 0) return Vec3(0.0f);
     return gi.global->radiance(h.p, n, gi.settings.globalK, gi.globalRadius, [&](const Vec3& wi) {
         float pdf, c = std::abs(dot(wi, n));
@@ -91,7 +92,7 @@ Vec3 GatherStage::glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceH
 }
 
 Vec3 GatherStage::causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t pixel) const {
-    const GiData& gi = *m_rc.gi;
+    const GiData& gi = m_gi;
     if (!gi.caustic || gi.caustic->size() == 0) return Vec3(0.0f);
     if (CausticPixelRadius* pixels = gi.causticPixels) {
         // The first pass estimates with the global first radius and seeds the pixel's own
@@ -114,8 +115,8 @@ Vec3 GatherStage::causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t 
 
 void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
-    StageTimer timer(stats, StageId::Gather);
-    const GiData& gi = *m_rc.gi;
+    StageTimer timer(stats, kGatherStageId);
+    const GiData& gi = m_gi;
     const GiSettings& s = gi.settings;
     // A record's gather in the prepass; in a render pass a film gather (filmGatherRays).
     const bool prepass = gi.requests != nullptr;
@@ -138,14 +139,14 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         bool firstDiffuse = (b.flags[i] & kFlagCountEmission) != 0;
 
         if (!firstDiffuse) {
-            ++stats.globalLookups;
+            ++giCounter(stats, kGiGlobalLookups);
             m_rc.film.add(b.pixel[i], reflect * mapIrradiance(gi.global, h.p, ns), stats);
             continue;
         }
         if (s.debugView == GiDebugView::Photons) {
             // The maps themselves at the first diffuse hit: the global map's estimate of all
             // light reflected there (direct included) plus the caustic map's.
-            ++stats.globalLookups;
+            ++giCounter(stats, kGiGlobalLookups);
             Vec3 e = gi.global && gi.global->size() > 0
                          ? gi.global->irradiance(h.p, ns, s.globalK, gi.globalRadius)
                          : Vec3(0.0f);
@@ -156,16 +157,16 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         if (!prepass && s.caustics && gi.caustic && gi.caustic->size() > 0 &&
             (s.debugView == GiDebugView::None || s.debugView == GiDebugView::Caustics ||
              s.debugView == GiDebugView::IcRecords)) {
-            ++stats.causticLookups;
+            ++giCounter(stats, kGiCausticLookups);
             Vec3 e = causticIrradiance(h.p, ns, b.pixel[i]);
             m_rc.film.add(b.pixel[i], reflect * e, stats);
         }
         if (s.debugView == GiDebugView::Caustics) continue;
         if (gi.cache) {
-            ++stats.cacheLookups;
+            ++giCounter(stats, kGiCacheLookups);
             IrradianceCache::LookupResult r;
             if (gi.cache->lookup(h.p, ns, r)) {
-                ++stats.cacheHits;
+                ++giCounter(stats, kGiCacheHits);
                 if (!prepass) m_rc.film.add(b.pixel[i], reflect * r.irradiance, stats);
                 continue;
             }
@@ -230,24 +231,24 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                 continue;
             }
             // In the prepass the sample is the stratum (the gradients' layout).
-            pushGatherRay(ctx.out(RayKind::Gather), origin, wi, target,
+            pushGatherRay(ctx.out(kGatherRay), origin, wi, target,
                           prepass ? std::uint32_t(r) : b.sample[i], weight,
                           kernels::hashCombine(key, std::uint64_t(r)), b.depth[i], flags);
             ++spawned;
         }
     }
-    stats.stages[int(StageId::Gather)].raysOut += spawned;
+    stats.stages[int(kGatherStageId)].raysOut += spawned;
 }
 
 void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
-    if (b.kind == RayKind::GatherShadow) {
+    if (b.kind == kGatherShadowRay) {
         retraceShadow(b, ctx);
         return;
     }
     ThreadStats& stats = *ctx.stats;
-    StageTimer timer(stats, StageId::Gather);
-    stats.stages[int(StageId::Gather)].raysIn += std::uint64_t(b.count);
-    const GiData& gi = *m_rc.gi;
+    StageTimer timer(stats, kGatherStageId);
+    stats.stages[int(kGatherStageId)].raysIn += std::uint64_t(b.count);
+    const GiData& gi = m_gi;
     const int maxSpecular = std::max(0, gi.settings.maxDepth);
     const bool sampleLights = gi.globalIndirect != nullptr; // GiSettings::gatherDirect
     std::uint64_t spawned = 0;
@@ -281,7 +282,7 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
             Vec3 ng, ns;
             facingNormals(h, -d, ng, ns);
             if (cls == MaterialClass::Diffuse) {
-                ++stats.globalLookups;
+                ++giCounter(stats, kGiGlobalLookups);
                 // The Lambertian BSDF value albedo / pi, times irradiance.
                 const Vec3 f = kernels::lambertianAlbedo(bsdf, -d, h.ng, h.ns) * kInvPi;
                 radiance +=
@@ -289,7 +290,7 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
                 if (sampleLights)
                     spawned += sampleDirect(b, i, h, ng, ns, laneThroughput(b, i) * f, ctx);
             } else if (cls == MaterialClass::Glossy && !transmits) {
-                ++stats.globalLookups;
+                ++giCounter(stats, kGiGlobalLookups);
                 radiance += glossyRadiance(bsdf, h, -d, ns);
             }
             const bool continues = cls == MaterialClass::Specular || coated ||
@@ -315,7 +316,7 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
                     Vec3 no = offsetRayOrigin(h, h.ng, smp.wi);
                     std::uint8_t flags = b.flags[i];
                     if (cls == MaterialClass::Glossy) flags |= kFlagPastGlossy;
-                    spawnRay(ctx.out(RayKind::Gather), b, i, no, smp.wi, next, b.depth[i],
+                    spawnRay(ctx.out(kGatherRay), b, i, no, smp.wi, next, b.depth[i],
                              std::uint8_t(b.specularDepth[i] + 1), flags, 7);
                     ++spawned;
                     done = false;
@@ -338,7 +339,12 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
             if (done) rq.rays.fetch_add(1, std::memory_order_relaxed);
         }
     }
-    stats.stages[int(StageId::Gather)].raysOut += spawned;
+    stats.stages[int(kGatherStageId)].raysOut += spawned;
+}
+
+void routeGatherRays(RayProcessor& processor, GatherStage& gather) {
+    processor.setStage(kGatherRay, &gather);
+    processor.setStage(kGatherShadowRay, &gather, RayQuery::Occlusion);
 }
 
 } // namespace rayproc

@@ -2,13 +2,14 @@
 
 #include "cluster/cluster.h"
 #include "engine/cancel.h"
+#include "engine/engine_settings.h"
 #include "engine/intersect.h"
 #include "engine/phases.h"
 #include "engine/processor.h"
 #include "engine/progress.h"
+#include "gi/gi_pipeline.h"
 #include "gi/photon_emitter.h"
 #include "kernels/random.h"
-#include "modes/render_job.h"
 
 #include <algorithm>
 #include <cstring>
@@ -29,7 +30,7 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     Intersector intersector(accel.root(), engine.packetWidth);
     RayProcessor processor(intersector, stats, engine.threads);
     PhotonStage stage(rc, pass.caustic, s.maxPhotonDepth);
-    processor.setStage(RayKind::Photon, &stage);
+    processor.setStage(kPhotonRay, &stage);
     PhotonEmitter emitter(lights, scene.worldBounds(), pass.count, engine.seed, pass.tag,
                           !focus.active ? Bounds3{}
                           : pass.caustic ? focus.causticEmissionBounds()

@@ -31,6 +31,8 @@
 #include "gi/focus_region.h"
 #include "gi/gather_stage.h"
 #include "gi/gi_context.h"
+#include "gi/gi_pipeline.h"
+#include "gi/gi_render_stages.h"
 #include "gi/irradiance_cache.h"
 #include "gi/photon_emitter.h"
 #include "gi/photon_map.h"
@@ -194,25 +196,24 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         Film film(cam.width, cam.height, filmExponent);
         ShadingPolicy policy;
         policy.maxDepth = gi.settings.maxDepth;
-        policy.icPrepass = true;
+        policy.handlersOnly = true;
         policy.stratify = engine.stratification;
         policy.rouletteEnabled = gi.settings.roulette;
         RenderContext rc{scene, accel, lights, policy, film, engine.seed};
         gi.cache = &cache;
         gi.requests = &requests;
-        rc.gi = &gi;
         Intersector intersector(accel.root(), engine.packetWidth);
         RayProcessor processor(intersector, stats, engine.threads);
         ShadowStage shadow(rc);
         ReflectionStage reflection(rc);
         RefractionStage refraction(rc);
-        GatherStage gather(rc);
-        SurfaceStage surface(rc, shadow, reflection, refraction, &gather);
+        GatherStage gather(rc, gi);
+        SurfaceStage surface(rc, shadow, reflection, refraction);
+        surface.addDiffuseHandler(gather);
         for (RayKind k : {RayKind::Camera, RayKind::Reflection, RayKind::Refraction})
             processor.setStage(k, &surface);
         processor.setStage(RayKind::Shadow, &shadow);
-        processor.setStage(RayKind::Gather, &gather);
-        processor.setStage(RayKind::GatherShadow, &gather);
+        routeGatherRays(processor, gather);
         CameraEmitter camera(rc, &cam);
         camera.setShare(cluster.rank(), cluster.size()); // each rank gathers for its tiles
         camera.beginPass(0, 1);
@@ -450,7 +451,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     sumToRoot(cluster, cacheTotals); // every rank's share of the prepass
     extras.push_back({"gi/cache_seconds", cacheSeconds});
     extras.push_back({"gi/cache_records", double(cache.size())});
-    extras.push_back({"gi/cache_prepass_gather_rays", double(cacheTotals.stages[int(StageId::Gather)].raysOut)});
+    extras.push_back({"gi/cache_prepass_gather_rays", double(cacheTotals.stages[int(kGatherStageId)].raysOut)});
 
     // Second pass: the render.
     ShadingPolicy policy;
@@ -477,8 +478,9 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
             if (progressive) progressive->beginPass(pass, samples);
             if (refinement && pass > 0) refinement->beginPass(pass);
         };
+    GiRenderStages giStages(gi);
     RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine,
-                                  RadianceStage::Surface, plan.globalMap ? &gi : nullptr,
+                                  RadianceStage::Surface, plan.globalMap ? &giStages : nullptr,
                                   beforePass);
     // Precomputed estimates the render needed (all of them when not lazy).
     extras.push_back({"gi/precomputed_estimates", double(global.precomputedEstimatesMade() +
@@ -493,8 +495,8 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
             extras.push_back({"gi/caustic_mean_pixel_radius", pixels->meanRadius()});
     }
     const ThreadStats& t = r.stats.totals;
-    extras.push_back({"gi/gather_rays", double(t.stages[int(StageId::Gather)].raysOut)});
-    extras.push_back({"gi/correction_rays", double(t.stages[int(StageId::Correction)].raysOut)});
+    extras.push_back({"gi/gather_rays", double(t.stages[int(kGatherStageId)].raysOut)});
+    extras.push_back({"gi/correction_rays", double(t.stages[int(kCorrectionStageId)].raysOut)});
     extras.push_back({"gi/refine_rays", refinement ? double(refinement->raysGathered()) : 0.0});
     extras.push_back({"gi/ic_correction_rays",
                       refinement ? double(refinement->correctionRays()) : 0.0});
@@ -502,11 +504,14 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
                       refinement ? refinement->correctionWeight() : 0.0});
     extras.push_back({"gi/ic_correction_smoothing",
                       refinement ? double(refinement->correctionSmoothing()) : 0.0});
-    extras.push_back({"gi/cache_lookups", double(t.cacheLookups)});
-    extras.push_back({"gi/cache_hit_rate", t.cacheLookups ? double(t.cacheHits) / double(t.cacheLookups) : 0.0});
-    double gatherSeconds = t.stages[int(StageId::Gather)].seconds;
-    extras.push_back({"gi/lookups_per_second",
-                      gatherSeconds > 0 ? double(t.cacheLookups + t.causticLookups + t.globalLookups) / gatherSeconds : 0.0});
+    extras.push_back({"gi/cache_lookups", double(giCounter(t, kGiCacheLookups))});
+    const double cacheLookups = double(giCounter(t, kGiCacheLookups));
+    extras.push_back({"gi/cache_hit_rate",
+                      cacheLookups > 0 ? double(giCounter(t, kGiCacheHits)) / cacheLookups : 0.0});
+    const double lookups = cacheLookups + double(giCounter(t, kGiCausticLookups)) +
+                           double(giCounter(t, kGiGlobalLookups));
+    double gatherSeconds = t.stages[int(kGatherStageId)].seconds;
+    extras.push_back({"gi/lookups_per_second", gatherSeconds > 0 ? lookups / gatherSeconds : 0.0});
     if (s.debugView == GiDebugView::IcRecords) {
         extras.push_back({"gi/ic_marked_pixels", double(markIcRecords(r.image, scene.camera, cache))});
     }

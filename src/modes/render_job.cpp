@@ -13,9 +13,7 @@
 #include "engine/refraction_stage.h"
 #include "engine/shadow_stage.h"
 #include "engine/surface_stage.h"
-#include "gi/correction_stage.h"
-#include "gi/gather_stage.h"
-#include "gi/gi_context.h"
+#include "engine/mode_stages.h"
 
 #include "cluster/cluster.h"
 #include "image/metrics.h"
@@ -34,21 +32,6 @@
 #include <sstream>
 
 namespace rayproc {
-
-std::string EngineSettings::toString() const {
-    std::ostringstream o;
-    o << "threads=" << (threads > 0 ? std::to_string(threads) : std::string("all"))
-      << " packet_width=" << packetWidth << " seed=" << seed
-      << " scene_analysis=" << (sceneAnalysis ? "on" : "off")
-      << " stratification=" << (stratification ? "on" : "off")
-      << " glossy_mis=" << (glossyMis ? "on" : "off")
-      << " light_choice=" << (lightChoice ? "on" : "off")
-      << " diffuse_mis=" << (diffuseMis ? "on" : "off")
-      << " sky_compensation=" << (skyCompensation ? "on" : "off")
-      << " adaptive=" << (adaptiveSampling ? "on" : "off");
-    if (adaptiveSampling) o << " adaptive_min_spp=" << adaptiveMinSpp;
-    return o.str();
-}
 
 namespace {
 constexpr int kMinTargetPasses = 8;
@@ -69,7 +52,8 @@ enum PassDecision : std::uint32_t {
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
                           const EngineSettings& engine, RadianceStage radiance,
-                          const GiData* gi, const std::function<void(int pass, int samples)>& beforePass) {
+                          ModeStages* modeStages,
+                          const std::function<void(int pass, int samples)>& beforePass) {
     // The film, the stages and the log before the first pass: one thread.
     PhaseTimer setupPhase(engine.phases, "render_setup");
     // The mode's clock: seconds from the start of its work, less the time the error log has
@@ -87,7 +71,6 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     Film film(scene.camera.width, scene.camera.height,
               Film::exponentFor(lights.radianceScale(scene.worldBounds())));
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
-    rc.gi = gi;
     std::optional<NoiseBreakdown> noise;
     if (engine.noiseBreakdown) {
         noise.emplace(film.width(), film.height(), film.exponent());
@@ -103,12 +86,7 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     ShadowStage shadow(rc);
     ReflectionStage reflection(rc);
     RefractionStage refraction(rc);
-    GatherStage gather(rc);
-    // gi: the photon map's correction rays, and the paths they trace on (gi/correction_stage.h).
-    CorrectionStage correction(rc, gather);
-    const bool correcting = gi && gi->settings.mapCorrection;
-    SurfaceStage surface(rc, shadow, reflection, refraction, gi ? &gather : nullptr,
-                         correcting ? &correction : nullptr);
+    SurfaceStage surface(rc, shadow, reflection, refraction);
     PathStage path(rc);
     RetraceStage* radianceStage = radiance == RadianceStage::Path
                                       ? static_cast<RetraceStage*>(&path)
@@ -117,14 +95,14 @@ RenderResult runRenderJob(const std::string& label, const Scene& scene, const Em
     processor.setStage(RayKind::Reflection, radianceStage);
     // Kinds of rays the scene analysis rules out get no stage: one would fail a check.
     processor.setStage(RayKind::Refraction, policy.refractionStage ? radianceStage : nullptr);
-    // Correction paths sample lights wherever they go.
-    processor.setStage(RayKind::Shadow, policy.shadowStage || correcting ? &shadow : nullptr);
-    processor.setStage(RayKind::Gather, gi ? &gather : nullptr);
-    processor.setStage(RayKind::GatherShadow, gi ? &gather : nullptr);
-    processor.setStage(RayKind::Correction, correcting ? &correction : nullptr);
-    processor.setStage(RayKind::CorrectionPath, correcting ? &correction.pathStage() : nullptr);
+    processor.setStage(RayKind::Shadow, policy.shadowStage ? &shadow : nullptr);
+    // The mode's own stages (gi's), and every stage for --stats in pipeline order.
+    if (modeStages) modeStages->attach({rc, processor, surface, shadow});
 
     RenderResult result;
+    result.stats.pipeline = enginePipeline();
+    if (modeStages)
+        for (const StageLabel& stage : modeStages->labels()) result.stats.pipeline.push_back(stage);
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> errorLog(nullptr, &std::fclose);
     // A write that fails (a full disk) ends the log, not the render: the image is still saved.
     auto logFailed = [&] {
