@@ -318,11 +318,10 @@ const SceneCache& sceneCache(const std::string& sceneName) {
     coarse.width = std::max(1, coarse.width / 8);
     coarse.height = std::max(1, coarse.height / 8);
     requests.beginLevel(std::size_t(coarse.width) * coarse.height * 2);
-    gi.requests = &requests;
     ShadingPolicy policy = raytracePolicy();
     policy.handlersOnly = true;
     {
-        StageRig rig(sceneName, policy, &gi);
+        StageRig rig(sceneName, policy, &gi, &requests);
         CameraEmitter camera(rig.rc, &coarse);
         camera.beginPass(0, 1);
         while (camera.emit(rig.ctx)) {

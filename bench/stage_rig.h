@@ -74,14 +74,17 @@ struct StageRig {
     SurfaceStage surface;
     PathStage path;
 
-    StageRig(const std::string& sceneName, const ShadingPolicy& p, const GiData* gi = nullptr)
+    // With `gi` the surface stage hands diffuse hits to a gather stage (its prepass's when
+    // `requests` is given).
+    StageRig(const std::string& sceneName, const ShadingPolicy& p, const GiData* gi = nullptr,
+             IcRequests* requests = nullptr)
         : loaded(nativeScene(sceneName)), lights(LightSet::build(*loaded.scene, *loaded.accel)),
           policy(p), film(loaded.scene->camera.width, loaded.scene->camera.height),
           rc{*loaded.scene, *loaded.accel, lights, policy, film, 1}, ctx(queue, pool),
           intersector(loaded.accel->root(), 16), shadow(rc), reflection(rc), refraction(rc),
           surface(rc, shadow, reflection, refraction), path(rc) {
         if (gi) {
-            gather.emplace(rc, *gi);
+            gather.emplace(rc, *gi, requests);
             surface.addDiffuseHandler(*gather);
         }
         ctx.stats = &stats;

@@ -19,7 +19,7 @@
 namespace rayproc {
 
 CacheRefinement::CacheRefinement(const Scene& scene, const EmbreeScene& accel,
-                                 const LightSet& lights, GiData& gi, IrradianceCache& cache,
+                                 const LightSet& lights, const GiData& gi, IrradianceCache& cache,
                                  const EngineSettings& engine, const Cluster& cluster, Stats& stats)
     : m_scene(scene), m_accel(accel), m_lights(lights), m_gi(gi), m_cache(cache), m_engine(engine),
       m_cluster(cluster), m_stats(stats) {
@@ -123,17 +123,9 @@ void CacheRefinement::beginPass(int pass) {
     policy.stratify = m_engine.stratification;
     policy.rouletteEnabled = s.roulette;
     RenderContext rc{m_scene, m_accel, m_lights, policy, film, m_engine.seed};
-    // The gather stage adds to these slots while the refinement runs; afterwards (also when
-    // the run throws) gi's render passes see their own requests (none) again.
-    struct RequestsScope {
-        GiData& gi;
-        IcRequests* saved;
-        ~RequestsScope() { gi.requests = saved; }
-    } scope{m_gi, m_gi.requests};
-    m_gi.requests = &requests;
     Intersector intersector(m_accel.root(), m_engine.packetWidth);
     RayProcessor processor(intersector, m_stats, m_engine.threads);
-    GatherStage gather(rc, m_gi);
+    GatherStage gather(rc, m_gi, &requests); // the records' gathers add to their slots
     CorrectionStage correction(rc, m_gi, gather);
     ShadowStage shadow(rc);
     routeGatherRays(processor, gather);

@@ -75,7 +75,7 @@ double shrinkageWeight(const std::vector<double>& means, const std::vector<doubl
 class CacheRefinement {
 public:
     CacheRefinement(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
-                    GiData& gi, IrradianceCache& cache, const EngineSettings& engine,
+                    const GiData& gi, IrradianceCache& cache, const EngineSettings& engine,
                     const Cluster& cluster, Stats& stats);
     // Gathers pass `pass`'s rays for every record and updates the cache. A collective under
     // MPI (every rank calls it for every pass).
@@ -95,7 +95,7 @@ private:
     const Scene& m_scene;
     const EmbreeScene& m_accel;
     const LightSet& m_lights;
-    GiData& m_gi;
+    const GiData& m_gi;
     IrradianceCache& m_cache;
     EngineSettings m_engine;
     const Cluster& m_cluster;

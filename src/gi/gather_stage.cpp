@@ -65,7 +65,7 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
 void GatherStage::deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const {
     if (isBlack(l)) return;
     if (b.flags[i] & kFlagGatherRecord) {
-        IcRequests& requests = *m_gi.requests;
+        IcRequests& requests = *m_requests;
         requests[b.pixel[i]].add(b.sample[i], l, requests.radianceScale());
     } else {
         m_rc.film.add(b.pixel[i], l, stats);
@@ -119,7 +119,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
     const GiData& gi = m_gi;
     const GiSettings& s = gi.settings;
     // A record's gather in the prepass; in a render pass a film gather (filmGatherRays).
-    const bool prepass = gi.requests != nullptr;
+    const bool prepass = m_requests != nullptr;
     const int thetaCount = prepass ? gi.gatherTheta : gi.filmGatherTheta;
     const int phiCount = prepass ? gi.gatherPhi : gi.filmGatherPhi;
     const int strata = thetaCount * phiCount;
@@ -180,7 +180,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         IcRequest* request = nullptr;
         if (prepass) {
             std::uint32_t slot = 0;
-            request = gi.requests->claim(slot);
+            request = m_requests->claim(slot);
             if (!request) continue; // more than the pass can hold
             IcRequest& rq = *request;
             rq.key = (std::uint64_t(b.pixel[i]) << 32) ^ (b.rngKey[i] & 0xffffffffu);
@@ -327,7 +327,7 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
         }
         deposit(b, i, laneThroughput(b, i) * radiance, stats);
         if (b.flags[i] & kFlagGatherRecord) {
-            IcRequest& rq = (*gi.requests)[b.pixel[i]];
+            IcRequest& rq = (*m_requests)[b.pixel[i]];
             std::uint32_t stratum = b.sample[i];
             if (b.specularDepth[i] == 0) { // the stratum's first segment
                 // Ward's R_i: the harmonic mean of the first hits' distances.

@@ -37,6 +37,7 @@ namespace rayproc {
 
 class PhotonMap;
 class RayProcessor;
+class IcRequests;
 struct GiData;
 
 // Pushes a final-gather ray's first segment (kGatherRay, no specular bounce yet) from
@@ -63,7 +64,10 @@ inline void pushGatherRay(RayBatch& out, const Vec3& origin, const Vec3& wi, std
 
 class GatherStage : public RetraceStage, public DiffuseHitHandler {
 public:
-    GatherStage(const RenderContext& rc, const GiData& gi) : m_rc(rc), m_gi(gi) {}
+    // `requests`: the cache's prepass (new records' gathers go there) or its refinement (the
+    // records' gather rays sum there); null in a render pass.
+    GatherStage(const RenderContext& rc, const GiData& gi, IcRequests* requests = nullptr)
+        : m_rc(rc), m_gi(gi), m_requests(requests) {}
     void spawn(const RayBatch& parent, const HitList& hits, StageContext& ctx) override;
     void retrace(RayBatch& batch, StageContext& ctx) override;
 
@@ -88,6 +92,7 @@ private:
     Vec3 causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t pixel) const;
     const RenderContext& m_rc;
     const GiData& m_gi;
+    IcRequests* m_requests;
 };
 
 // Routes gather rays and the occlusion rays of their hits' light samples to `gather`.
