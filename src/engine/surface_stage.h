@@ -36,6 +36,8 @@ public:
     void retrace(RayBatch& batch, StageContext& ctx) override;
 
 private:
+    void addEscaped(const RayBatch& b, int i, ThreadStats& stats) const;
+    SurfaceHit resolveHit(RayBatch& b, int i, bool addDirect, ThreadStats& stats) const;
     const RenderContext& m_rc;
     ShadowStage& m_shadow;
     ReflectionStage& m_reflection;

@@ -121,6 +121,21 @@ private:
     int m_smoothing = 1;
     std::vector<double> m_smoothed;
 
+    // One pass's sums over every rank, in record order: per record its gathers' radiance (3
+    // channels, fixed point in units of radianceScale) and ray count; with corrections, their
+    // radiance (3 channels) from correctionsPerRecord rays each.
+    struct PassSums {
+        std::vector<std::uint64_t> gathers;
+        double radianceScale = 1;
+        std::vector<double> corrections;
+        int correctionsPerRecord = 1;
+    };
+    // Traces pass `pass`'s gather (and correction) rays for this rank's share of the records.
+    PassSums tracePass(int pass, bool correcting);
+    // Adds the pass's corrections to those of its parity and re-estimates the weight.
+    void foldCorrections(const PassSums& sums, int parity);
+    // The records' irradiance for the pass: their gathers so far plus the weighted corrections.
+    void updateRecords(const PassSums& sums, int parity, bool correcting);
     // Chooses the smoothing and the weight for the corrections folded in so far (both
     // parities'), and smooths those of `parity`.
     void estimateCorrection(int parity);

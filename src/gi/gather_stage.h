@@ -87,6 +87,12 @@ private:
     // Adds a light sample's, or a gather ray's, radiance l to lane i's pixel or cache record.
     void deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const;
     void retraceShadow(RayBatch& batch, StageContext& ctx);
+    bool shadeHit(const RayBatch& b, int i, Vec3& radiance, float& distance,
+                  std::uint64_t& spawned, StageContext& ctx) const;
+    void recordGatherEnd(const RayBatch& b, int i, float distance, bool done) const;
+    std::uint64_t spawnFinalGather(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& ng,
+                                   const Vec3& ns, const Vec3& reflectance, bool prepass,
+                                   int thetaCount, int phiCount, StageContext& ctx) const;
     // The caustic map's irradiance: k-nearest, or within the pass's radius when progressive
     // (the pixel's own with GiSettings::causticPixelRadius).
     Vec3 causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t pixel) const;

@@ -110,6 +110,146 @@ std::size_t markIcRecords(Image& image, const Camera& cam, const IrradianceCache
     return marked;
 }
 
+using Extras = std::vector<std::pair<std::string, double>>;
+
+// What the gi passes share, before the maps: the settings, the gathers' strata, and lengths
+// that scale with the scene, or with the part the camera sees when that is much smaller.
+GiData giDataFor(const GiSettings& s, const Scene& scene, const FocusRegion& focus,
+                 const EngineSettings& engine, Extras& extras) {
+    GiData gi;
+    gi.settings = s;
+    gatherStrata(s.gatherRays, gi.gatherTheta, gi.gatherPhi);
+    gatherStrata(filmGatherRays(s), gi.filmGatherTheta, gi.filmGatherPhi);
+    // Gradients need the strata layout: independent gather rays (--no-stratification) have none.
+    gi.strataWanted = s.irradianceCache && s.icGradients && engine.stratification;
+    float diag = std::max(1e-6f, length((focus.active ? focus.bounds : scene.worldBounds()).diagonal()));
+    gi.globalRadius = s.globalRadius > 0 ? s.globalRadius : 0.05f * diag;
+    gi.causticRadius = s.causticRadius > 0 ? s.causticRadius : 0.02f * diag;
+    gi.icMinRadius = 0.005f * diag;
+    gi.icMaxRadius = 0.15f * diag;
+    extras.push_back({"gi/focus_active", focus.active ? 1.0 : 0.0});
+    extras.push_back({"gi/focus_diagonal", double(diag)});
+    return gi;
+}
+
+// The first pass's products: the photon maps (the caustic map, with progressive caustics, is
+// the per-pass ProgressiveCaustics' instead) and what building them took.
+struct GiPhotonMaps {
+    PhotonMap global, caustic, gatherMap;
+    PhotonRounds rounds;
+    std::optional<ProgressiveCaustics> progressive;
+    double photonSeconds = 0, precomputeSeconds = 0;
+};
+
+// First pass: photons. Each rank traces a range of the photon indices; every rank builds the
+// merged maps. Progressive caustics trace the first pass's caustic map here and a new one
+// before every later render pass. Then Christensen's precomputed irradiance, and the maps
+// into `gi`.
+void tracePhotonMaps(GiPhotonMaps& maps, GiData& gi, const Scene& scene,
+                     const EmbreeScene& accel, const LightSet& lights, const RenderPlan& plan,
+                     const FocusRegion& focus, const EngineSettings& engine,
+                     const Cluster& cluster, Stats& photonStats) {
+    const GiSettings& s = gi.settings;
+    auto t0 = Clock::now();
+    // Direct light at gather hits: only delta lights and the sky are sampled there.
+    const bool gatherDirect =
+        s.gatherDirect && (lights.hasEnvironment() || lights.hasDeltaLights());
+    if (s.photons > 0 && plan.globalMap)
+        maps.rounds = buildPhotonMap(maps.global, scene, accel, lights, s, engine, cluster,
+                                     {false, std::uint32_t(s.photons), 1, "gi photons",
+                                      s.photonRounds, std::size_t(s.photons) / 4},
+                                     focus, photonStats, gatherDirect ? &maps.gatherMap : nullptr);
+    const bool causticPass = s.caustics && s.causticPhotons > 0 && plan.causticMap;
+    if (causticPass && s.progressiveCaustics) {
+        maps.progressive.emplace(scene, accel, lights, gi, engine, cluster, focus, photonStats);
+        gi.causticFixedRadius = true;
+    } else if (causticPass) {
+        buildPhotonMap(maps.caustic, scene, accel, lights, s, engine, cluster,
+                       {true, std::uint32_t(s.causticPhotons), 2, "gi caustic photons"}, focus,
+                       photonStats);
+    }
+    maps.photonSeconds = secondsSince(t0);
+    auto t1 = Clock::now();
+    PhaseTimer precomputePhase(engine.phases, "irradiance_precompute", PhaseKind::Parallel);
+    if (s.precomputedIrradiance && maps.global.size() > 0 && !stopped(cluster))
+        precomputePhotonIrradiance(maps.global, s, gi.globalRadius, engine, cluster);
+    if (s.precomputedIrradiance && maps.gatherMap.size() > 0 && !stopped(cluster))
+        precomputePhotonIrradiance(maps.gatherMap, s, gi.globalRadius, engine, cluster);
+    maps.precomputeSeconds = secondsSince(t1);
+    precomputePhase.stop();
+    gi.global = &maps.global;
+    if (gatherDirect && maps.global.size() > 0) gi.globalIndirect = &maps.gatherMap;
+    if (!maps.progressive) gi.caustic = &maps.caustic;
+}
+
+void addPhotonExtras(Extras& extras, const GiPhotonMaps& maps, const GiData& gi) {
+    extras.push_back({"gi/photon_seconds", maps.photonSeconds});
+    extras.push_back({"gi/photons_global", double(maps.global.size())});
+    extras.push_back({"gi/photon_rounds", double(maps.rounds.rounds)});
+    extras.push_back(
+        {"gi/photons_emitted", double(maps.rounds.rounds) * double(gi.settings.photons)});
+    extras.push_back({"gi/photons_in_view", double(maps.rounds.inView)});
+    extras.push_back({"gi/photons_gather_map", double(maps.gatherMap.size())});
+    extras.push_back({"gi/photons_caustic", double(gi.caustic ? gi.caustic->size() : 0)});
+    extras.push_back({"gi/photon_map_bytes",
+                      double(maps.global.memoryBytes() + maps.gatherMap.memoryBytes() +
+                             (gi.caustic ? gi.caustic->memoryBytes() : 0))});
+    extras.push_back({"gi/precompute_seconds", maps.precomputeSeconds});
+}
+
+// The render passes' shading: raytrace's direct light and specular chains, gi's settings, what
+// the scene analysis skips.
+ShadingPolicy giRenderPolicy(const GiSettings& s, const EngineSettings& engine,
+                             const RenderPlan& plan) {
+    ShadingPolicy policy;
+    policy.maxDepth = s.maxDepth;
+    policy.lightSamples = s.lightSamples;
+    policy.directLight = s.debugView == GiDebugView::None || s.debugView == GiDebugView::IcRecords;
+    policy.rouletteEnabled = s.roulette;
+    policy.stratify = engine.stratification;
+    policy.glossyMis = engine.glossyMis;
+    policy.diffuseMis = engine.diffuseMis;
+    policy.lightChoice = engine.lightChoice;
+    plan.apply(policy);
+    return policy;
+}
+
+// What the render passes did: maps read, caustic passes, gathers, refinement, cache lookups.
+void addRenderExtras(Extras& extras, const RenderResult& r, const GiPhotonMaps& maps,
+                     const GiData& gi, const CacheRefinement* refinement) {
+    // Precomputed estimates the render needed (all of them when not lazy).
+    extras.push_back({"gi/precomputed_estimates",
+                      double(maps.global.precomputedEstimatesMade() +
+                             maps.gatherMap.precomputedEstimatesMade())});
+    extras.push_back({"gi/precomputed_photons",
+                      double(maps.global.precomputedCount() + maps.gatherMap.precomputedCount())});
+    if (const ProgressiveCaustics* progressive = maps.progressive ? &*maps.progressive : nullptr) {
+        extras.push_back({"gi/caustic_passes", double(progressive->passesTraced())});
+        extras.push_back({"gi/caustic_first_radius", double(progressive->firstRadius())});
+        extras.push_back({"gi/caustic_last_radius", double(gi.causticRadius)});
+        if (const CausticPixelRadius* pixels = progressive->pixelRadius())
+            extras.push_back({"gi/caustic_mean_pixel_radius", pixels->meanRadius()});
+    }
+    const ThreadStats& t = r.stats.totals;
+    extras.push_back({"gi/gather_rays", double(t.stages[int(kGatherStageId)].raysOut)});
+    extras.push_back({"gi/correction_rays", double(t.stages[int(kCorrectionStageId)].raysOut)});
+    extras.push_back({"gi/refine_rays", refinement ? double(refinement->raysGathered()) : 0.0});
+    extras.push_back({"gi/ic_correction_rays",
+                      refinement ? double(refinement->correctionRays()) : 0.0});
+    extras.push_back({"gi/ic_correction_weight",
+                      refinement ? refinement->correctionWeight() : 0.0});
+    extras.push_back({"gi/ic_correction_smoothing",
+                      refinement ? double(refinement->correctionSmoothing()) : 0.0});
+    const double cacheLookups = double(giCounter(t, kGiCacheLookups));
+    extras.push_back({"gi/cache_lookups", cacheLookups});
+    extras.push_back({"gi/cache_hit_rate",
+                      cacheLookups > 0 ? double(giCounter(t, kGiCacheHits)) / cacheLookups : 0.0});
+    const double lookups = cacheLookups + double(giCounter(t, kGiCausticLookups)) +
+                           double(giCounter(t, kGiGlobalLookups));
+    double gatherSeconds = t.stages[int(kGatherStageId)].seconds;
+    extras.push_back({"gi/lookups_per_second", gatherSeconds > 0 ? lookups / gatherSeconds : 0.0});
+}
+
 } // namespace
 
 std::string GiSettings::toString() const {
@@ -156,75 +296,18 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     if (!plan.render) return blackRender(scene);
     LightSet lights = plan.sampledLights(all);
     lightPhase.stop();
-    GiData gi;
-    gi.settings = s;
-    gatherStrata(s.gatherRays, gi.gatherTheta, gi.gatherPhi);
-    gatherStrata(filmGatherRays(s), gi.filmGatherTheta, gi.filmGatherPhi);
-    // Gradients need the strata layout: independent gather rays (--no-stratification) have none.
-    gi.strataWanted = s.irradianceCache && s.icGradients && engine.stratification;
-    // Lengths scale with the scene, or with the part the camera sees when that is much smaller.
     PhaseTimer focusPhase(engine.phases, "focus_region"); // rays from this thread
     FocusRegion focus = cameraFocusRegion(scene, accel, engine.packetWidth);
     focusPhase.stop();
-    float diag = std::max(1e-6f, length((focus.active ? focus.bounds : scene.worldBounds()).diagonal()));
-    gi.globalRadius = s.globalRadius > 0 ? s.globalRadius : 0.05f * diag;
-    gi.causticRadius = s.causticRadius > 0 ? s.causticRadius : 0.02f * diag;
-    gi.icMinRadius = 0.005f * diag;
-    gi.icMaxRadius = 0.15f * diag;
-    std::vector<std::pair<std::string, double>> extras;
-    extras.push_back({"gi/focus_active", focus.active ? 1.0 : 0.0});
-    extras.push_back({"gi/focus_diagonal", double(diag)});
+    Extras extras;
+    GiData gi = giDataFor(s, scene, focus, engine, extras);
 
-    // First pass: photons. Each rank traces a range of the photon indices; every rank builds
-    // the merged maps. Progressive caustics trace the first pass's caustic map here and a new
-    // one before every later render pass.
     Stats photonStats;
-    auto t0 = Clock::now();
-    // Direct light at gather hits: only delta lights and the sky are sampled there.
-    const bool gatherDirect =
-        s.gatherDirect && (lights.hasEnvironment() || lights.hasDeltaLights());
-    PhotonMap global, caustic, gatherMap;
-    PhotonRounds rounds;
-    if (s.photons > 0 && plan.globalMap)
-        rounds = buildPhotonMap(global, scene, accel, lights, s, engine, cluster,
-                                {false, std::uint32_t(s.photons), 1, "gi photons",
-                                 s.photonRounds, std::size_t(s.photons) / 4},
-                                focus, photonStats, gatherDirect ? &gatherMap : nullptr);
-    const bool causticPass = s.caustics && s.causticPhotons > 0 && plan.causticMap;
-    std::optional<ProgressiveCaustics> progressive;
-    if (causticPass && s.progressiveCaustics) {
-        progressive.emplace(scene, accel, lights, gi, engine, cluster, focus, photonStats);
-        gi.causticFixedRadius = true;
-    } else if (causticPass) {
-        buildPhotonMap(caustic, scene, accel, lights, s, engine, cluster,
-                       {true, std::uint32_t(s.causticPhotons), 2, "gi caustic photons"}, focus,
-                       photonStats);
-    }
-    double photonSeconds = secondsSince(t0);
-    auto t1 = Clock::now();
-    PhaseTimer precomputePhase(engine.phases, "irradiance_precompute", PhaseKind::Parallel);
-    if (s.precomputedIrradiance && global.size() > 0 && !stopped(cluster))
-        precomputePhotonIrradiance(global, s, gi.globalRadius, engine, cluster);
-    if (s.precomputedIrradiance && gatherMap.size() > 0 && !stopped(cluster))
-        precomputePhotonIrradiance(gatherMap, s, gi.globalRadius, engine, cluster);
-    double precomputeSeconds = secondsSince(t1);
-    precomputePhase.stop();
-    gi.global = &global;
-    if (gatherDirect && global.size() > 0) gi.globalIndirect = &gatherMap;
-    if (!progressive) gi.caustic = &caustic;
-    extras.push_back({"gi/photon_seconds", photonSeconds});
-    extras.push_back({"gi/photons_global", double(global.size())});
-    extras.push_back({"gi/photon_rounds", double(rounds.rounds)});
-    extras.push_back({"gi/photons_emitted", double(rounds.rounds) * double(s.photons)});
-    extras.push_back({"gi/photons_in_view", double(rounds.inView)});
-    extras.push_back({"gi/photons_gather_map", double(gatherMap.size())});
-    extras.push_back({"gi/photons_caustic", double(gi.caustic ? gi.caustic->size() : 0)});
-    extras.push_back({"gi/photon_map_bytes",
-                      double(global.memoryBytes() + gatherMap.memoryBytes() +
-                             (gi.caustic ? gi.caustic->memoryBytes() : 0))});
-    extras.push_back({"gi/precompute_seconds", precomputeSeconds});
+    GiPhotonMaps maps;
+    tracePhotonMaps(maps, gi, scene, accel, lights, plan, focus, engine, cluster, photonStats);
+    addPhotonExtras(extras, maps, gi);
 
-    // Cache prepass.
+    // Cache prepass (gi/cache_prepass.h).
     IrradianceCacheSettings cs;
     cs.accuracy = s.icAccuracy;
     cs.useGradients = s.icGradients;
@@ -239,21 +322,11 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     sumToRoot(cluster, cacheTotals); // every rank's share of the prepass
     extras.push_back({"gi/cache_seconds", cacheSeconds});
     extras.push_back({"gi/cache_records", double(cache.size())});
-    extras.push_back({"gi/cache_prepass_gather_rays", double(cacheTotals.stages[int(kGatherStageId)].raysOut)});
+    extras.push_back({"gi/cache_prepass_gather_rays",
+                      double(cacheTotals.stages[int(kGatherStageId)].raysOut)});
 
-    // Second pass: the render.
-    ShadingPolicy policy;
-    policy.maxDepth = s.maxDepth;
-    policy.lightSamples = s.lightSamples;
-    policy.directLight = s.debugView == GiDebugView::None || s.debugView == GiDebugView::IcRecords;
-    policy.rouletteEnabled = s.roulette;
-    policy.stratify = engine.stratification;
-    policy.glossyMis = engine.glossyMis;
-    policy.diffuseMis = engine.diffuseMis;
-    policy.lightChoice = engine.lightChoice;
-    plan.apply(policy);
-    // Before each render pass: a new caustic map (progressive caustics), the records' new
-    // gather rays (cache refinement).
+    // Second pass: the render. Before each render pass: a new caustic map (progressive
+    // caustics), the records' new gather rays (cache refinement).
     Stats refineStats;
     std::optional<CacheRefinement> refinement;
     if (s.irradianceCache && (s.icRefineRays > 0 || s.icCorrectionRays > 0) && plan.globalMap &&
@@ -261,48 +334,19 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
         refinement.emplace(scene, accel, lights, gi, cache, engine, cluster, refineStats);
     // Without diffuse surfaces the gather stage would never get work: not registered.
     std::function<void(int, int)> beforePass;
-    if ((progressive || refinement) && plan.globalMap)
+    if ((maps.progressive || refinement) && plan.globalMap)
         beforePass = [&](int pass, int samples) {
-            if (progressive) progressive->beginPass(pass, samples);
+            if (maps.progressive) maps.progressive->beginPass(pass, samples);
             if (refinement && pass > 0) refinement->beginPass(pass);
         };
+    const ShadingPolicy policy = giRenderPolicy(s, engine, plan);
     GiRenderStages giStages(gi);
     RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine,
                                   RadianceStage::Surface, plan.globalMap ? &giStages : nullptr,
                                   beforePass);
-    // Precomputed estimates the render needed (all of them when not lazy).
-    extras.push_back({"gi/precomputed_estimates", double(global.precomputedEstimatesMade() +
-                                                         gatherMap.precomputedEstimatesMade())});
-    extras.push_back({"gi/precomputed_photons",
-                      double(global.precomputedCount() + gatherMap.precomputedCount())});
-    if (progressive) {
-        extras.push_back({"gi/caustic_passes", double(progressive->passesTraced())});
-        extras.push_back({"gi/caustic_first_radius", double(progressive->firstRadius())});
-        extras.push_back({"gi/caustic_last_radius", double(gi.causticRadius)});
-        if (const CausticPixelRadius* pixels = progressive->pixelRadius())
-            extras.push_back({"gi/caustic_mean_pixel_radius", pixels->meanRadius()});
-    }
-    const ThreadStats& t = r.stats.totals;
-    extras.push_back({"gi/gather_rays", double(t.stages[int(kGatherStageId)].raysOut)});
-    extras.push_back({"gi/correction_rays", double(t.stages[int(kCorrectionStageId)].raysOut)});
-    extras.push_back({"gi/refine_rays", refinement ? double(refinement->raysGathered()) : 0.0});
-    extras.push_back({"gi/ic_correction_rays",
-                      refinement ? double(refinement->correctionRays()) : 0.0});
-    extras.push_back({"gi/ic_correction_weight",
-                      refinement ? refinement->correctionWeight() : 0.0});
-    extras.push_back({"gi/ic_correction_smoothing",
-                      refinement ? double(refinement->correctionSmoothing()) : 0.0});
-    extras.push_back({"gi/cache_lookups", double(giCounter(t, kGiCacheLookups))});
-    const double cacheLookups = double(giCounter(t, kGiCacheLookups));
-    extras.push_back({"gi/cache_hit_rate",
-                      cacheLookups > 0 ? double(giCounter(t, kGiCacheHits)) / cacheLookups : 0.0});
-    const double lookups = cacheLookups + double(giCounter(t, kGiCausticLookups)) +
-                           double(giCounter(t, kGiGlobalLookups));
-    double gatherSeconds = t.stages[int(kGatherStageId)].seconds;
-    extras.push_back({"gi/lookups_per_second", gatherSeconds > 0 ? lookups / gatherSeconds : 0.0});
-    if (s.debugView == GiDebugView::IcRecords) {
+    addRenderExtras(extras, r, maps, gi, refinement ? &*refinement : nullptr);
+    if (s.debugView == GiDebugView::IcRecords)
         extras.push_back({"gi/ic_marked_pixels", double(markIcRecords(r.image, scene.camera, cache))});
-    }
     // runRenderJob measured its wall time from engine.workStart: the pre-passes are in it.
     ThreadStats photonTotals = photonStats.merged();
     sumToRoot(cluster, photonTotals);
