@@ -8,6 +8,7 @@
 #include "engine/intersect.h"
 #include "engine/ray_batch.h"
 #include "kernels/camera_rays.h"
+#include "modes/mode_registry.h"
 #include "modes/modes.h"
 #include "modes/render_plan.h"
 #include "modes/render_watch.h"
@@ -460,7 +461,7 @@ Json Session::reply(const Json& m, int client) {
     if (type == "render") {
         expectKeys(m, {"mode", "spp"});
         const Json& mode = field(m, "mode", "render");
-        if (!mode.is_string() || (mode != "raytrace" && mode != "gi" && mode != "path" && mode != "preview"))
+        if (!mode.is_string() || !findMode(mode.get<std::string>()))
             refuse("render.mode: expected preview, raytrace, gi or path");
         int spp = 0;
         if (m.contains("spp")) {
@@ -773,14 +774,8 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     sendText({{"type", "render_begin"}, {"mode", request.mode}});
     RenderResult r;
     try {
-        if (request.mode == "raytrace")
-            r = renderRaytrace(scene, *loaded->accel, raytraceSettings(scene.render, overrides), engine);
-        else if (request.mode == "gi")
-            r = renderGi(scene, *loaded->accel, giSettings(scene, overrides), engine);
-        else if (request.mode == "path")
-            r = renderPath(scene, *loaded->accel, pathSettings(scene.render, overrides), engine);
-        else
-            r = rayproc::renderPreview(scene, *loaded->accel, previewSettings(scene.render, overrides), engine);
+        r = findMode(request.mode)->render(scene, *loaded->accel,
+                                           ModeSettings::forScene(scene, overrides), engine);
     } catch (const std::exception& e) {
         sendText({{"type", "error"}, {"message", std::string("render: ") + e.what()}});
         return;
