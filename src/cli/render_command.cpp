@@ -411,11 +411,8 @@ int runRender(const RenderArgs& a) {
     return 0;
 }
 
-} // namespace
-
-std::function<int()> addRenderCommand(CLI::App& app) {
-    auto args = std::make_shared<RenderArgs>();
-    CLI::App* cmd = app.add_subcommand("render", "Render a scene to an image");
+// The scene, the output, the mode and its basic settings, the image size, PNG output.
+void addSceneOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_option("scene", args->scene, "Scene file: JSON (docs/scene-format.md) or pbrt-v4 (docs/pbrt-import.md)")
         ->required()
         ->check(CLI::ExistingFile);
@@ -451,6 +448,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
         ->check(finiteFloat());
     cmd->add_option("--tonemap", args->tonemap, "PNG tone map: clamp (default), reinhard, aces")
         ->check(CLI::IsMember({"clamp", "reinhard", "aces"}));
+}
+
+// gi's photon, gather and cache counts.
+void addGiCountOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_option("--photons", args->photons,
                     "gi: photons emitted for the global map per round (default 200000); rounds "
                     "repeat until a quarter of this many of the photons the final gather reads "
@@ -498,6 +499,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "irradiance, not the map's; default 4; 0: off, the records keep the map's "
                     "bias)")
         ->check(CLI::Range(0, 65536));
+}
+
+// gi's switches and the caustic estimate's radius.
+void addGiSwitches(CLI::App* cmd, RenderArgs* args) {
     cmd->add_flag("--no-irradiance-cache", args->noCache,
                   "gi: final gather at every diffuse hit instead of interpolating cached records");
     cmd->add_flag("--no-caustics", args->noCaustics, "gi: no caustic photon map");
@@ -540,6 +545,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                   "estimate of all the light there instead of sampling the sun (delta lights) "
                   "and the sky there with one shadow ray each and taking the rest from the map "
                   "(the map blurs sharp shadows and sunlit patches: biased, but no shadow rays)");
+}
+
+// The profiling switches (each an ablation) and the debug views.
+void addProfilingOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_flag("--no-scene-analysis", args->noSceneAnalysis,
                   "Run every pass and stage and sample every light, even those the scene "
                   "analysis finds cannot contribute (for comparisons and profiling)");
@@ -589,6 +598,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "relMSE times its spp) and mean.<strategy> (its luminance); "
                     "docs/performance.md)")
         ->check(CLI::IsMember({"none", "photons", "ic-records", "caustics", "indirect", "noise"}));
+}
+
+// The reference and the error log, the stops (target, adaptive, time limit), the watchers and the statistics.
+void addRunOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_option("--reference", args->reference,
                     "Reference image (PNG/EXR/HDR/PFM, same size) for the convergence log")
         ->check(CLI::ExistingFile);
@@ -650,6 +663,19 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->footer("Exit status: 0 done, 1 bad input or I/O error, 130 interrupted by Ctrl-C, 143 by "
                 "SIGTERM, 129 by SIGHUP (each writes the partial image, or nothing before the first "
                 "sample; a second signal exits at once).");
+}
+
+} // namespace
+
+std::function<int()> addRenderCommand(CLI::App& app) {
+    auto args = std::make_shared<RenderArgs>();
+    CLI::App* cmd = app.add_subcommand("render", "Render a scene to an image");
+    // In this order in --help.
+    addSceneOptions(cmd, args.get());
+    addGiCountOptions(cmd, args.get());
+    addGiSwitches(cmd, args.get());
+    addProfilingOptions(cmd, args.get());
+    addRunOptions(cmd, args.get());
     return [args] { return runRender(*args); };
 }
 
