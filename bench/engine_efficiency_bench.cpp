@@ -92,8 +92,9 @@ void replayEngine(benchmark::State& state, std::string mode, std::string sceneNa
             std::copy_n(r.dz.data(), r.count, b.dz.data());
             std::copy_n(r.tnear.data(), r.count, b.tnear.data());
             std::copy_n(r.tfar.data(), r.count, b.tfar.data());
-            intersector.trace(b, stats);
-            hits += b.kind == RayKind::Shadow ? (b.occluded(0) ? 1 : 0) : (b.hit(0) ? 1 : 0);
+            const RayQuery query = r.occlusion ? RayQuery::Occlusion : RayQuery::Closest;
+            intersector.trace(b, stats, query);
+            hits += r.occlusion ? (b.occluded(0) ? 1 : 0) : (b.hit(0) ? 1 : 0);
         }
     }
     benchmark::DoNotOptimize(hits);
@@ -118,7 +119,7 @@ void replayEmbree(benchmark::State& state, std::string mode, std::string sceneNa
                 for (int k = 0; k < 16; ++k) valid[k] = base + k < r.count ? -1 : 0;
                 alignas(64) RTCRayHit16 rh;
                 loadRay16(r, base, rh.ray);
-                if (r.kind == RayKind::Shadow) {
+                if (r.occlusion) {
                     rtcOccluded16(valid, scene, &ctx, &rh.ray);
                     std::copy_n(rh.ray.tfar, 16, &t[base]);
                 } else {

@@ -31,6 +31,7 @@
 #include "engine/path_state.h"
 #include "engine/processor.h"
 #include "gi/irradiance_cache.h"
+#include "gi/gi_pipeline.h"
 #include "gi/photon_emitter.h"
 #include "gi/photon_map.h"
 #include "gi/photon_stage.h"
@@ -97,7 +98,7 @@ void cameraEmit(benchmark::State& state, std::string sceneName) {
     CameraEmitter camera(rig.rc);
     for (auto _ : state) {
         camera.beginPass(0, 1);
-        while (camera.emit(rig.ctx)) rig.drain(RayKind::Count, 0);
+        while (camera.emit(rig.ctx)) rig.drainAll();
     }
     const Camera& cam = rig.loaded.scene->camera;
     setRate(state, "rays/s", double(cam.width) * double(cam.height));
@@ -117,7 +118,7 @@ void shading(benchmark::State& state, std::string sceneName, bool pathStage) {
             *work = *in; // the stage may rewrite its input batch
             stage.retrace(*work, rig.ctx);
             rig.ctx.flush();
-            rig.drain(RayKind::Count, 0);
+            rig.drainAll();
         }
     }
     setRate(state, "rays/s", double(rayCount(inputs)));
@@ -154,7 +155,7 @@ void shadowSpawn(benchmark::State& state, std::string sceneName) {
         for (std::size_t k = 0; k < cameras.size(); ++k) {
             rig.shadow.spawn(*cameras[k], *lists[k], rig.ctx);
             rig.ctx.flush();
-            rig.drain(RayKind::Count, 0);
+            rig.drainAll();
         }
     }
     double spawned = double(rig.stats.stages[int(StageId::Shadow)].raysOut - before);
@@ -196,7 +197,7 @@ PhotonRun tracePhotons(const std::string& sceneName, std::uint32_t count, int th
     Intersector intersector(s.accel->root(), 16);
     RayProcessor processor(intersector, stats, threads);
     PhotonStage stage(rc, false, GiSettings{}.maxPhotonDepth);
-    processor.setStage(RayKind::Photon, &stage);
+    processor.setStage(kPhotonRay, &stage);
     PhotonEmitter emitter(lights, s.scene->worldBounds(), count, 1, 1);
     processor.run(emitter, [] { return false; });
     return {stage.takePhotons(), stats.merged().raysTraced};
@@ -246,9 +247,9 @@ void gather(benchmark::State& state, std::string sceneName) {
     StageRig rig(sceneName, raytracePolicy(), &g.gi);
     Batches cameras = rig.cameraBatches(kInputBatches);
     rig.trace(cameras);
-    Batches inputs = rig.spawned(rig.surface, cameras, RayKind::Gather, kInputBatches);
+    Batches inputs = rig.spawned(rig.surface, cameras, kGatherRay, kInputBatches);
     for (auto _ : state) {
-        for (const auto& in : inputs) rig.gather.retrace(*in, rig.ctx);
+        for (const auto& in : inputs) rig.gather->retrace(*in, rig.ctx);
     }
     setRate(state, "rays/s", double(rayCount(inputs)));
     std::size_t hits = 0;
@@ -266,7 +267,7 @@ void sceneKnn(benchmark::State& state, std::string sceneName) {
         StageRig rig(sceneName, raytracePolicy(), &g.gi);
         Batches cameras = rig.cameraBatches(kInputBatches);
         rig.trace(cameras);
-        Batches gathers = rig.spawned(rig.surface, cameras, RayKind::Gather, kInputBatches);
+        Batches gathers = rig.spawned(rig.surface, cameras, kGatherRay, kInputBatches);
         const EmbreeScene& accel = *rig.loaded.accel;
         for (const auto& b : gathers)
             for (int i = 0; i < b->count; ++i)
@@ -317,11 +318,10 @@ const SceneCache& sceneCache(const std::string& sceneName) {
     coarse.width = std::max(1, coarse.width / 8);
     coarse.height = std::max(1, coarse.height / 8);
     requests.beginLevel(std::size_t(coarse.width) * coarse.height * 2);
-    gi.requests = &requests;
     ShadingPolicy policy = raytracePolicy();
-    policy.icPrepass = true;
+    policy.handlersOnly = true;
     {
-        StageRig rig(sceneName, policy, &gi);
+        StageRig rig(sceneName, policy, &gi, &requests);
         CameraEmitter camera(rig.rc, &coarse);
         camera.beginPass(0, 1);
         while (camera.emit(rig.ctx)) {
@@ -332,9 +332,11 @@ const SceneCache& sceneCache(const std::string& sceneName) {
                     if (!rig.ctx.flush()) break;
                     continue;
                 }
-                rig.intersector.trace(*b, rig.stats);
-                if (b->kind == RayKind::Gather)
-                    rig.gather.retrace(*b, rig.ctx);
+                const bool gatherShadow = b->kind == kGatherShadowRay;
+                rig.intersector.trace(*b, rig.stats,
+                                      gatherShadow ? RayQuery::Occlusion : defaultQuery(b->kind));
+                if (b->kind == kGatherRay || gatherShadow)
+                    rig.gather->retrace(*b, rig.ctx);
                 else if (b->kind != RayKind::Shadow)
                     rig.surface.retrace(*b, rig.ctx);
                 rig.pool.release(b);

@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,26 +70,33 @@ struct StageRig {
     ShadowStage shadow;
     ReflectionStage reflection;
     RefractionStage refraction;
-    GatherStage gather;
+    std::optional<GatherStage> gather; // with gi's data: the surface stage's diffuse handler
     SurfaceStage surface;
     PathStage path;
 
-    StageRig(const std::string& sceneName, const ShadingPolicy& p, const GiData* gi = nullptr)
+    // With `gi` the surface stage hands diffuse hits to a gather stage (its prepass's when
+    // `requests` is given).
+    StageRig(const std::string& sceneName, const ShadingPolicy& p, const GiData* gi = nullptr,
+             IcRequests* requests = nullptr)
         : loaded(nativeScene(sceneName)), lights(LightSet::build(*loaded.scene, *loaded.accel)),
           policy(p), film(loaded.scene->camera.width, loaded.scene->camera.height),
           rc{*loaded.scene, *loaded.accel, lights, policy, film, 1}, ctx(queue, pool),
           intersector(loaded.accel->root(), 16), shadow(rc), reflection(rc), refraction(rc),
-          gather(rc), surface(rc, shadow, reflection, refraction, gi ? &gather : nullptr),
-          path(rc) {
-        rc.gi = gi;
+          surface(rc, shadow, reflection, refraction), path(rc) {
+        if (gi) {
+            gather.emplace(rc, *gi, requests);
+            surface.addDiffuseHandler(*gather);
+        }
         ctx.stats = &stats;
     }
     ~StageRig() {
         ctx.flush();
-        drain(RayKind::Count, 0);
+        drainAll();
     }
     StageRig(const StageRig&) = delete;
 
+    // Pops every queued batch and returns it to the pool.
+    void drainAll() { drain(RayKind::Camera, 0); }
     // Pops every queued batch; keeps copies of those of `kind`, at most `keep` of them
     // (appended to `out` when given); returns them to the pool.
     void drain(RayKind kind, std::size_t keep, Batches* out = nullptr) {
@@ -111,7 +119,7 @@ struct StageRig {
             if (u % stride == 0)
                 drain(RayKind::Camera, count, &out);
             else
-                drain(RayKind::Count, 0);
+                drainAll();
         }
         return out;
     }

@@ -11,25 +11,15 @@ namespace rayproc::bench {
 RenderConfig RenderConfig::forMode(const Scene& scene, const std::string& mode, int spp) {
     RenderConfig c;
     c.mode = mode;
-    ModeOverrides none;
-    c.preview = previewSettings(scene.render, none);
-    c.raytrace = raytraceSettings(scene.render, none);
-    c.gi = giSettings(scene, none);
-    c.path = pathSettings(scene.render, none);
+    static_cast<ModeSettings&>(c) = ModeSettings::forScene(scene, ModeOverrides{});
     c.engine.quiet = true;
     c.setSpp(spp);
     return c;
 }
 
 int RenderConfig::spp() const {
-    if (mode == "preview") return preview.spp;
-    if (mode == "raytrace") return raytrace.spp;
-    if (mode == "gi") return gi.spp;
-    return path.spp;
-}
-
-void RenderConfig::setSpp(int spp) {
-    preview.spp = raytrace.spp = gi.spp = path.spp = spp;
+    const ModeEntry* entry = findMode(mode);
+    return entry ? entry->spp(*this) : path.spp;
 }
 
 void applyGiVariant(RenderConfig& c, const GiVariant& variant) {
@@ -74,17 +64,9 @@ std::string RenderConfig::settingsString() const {
 TimedRender renderTimed(const Scene& scene, const EmbreeScene& accel, const RenderConfig& c) {
     using Clock = std::chrono::steady_clock;
     Clock::time_point start = Clock::now();
-    RenderResult r;
-    if (c.mode == "preview")
-        r = renderPreview(scene, accel, c.preview, c.engine);
-    else if (c.mode == "raytrace")
-        r = renderRaytrace(scene, accel, c.raytrace, c.engine);
-    else if (c.mode == "gi")
-        r = renderGi(scene, accel, c.gi, c.engine);
-    else if (c.mode == "path")
-        r = renderPath(scene, accel, c.path, c.engine);
-    else
-        throw InputError("unknown mode '" + c.mode + "'");
+    const ModeEntry* entry = findMode(c.mode);
+    if (!entry) throw InputError("unknown mode '" + c.mode + "'");
+    RenderResult r = entry->render(scene, accel, c, c.engine);
     TimedRender t;
     t.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     t.image = std::move(r.image);

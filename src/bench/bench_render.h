@@ -7,6 +7,7 @@
 
 #include "accel/embree_scene.h"
 #include "image/image.h"
+#include "modes/mode_registry.h"
 #include "modes/modes.h"
 #include "scene/scene.h"
 
@@ -15,20 +16,15 @@
 
 namespace rayproc::bench {
 
-// Every mode's settings; `mode` picks the one used.
-struct RenderConfig {
+// Every mode's settings; `mode` picks the one used (modes/mode_registry.h).
+struct RenderConfig : ModeSettings {
     std::string mode;
-    PreviewSettings preview;
-    RaytraceSettings raytrace;
-    GiSettings gi;
-    PathSettings path;
     EngineSettings engine;
 
     // The mode's settings from the scene's render block (as `rayproc render` would take them,
     // without CLI overrides) and `spp` samples per pixel.
     static RenderConfig forMode(const Scene& scene, const std::string& mode, int spp);
     int spp() const;
-    void setSpp(int spp);
     // The results.csv settings column: "spp=N" plus, for gi, the swept settings
     // ("gather=64 ic=0.25 photons=200000"), plus every switch that is off ("packets=1",
     // "no-irradiance-cache", ...). Enough to reproduce the render with `rayproc render`.

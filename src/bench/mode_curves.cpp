@@ -1,15 +1,15 @@
 #include "bench/mode_curves.h"
 
+#include "modes/modes.h"
+
 #include <algorithm>
 
 namespace rayproc::bench {
 
 namespace {
 
-const std::vector<std::string>& ownModes() {
-    static const std::vector<std::string> modes = {"preview", "raytrace", "gi", "path"};
-    return modes;
-}
+// rayproc's own modes (modes/mode_registry.h), in their order; the others are peers'.
+const std::vector<std::string>& ownModes() { return knownModes(); }
 
 } // namespace
 

@@ -13,6 +13,7 @@
 #include "image/display_client.h"
 #include "image/image.h"
 #include "image/metrics.h"
+#include "modes/mode_registry.h"
 #include "modes/modes.h"
 #include "modes/render_watch.h"
 #include "scene/scene_loader.h"
@@ -85,6 +86,17 @@ std::string joinModes() {
     return s;
 }
 
+// --mode's help: every registered mode with its description.
+std::string modeHelp() {
+    std::string s = "Rendering mode: ";
+    const std::vector<ModeEntry>& modes = modeRegistry();
+    for (std::size_t i = 0; i < modes.size(); ++i) {
+        if (i > 0) s += i + 1 < modes.size() ? ", " : " or ";
+        s += std::string(modes[i].name) + " (" + modes[i].description + ")";
+    }
+    return s + ". Default: the scene's render.mode, else " + defaultMode();
+}
+
 // The files a render reads and writes, for checkDistinctFiles.
 std::vector<NamedPath> renderFiles(const RenderArgs& a, const std::string& output) {
     return {{"scene", a.scene, false},
@@ -92,6 +104,37 @@ std::vector<NamedPath> renderFiles(const RenderArgs& a, const std::string& outpu
             {a.output.empty() ? "the output (default)" : "-o", output, true},
             {"--stats-json", a.statsJson, true},
             {"--error-log", a.errorLog, true}};
+}
+
+// gi's options from the command line on its settings.
+void applyGiOptions(const RenderArgs& a, GiSettings& s) {
+    if (a.photons >= 0) s.photons = a.photons;
+    if (a.photonRounds > 0) s.photonRounds = a.photonRounds;
+    if (a.globalK > 0) s.globalK = a.globalK;
+    if (a.causticPhotons >= 0) s.causticPhotons = a.causticPhotons;
+    if (a.gatherRays > 0) s.gatherRays = a.gatherRays;
+    if (a.filmGatherRays > 0) s.filmGatherRays = a.filmGatherRays;
+    if (a.icAccuracy > 0) s.icAccuracy = a.icAccuracy;
+    if (a.icRefineRays >= 0) s.icRefineRays = a.icRefineRays;
+    if (a.icCorrectionRays >= 0) s.icCorrectionRays = a.icCorrectionRays;
+    s.irradianceCache = !a.noCache;
+    s.caustics = !a.noCaustics;
+    s.progressiveCaustics = !a.noProgressiveCaustics;
+    s.causticPixelRadius = !a.noCausticPixelRadius;
+    if (a.causticAlpha > 0) s.causticAlpha = a.causticAlpha;
+    if (a.causticRadius > 0) s.causticRadius = a.causticRadius;
+    s.precomputedIrradiance = !a.noPrecomputed;
+    s.lazyIrradiance = !a.noLazyIrradiance;
+    s.gatherDirect = !a.noGatherDirect;
+    s.mapCorrection = a.mapCorrection;
+    s.roulette = !a.noRoulette;
+    s.icGradients = !a.noIcGradients;
+    s.icSmoothing = !a.noIcSmoothing;
+    s.debugView = a.debugView == "photons"      ? GiDebugView::Photons
+                  : a.debugView == "ic-records" ? GiDebugView::IcRecords
+                  : a.debugView == "caustics"   ? GiDebugView::Caustics
+                  : a.debugView == "indirect"   ? GiDebugView::Indirect
+                                                : GiDebugView::None;
 }
 
 int runRender(const RenderArgs& a) {
@@ -290,62 +333,15 @@ int runRender(const RenderArgs& a) {
                              : "",
                          scene->camera.width, scene->camera.height);
     };
-    if (mode == "preview") {
-        PreviewSettings s = previewSettings(scene->render, overrides);
-        logSettings(s.toString());
-        checkMemory(pixels, 0, 0);
-        result = renderPreview(*scene, accel, s, engine);
-    } else if (mode == "gi") {
-        GiSettings s = giSettings(*scene, overrides);
-        if (a.photons >= 0) s.photons = a.photons;
-        if (a.photonRounds > 0) s.photonRounds = a.photonRounds;
-        if (a.globalK > 0) s.globalK = a.globalK;
-        if (a.causticPhotons >= 0) s.causticPhotons = a.causticPhotons;
-        if (a.gatherRays > 0) s.gatherRays = a.gatherRays;
-        if (a.filmGatherRays > 0) s.filmGatherRays = a.filmGatherRays;
-        if (a.icAccuracy > 0) s.icAccuracy = a.icAccuracy;
-        if (a.icRefineRays >= 0) s.icRefineRays = a.icRefineRays;
-        if (a.icCorrectionRays >= 0) s.icCorrectionRays = a.icCorrectionRays;
-        s.irradianceCache = !a.noCache;
-        s.caustics = !a.noCaustics;
-        s.progressiveCaustics = !a.noProgressiveCaustics;
-        s.causticPixelRadius = !a.noCausticPixelRadius;
-        if (a.causticAlpha > 0) s.causticAlpha = a.causticAlpha;
-        if (a.causticRadius > 0) s.causticRadius = a.causticRadius;
-        s.precomputedIrradiance = !a.noPrecomputed;
-        s.lazyIrradiance = !a.noLazyIrradiance;
-        s.gatherDirect = !a.noGatherDirect;
-        s.mapCorrection = a.mapCorrection;
-        s.roulette = !a.noRoulette;
-        s.icGradients = !a.noIcGradients;
-        s.icSmoothing = !a.noIcSmoothing;
-        s.debugView = a.debugView == "photons"      ? GiDebugView::Photons
-                      : a.debugView == "ic-records" ? GiDebugView::IcRecords
-                      : a.debugView == "caustics"   ? GiDebugView::Caustics
-                      : a.debugView == "indirect"   ? GiDebugView::Indirect
-                                                    : GiDebugView::None;
-        logSettings(s.toString());
-        // One round of the global map: most scenes take one (docs/robustness.md, "Memory").
-        // Progressive caustics' passes of several samples trace maps of several times the photons.
-        const std::uint64_t caustic = std::uint64_t(std::max(0, s.causticPhotons));
-        checkMemory(pixels, std::uint64_t(std::max(0, s.photons)),
-                    !s.caustics ? 0
-                    : s.progressiveCaustics ? progressiveMaxPassPhotons(caustic)
-                                            : caustic);
-        result = renderGi(*scene, accel, s, engine);
-    } else if (mode == "path") {
-        PathSettings s = pathSettings(scene->render, overrides);
-        s.roulette = !a.noRoulette;
-        logSettings(s.toString());
-        checkMemory(pixels, 0, 0);
-        result = renderPath(*scene, accel, s, engine);
-    } else {
-        RaytraceSettings s = raytraceSettings(scene->render, overrides);
-        s.roulette = !a.noRoulette;
-        logSettings(s.toString());
-        checkMemory(pixels, 0, 0);
-        result = renderRaytrace(*scene, accel, s, engine);
-    }
+    // The mode's settings (each mode reads its own), with the command line's options.
+    const ModeEntry& entry = *findMode(mode);
+    ModeSettings settings = ModeSettings::forScene(*scene, overrides);
+    applyGiOptions(a, settings.gi);
+    settings.raytrace.roulette = settings.path.roulette = !a.noRoulette;
+    logSettings(entry.describe(settings));
+    const auto [photons, causticPhotons] = entry.photons(settings);
+    checkMemory(pixels, photons, causticPhotons);
+    result = entry.render(*scene, accel, settings, engine);
 
     // The job's communication, summed over the ranks (a collective; zero for one process).
     std::vector<std::uint64_t> sent{cluster.bytesSent()};
@@ -415,24 +411,15 @@ int runRender(const RenderArgs& a) {
     return 0;
 }
 
-} // namespace
-
-std::function<int()> addRenderCommand(CLI::App& app) {
-    auto args = std::make_shared<RenderArgs>();
-    CLI::App* cmd = app.add_subcommand("render", "Render a scene to an image");
+// The scene, the output, the mode and its basic settings, the image size, PNG output.
+void addSceneOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_option("scene", args->scene, "Scene file: JSON (docs/scene-format.md) or pbrt-v4 (docs/pbrt-import.md)")
         ->required()
         ->check(CLI::ExistingFile);
     cmd->add_option("-o,--output", args->output,
                     "Output image: .png (8-bit sRGB, tone-mapped), .exr, .hdr or .pfm (linear "
                     "radiance). Default: <scene name>.png in the current directory");
-    cmd->add_option("--mode", args->mode,
-                    "Rendering mode: preview (real-time approximation: point lights at area-light "
-                    "corners, hard shadows), raytrace (direct light with soft shadows, mirror "
-                    "reflection, Fresnel refraction), gi (photon mapping with final gathering and "
-                    "an irradiance cache) or path (unbiased path tracing with next-event "
-                    "estimation and MIS: the reference). Default: the scene's render.mode, else "
-                    "path");
+    cmd->add_option("--mode", args->mode, modeHelp());
     cmd->add_option("--spp", args->spp, "Samples per pixel (default: the mode's, or the scene's)")
         ->check(CLI::Range(1, 1000000));
     cmd->add_option("--threads", args->threads, "Worker threads, for every phase (default: all cores; under mpirun: per rank)")
@@ -461,6 +448,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
         ->check(finiteFloat());
     cmd->add_option("--tonemap", args->tonemap, "PNG tone map: clamp (default), reinhard, aces")
         ->check(CLI::IsMember({"clamp", "reinhard", "aces"}));
+}
+
+// gi's photon, gather and cache counts.
+void addGiCountOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_option("--photons", args->photons,
                     "gi: photons emitted for the global map per round (default 200000); rounds "
                     "repeat until a quarter of this many of the photons the final gather reads "
@@ -508,6 +499,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "irradiance, not the map's; default 4; 0: off, the records keep the map's "
                     "bias)")
         ->check(CLI::Range(0, 65536));
+}
+
+// gi's switches and the caustic estimate's radius.
+void addGiSwitches(CLI::App* cmd, RenderArgs* args) {
     cmd->add_flag("--no-irradiance-cache", args->noCache,
                   "gi: final gather at every diffuse hit instead of interpolating cached records");
     cmd->add_flag("--no-caustics", args->noCaustics, "gi: no caustic photon map");
@@ -550,6 +545,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                   "estimate of all the light there instead of sampling the sun (delta lights) "
                   "and the sky there with one shadow ray each and taking the rest from the map "
                   "(the map blurs sharp shadows and sunlit patches: biased, but no shadow rays)");
+}
+
+// The profiling switches (each an ablation) and the debug views.
+void addProfilingOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_flag("--no-scene-analysis", args->noSceneAnalysis,
                   "Run every pass and stage and sample every light, even those the scene "
                   "analysis finds cannot contribute (for comparisons and profiling)");
@@ -599,6 +598,10 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "relMSE times its spp) and mean.<strategy> (its luminance); "
                     "docs/performance.md)")
         ->check(CLI::IsMember({"none", "photons", "ic-records", "caustics", "indirect", "noise"}));
+}
+
+// The reference and the error log, the stops (target, adaptive, time limit), the watchers and the statistics.
+void addRunOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_option("--reference", args->reference,
                     "Reference image (PNG/EXR/HDR/PFM, same size) for the convergence log")
         ->check(CLI::ExistingFile);
@@ -660,6 +663,19 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     cmd->footer("Exit status: 0 done, 1 bad input or I/O error, 130 interrupted by Ctrl-C, 143 by "
                 "SIGTERM, 129 by SIGHUP (each writes the partial image, or nothing before the first "
                 "sample; a second signal exits at once).");
+}
+
+} // namespace
+
+std::function<int()> addRenderCommand(CLI::App& app) {
+    auto args = std::make_shared<RenderArgs>();
+    CLI::App* cmd = app.add_subcommand("render", "Render a scene to an image");
+    // In this order in --help.
+    addSceneOptions(cmd, args.get());
+    addGiCountOptions(cmd, args.get());
+    addGiSwitches(cmd, args.get());
+    addProfilingOptions(cmd, args.get());
+    addRunOptions(cmd, args.get());
     return [args] { return runRender(*args); };
 }
 

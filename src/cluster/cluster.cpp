@@ -183,9 +183,10 @@ bool agreeInterrupted(const Cluster& cluster) {
 // A new counter in ThreadStats must be added to the list below. The contributions by strategy
 // (path mode's --stats breakdown) are not summed: rank 0 reports its own pixels' (its shares
 // are of those).
-static_assert(sizeof(ThreadStats) == sizeof(StageCounters) * kStageCount +
-                                         10 * sizeof(std::uint64_t) +
-                                         sizeof(std::vector<ContributionMoments>));
+static_assert(sizeof(ThreadStats) ==
+              sizeof(StageCounters) * kStageCount +
+                  (5 + ThreadStats::kModeCounterCount) * sizeof(std::uint64_t) +
+                  sizeof(std::vector<ContributionMoments>));
 
 void sumToRoot(const Cluster& cluster, ThreadStats& s) {
     if (!cluster.distributed()) return;
@@ -196,10 +197,9 @@ void sumToRoot(const Cluster& cluster, ThreadStats& s) {
         counts.push_back(c.raysOut);
         seconds.push_back(c.seconds);
     }
-    std::uint64_t* fields[] = {&s.raysTraced,     &s.samples,       &s.invalidSamples,
-                               &s.clampedSamples, &s.batches,       &s.photonsStored,
-                               &s.cacheLookups,   &s.cacheHits,     &s.causticLookups,
-                               &s.globalLookups};
+    std::vector<std::uint64_t*> fields = {&s.raysTraced, &s.samples, &s.invalidSamples,
+                                          &s.clampedSamples, &s.batches};
+    for (std::uint64_t& c : s.modeCounters) fields.push_back(&c);
     for (std::uint64_t* f : fields) counts.push_back(*f);
     cluster.sumToRoot(counts);
     cluster.sumToRoot(seconds);

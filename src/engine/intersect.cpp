@@ -55,11 +55,11 @@ void loadRays(R& r, const RayBatch& b, int base, int n, int* valid, int K) {
 }
 
 template <int K>
-void tracePackets(RTCScene scene, RayBatch& b, RTCIntersectContext* ctx) {
+void tracePackets(RTCScene scene, RayBatch& b, bool occlusion, RTCIntersectContext* ctx) {
     alignas(64) int valid[K];
     for (int base = 0; base < b.count; base += K) {
         int n = std::min(K, b.count - base);
-        if (isOcclusionRay(b.kind)) {
+        if (occlusion) {
             alignas(64) typename Packet<K>::Ray r;
             loadRays(r, b, base, n, valid, K);
             Packet<K>::occluded(valid, scene, ctx, &r);
@@ -85,14 +85,14 @@ void tracePackets(RTCScene scene, RayBatch& b, RTCIntersectContext* ctx) {
     }
 }
 
-void traceSingle(RTCScene scene, RayBatch& b, RTCIntersectContext* ctx) {
+void traceSingle(RTCScene scene, RayBatch& b, bool occlusion, RTCIntersectContext* ctx) {
     for (int i = 0; i < b.count; ++i) {
         RTCRayHit rh;
         rh.ray.org_x = b.ox[i]; rh.ray.org_y = b.oy[i]; rh.ray.org_z = b.oz[i];
         rh.ray.dir_x = b.dx[i]; rh.ray.dir_y = b.dy[i]; rh.ray.dir_z = b.dz[i];
         rh.ray.tnear = b.tnear[i]; rh.ray.tfar = b.tfar[i];
         rh.ray.time = 0; rh.ray.mask = 0xffffffffu; rh.ray.id = unsigned(i); rh.ray.flags = 0;
-        if (isOcclusionRay(b.kind)) {
+        if (occlusion) {
             rtcOccluded1(scene, ctx, &rh.ray);
             b.tfar[i] = rh.ray.tfar;
         } else {
@@ -120,9 +120,10 @@ Intersector::Intersector(RTCScene scene, int width)
     RAYPROC_CHECK(isValidPacketWidth(width));
 }
 
-void Intersector::trace(RayBatch& b, ThreadStats& stats) const {
-    StageId id = isOcclusionRay(b.kind) ? StageId::Occlude : StageId::Intersect;
-    if (m_recorder) m_recorder->record(b);
+void Intersector::trace(RayBatch& b, ThreadStats& stats, RayQuery query) const {
+    const bool occlusion = query == RayQuery::Occlusion;
+    StageId id = occlusion ? StageId::Occlude : StageId::Intersect;
+    if (m_recorder) m_recorder->record(b, occlusion);
     StageTimer timer(stats, id);
     stats.stages[int(id)].raysIn += b.count;
     stats.raysTraced += b.count;
@@ -132,10 +133,10 @@ void Intersector::trace(RayBatch& b, ThreadStats& stats) const {
     ctx.flags = b.kind == RayKind::Camera ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
                                           : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     switch (m_width) {
-    case 1: traceSingle(m_scene, b, &ctx); break;
-    case 4: tracePackets<4>(m_scene, b, &ctx); break;
-    case 8: tracePackets<8>(m_scene, b, &ctx); break;
-    default: tracePackets<16>(m_scene, b, &ctx); break;
+    case 1: traceSingle(m_scene, b, occlusion, &ctx); break;
+    case 4: tracePackets<4>(m_scene, b, occlusion, &ctx); break;
+    case 8: tracePackets<8>(m_scene, b, occlusion, &ctx); break;
+    default: tracePackets<16>(m_scene, b, occlusion, &ctx); break;
     }
 }
 

@@ -1,6 +1,7 @@
 // The one intersection handler shared by every pass (the paper's "ray-intersection handler").
 // It turns a batch into Embree packets of width K (1, 4, 8 or 16) with valid masks, traces
-// them, and writes the hits back into the batch. Shadow batches use occlusion queries.
+// them, and writes the hits back into the batch. Occlusion batches (shadow rays, and the kinds a
+// mode routes as such) use occlusion queries.
 #pragma once
 
 #include "engine/ray_batch.h"
@@ -12,12 +13,24 @@ namespace rayproc {
 
 class RayRecorder;
 
+// How a batch is traced: its closest hits, or only whether anything lies before tfar (an
+// occluded ray gets tfar < 0).
+enum class RayQuery : std::uint8_t { Closest, Occlusion };
+// The engine's kinds' queries: occlusion for shadow rays. A mode's kinds say theirs when routed
+// (RayProcessor::setStage).
+inline RayQuery defaultQuery(RayKind k) {
+    return k == RayKind::Shadow ? RayQuery::Occlusion : RayQuery::Closest;
+}
+
 class Intersector {
 public:
     // width: 1 selects single-ray rtcIntersect1 / rtcOccluded1; 4, 8, 16 select packets.
     Intersector(RTCScene scene, int width);
     int width() const { return m_width; }
-    void trace(RayBatch& batch, ThreadStats& stats) const;
+    void trace(RayBatch& batch, ThreadStats& stats, RayQuery query) const;
+    void trace(RayBatch& batch, ThreadStats& stats) const {
+        trace(batch, stats, defaultQuery(batch.kind));
+    }
 
 private:
     RTCScene m_scene;

@@ -10,7 +10,8 @@
 //    kFlagEmissionOnly: it adds its MIS share of the emission or sky it finds, nothing else.
 // The shadow stage's retrace adds unoccluded contributions to the film.
 // gi mode runs one too, for its correction paths (gi/correction_stage.h): there its bounces are
-// RayKind::CorrectionPath rays, and an escaping ray flagged kFlagSkipEnvironment adds no sky.
+// rays of gi's correction-path kind (Outputs), and an escaping ray flagged kFlagSkipEnvironment
+// adds no sky.
 #pragma once
 
 #include "engine/render_context.h"

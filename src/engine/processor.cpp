@@ -36,7 +36,7 @@ RayProcessor::RayProcessor(const Intersector& intersector, Stats& stats, int thr
 void RayProcessor::process(RayBatch* batch, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     ++stats.batches;
-    m_intersector.trace(*batch, stats);
+    m_intersector.trace(*batch, stats, m_queries[int(batch->kind)]);
     RetraceStage* stage = m_stages[int(batch->kind)];
     RAYPROC_CHECK(stage != nullptr);
     stage->retrace(*batch, ctx);

@@ -25,7 +25,13 @@ class RayProcessor {
 public:
     RayProcessor(const Intersector& intersector, Stats& stats, int threads);
 
-    void setStage(RayKind kind, RetraceStage* stage) { m_stages[int(kind)] = stage; }
+    // Routes the rays of `kind` to `stage` (null: no stage; a batch of that kind fails a
+    // check), traced as `query` says (a mode's occlusion kinds say so here).
+    void setStage(RayKind kind, RetraceStage* stage, RayQuery query) {
+        m_stages[int(kind)] = stage;
+        m_queries[int(kind)] = query;
+    }
+    void setStage(RayKind kind, RetraceStage* stage) { setStage(kind, stage, defaultQuery(kind)); }
     int threads() const { return m_threads; }
     std::size_t batchesAllocated() const { return m_pool.allocated(); }
 
@@ -46,6 +52,7 @@ private:
     RayQueue m_queue;
     BatchPool m_pool;
     std::array<RetraceStage*, kRayKindCount> m_stages{};
+    std::array<RayQuery, kRayKindCount> m_queries{};
     tbb::enumerable_thread_specific<std::unique_ptr<StageContext>> m_contexts;
     std::atomic<int> m_busy{0};
     std::atomic<bool> m_emitterDone{false};

@@ -13,29 +13,30 @@ namespace rayproc {
 // camera tile is exactly one batch.
 constexpr int kBatchSize = 256;
 
-// What a ray is for. The kind selects the retrace stage that receives the ray's result.
+// What a ray is for. The kind selects the retrace stage that receives the ray's result, and how
+// it is traced (RayProcessor::setStage: closest hit, or occlusion for shadow rays). The engine
+// names its own kinds; a mode's stages take the kinds from kFirstModeRayKind on, named in the
+// mode's own header (gi: gi/gi_pipeline.h). A kind's value also keys its stages' sample
+// numbers, so a mode keeps its kinds' values.
 enum class RayKind : std::uint8_t {
     Camera,     // primary rays from the camera emitter
     Reflection, // spawned by the reflection stage
     Refraction, // spawned by the refraction stage
     Shadow,     // occlusion rays from the shadow stage
-    Photon,     // gi mode, first pass: photons from the photon emitter and their bounces
-    Gather,     // gi mode, second pass: final-gather rays from a diffuse hit
-    GatherShadow, // gi mode: occlusion rays of the light samples where a gather ray lands
-    Correction,   // gi mode: one ray per first diffuse hit whose far end corrects the map's bias
-    CorrectionPath, // gi mode: the path traced on from a correction ray's far end
-    Count
 };
-constexpr int kRayKindCount = int(RayKind::Count);
+constexpr int kFirstModeRayKind = 4;
+constexpr int kModeRayKindCount = 5; // a mode's kinds at most
+constexpr int kRayKindCount = kFirstModeRayKind + kModeRayKindCount;
+// A mode's i-th own kind.
+constexpr RayKind modeRayKind(int i) { return RayKind(kFirstModeRayKind + i); }
+// The engine's kinds' names; "mode-<i>" for a mode's.
 const char* rayKindName(RayKind k);
-// Occlusion rays (any hit before tfar ends them) rather than closest-hit rays.
-inline bool isOcclusionRay(RayKind k) { return k == RayKind::Shadow || k == RayKind::GatherShadow; }
 
 // Per-ray flags.
 enum RayFlags : std::uint8_t {
     kFlagCountEmission = 1,    // add emission where this ray lands (camera and specular chains)
     kFlagCountEnvironment = 2, // add the sky's radiance if this ray escapes
-    kFlagGatherRecord = 4,     // gi prepass: a gather ray of an irradiance-cache record
+    kFlagModeBit = 4, // a mode's own meaning (gi: a gather ray of an irradiance-cache record)
     // raytrace, gi: a ray sampled from a glossy lobe whose light the shadow stage also sampled:
     // emission (and with the second flag the sky) it lands on counts with the MIS weight of
     // its prevPdf against the light samples' (prevPdf 0: no light sample covered it, weight 1).
@@ -44,8 +45,8 @@ enum RayFlags : std::uint8_t {
     // Sampled at a path's last vertex (past --max-depth; raytrace and gi: of a glossy lobe): it
     // adds the MIS share of the emission or sky it finds and nothing else.
     kFlagEmissionOnly = 32,
-    // A path ray whose escape adds nothing: gi's correction paths leave the sky's direct light
-    // at their origin to the gather's light samples (gi/correction_stage.h).
+    // A path ray whose escape adds nothing (gi's correction paths leave the sky's direct light
+    // at their origin to their gather's light samples).
     kFlagSkipEnvironment = 64,
 };
 

@@ -8,14 +8,11 @@ const char* rayKindName(RayKind k) {
     case RayKind::Reflection: return "reflection";
     case RayKind::Refraction: return "refraction";
     case RayKind::Shadow: return "shadow";
-    case RayKind::Photon: return "photon";
-    case RayKind::Gather: return "gather";
-    case RayKind::GatherShadow: return "gather-shadow";
-    case RayKind::Correction: return "correction";
-    case RayKind::CorrectionPath: return "correction-path";
-    case RayKind::Count: break;
     }
-    return "?";
+    static const char* const modeNames[kModeRayKindCount] = {"mode-0", "mode-1", "mode-2",
+                                                             "mode-3", "mode-4"};
+    const int i = int(k) - kFirstModeRayKind;
+    return i >= 0 && i < kModeRayKindCount ? modeNames[i] : "?";
 }
 
 RayBatch* BatchPool::acquire(RayKind kind) {

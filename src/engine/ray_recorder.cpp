@@ -15,10 +15,11 @@ RayRecorder::Scope::~Scope() {
     s_active.store(nullptr, std::memory_order_release);
 }
 
-void RayRecorder::record(const RayBatch& b) {
+void RayRecorder::record(const RayBatch& b, bool occlusion) {
     ThreadLog& log = m_logs.local();
     RecordedBatch r;
     r.kind = b.kind;
+    r.occlusion = occlusion;
     r.count = b.count;
     auto copy = [&](std::vector<float>& to, const std::array<float, kBatchSize>& from) {
         to.assign(from.begin(), from.begin() + b.count);

@@ -7,7 +7,7 @@
 // Intersector built in the process records into it (the mode drivers build their own, so a
 // whole render, gi's photon and cache passes included, can be recorded without changing them).
 //
-// What is kept per traced batch: its kind and the rays as Embree sees them (origin, direction,
+// What is kept per traced batch: its kind, how it was traced, and the rays as Embree sees them (origin, direction,
 // tnear, tfar), before tracing. Optionally the first `fullBatchesPerKind` batches of each kind
 // are also kept whole (payload included), as realistic inputs for the per-stage benchmarks.
 // Recording is thread-safe (one buffer per thread); replay order is per thread, in the order
@@ -15,6 +15,8 @@
 #pragma once
 
 #include "engine/ray_batch.h"
+
+#include <cstdint>
 
 #include <tbb/enumerable_thread_specific.h>
 
@@ -29,6 +31,7 @@ namespace rayproc {
 // The rays of one traced batch, SoA, exactly `count` lanes.
 struct RecordedBatch {
     RayKind kind = RayKind::Camera;
+    bool occlusion = false; // traced as occlusion rays (RayQuery::Occlusion)
     int count = 0;
     std::vector<float> ox, oy, oz, dx, dy, dz, tnear, tfar;
 };
@@ -38,7 +41,7 @@ public:
     explicit RayRecorder(std::size_t fullBatchesPerKind = 0) : m_fullCap(fullBatchesPerKind) {}
 
     // Called by the Intersector before it traces `b`; from any thread.
-    void record(const RayBatch& b);
+    void record(const RayBatch& b, bool occlusion);
 
     // Every recorded batch: the first thread's in its order, then the next thread's, ...
     std::vector<RecordedBatch> batches() const;

@@ -12,7 +12,6 @@
 
 namespace rayproc {
 
-struct GiData;
 class NoiseBreakdown;
 
 // How surfaces are shaded: the knobs that make preview and raytrace modes differ.
@@ -32,9 +31,11 @@ struct ShadingPolicy {
     // dimensions need the render's samples per pixel.
     int rrStartDepth = 3;
     int sppTotal = 1;
-    // gi: the irradiance cache's prepass only creates records at first diffuse hits, and a
-    // debug view may keep only one component (direct light and emission are dropped).
-    bool icPrepass = false;
+    // A prepass for the surface stage's diffuse-hit handlers (gi's irradiance cache): no direct
+    // light and no glossy or coated lobe, only the handlers and the specular chains that lead
+    // to diffuse hits get work. And a debug view may keep only one component (directLight
+    // off: direct light and emission are dropped).
+    bool handlersOnly = false;
     bool directLight = true;
     // Stratified camera, light and gather samples; off (--no-stratification): independent
     // uniform numbers from the same streams.
@@ -66,7 +67,6 @@ struct RenderContext {
     const ShadingPolicy& policy;
     Film& film;
     std::uint64_t seed = 0;
-    const GiData* gi = nullptr; // gi mode: photon maps, irradiance cache
     // Path mode's --debug-view noise: every contribution is also filed by pixel and strategy.
     NoiseBreakdown* noise = nullptr;
 };

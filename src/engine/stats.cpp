@@ -9,28 +9,12 @@
 
 namespace rayproc {
 
-const char* stageName(StageId s) {
-    switch (s) {
-    case StageId::CameraEmit: return "camera";
-    case StageId::Intersect: return "intersect";
-    case StageId::Occlude: return "occlude";
-    case StageId::Surface: return "surface";
-    case StageId::Shadow: return "shadow";
-    case StageId::Reflection: return "reflection";
-    case StageId::Refraction: return "refraction";
-    case StageId::Photon: return "photon";
-    case StageId::Gather: return "gather";
-    case StageId::Correction: return "correction";
-    case StageId::Count: break;
-    }
-    return "?";
-}
-
-const std::array<StageId, kStageCount>& pipelineOrder() {
-    static const std::array<StageId, kStageCount> order{
-        StageId::CameraEmit, StageId::Photon,     StageId::Intersect, StageId::Surface,
-        StageId::Reflection, StageId::Refraction, StageId::Shadow,    StageId::Occlude,
-        StageId::Gather,     StageId::Correction};
+const std::vector<StageLabel>& enginePipeline() {
+    static const std::vector<StageLabel> order{
+        {StageId::CameraEmit, "camera"},     {StageId::Intersect, "intersect"},
+        {StageId::Surface, "surface"},       {StageId::Reflection, "reflection"},
+        {StageId::Refraction, "refraction"}, {StageId::Shadow, "shadow"},
+        {StageId::Occlude, "occlude"}};
     return order;
 }
 
@@ -47,11 +31,7 @@ ThreadStats Stats::merged() const {
         t.invalidSamples += s.invalidSamples;
         t.clampedSamples += s.clampedSamples;
         t.batches += s.batches;
-        t.photonsStored += s.photonsStored;
-        t.cacheLookups += s.cacheLookups;
-        t.cacheHits += s.cacheHits;
-        t.causticLookups += s.causticLookups;
-        t.globalLookups += s.globalLookups;
+        for (int c = 0; c < ThreadStats::kModeCounterCount; ++c) t.modeCounters[c] += s.modeCounters[c];
         if (t.contributions.size() < s.contributions.size()) t.contributions.resize(s.contributions.size());
         for (std::size_t c = 0; c < s.contributions.size(); ++c) t.contributions[c].merge(s.contributions[c]);
     }
@@ -110,10 +90,10 @@ std::string RenderStats::toTable() const {
     o << line;
     double total = 0;
     for (auto& s : totals.stages) total += s.seconds;
-    for (StageId id : pipelineOrder()) {
-        const StageCounters& s = totals.stages[int(id)];
+    for (const StageLabel& stage : stages()) {
+        const StageCounters& s = totals.stages[int(stage.id)];
         std::snprintf(line, sizeof line, "%-12s %14llu %14llu %10.3f %7.1f%%\n",
-                      stageName(id), (unsigned long long)s.raysIn,
+                      stage.name, (unsigned long long)s.raysIn,
                       (unsigned long long)s.raysOut, s.seconds,
                       total > 0 ? 100.0 * s.seconds / total : 0.0);
         o << line;
@@ -156,16 +136,16 @@ std::string RenderStats::toJson() const {
     j["peak_memory_bytes"] = peakMemoryBytes;
     j["batches_allocated"] = batchesAllocated;
     j["pixels_without_samples"] = pixelsWithoutSamples;
-    nlohmann::json stages = nlohmann::json::object();
-    for (int i = 0; i < kStageCount; ++i) {
-        const StageCounters& s = totals.stages[i];
-        stages[stageName(StageId(i))] = {{"rays", s.raysIn}, {"rays_out", s.raysOut},
-                                         {"seconds", s.seconds}};
+    nlohmann::json stageTable = nlohmann::json::object();
+    nlohmann::json order = nlohmann::json::array();
+    for (const StageLabel& stage : stages()) {
+        const StageCounters& s = totals.stages[int(stage.id)];
+        stageTable[stage.name] = {{"rays", s.raysIn}, {"rays_out", s.raysOut},
+                                  {"seconds", s.seconds}};
+        order.push_back(stage.name);
     }
-    j["stages"] = stages;
-    nlohmann::json pipeline = nlohmann::json::array();
-    for (StageId id : pipelineOrder()) pipeline.push_back(stageName(id));
-    j["pipeline"] = pipeline;
+    j["stages"] = stageTable;
+    j["pipeline"] = order;
     if (!phases.empty()) {
         const PhaseSummary sum = summarizePhases(phases, processSeconds);
         nlohmann::json list = nlohmann::json::array();

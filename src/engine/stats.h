@@ -15,7 +15,9 @@
 
 namespace rayproc {
 
-// Every named stage of the pipeline. Rays in / rays out / seconds are kept for each.
+// Every named stage of the pipeline. Rays in / rays out / seconds are kept for each. The engine
+// names its own; a mode's stages take the ids from kFirstModeStage on, named by the mode
+// (gi: gi/gi_pipeline.h) in the render's pipeline (RenderStats::pipeline).
 enum class StageId {
     CameraEmit, // camera emitter: primary rays generated
     Intersect,  // rtcIntersect over radiance rays
@@ -24,16 +26,22 @@ enum class StageId {
     Shadow,     // light sampling (rays out) and occlusion results (rays in)
     Reflection,
     Refraction,
-    Photon,     // gi: photon emission and scattering (rays out), photon hits (rays in)
-    Gather,     // gi: final-gather rays spawned (rays out) and resolved (rays in)
-    Correction, // gi: the map's correction rays spawned (rays out) and resolved (rays in)
-    Count
 };
-constexpr int kStageCount = int(StageId::Count);
-const char* stageName(StageId s);
-// The stages as the pipeline runs them (--stats prints them so): the emitters, traversal, the
-// retrace stages (surface first, then what it routes to), then gi's; the film comes last.
-const std::array<StageId, kStageCount>& pipelineOrder();
+constexpr int kFirstModeStage = 7;
+constexpr int kModeStageCount = 3; // a mode's stages at most
+constexpr int kStageCount = kFirstModeStage + kModeStageCount;
+// A mode's i-th own stage.
+constexpr StageId modeStage(int i) { return StageId(kFirstModeStage + i); }
+
+// A stage as --stats names it.
+struct StageLabel {
+    StageId id;
+    const char* name;
+};
+// The engine's stages as the pipeline runs them (--stats prints them so): the camera emitter,
+// traversal, then the retrace stages (surface first, then what it routes to); a mode's own
+// stages follow them, the film comes last.
+const std::vector<StageLabel>& enginePipeline();
 
 struct StageCounters {
     std::uint64_t raysIn = 0;
@@ -74,10 +82,9 @@ struct ThreadStats {
     std::uint64_t invalidSamples = 0; // NaN/Inf contributions discarded before the film
     std::uint64_t clampedSamples = 0; // contributions beyond the film's fixed-point range
     std::uint64_t batches = 0;
-    // gi mode
-    std::uint64_t photonsStored = 0;
-    std::uint64_t cacheLookups = 0, cacheHits = 0;
-    std::uint64_t causticLookups = 0, globalLookups = 0;
+    // A mode's own counts, indexed by the mode's names for them (gi: gi/gi_pipeline.h).
+    static constexpr int kModeCounterCount = 6;
+    std::array<std::uint64_t, kModeCounterCount> modeCounters{};
     // path mode (and gi's correction paths): by category, see contributionOfLightSample
     std::vector<ContributionMoments> contributions;
     void addContribution(std::size_t category, double luminance) {
@@ -95,12 +102,18 @@ struct RenderStats {
     // Mode-specific figures ("gi/photons stored", ...), printed after the table and written
     // to the JSON as an object under their category.
     std::vector<std::pair<std::string, double>> extras;
+    // The stages of the render's pipeline in order, named (--stats' rows, the JSON's "stages"
+    // and "pipeline"); empty: the engine's (enginePipeline()).
+    std::vector<StageLabel> pipeline;
     // Where the whole command's time went (engine/phases.h), filled by the render command:
     // empty for renders run by serve and bench. processSeconds is the command's wall time
     // from before the scene load to after the image write; threads the processor's.
     std::vector<PhaseStats> phases;
     double processSeconds = 0;
     int threads = 0;
+    const std::vector<StageLabel>& stages() const {
+        return pipeline.empty() ? enginePipeline() : pipeline;
+    }
     std::string toTable() const;
     std::string toJson() const;
 };

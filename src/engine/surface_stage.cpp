@@ -4,110 +4,135 @@
 #include "engine/glossy_mis.h"
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
-#include "gi/correction_stage.h"
-#include "gi/gather_stage.h"
 
 namespace rayproc {
 
+namespace {
+// The hits of a batch by the stages that continue them.
+struct Routes {
+    HitList direct, reflect, refract, indirect;
+};
+
+// Routes hit h of lane i by its material: `addDirect` light sampling, `handled` diffuse hits
+// to the mode's handlers (the light past a glossy bounce theirs), `prepass` the handlers' alone.
+void routeByMaterial(const Scene& scene, int i, const SurfaceHit& h, bool countEmission,
+                            bool addDirect, bool handled, bool prepass, Routes& r) {
+    const MaterialType type = scene.materials[h.material].type;
+    const MaterialClass cls = materialClass(scene.materials, h.material);
+    switch (type) {
+    case MaterialType::Diffuse:
+    case MaterialType::DiffuseTransmission:
+    case MaterialType::CoatedDiffuse:
+        // gi: past a glossy bounce the global map gives all reflected light, direct too.
+        if (addDirect && (!handled || countEmission)) r.direct.add(i, h);
+        if (handled) r.indirect.add(i, h);
+        // The coat's reflection of the scene, mirror or rough, traced by the reflection stage
+        // (kernels::sampleCoatReflection).
+        if (type == MaterialType::CoatedDiffuse && !prepass)
+            r.reflect.add(i, h, addDirect && (!handled || countEmission));
+        break;
+    case MaterialType::Glossy:
+        if (prepass) break;
+        if (addDirect) r.direct.add(i, h);
+        r.reflect.add(i, h, addDirect);
+        break;
+    case MaterialType::Dielectric:
+        if (cls == MaterialClass::Specular) {
+            r.refract.add(i, h);
+            break;
+        }
+        [[fallthrough]]; // rough glass: light sampling and one sampled continuation
+    case MaterialType::Conductor:
+        if (cls == MaterialClass::Glossy) {
+            if (prepass) break;
+            if (addDirect) r.direct.add(i, h);
+        }
+        r.reflect.add(i, h, cls == MaterialClass::Glossy && addDirect);
+        break;
+    case MaterialType::Mirror:
+    case MaterialType::ThinDielectric: r.reflect.add(i, h); break;
+    case MaterialType::Mix: break; // resolved by the caller
+    }
+}
+} // namespace
+
+// The sky's radiance where lane i's ray escapes, if it counts the sky (MIS-weighted after a
+// glossy bounce whose light the shadow stage sampled too).
+void SurfaceStage::addEscaped(const RayBatch& b, int i, ThreadStats& stats) const {
+    if (!(b.flags[i] & kFlagCountEnvironment) || !m_rc.lights.hasEnvironment()) return;
+    Vec3 d = laneDirection(b, i);
+    float mis = (b.flags[i] & kFlagMisEnvironment)
+                    ? reflectionEnvironmentWeight(m_rc.policy, m_rc.lights.environment, d,
+                                                  b.prevCos[i], b.prevPdf[i])
+                    : 1.0f;
+    m_rc.film.add(b.pixel[i], laneThroughput(b, i) * m_rc.lights.environment.radiance(d) * mis,
+                  stats);
+}
+
+// Lane i's hit: its surface, the absorption of the medium it crossed (into the lane's
+// throughput, which the stages below read) and, with direct light, the emission it lands on.
+SurfaceHit SurfaceStage::resolveHit(RayBatch& b, int i, bool addDirect,
+                                    ThreadStats& stats) const {
+    Vec3 w = laneThroughput(b, i);
+    Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
+    SurfaceHit h =
+        m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
+    Vec3 absorbed = interiorTransmittance(h, o, d);
+    if (absorbed.x != 1.0f || absorbed.y != 1.0f || absorbed.z != 1.0f) {
+        w = w * absorbed;
+        b.wr[i] = w.x;
+        b.wg[i] = w.y;
+        b.wb[i] = w.z;
+    }
+    const bool countEmission = (b.flags[i] & kFlagCountEmission) != 0;
+    const bool misEmission = (b.flags[i] & kFlagMisEmission) != 0;
+    Vec3 le = addDirect && (countEmission || misEmission) ? emittedRadiance(*h.shape, h.ng, -d)
+                                                          : Vec3(0.0f);
+    if (!isBlack(le)) {
+        // A glossy lobe's sampled ray takes its MIS share of the light samples' emission; an
+        // emitter outside the sampled light set no light sample covered.
+        float mis = 1.0f;
+        int li = countEmission ? -1 : m_rc.lights.indexOf(h.shape, h.instance);
+        if (li >= 0)
+            mis = reflectionEmissionWeight(m_rc.policy, m_rc.lights, std::size_t(li), o, h.p,
+                                           h.ng, b.prevPdf[i]);
+        m_rc.film.add(b.pixel[i], w * le * mis, stats);
+    }
+    return h;
+}
+
 void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
-    HitList direct, reflect, refract, indirect;
-    const bool gi = m_gather != nullptr;
-    const bool prepass = m_rc.policy.icPrepass;
+    Routes r;
+    // With diffuse-hit handlers, the light past a non-specular bounce is theirs (gi).
+    const bool handled = !m_diffuseHandlers.empty();
+    const bool prepass = m_rc.policy.handlersOnly; // gi: the irradiance cache's prepass
     const bool addDirect = m_rc.policy.directLight && !prepass;
     {
         StageTimer timer(stats, StageId::Surface);
         stats.stages[int(StageId::Surface)].raysIn += std::uint64_t(b.count);
-        const auto& materials = m_rc.scene.materials;
         for (int i = 0; i < b.count; ++i) {
-            Vec3 w = laneThroughput(b, i);
-            bool countEmission = (b.flags[i] & kFlagCountEmission) != 0;
             if (!b.hit(i)) {
-                if (addDirect && (b.flags[i] & kFlagCountEnvironment) && m_rc.lights.hasEnvironment()) {
-                    Vec3 d = laneDirection(b, i);
-                    float mis = (b.flags[i] & kFlagMisEnvironment)
-                                    ? reflectionEnvironmentWeight(m_rc.policy, m_rc.lights.environment,
-                                                                  d, b.prevCos[i], b.prevPdf[i])
-                                    : 1.0f;
-                    m_rc.film.add(b.pixel[i], w * m_rc.lights.environment.radiance(d) * mis, stats);
-                }
+                if (addDirect) addEscaped(b, i, stats);
                 continue;
             }
-            Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
-            SurfaceHit h =
-                m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
-            Vec3 absorbed = interiorTransmittance(h, o, d);
-            if (absorbed.x != 1.0f || absorbed.y != 1.0f || absorbed.z != 1.0f) {
-                w = w * absorbed; // the stages below read the lane's throughput
-                b.wr[i] = w.x;
-                b.wg[i] = w.y;
-                b.wb[i] = w.z;
-            }
-            const bool misEmission = (b.flags[i] & kFlagMisEmission) != 0;
-            Vec3 le = addDirect && (countEmission || misEmission)
-                          ? emittedRadiance(*h.shape, h.ng, -d)
-                          : Vec3(0.0f);
-            if (!isBlack(le)) {
-                // A glossy lobe's sampled ray takes its MIS share of the light samples'
-                // emission; an emitter outside the sampled light set no light sample covered.
-                float mis = 1.0f;
-                int li = countEmission ? -1 : m_rc.lights.indexOf(h.shape, h.instance);
-                if (li >= 0)
-                    mis = reflectionEmissionWeight(m_rc.policy, m_rc.lights, std::size_t(li), o,
-                                                   h.p, h.ng, b.prevPdf[i]);
-                m_rc.film.add(b.pixel[i], w * le * mis, stats);
-            }
+            SurfaceHit h = resolveHit(b, i, addDirect, stats);
             if (b.flags[i] & kFlagEmissionOnly) continue; // a last vertex's MIS partner
-
-            resolveShading(m_rc.scene, h, -d);
-            const MaterialType type = materials[h.material].type;
-            const MaterialClass cls = materialClass(materials, h.material);
-            switch (type) {
-            case MaterialType::Diffuse:
-            case MaterialType::DiffuseTransmission:
-            case MaterialType::CoatedDiffuse:
-                // gi: past a glossy bounce the global map gives all reflected light, direct too.
-                if (addDirect && (!gi || countEmission)) direct.add(i, h);
-                if (gi) indirect.add(i, h);
-                // The coat's reflection of the scene, mirror or rough, traced by the
-                // reflection stage (kernels::sampleCoatReflection).
-                if (type == MaterialType::CoatedDiffuse && !prepass)
-                    reflect.add(i, h, addDirect && (!gi || countEmission));
-                break;
-            case MaterialType::Glossy:
-                if (prepass) break;
-                if (addDirect) direct.add(i, h);
-                reflect.add(i, h, addDirect);
-                break;
-            case MaterialType::Dielectric:
-                if (cls == MaterialClass::Specular) {
-                    refract.add(i, h);
-                    break;
-                }
-                [[fallthrough]]; // rough glass: light sampling and one sampled continuation
-            case MaterialType::Conductor:
-                if (cls == MaterialClass::Glossy) {
-                    if (prepass) break;
-                    if (addDirect) direct.add(i, h);
-                }
-                reflect.add(i, h, cls == MaterialClass::Glossy && addDirect);
-                break;
-            case MaterialType::Mirror:
-            case MaterialType::ThinDielectric: reflect.add(i, h); break;
-            case MaterialType::Mix: break; // resolved above
-            }
+            resolveShading(m_rc.scene, h, -laneDirection(b, i));
+            routeByMaterial(m_rc.scene, i, h, (b.flags[i] & kFlagCountEmission) != 0, addDirect,
+                            handled, prepass, r);
         }
     }
     // A stage the scene analysis skipped getting work means the analysis is wrong.
     const ShadingPolicy& policy = m_rc.policy;
-    RAYPROC_CHECK(policy.shadowStage || direct.count == 0);
-    RAYPROC_CHECK(policy.reflectionStage || reflect.count == 0);
-    RAYPROC_CHECK(policy.refractionStage || refract.count == 0);
-    if (direct.count) m_shadow.spawn(b, direct, ctx);
-    if (indirect.count) m_gather->spawn(b, indirect, ctx);
-    if (indirect.count && m_correction) m_correction->spawn(b, indirect, ctx);
-    if (reflect.count) m_reflection.spawn(b, reflect, ctx);
-    if (refract.count) m_refraction.spawn(b, refract, ctx);
+    RAYPROC_CHECK(policy.shadowStage || r.direct.count == 0);
+    RAYPROC_CHECK(policy.reflectionStage || r.reflect.count == 0);
+    RAYPROC_CHECK(policy.refractionStage || r.refract.count == 0);
+    if (r.direct.count) m_shadow.spawn(b, r.direct, ctx);
+    if (r.indirect.count)
+        for (DiffuseHitHandler* handler : m_diffuseHandlers) handler->spawn(b, r.indirect, ctx);
+    if (r.reflect.count) m_reflection.spawn(b, r.reflect, ctx);
+    if (r.refract.count) m_refraction.spawn(b, r.refract, ctx);
 }
 
 } // namespace rayproc

@@ -19,7 +19,7 @@
 namespace rayproc {
 
 CacheRefinement::CacheRefinement(const Scene& scene, const EmbreeScene& accel,
-                                 const LightSet& lights, GiData& gi, IrradianceCache& cache,
+                                 const LightSet& lights, const GiData& gi, IrradianceCache& cache,
                                  const EngineSettings& engine, const Cluster& cluster, Stats& stats)
     : m_scene(scene), m_accel(accel), m_lights(lights), m_gi(gi), m_cache(cache), m_engine(engine),
       m_cluster(cluster), m_stats(stats) {
@@ -98,10 +98,18 @@ void CacheRefinement::beginPass(int pass) {
     const std::vector<IrradianceRecord>& records = m_cache.records();
     const bool correcting = s.icCorrectionRays > 0 && m_gi.global && m_gi.global->size() > 0;
     if ((s.icRefineRays <= 0 && !correcting) || records.empty() || stopped(m_cluster)) return;
-    std::uint64_t first = 0, last = 0;
-    shareOf(records.size(), m_cluster.rank(), m_cluster.size(), first, last);
     // The film's half buffer this pass goes to (render_job.cpp: pass % 2).
     const int parity = pass % 2;
+    PassSums sums = tracePass(pass, correcting);
+    if (correcting) foldCorrections(sums, parity);
+    updateRecords(sums, parity, correcting);
+}
+
+CacheRefinement::PassSums CacheRefinement::tracePass(int pass, bool correcting) {
+    const GiSettings& s = m_gi.settings;
+    const std::vector<IrradianceRecord>& records = m_cache.records();
+    std::uint64_t first = 0, last = 0;
+    shareOf(records.size(), m_cluster.rank(), m_cluster.size(), first, last);
 
     // This rank's records, one request slot each, claimed in record order.
     IcRequests requests;
@@ -119,31 +127,17 @@ void CacheRefinement::beginPass(int pass) {
     Film film(correcting ? int(std::max<std::uint64_t>(last - first, 1)) : 1, 1, filmExponent);
     ShadingPolicy policy;
     policy.maxDepth = s.maxDepth;
-    policy.icPrepass = true;
+    policy.handlersOnly = true;
     policy.stratify = m_engine.stratification;
     policy.rouletteEnabled = s.roulette;
     RenderContext rc{m_scene, m_accel, m_lights, policy, film, m_engine.seed};
-    // The gather stage adds to these slots while the refinement runs; afterwards (also when
-    // the run throws) gi's render passes see their own requests (none) again.
-    struct RequestsScope {
-        GiData& gi;
-        IcRequests* saved;
-        ~RequestsScope() { gi.requests = saved; }
-    } scope{m_gi, m_gi.requests};
-    m_gi.requests = &requests;
-    rc.gi = &m_gi;
     Intersector intersector(m_accel.root(), m_engine.packetWidth);
     RayProcessor processor(intersector, m_stats, m_engine.threads);
-    GatherStage gather(rc);
-    CorrectionStage correction(rc, gather);
+    GatherStage gather(rc, m_gi, &requests); // the records' gathers add to their slots
+    CorrectionStage correction(rc, m_gi, gather);
     ShadowStage shadow(rc);
-    processor.setStage(RayKind::Gather, &gather);
-    processor.setStage(RayKind::GatherShadow, &gather);
-    if (correcting) {
-        processor.setStage(RayKind::Correction, &correction);
-        processor.setStage(RayKind::CorrectionPath, &correction.pathStage());
-        processor.setStage(RayKind::Shadow, &shadow);
-    }
+    routeGatherRays(processor, gather);
+    if (correcting) routeCorrectionRays(processor, correction, shadow);
     const std::uint64_t key =
         kernels::hashCombine(kernels::hashCombine(m_engine.seed, 0x1c7e), std::uint64_t(pass));
     RecordEmitter emitter(records, std::size_t(first), std::size_t(last),
@@ -155,48 +149,58 @@ void CacheRefinement::beginPass(int pass) {
                 [&] { processor.run(emitter, [] { return false; }); });
     film.commitPass();
 
-    // The pass's sums, every rank's, in record order; then the records.
-    std::vector<std::uint64_t> sums(4 * records.size(), 0);
+    // The pass's sums, every rank's, in record order.
+    PassSums out;
+    out.radianceScale = requests.radianceScale();
+    out.gathers.assign(4 * records.size(), 0);
     for (std::size_t i = std::size_t(first); i < std::size_t(last); ++i) {
         const IcRequest& r = *slots[i - std::size_t(first)];
         for (int c = 0; c < 3; ++c)
-            sums[4 * i + std::size_t(c)] = std::uint64_t(r.radiance[c].load());
-        sums[4 * i + 3] = std::uint64_t(r.rays.load());
+            out.gathers[4 * i + std::size_t(c)] = std::uint64_t(r.radiance[c].load());
+        out.gathers[4 * i + 3] = std::uint64_t(r.rays.load());
     }
-    m_cluster.sumAll(sums); // two's complement: the signed sums add exactly
+    m_cluster.sumAll(out.gathers); // two's complement: the signed sums add exactly
     // The corrections: one rank's values and exact zeros from the others.
-    std::vector<double> corrections;
     if (correcting) {
-        corrections.assign(3 * records.size(), 0.0);
+        out.corrections.assign(3 * records.size(), 0.0);
         const std::vector<double>& mine = film.sums();
         for (std::size_t j = 0; j < 3 * std::size_t(last - first); ++j)
-            corrections[3 * std::size_t(first) + j] = mine[j];
-        m_cluster.sumAll(corrections);
-        const int perPass = std::max(emitter.correctionRaysPerRecord(), 1);
-        m_correctionCounts[parity] += std::uint64_t(perPass);
-        ++m_correctionPasses;
-        std::vector<double>& own = m_corrections[parity];
-        for (std::size_t i = 0; i < records.size(); ++i) {
-            const double c = luminanceAt(corrections, i) / double(perPass);
-            m_correctionSquares[i] += c * c;
-            for (std::size_t j = 3 * i; j < 3 * i + 3; ++j) own[j] += corrections[j];
-        }
-        estimateCorrection(parity);
+            out.corrections[3 * std::size_t(first) + j] = mine[j];
+        m_cluster.sumAll(out.corrections);
+        out.correctionsPerRecord = std::max(emitter.correctionRaysPerRecord(), 1);
     }
+    return out;
+}
+
+void CacheRefinement::foldCorrections(const PassSums& sums, int parity) {
+    const int perPass = sums.correctionsPerRecord;
+    m_correctionCounts[parity] += std::uint64_t(perPass);
+    ++m_correctionPasses;
+    std::vector<double>& own = m_corrections[parity];
+    for (std::size_t i = 0; i < m_correctionSquares.size(); ++i) {
+        const double c = luminanceAt(sums.corrections, i) / double(perPass);
+        m_correctionSquares[i] += c * c;
+        for (std::size_t j = 3 * i; j < 3 * i + 3; ++j) own[j] += sums.corrections[j];
+    }
+    estimateCorrection(parity);
+}
+
+void CacheRefinement::updateRecords(const PassSums& sums, int parity, bool correcting) {
+    const std::size_t records = m_cache.records().size();
     // The corrections as applied: smoothed over neighbours, or each record's own; this
     // parity's.
     const std::vector<double>& applied = m_smoothing > 1 ? m_smoothed : m_corrections[parity];
     const double correctionCount = double(std::max<std::uint64_t>(m_correctionCounts[parity], 1));
     std::vector<double>& gathered = m_sums[parity];
     std::vector<std::uint64_t>& counts = m_counts[parity];
-    for (std::size_t i = 0; i < records.size(); ++i) {
-        const std::uint64_t rays = sums[4 * i + 3];
+    for (std::size_t i = 0; i < records; ++i) {
+        const std::uint64_t rays = sums.gathers[4 * i + 3];
         counts[i] += rays;
         m_rays += rays;
         Vec3 e;
         for (int c = 0; c < 3; ++c) {
             double& sum = gathered[3 * i + std::size_t(c)];
-            sum += double(std::int64_t(sums[4 * i + std::size_t(c)])) / requests.radianceScale();
+            sum += double(std::int64_t(sums.gathers[4 * i + std::size_t(c)])) / sums.radianceScale;
             double irradiance = kPi * sum / double(counts[i]);
             if (correcting)
                 irradiance += m_correctionWeight * kPi * applied[3 * i + std::size_t(c)] /

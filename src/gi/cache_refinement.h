@@ -21,7 +21,7 @@
 // noise in it is that of all its rays, as before.
 //
 // Correction (`GiSettings::icCorrectionRays`, 4 by default): the map's bias at the records,
-// taken out with the passes. Each record also traces that many RayKind::Correction rays per
+// taken out with the passes. Each record also traces that many kCorrectionRay rays per
 // pass (cosine strata from its gather origin); at a ray's far end the correction stage
 // subtracts the map's estimate exactly as a gather reads it and traces a path in its place
 // (path mode's vertex: one light sample, one BSDF sample, then gi's PathStage, as deep as the
@@ -48,10 +48,11 @@
 // contiguous share of the records and the sums are added over the ranks.
 #pragma once
 
+#include "engine/engine_settings.h"
 #include "engine/stats.h"
 #include "gi/correction_smoothing.h"
 #include "gi/gi_context.h"
-#include "modes/render_job.h"
+#include "gi/gi_pipeline.h"
 
 #include <cstdint>
 #include <vector>
@@ -74,7 +75,7 @@ double shrinkageWeight(const std::vector<double>& means, const std::vector<doubl
 class CacheRefinement {
 public:
     CacheRefinement(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
-                    GiData& gi, IrradianceCache& cache, const EngineSettings& engine,
+                    const GiData& gi, IrradianceCache& cache, const EngineSettings& engine,
                     const Cluster& cluster, Stats& stats);
     // Gathers pass `pass`'s rays for every record and updates the cache. A collective under
     // MPI (every rank calls it for every pass).
@@ -94,7 +95,7 @@ private:
     const Scene& m_scene;
     const EmbreeScene& m_accel;
     const LightSet& m_lights;
-    GiData& m_gi;
+    const GiData& m_gi;
     IrradianceCache& m_cache;
     EngineSettings m_engine;
     const Cluster& m_cluster;
@@ -120,6 +121,21 @@ private:
     int m_smoothing = 1;
     std::vector<double> m_smoothed;
 
+    // One pass's sums over every rank, in record order: per record its gathers' radiance (3
+    // channels, fixed point in units of radianceScale) and ray count; with corrections, their
+    // radiance (3 channels) from correctionsPerRecord rays each.
+    struct PassSums {
+        std::vector<std::uint64_t> gathers;
+        double radianceScale = 1;
+        std::vector<double> corrections;
+        int correctionsPerRecord = 1;
+    };
+    // Traces pass `pass`'s gather (and correction) rays for this rank's share of the records.
+    PassSums tracePass(int pass, bool correcting);
+    // Adds the pass's corrections to those of its parity and re-estimates the weight.
+    void foldCorrections(const PassSums& sums, int parity);
+    // The records' irradiance for the pass: their gathers so far plus the weighted corrections.
+    void updateRecords(const PassSums& sums, int parity, bool correcting);
     // Chooses the smoothing and the weight for the corrections folded in so far (both
     // parities'), and smooths those of `parity`.
     void estimateCorrection(int parity);

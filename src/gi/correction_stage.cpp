@@ -3,6 +3,8 @@
 #include "engine/material_bsdf.h"
 #include "engine/path_stage.h"
 #include "engine/path_state.h"
+#include "engine/processor.h"
+#include "engine/shadow_stage.h"
 #include "engine/sample_numbers.h"
 #include "gi/gather_stage.h"
 #include "gi/gi_context.h"
@@ -27,20 +29,20 @@ Vec2 uniform2(const RayBatch& b, int i, std::uint32_t dim) {
 }
 } // namespace
 
-CorrectionStage::CorrectionStage(const RenderContext& rc, const GatherStage& gather)
-    : m_policy(rc.policy),
-      m_rc{rc.scene, rc.accel, rc.lights, m_policy, rc.film, rc.seed, rc.gi},
-      m_gather(gather), m_paths(m_rc, kPathOutputs) {
-    if (rc.gi) m_policy.maxDepth = std::max(1, rc.gi->settings.maxPhotonDepth - 1);
+CorrectionStage::CorrectionStage(const RenderContext& rc, const GiData& gi,
+                                 const GatherStage& gather)
+    : m_policy(rc.policy), m_rc{rc.scene, rc.accel, rc.lights, m_policy, rc.film, rc.seed},
+      m_gi(gi), m_gather(gather), m_paths(m_rc, kPathOutputs) {
+    m_policy.maxDepth = std::max(1, gi.settings.maxPhotonDepth - 1);
 }
 
-void CorrectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ctx) const {
-    const GiData& gi = *m_rc.gi;
-    if (!gi.settings.mapCorrection || m_rc.policy.icPrepass ||
+void CorrectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ctx) {
+    const GiData& gi = m_gi;
+    if (!gi.settings.mapCorrection || m_rc.policy.handlersOnly ||
         gi.settings.debugView != GiDebugView::None || !gi.global || gi.global->size() == 0)
         return;
     ThreadStats& stats = *ctx.stats;
-    StageTimer timer(stats, StageId::Correction);
+    StageTimer timer(stats, kCorrectionStageId);
     std::uint64_t spawned = 0;
     for (int k = 0; k < hits.count; ++k) {
         int i = hits.lane[k];
@@ -63,17 +65,17 @@ void CorrectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             kernels::lambertianAlbedo(bsdfAt(m_rc.scene, h.material, h, 0), wo, h.ng, h.ns);
         Vec3 weight = laneThroughput(b, i) * albedo; // cosine sampling: f cos / pdf = albedo
         if (isBlack(weight)) continue;
-        spawnRay(ctx.out(RayKind::Correction), b, i, offsetRayOrigin(h, ng, wi), wi, weight,
+        spawnRay(ctx.out(kCorrectionRay), b, i, offsetRayOrigin(h, ng, wi), wi, weight,
                  std::uint8_t(b.depth[i] + 1), 0, 0, 11);
         ++spawned;
     }
-    stats.stages[int(StageId::Correction)].raysOut += spawned;
+    stats.stages[int(kCorrectionStageId)].raysOut += spawned;
 }
 
 void CorrectionStage::retrace(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
-    StageTimer timer(stats, StageId::Correction);
-    stats.stages[int(StageId::Correction)].raysIn += std::uint64_t(b.count);
+    StageTimer timer(stats, kCorrectionStageId);
+    stats.stages[int(kCorrectionStageId)].raysIn += std::uint64_t(b.count);
     std::uint64_t spawned = 0;
     for (int i = 0; i < b.count; ++i) {
         if (!b.hit(i)) continue; // the sky seen from x is light sampled at x: nothing to correct
@@ -84,13 +86,13 @@ void CorrectionStage::retrace(RayBatch& b, StageContext& ctx) {
         // The gather's far end: its BSDF stream (GatherStage::retrace).
         spawned += replaceMap(b, i, h, true, kernels::hashCombine(b.rngKey[i], 43), ctx);
     }
-    stats.stages[int(StageId::Correction)].raysOut += spawned;
+    stats.stages[int(kCorrectionStageId)].raysOut += spawned;
 }
 
 std::uint64_t CorrectionStage::replaceMap(const RayBatch& b, int i, const SurfaceHit& h,
                                           bool gatherEnd, std::uint64_t bsdfKey,
                                           StageContext& ctx) const {
-    const GiData& gi = *m_rc.gi;
+    const GiData& gi = m_gi;
     const ShadingPolicy& policy = m_rc.policy;
     ThreadStats& stats = *ctx.stats;
     const MaterialType type = m_rc.scene.materials[h.material].type;
@@ -108,7 +110,7 @@ std::uint64_t CorrectionStage::replaceMap(const RayBatch& b, int i, const Surfac
     const bool leaveDirect = diffuse && gatherEnd && gi.globalIndirect != nullptr;
     // Minus the map's estimate, as gi takes it; the vertex's lobe: a Lambertian one of the
     // albedo gi weighs the map with (a coated surface's base; its coat is traced by gi itself).
-    ++stats.globalLookups;
+    ++giCounter(stats, kGiGlobalLookups);
     Vec3 mapRadiance;
     if (diffuse) {
         Vec3 albedo = kernels::lambertianAlbedo(bsdf, wo, h.ng, h.ns);
@@ -135,6 +137,13 @@ std::uint64_t CorrectionStage::replaceMap(const RayBatch& b, int i, const Surfac
                     ctx) != Bounce::None)
         ++spawned;
     return spawned;
+}
+
+void routeCorrectionRays(RayProcessor& processor, CorrectionStage& correction,
+                         ShadowStage& shadow) {
+    processor.setStage(kCorrectionRay, &correction);
+    processor.setStage(kCorrectionPathRay, &correction.pathStage());
+    processor.setStage(RayKind::Shadow, &shadow);
 }
 
 } // namespace rayproc

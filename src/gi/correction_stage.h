@@ -10,7 +10,7 @@
 //    a coated one's base: albedo / pi x irradiance; an opaque glossy one: the map's radiance
 //    estimate with the BSDF);
 //  - and a vertex of path mode's tracer in its place: one light sample, then one sample of the
-//    same lobe (RayKind::CorrectionPath rays, gi's PathStage from there on). Where a gather's
+//    same lobe (kCorrectionPathRay rays, gi's PathStage from there on). Where a gather's
 //    own light samples took the sun's and the sky's direct light at y (GiSettings::gatherDirect,
 //    diffuse far ends), that light is the same on both sides and left out of both: the vertex
 //    samples area lights only and an escape from it counts nothing.
@@ -24,33 +24,38 @@
 #include "engine/path_stage.h"
 #include "engine/render_context.h"
 #include "engine/stage.h"
+#include "engine/surface_stage.h"
+#include "gi/gi_pipeline.h"
 
 namespace rayproc {
 
 class GatherStage;
+class RayProcessor;
+class ShadowStage;
+struct GiData;
 
-class CorrectionStage : public RetraceStage {
+class CorrectionStage : public RetraceStage, public DiffuseHitHandler {
 public:
     // `rc`: the render's (or the cache refinement's) context. The correction paths run in a
     // copy of it whose policy's depth limit follows the photons' (GiSettings::maxPhotonDepth D):
     // they stand for the light of the global map's photons whose estimate they replace, which
-    // hold up to D - 1 intersections (gi/photon_stage.cpp), so a correction path's vertices
+    // hold up to D - 1 intersections (gi/photon_pass.cpp), so a correction path's vertices
     // take light samples up to depth D - 1 and a path through it has at most D scattering
     // events from the visible point on, as pbrt-v4's SPPM at maxdepth D. gi's own maxDepth
     // limits its specular chains (at that depth, 8, the inside-out furnace's albedo-0.8
     // channel came out 11% dark).
-    CorrectionStage(const RenderContext& rc, const GatherStage& gather);
+    CorrectionStage(const RenderContext& rc, const GiData& gi, const GatherStage& gather);
     // At the hits the gather stage takes in a render pass: one correction ray from each first
     // diffuse hit, the map replaced in place at those past a glossy bounce.
-    void spawn(const RayBatch& parent, const HitList& hits, StageContext& ctx) const;
+    void spawn(const RayBatch& parent, const HitList& hits, StageContext& ctx) override;
     void retrace(RayBatch& batch, StageContext& ctx) override;
-    // The stage for RayKind::CorrectionPath rays: gi's PathStage, tracing the paths on.
+    // The stage for kCorrectionPathRay rays: gi's PathStage, tracing the paths on.
     RetraceStage& pathStage() { return m_paths; }
 
 private:
     // The kinds of the correction paths' rays.
-    static constexpr PathStage::Outputs kPathOutputs{RayKind::CorrectionPath,
-                                                     RayKind::CorrectionPath, RayKind::Shadow};
+    static constexpr PathStage::Outputs kPathOutputs{kCorrectionPathRay,
+                                                     kCorrectionPathRay, RayKind::Shadow};
     // The map's estimate at hit h of lane i of b replaced by a path vertex (above); `gatherEnd`:
     // a gather's far end, else a hit past a glossy bounce; `bsdfKey` the BSDF's stream gi used
     // there. Returns the rays spawned.
@@ -58,8 +63,14 @@ private:
                              std::uint64_t bsdfKey, StageContext& ctx) const;
     ShadingPolicy m_policy; // rc's, with the photons' depth limit
     RenderContext m_rc;     // rc with m_policy
+    const GiData& m_gi;
     const GatherStage& m_gather;
     PathStage m_paths;
 };
+
+// Routes correction rays and the paths traced on from them to `correction`, and those paths'
+// light samples to `shadow`.
+void routeCorrectionRays(RayProcessor& processor, CorrectionStage& correction,
+                         ShadowStage& shadow);
 
 } // namespace rayproc

@@ -2,6 +2,7 @@
 
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
+#include "engine/processor.h"
 #include "engine/sample_numbers.h"
 #include "gi/caustic_pixel_radius.h"
 #include "gi/gi_context.h"
@@ -24,7 +25,7 @@ constexpr std::uint8_t kFlagPastGlossy = kFlagCountEmission;
 } // namespace
 
 Vec3 GatherStage::mapIrradiance(const PhotonMap* map, const Vec3& p, const Vec3& n) const {
-    const GiData& gi = *m_rc.gi;
+    const GiData& gi = m_gi;
     if (!map || map->size() == 0) return Vec3(0.0f);
     if (gi.settings.precomputedIrradiance && map->hasPrecomputedIrradiance())
         return map->irradianceFast(p, n, gi.settings.globalK, gi.globalRadius);
@@ -42,7 +43,7 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
         if (dot(wi, ng) <= 0 || !(c > 0)) return;
         Vec3 contribution = reflect * weight * c;
         if (isBlack(contribution) || !isFinite(contribution)) return;
-        RayBatch& out = ctx.out(RayKind::GatherShadow);
+        RayBatch& out = ctx.out(kGatherShadowRay);
         spawnShadowRay(out, b, i, h, ng, wi, light, contribution);
         out.flags[out.count - 1] = std::uint8_t(b.flags[i] & kFlagGatherRecord);
         ++spawned;
@@ -64,7 +65,7 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
 void GatherStage::deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const {
     if (isBlack(l)) return;
     if (b.flags[i] & kFlagGatherRecord) {
-        IcRequests& requests = *m_rc.gi->requests;
+        IcRequests& requests = *m_requests;
         requests[b.pixel[i]].add(b.sample[i], l, requests.radianceScale());
     } else {
         m_rc.film.add(b.pixel[i], l, stats);
@@ -73,15 +74,15 @@ void GatherStage::deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& 
 
 void GatherStage::retraceShadow(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
-    StageTimer timer(stats, StageId::Gather);
-    stats.stages[int(StageId::Gather)].raysIn += std::uint64_t(b.count);
+    StageTimer timer(stats, kGatherStageId);
+    stats.stages[int(kGatherStageId)].raysIn += std::uint64_t(b.count);
     for (int i = 0; i < b.count; ++i)
         if (!b.occluded(i)) deposit(b, i, laneThroughput(b, i), stats);
 }
 
 Vec3 GatherStage::glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceHit& h,
                                  const Vec3& wo, const Vec3& n) const {
-    const GiData& gi = *m_rc.gi;
+    const GiData& gi = m_gi;
     if (!gi.global || gi.global->size() == 0) return Vec3(0.0f);
     return gi.global->radiance(h.p, n, gi.settings.globalK, gi.globalRadius, [&](const Vec3& wi) {
         float pdf, c = std::abs(dot(wi, n));
@@ -91,7 +92,7 @@ Vec3 GatherStage::glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceH
 }
 
 Vec3 GatherStage::causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t pixel) const {
-    const GiData& gi = *m_rc.gi;
+    const GiData& gi = m_gi;
     if (!gi.caustic || gi.caustic->size() == 0) return Vec3(0.0f);
     if (CausticPixelRadius* pixels = gi.causticPixels) {
         // The first pass estimates with the global first radius and seeds the pixel's own
@@ -112,16 +113,92 @@ Vec3 GatherStage::causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t 
     return gi.caustic->irradiance(p, n, gi.settings.causticK, gi.causticRadius);
 }
 
+// A new final gather from hit h of lane i (`reflectance`: throughput x albedo): for a cache
+// record in the prepass (a request slot), into the film otherwise. Returns the rays spawned.
+std::uint64_t GatherStage::spawnFinalGather(const RayBatch& b, int i, const SurfaceHit& h,
+                                            const Vec3& ng, const Vec3& ns,
+                                            const Vec3& reflectance, bool prepass,
+                                            int thetaCount, int phiCount,
+                                            StageContext& ctx) const {
+    const GiData& gi = m_gi;
+    std::uint64_t spawned = 0;
+    const int strata = thetaCount * phiCount;
+    std::uint32_t target = b.pixel[i];
+    std::uint8_t flags = 0;
+    Vec3 weight = reflectance / float(strata); // cosine sampling: f cos / pdf = albedo
+    Vec3 tu, tv;
+    orthonormalBasis(ns, tu, tv);
+    IcRequest* request = nullptr;
+    if (prepass) {
+        std::uint32_t slot = 0;
+        request = m_requests->claim(slot);
+        if (!request) return 0; // more than the pass can hold
+        IcRequest& rq = *request;
+        rq.key = (std::uint64_t(b.pixel[i]) << 32) ^ (b.rngKey[i] & 0xffffffffu);
+        rq.position = h.p;
+        rq.normal = ns;
+        rq.origin = offsetRayOrigin(h, ng, ns);
+        rq.geometricNormal = ng;
+        rq.u = tu;
+        rq.v = tv;
+        if (gi.strataWanted) {
+            rq.strataRadiance.assign(std::size_t(strata), {0, 0, 0});
+            rq.strataDistance.assign(std::size_t(strata), 0.0f);
+        }
+        target = slot;
+        flags = kFlagGatherRecord;
+        weight = Vec3(1.0f);
+    }
+    std::uint64_t key = kernels::hashCombine(b.rngKey[i], 0x6a7e);
+    Vec3 origin = offsetRayOrigin(h, ng, ns);
+    // A film gather's M N rays are the block sample x M N ... of a Sobol sequence per
+    // (pixel, depth) over the whole cosine-weighted hemisphere (engine/sample_numbers.h):
+    // stratified within the gather as the strata are when M N is a power of two, and
+    // across the pixel's samples, which a gather of one ray per pass (the default at high
+    // spp) otherwise is not.
+    const bool sobol = !prepass && m_rc.policy.stratify;
+    const SampleNumbers numbers(b, i, sobol, sampleSeedKey(m_rc.seed), 0x6a7e);
+    // A record's stratum (j, k): sin^2(theta) in [j/M, (j+1)/M), phi in [2 pi k/N,
+    // 2 pi (k+1)/N), one jittered ray each (the gradients' layout). sin^2(theta) uniform is
+    // the cosine-weighted density (Malley), so every ray carries albedo / (M N) and
+    // E = pi / (M N) sum L_jk (GatherStrata).
+    for (int r = 0; r < strata; ++r) {
+        int j = r / phiCount, kk = r % phiCount;
+        // --no-stratification: independent cosine-weighted rays (the cache then interpolates
+        // without gradients, which need the strata; see gi.cpp).
+        Vec3 l = sobol ? kernels::cosineStratum(0, 0, 1, 1,
+                                                numbers.get2D(0, std::uint32_t(r),
+                                                              std::uint32_t(strata)),
+                                                true)
+                       : kernels::cosineStratum(j, kk, thetaCount, phiCount,
+                                                {kernels::uniform(key, 2 * std::uint32_t(r)),
+                                                 kernels::uniform(key, 2 * std::uint32_t(r) + 1)},
+                                                m_rc.policy.stratify);
+        Vec3 wi = normalize(tu * l.x + tv * l.y + ns * l.z);
+        if (dot(wi, ng) <= 0) {
+            // Below the geometric surface (shading normals): the stratum counts as dark,
+            // as it does in the film's gathers (weight albedo / (M N), no ray).
+            if (request) request->rays.fetch_add(1, std::memory_order_relaxed);
+            continue;
+        }
+        // In the prepass the sample is the stratum (the gradients' layout).
+        pushGatherRay(ctx.out(kGatherRay), origin, wi, target,
+                      prepass ? std::uint32_t(r) : b.sample[i], weight,
+                      kernels::hashCombine(key, std::uint64_t(r)), b.depth[i], flags);
+        ++spawned;
+    }
+    return spawned;
+}
+
 void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
-    StageTimer timer(stats, StageId::Gather);
-    const GiData& gi = *m_rc.gi;
+    StageTimer timer(stats, kGatherStageId);
+    const GiData& gi = m_gi;
     const GiSettings& s = gi.settings;
     // A record's gather in the prepass; in a render pass a film gather (filmGatherRays).
-    const bool prepass = gi.requests != nullptr;
+    const bool prepass = m_requests != nullptr;
     const int thetaCount = prepass ? gi.gatherTheta : gi.filmGatherTheta;
     const int phiCount = prepass ? gi.gatherPhi : gi.filmGatherPhi;
-    const int strata = thetaCount * phiCount;
     std::uint64_t spawned = 0;
     for (int k = 0; k < hits.count; ++k) {
         int i = hits.lane[k];
@@ -138,14 +215,14 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         bool firstDiffuse = (b.flags[i] & kFlagCountEmission) != 0;
 
         if (!firstDiffuse) {
-            ++stats.globalLookups;
+            ++giCounter(stats, kGiGlobalLookups);
             m_rc.film.add(b.pixel[i], reflect * mapIrradiance(gi.global, h.p, ns), stats);
             continue;
         }
         if (s.debugView == GiDebugView::Photons) {
             // The maps themselves at the first diffuse hit: the global map's estimate of all
             // light reflected there (direct included) plus the caustic map's.
-            ++stats.globalLookups;
+            ++giCounter(stats, kGiGlobalLookups);
             Vec3 e = gi.global && gi.global->size() > 0
                          ? gi.global->irradiance(h.p, ns, s.globalK, gi.globalRadius)
                          : Vec3(0.0f);
@@ -156,100 +233,126 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         if (!prepass && s.caustics && gi.caustic && gi.caustic->size() > 0 &&
             (s.debugView == GiDebugView::None || s.debugView == GiDebugView::Caustics ||
              s.debugView == GiDebugView::IcRecords)) {
-            ++stats.causticLookups;
+            ++giCounter(stats, kGiCausticLookups);
             Vec3 e = causticIrradiance(h.p, ns, b.pixel[i]);
             m_rc.film.add(b.pixel[i], reflect * e, stats);
         }
         if (s.debugView == GiDebugView::Caustics) continue;
         if (gi.cache) {
-            ++stats.cacheLookups;
+            ++giCounter(stats, kGiCacheLookups);
             IrradianceCache::LookupResult r;
             if (gi.cache->lookup(h.p, ns, r)) {
-                ++stats.cacheHits;
+                ++giCounter(stats, kGiCacheHits);
                 if (!prepass) m_rc.film.add(b.pixel[i], reflect * r.irradiance, stats);
                 continue;
             }
         }
-        // A new final gather: for a cache record in the prepass, into the film otherwise.
-        std::uint32_t target = b.pixel[i];
-        std::uint8_t flags = 0;
-        Vec3 weight = w * albedo / float(strata); // cosine sampling: f cos / pdf = albedo
-        Vec3 tu, tv;
-        orthonormalBasis(ns, tu, tv);
-        IcRequest* request = nullptr;
-        if (prepass) {
-            std::uint32_t slot = 0;
-            request = gi.requests->claim(slot);
-            if (!request) continue; // more than the pass can hold
-            IcRequest& rq = *request;
-            rq.key = (std::uint64_t(b.pixel[i]) << 32) ^ (b.rngKey[i] & 0xffffffffu);
-            rq.position = h.p;
-            rq.normal = ns;
-            rq.origin = offsetRayOrigin(h, ng, ns);
-            rq.geometricNormal = ng;
-            rq.u = tu;
-            rq.v = tv;
-            if (gi.strataWanted) {
-                rq.strataRadiance.assign(std::size_t(strata), {0, 0, 0});
-                rq.strataDistance.assign(std::size_t(strata), 0.0f);
-            }
-            target = slot;
-            flags = kFlagGatherRecord;
-            weight = Vec3(1.0f);
+        spawned += spawnFinalGather(b, i, h, ng, ns, w * albedo, prepass, thetaCount, phiCount,
+                                    ctx);
+    }
+    stats.stages[int(kGatherStageId)].raysOut += spawned;
+}
+
+// The radiance gather ray i finds at its hit, added to `radiance` (before its throughput),
+// the hit's distance, and its specular continuation; whether the ray goes on.
+bool GatherStage::shadeHit(const RayBatch& b, int i, Vec3& radiance, float& distance,
+                           std::uint64_t& spawned, StageContext& ctx) const {
+    ThreadStats& stats = *ctx.stats;
+    const GiData& gi = m_gi;
+    const int maxSpecular = std::max(0, gi.settings.maxDepth);
+    const bool sampleLights = gi.globalIndirect != nullptr; // GiSettings::gatherDirect
+    const bool pastGlossy = (b.flags[i] & kFlagPastGlossy) != 0;
+    Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
+    SurfaceHit h =
+        m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
+    // From the hit point, not Embree's t: t of a sphere differs by an ulp between
+    // packet widths, and the cache's record radii must not (determinism).
+    distance = length(h.p - o);
+    if (pastGlossy) radiance += emittedRadiance(*h.shape, h.ng, -d);
+    resolveShading(m_rc.scene, h, -d);
+    // Emitters are light sampled at the gather's origin, and light reaching it through
+    // specular surfaces (a coat's reflection included) straight from an emitter is the
+    // caustic map's: neither is added here. At a diffuse surface the global map gives
+    // the diffuse reflected radiance (a coated one's base); at an opaque glossy one its
+    // radiance estimate with the BSDF (Jensen's; a glossy lobe taken as Lambertian
+    // misplaces the light, and traced on it made the irradiance cache's records noisy:
+    // a record's few rays that find a light through the lobe). A coat's own reflection,
+    // a mirror, glass and rough glass continue the ray by one sample of the lobe (as
+    // path mode does), so light along L ... D S+ D paths is not lost.
+    const MaterialClass cls = materialClass(m_rc.scene.materials, h.material);
+    const bool coated = m_rc.scene.materials[h.material].type == MaterialType::CoatedDiffuse;
+    kernels::BsdfParams bsdf =
+        bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], 43));
+    const bool transmits = kernels::hasTransmission(bsdf);
+    Vec3 ng, ns;
+    facingNormals(h, -d, ng, ns);
+    if (cls == MaterialClass::Diffuse) {
+        ++giCounter(stats, kGiGlobalLookups);
+        // The Lambertian BSDF value albedo / pi, times irradiance.
+        const Vec3 f = kernels::lambertianAlbedo(bsdf, -d, h.ng, h.ns) * kInvPi;
+        radiance +=
+            f * mapIrradiance(sampleLights ? gi.globalIndirect : gi.global, h.p, ns);
+        if (sampleLights)
+            spawned += sampleDirect(b, i, h, ng, ns, laneThroughput(b, i) * f, ctx);
+    } else if (cls == MaterialClass::Glossy && !transmits) {
+        ++giCounter(stats, kGiGlobalLookups);
+        radiance += glossyRadiance(bsdf, h, -d, ns);
+    }
+    const bool continues = cls == MaterialClass::Specular || coated ||
+                           (cls == MaterialClass::Glossy && transmits);
+    if (continues && b.specularDepth[i] < maxSpecular) {
+        Vec2 u{kernels::uniform(b.rngKey[i], 40), kernels::uniform(b.rngKey[i], 41)};
+        kernels::BsdfSample smp =
+            coated ? kernels::sampleCoatReflection(bsdf, -d, h.ng, h.ns, u)
+                   : kernels::sampleBsdf(bsdf, -d, h.ng, h.ns, u,
+                                         kernels::uniform(b.rngKey[i], 42));
+        Vec3 next =
+            laneThroughput(b, i) * smp.weight * basicRadianceScale(bsdf, -d, h.ng, smp);
+        // Russian roulette by the bounce's reflectance: a coat reflects a few percent,
+        // and chains between coated surfaces (a coated floor under coated plastic) ran to
+        // the depth limit, most of gi's gather rays for almost nothing. Survivors are
+        // reweighted (unbiased); mirrors and glass (weight ~1) always go on.
+        float q = std::min(1.0f, maxComponent(smp.weight));
+        if (smp.valid && m_rc.policy.rouletteEnabled && q < 1.0f) {
+            if (!(q > 0) || kernels::uniform(b.rngKey[i], 44) >= q) smp.valid = false;
+            else next = next / q;
         }
-        std::uint64_t key = kernels::hashCombine(b.rngKey[i], 0x6a7e);
-        Vec3 origin = offsetRayOrigin(h, ng, ns);
-        // A film gather's M N rays are the block sample x M N ... of a Sobol sequence per
-        // (pixel, depth) over the whole cosine-weighted hemisphere (engine/sample_numbers.h):
-        // stratified within the gather as the strata are when M N is a power of two, and
-        // across the pixel's samples, which a gather of one ray per pass (the default at high
-        // spp) otherwise is not.
-        const bool sobol = !prepass && m_rc.policy.stratify;
-        const SampleNumbers numbers(b, i, sobol, sampleSeedKey(m_rc.seed), 0x6a7e);
-        // A record's stratum (j, k): sin^2(theta) in [j/M, (j+1)/M), phi in [2 pi k/N,
-        // 2 pi (k+1)/N), one jittered ray each (the gradients' layout). sin^2(theta) uniform is
-        // the cosine-weighted density (Malley), so every ray carries albedo / (M N) and
-        // E = pi / (M N) sum L_jk (GatherStrata).
-        for (int r = 0; r < strata; ++r) {
-            int j = r / phiCount, kk = r % phiCount;
-            // --no-stratification: independent cosine-weighted rays (the cache then interpolates
-            // without gradients, which need the strata; see gi.cpp).
-            Vec3 l = sobol ? kernels::cosineStratum(0, 0, 1, 1,
-                                                    numbers.get2D(0, std::uint32_t(r),
-                                                                  std::uint32_t(strata)),
-                                                    true)
-                           : kernels::cosineStratum(j, kk, thetaCount, phiCount,
-                                                    {kernels::uniform(key, 2 * std::uint32_t(r)),
-                                                     kernels::uniform(key, 2 * std::uint32_t(r) + 1)},
-                                                    m_rc.policy.stratify);
-            Vec3 wi = normalize(tu * l.x + tv * l.y + ns * l.z);
-            if (dot(wi, ng) <= 0) {
-                // Below the geometric surface (shading normals): the stratum counts as dark,
-                // as it does in the film's gathers (weight albedo / (M N), no ray).
-                if (request) request->rays.fetch_add(1, std::memory_order_relaxed);
-                continue;
-            }
-            // In the prepass the sample is the stratum (the gradients' layout).
-            pushGatherRay(ctx.out(RayKind::Gather), origin, wi, target,
-                          prepass ? std::uint32_t(r) : b.sample[i], weight,
-                          kernels::hashCombine(key, std::uint64_t(r)), b.depth[i], flags);
+        if (smp.valid && !isBlack(next) && isFinite(next)) {
+            Vec3 no = offsetRayOrigin(h, h.ng, smp.wi);
+            std::uint8_t flags = b.flags[i];
+            if (cls == MaterialClass::Glossy) flags |= kFlagPastGlossy;
+            spawnRay(ctx.out(kGatherRay), b, i, no, smp.wi, next, b.depth[i],
+                     std::uint8_t(b.specularDepth[i] + 1), flags, 7);
             ++spawned;
+            return true;
         }
     }
-    stats.stages[int(StageId::Gather)].raysOut += spawned;
+    return false;
+}
+
+// A record's gather ray ended its segment (`done`: and its chain): Ward's distance, the
+// stratum's distance for the gradients, the record's ray count.
+void GatherStage::recordGatherEnd(const RayBatch& b, int i, float distance, bool done) const {
+    IcRequest& rq = (*m_requests)[b.pixel[i]];
+    std::uint32_t stratum = b.sample[i];
+    if (b.specularDepth[i] == 0) { // the stratum's first segment
+        // Ward's R_i: the harmonic mean of the first hits' distances.
+        if (std::isfinite(distance) && distance > 0)
+            rq.inverseDistance.fetch_add(std::llround(IcRequest::kScale / double(distance)),
+                                         std::memory_order_relaxed);
+        if (stratum < rq.strataDistance.size()) rq.strataDistance[stratum] = distance;
+    }
+    if (done) rq.rays.fetch_add(1, std::memory_order_relaxed);
 }
 
 void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
-    if (b.kind == RayKind::GatherShadow) {
+    if (b.kind == kGatherShadowRay) {
         retraceShadow(b, ctx);
         return;
     }
     ThreadStats& stats = *ctx.stats;
-    StageTimer timer(stats, StageId::Gather);
-    stats.stages[int(StageId::Gather)].raysIn += std::uint64_t(b.count);
-    const GiData& gi = *m_rc.gi;
-    const int maxSpecular = std::max(0, gi.settings.maxDepth);
-    const bool sampleLights = gi.globalIndirect != nullptr; // GiSettings::gatherDirect
+    StageTimer timer(stats, kGatherStageId);
+    stats.stages[int(kGatherStageId)].raysIn += std::uint64_t(b.count);
     std::uint64_t spawned = 0;
     for (int i = 0; i < b.count; ++i) {
         Vec3 radiance(0.0f); // reaching the ray's origin from this hit, before the throughput
@@ -257,88 +360,19 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
         bool done = true;
         const bool pastGlossy = (b.flags[i] & kFlagPastGlossy) != 0;
         if (b.hit(i)) {
-            Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
-            SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
-            // From the hit point, not Embree's t: t of a sphere differs by an ulp between
-            // packet widths, and the cache's record radii must not (determinism).
-            distance = length(h.p - o);
-            if (pastGlossy) radiance += emittedRadiance(*h.shape, h.ng, -d);
-            resolveShading(m_rc.scene, h, -d);
-            // Emitters are light sampled at the gather's origin, and light reaching it through
-            // specular surfaces (a coat's reflection included) straight from an emitter is the
-            // caustic map's: neither is added here. At a diffuse surface the global map gives
-            // the diffuse reflected radiance (a coated one's base); at an opaque glossy one its
-            // radiance estimate with the BSDF (Jensen's; a glossy lobe taken as Lambertian
-            // misplaces the light, and traced on it made the irradiance cache's records noisy:
-            // a record's few rays that find a light through the lobe). A coat's own reflection,
-            // a mirror, glass and rough glass continue the ray by one sample of the lobe (as
-            // path mode does), so light along L ... D S+ D paths is not lost.
-            const MaterialClass cls = materialClass(m_rc.scene.materials, h.material);
-            const bool coated = m_rc.scene.materials[h.material].type == MaterialType::CoatedDiffuse;
-            kernels::BsdfParams bsdf =
-                bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], 43));
-            const bool transmits = kernels::hasTransmission(bsdf);
-            Vec3 ng, ns;
-            facingNormals(h, -d, ng, ns);
-            if (cls == MaterialClass::Diffuse) {
-                ++stats.globalLookups;
-                // The Lambertian BSDF value albedo / pi, times irradiance.
-                const Vec3 f = kernels::lambertianAlbedo(bsdf, -d, h.ng, h.ns) * kInvPi;
-                radiance +=
-                    f * mapIrradiance(sampleLights ? gi.globalIndirect : gi.global, h.p, ns);
-                if (sampleLights)
-                    spawned += sampleDirect(b, i, h, ng, ns, laneThroughput(b, i) * f, ctx);
-            } else if (cls == MaterialClass::Glossy && !transmits) {
-                ++stats.globalLookups;
-                radiance += glossyRadiance(bsdf, h, -d, ns);
-            }
-            const bool continues = cls == MaterialClass::Specular || coated ||
-                                   (cls == MaterialClass::Glossy && transmits);
-            if (continues && b.specularDepth[i] < maxSpecular) {
-                Vec2 u{kernels::uniform(b.rngKey[i], 40), kernels::uniform(b.rngKey[i], 41)};
-                kernels::BsdfSample smp =
-                    coated ? kernels::sampleCoatReflection(bsdf, -d, h.ng, h.ns, u)
-                           : kernels::sampleBsdf(bsdf, -d, h.ng, h.ns, u,
-                                                 kernels::uniform(b.rngKey[i], 42));
-                Vec3 next =
-                    laneThroughput(b, i) * smp.weight * basicRadianceScale(bsdf, -d, h.ng, smp);
-                // Russian roulette by the bounce's reflectance: a coat reflects a few percent,
-                // and chains between coated surfaces (a coated floor under coated plastic) ran to
-                // the depth limit, most of gi's gather rays for almost nothing. Survivors are
-                // reweighted (unbiased); mirrors and glass (weight ~1) always go on.
-                float q = std::min(1.0f, maxComponent(smp.weight));
-                if (smp.valid && m_rc.policy.rouletteEnabled && q < 1.0f) {
-                    if (!(q > 0) || kernels::uniform(b.rngKey[i], 44) >= q) smp.valid = false;
-                    else next = next / q;
-                }
-                if (smp.valid && !isBlack(next) && isFinite(next)) {
-                    Vec3 no = offsetRayOrigin(h, h.ng, smp.wi);
-                    std::uint8_t flags = b.flags[i];
-                    if (cls == MaterialClass::Glossy) flags |= kFlagPastGlossy;
-                    spawnRay(ctx.out(RayKind::Gather), b, i, no, smp.wi, next, b.depth[i],
-                             std::uint8_t(b.specularDepth[i] + 1), flags, 7);
-                    ++spawned;
-                    done = false;
-                }
-            }
+            done = !shadeHit(b, i, radiance, distance, spawned, ctx);
         } else if (pastGlossy && m_rc.lights.hasEnvironment()) {
             radiance = m_rc.lights.environment.radiance(laneDirection(b, i));
         }
         deposit(b, i, laneThroughput(b, i) * radiance, stats);
-        if (b.flags[i] & kFlagGatherRecord) {
-            IcRequest& rq = (*gi.requests)[b.pixel[i]];
-            std::uint32_t stratum = b.sample[i];
-            if (b.specularDepth[i] == 0) { // the stratum's first segment
-                // Ward's R_i: the harmonic mean of the first hits' distances.
-                if (std::isfinite(distance) && distance > 0)
-                    rq.inverseDistance.fetch_add(std::llround(IcRequest::kScale / double(distance)),
-                                                 std::memory_order_relaxed);
-                if (stratum < rq.strataDistance.size()) rq.strataDistance[stratum] = distance;
-            }
-            if (done) rq.rays.fetch_add(1, std::memory_order_relaxed);
-        }
+        if (b.flags[i] & kFlagGatherRecord) recordGatherEnd(b, i, distance, done);
     }
-    stats.stages[int(StageId::Gather)].raysOut += spawned;
+    stats.stages[int(kGatherStageId)].raysOut += spawned;
+}
+
+void routeGatherRays(RayProcessor& processor, GatherStage& gather) {
+    processor.setStage(kGatherRay, &gather);
+    processor.setStage(kGatherShadowRay, &gather, RayQuery::Occlusion);
 }
 
 } // namespace rayproc

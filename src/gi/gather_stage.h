@@ -14,7 +14,7 @@
 // reflected radiance albedo/pi * E, with E the precomputed (Christensen) or full estimate.
 // With GiSettings::gatherDirect (the default) the direct light of delta lights (the sun) and
 // of the sky comes from light samples at the hit instead, one per delta light and one of the
-// sky, each an occlusion ray (RayKind::GatherShadow) whose unoccluded contribution this stage
+// sky, each an occlusion ray (kGatherShadowRay) whose unoccluded contribution this stage
 // adds to the gather's pixel or cache record when it comes back; E is then the map without
 // those lights' first-landing photons. Area lights' direct light stays the map's: sampled
 // at gather hits close to a lamp it made bright specks in cache records.
@@ -27,6 +27,8 @@
 #include "engine/hit_list.h"
 #include "engine/render_context.h"
 #include "engine/stage.h"
+#include "engine/surface_stage.h"
+#include "gi/gi_pipeline.h"
 #include "kernels/bsdf_params.h"
 
 #include <cstdint>
@@ -34,11 +36,14 @@
 namespace rayproc {
 
 class PhotonMap;
+class RayProcessor;
+class IcRequests;
+struct GiData;
 
-// Pushes a final-gather ray's first segment (RayKind::Gather, no specular bounce yet) from
+// Pushes a final-gather ray's first segment (kGatherRay, no specular bounce yet) from
 // `origin` along `wi`: the gather stage's own (a record's or the film's gather) and the cache
 // refinement's (gi/record_emitter.h), which also pushes its correction rays with it
-// (RayKind::Correction, `out` being that kind's batch). `target` is the pixel, or the request slot with
+// (kCorrectionRay, `out` being that kind's batch). `target` is the pixel, or the request slot with
 // kFlagGatherRecord; `sample` the camera sample, or the record's stratum.
 inline void pushGatherRay(RayBatch& out, const Vec3& origin, const Vec3& wi, std::uint32_t target,
                           std::uint32_t sample, const Vec3& weight, std::uint64_t rngKey,
@@ -57,10 +62,13 @@ inline void pushGatherRay(RayBatch& out, const Vec3& origin, const Vec3& wi, std
     out.prevCos[j] = 0;
 }
 
-class GatherStage : public RetraceStage {
+class GatherStage : public RetraceStage, public DiffuseHitHandler {
 public:
-    explicit GatherStage(const RenderContext& rc) : m_rc(rc) {}
-    void spawn(const RayBatch& parent, const HitList& hits, StageContext& ctx);
+    // `requests`: the cache's prepass (new records' gathers go there) or its refinement (the
+    // records' gather rays sum there); null in a render pass.
+    GatherStage(const RenderContext& rc, const GiData& gi, IcRequests* requests = nullptr)
+        : m_rc(rc), m_gi(gi), m_requests(requests) {}
+    void spawn(const RayBatch& parent, const HitList& hits, StageContext& ctx) override;
     void retrace(RayBatch& batch, StageContext& ctx) override;
 
     // What the global map gives where gi reads it; the correction stage takes it away again.
@@ -79,10 +87,21 @@ private:
     // Adds a light sample's, or a gather ray's, radiance l to lane i's pixel or cache record.
     void deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const;
     void retraceShadow(RayBatch& batch, StageContext& ctx);
+    bool shadeHit(const RayBatch& b, int i, Vec3& radiance, float& distance,
+                  std::uint64_t& spawned, StageContext& ctx) const;
+    void recordGatherEnd(const RayBatch& b, int i, float distance, bool done) const;
+    std::uint64_t spawnFinalGather(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& ng,
+                                   const Vec3& ns, const Vec3& reflectance, bool prepass,
+                                   int thetaCount, int phiCount, StageContext& ctx) const;
     // The caustic map's irradiance: k-nearest, or within the pass's radius when progressive
     // (the pixel's own with GiSettings::causticPixelRadius).
     Vec3 causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t pixel) const;
     const RenderContext& m_rc;
+    const GiData& m_gi;
+    IcRequests* m_requests;
 };
+
+// Routes gather rays and the occlusion rays of their hits' light samples to `gather`.
+void routeGatherRays(RayProcessor& processor, GatherStage& gather);
 
 } // namespace rayproc

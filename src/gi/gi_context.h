@@ -1,6 +1,6 @@
-// What the gi passes share: the photon maps, the irradiance cache, the settings of gi mode,
-// and during the cache's prepass the records being computed. Read-only during a render pass
-// except for the prepass requests' atomic sums.
+// What the gi passes share: the photon maps, the irradiance cache, the settings of gi mode; and
+// the requests (IcRequests) the cache's prepass and refinement gather records into, which they
+// hand to their own gather stage. GiData is read-only while a pass runs.
 #pragma once
 
 #include "core/math.h"
@@ -244,7 +244,6 @@ struct GiData {
     const PhotonMap* globalIndirect = nullptr;
     const PhotonMap* caustic = nullptr;
     const IrradianceCache* cache = nullptr; // frozen during a pass
-    IcRequests* requests = nullptr;         // set only in the cache's prepass
     float globalRadius = 0, causticRadius = 0;
     // Caustic estimates from every photon within causticRadius (progressive caustics), not
     // from the causticK nearest within it.

@@ -1,6 +1,7 @@
 #include "gi/photon_emitter.h"
 
 #include "engine/path_state.h"
+#include "gi/gi_pipeline.h"
 #include "kernels/random.h"
 #include "kernels/ray_offset.h"
 #include "kernels/sampling.h"
@@ -273,9 +274,9 @@ bool PhotonEmitter::emit(StageContext& ctx) {
     std::uint64_t first = m_first + unit * kBatchSize;
     if (first >= m_last) return false;
     ThreadStats& stats = *ctx.stats;
-    StageTimer timer(stats, StageId::Photon);
-    ctx.flush(RayKind::Photon); // a fresh batch: emitted photons queue behind bounces
-    RayBatch& b = ctx.out(RayKind::Photon);
+    StageTimer timer(stats, kPhotonStageId);
+    ctx.flush(kPhotonRay); // a fresh batch: emitted photons queue behind bounces
+    RayBatch& b = ctx.out(kPhotonRay);
     b.fresh = true;
     std::uint64_t last = std::min<std::uint64_t>(first + kBatchSize, m_last);
     for (std::uint64_t k = first; k < last; ++k) {
@@ -293,9 +294,9 @@ bool PhotonEmitter::emit(StageContext& ctx) {
         b.prevPdf[j] = 0;
         b.prevCos[j] = 0;
     }
-    stats.stages[int(StageId::Photon)].raysOut += std::uint64_t(b.count);
+    stats.stages[int(kPhotonStageId)].raysOut += std::uint64_t(b.count);
     if (b.count == 0) b.fresh = false; // stays open for bounces
-    ctx.flush(RayKind::Photon);
+    ctx.flush(kPhotonRay);
     return true;
 }
 

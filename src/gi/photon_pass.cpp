@@ -2,13 +2,14 @@
 
 #include "cluster/cluster.h"
 #include "engine/cancel.h"
+#include "engine/engine_settings.h"
 #include "engine/intersect.h"
 #include "engine/phases.h"
 #include "engine/processor.h"
 #include "engine/progress.h"
+#include "gi/gi_pipeline.h"
 #include "gi/photon_emitter.h"
 #include "kernels/random.h"
-#include "modes/render_job.h"
 
 #include <algorithm>
 #include <cstring>
@@ -34,7 +35,7 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     // from the light to the visible point, as pbrt-v4's SPPM deposits its photons at up to D.
     PhotonStage stage(rc, pass.caustic,
                       pass.caustic ? s.maxPhotonDepth : std::max(1, s.maxPhotonDepth - 1));
-    processor.setStage(RayKind::Photon, &stage);
+    processor.setStage(kPhotonRay, &stage);
     PhotonEmitter emitter(lights, scene.worldBounds(), pass.count, engine.seed, pass.tag,
                           !focus.active ? Bounds3{}
                           : pass.caustic ? focus.causticEmissionBounds()

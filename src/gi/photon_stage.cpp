@@ -2,6 +2,7 @@
 
 #include "engine/path_state.h"
 #include "engine/material_bsdf.h"
+#include "gi/gi_pipeline.h"
 #include "kernels/bsdf_sampling.h"
 
 #include <tbb/blocked_range.h>
@@ -19,8 +20,8 @@ enum PhotonDim : std::uint32_t { kDimScatter = 30, kDimLobe = 32, kDimSurvive = 
 
 void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
-    StageTimer timer(stats, StageId::Photon);
-    stats.stages[int(StageId::Photon)].raysIn += std::uint64_t(b.count);
+    StageTimer timer(stats, kPhotonStageId);
+    stats.stages[int(kPhotonStageId)].raysIn += std::uint64_t(b.count);
     auto& stored = m_stored.local();
     std::uint64_t spawned = 0;
     for (int i = 0; i < b.count; ++i) {
@@ -43,7 +44,7 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
                 // direct light, which gi's gather samples instead (GiSettings::gatherDirect).
                 std::uint32_t sampled = b.depth[i] == 0 && (flags & kPhotonDeltaOrSky) ? 1u : 0u;
                 stored.push_back({key, PhotonRecord{h.p, power, wo, fg, sampled}});
-                ++stats.photonsStored;
+                ++giCounter(stats, kGiPhotonsStored);
             }
             // A caustic path ends at its first diffuse surface, unless a coat over it
             // reflects the photon on (below).
@@ -77,10 +78,10 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         std::uint8_t nextFlags =
             std::uint8_t(flags | (s.delta || s.coat ? kPhotonSpecular : kPhotonDiffuse));
         Vec3 no = offsetRayOrigin(h, h.ng, s.wi);
-        spawnRay(ctx.out(RayKind::Photon), b, i, no, s.wi, next, std::uint8_t(depth), 0, nextFlags, 4);
+        spawnRay(ctx.out(kPhotonRay), b, i, no, s.wi, next, std::uint8_t(depth), 0, nextFlags, 4);
         ++spawned;
     }
-    stats.stages[int(StageId::Photon)].raysOut += spawned;
+    stats.stages[int(kPhotonStageId)].raysOut += spawned;
 }
 
 std::vector<PhotonStage::KeyedPhoton> PhotonStage::takeKeyedPhotons(

@@ -29,12 +29,12 @@
 // (read by the gather stage).
 #pragma once
 
+#include "engine/engine_settings.h"
 #include "engine/stats.h"
 #include "gi/caustic_pixel_radius.h"
 #include "gi/focus_region.h"
 #include "gi/gi_context.h"
 #include "gi/photon_map.h"
-#include "modes/render_job.h"
 
 #include <algorithm>
 #include <cmath>
@@ -44,6 +44,9 @@
 namespace rayproc {
 
 class Cluster;
+class EmbreeScene;
+struct LightSet;
+struct Scene;
 
 // r_i / r_1 for pass index i >= 1 of the sequence above (1 for i = 1).
 inline double progressiveRadiusRatio(int pass, double alpha) {

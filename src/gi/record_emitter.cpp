@@ -44,7 +44,7 @@ bool RecordEmitter::emit(StageContext& ctx) {
                 continue;
             }
             // Sample ~0: no stratum of the record's gradients.
-            pushGatherRay(ctx.out(RayKind::Gather), rec.gatherOrigin, wi, local, ~0u, Vec3(1.0f),
+            pushGatherRay(ctx.out(kGatherRay), rec.gatherOrigin, wi, local, ~0u, Vec3(1.0f),
                           kernels::hashCombine(key, 0x100000u + std::uint64_t(r)), 0,
                           kFlagGatherRecord);
         }
@@ -56,7 +56,7 @@ bool RecordEmitter::emit(StageContext& ctx) {
             if (!direction(m_correction, correctionKey, r, wi)) continue;
             const std::uint64_t rayKey =
                 kernels::hashCombine(correctionKey, 0x100000u + std::uint64_t(r));
-            pushGatherRay(ctx.out(RayKind::Correction), rec.gatherOrigin, wi, local, ~0u,
+            pushGatherRay(ctx.out(kCorrectionRay), rec.gatherOrigin, wi, local, ~0u,
                           Vec3(1.0f), rayKey, 1, 0);
         }
     }

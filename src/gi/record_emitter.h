@@ -1,11 +1,11 @@
 // Record emitter: gather rays from the irradiance cache's records, for refining them during the
 // render (gi/cache_refinement.h). Each record gets `rays` cosine-weighted rays over its own
 // hemisphere, stratified like a final gather (kernels::cosineStratum) with fresh jitter each
-// pass; each ray is a RayKind::Gather ray flagged kFlagGatherRecord whose pixel is the record's
+// pass; each ray is a kGatherRay ray flagged kFlagGatherRecord whose pixel is the record's
 // slot in the pass's IcRequests, so the gather stage adds what it finds to that slot exactly as
 // in the cache's prepass. A ray's direction depends only on (seed, pass, record, ray), never on
 // the thread that emits it.
-// With correction rays, each record also gets that many RayKind::Correction rays (the same
+// With correction rays, each record also gets that many kCorrectionRay rays (the same
 // cosine strata, their own jitter) whose pixel is the record's slot: the correction stage and
 // the paths it continues add what they find to that pixel of the refinement's film
 // (gi/cache_refinement.h).
@@ -13,6 +13,7 @@
 
 #include "core/math.h"
 #include "engine/stage.h"
+#include "gi/gi_pipeline.h"
 
 #include <atomic>
 #include <cstdint>

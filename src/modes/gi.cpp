@@ -2,10 +2,10 @@
 //  1. Photon passes: the photon emitter and the photon stage build the global map (every
 //     photon at a diffuse surface) and the caustic map (L S+ D paths only), both sorted into a
 //     fixed order, then kd-trees; optionally Christensen's precomputed irradiance.
-//  2. Irradiance cache prepass (Ward, Rubinstein & Clear 1988): camera rays at 1/16, 1/8, 1/4,
-//     1/2 and full resolution; where the frozen cache has no usable record, a final gather
-//     makes one; each pass's records are inserted sorted by (pixel, path), so the cache does
-//     not depend on the thread count.
+//  2. Irradiance cache prepass (Ward, Rubinstein & Clear 1988; gi/cache_prepass.h): camera
+//     rays at 1/16, 1/8, 1/4, 1/2 and full resolution; where the frozen cache has no usable
+//     record, a final gather makes one; each pass's records are inserted sorted by (pixel,
+//     path), so the cache does not depend on the thread count.
 //  3. The render: direct light with soft shadows exactly as raytrace mode, specular reflection
 //     and refraction, caustics from the caustic map, indirect diffuse from the cache (or a
 //     final gather where no record is usable).
@@ -19,18 +19,14 @@
 #include "cluster/cluster.h"
 #include "engine/camera_emitter.h"
 #include "engine/cancel.h"
-#include "engine/intersect.h"
 #include "engine/phases.h"
-#include "engine/processor.h"
 #include "engine/progress.h"
-#include "engine/reflection_stage.h"
-#include "engine/refraction_stage.h"
-#include "engine/shadow_stage.h"
-#include "engine/surface_stage.h"
+#include "gi/cache_prepass.h"
 #include "gi/cache_refinement.h"
 #include "gi/focus_region.h"
-#include "gi/gather_stage.h"
 #include "gi/gi_context.h"
+#include "gi/gi_pipeline.h"
+#include "gi/gi_render_stages.h"
 #include "gi/irradiance_cache.h"
 #include "gi/photon_emitter.h"
 #include "gi/photon_map.h"
@@ -41,7 +37,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <functional>
 #include <optional>
 #include <sstream>
@@ -87,211 +82,6 @@ void precomputePhotonIrradiance(PhotonMap& map, const GiSettings& s, float radiu
     progress.finish(complete);
 }
 
-// A gather the prepass made, as plain values: what a record is made of.
-struct MadeGather {
-    std::uint64_t key = 0;
-    Vec3 position, normal, u, v, origin, geometricNormal;
-    std::int64_t radiance[3] = {0, 0, 0};
-    std::int64_t inverseDistance = 0;
-    std::int32_t rays = 0;
-    std::vector<Vec3> strataRadiance;
-    std::vector<float> strataDistance;
-};
-
-template <typename T>
-void putValue(std::vector<std::uint8_t>& out, const T& v) {
-    const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
-    out.insert(out.end(), p, p + sizeof(T));
-}
-
-template <typename T>
-T getValue(const std::vector<std::uint8_t>& in, std::size_t& at) {
-    T v;
-    std::memcpy(&v, &in[at], sizeof(T));
-    at += sizeof(T);
-    return v;
-}
-
-// Every rank's gathers of a prepass level, on every rank (a collective). The order does not
-// matter: the caller sorts them.
-std::vector<MadeGather> mergeGatherShares(const Cluster& cluster, std::vector<MadeGather> mine) {
-    if (!cluster.distributed()) return mine;
-    std::vector<std::uint8_t> bytes;
-    for (const MadeGather& g : mine) {
-        putValue(bytes, g.key);
-        for (const Vec3* w : {&g.position, &g.normal, &g.u, &g.v, &g.origin, &g.geometricNormal})
-            putValue(bytes, *w);
-        for (std::int64_t r : g.radiance) putValue(bytes, r);
-        putValue(bytes, g.inverseDistance);
-        putValue(bytes, g.rays);
-        putValue(bytes, std::uint32_t(g.strataRadiance.size()));
-        for (const Vec3& r : g.strataRadiance) putValue(bytes, r);
-        putValue(bytes, std::uint32_t(g.strataDistance.size()));
-        for (float d : g.strataDistance) putValue(bytes, d);
-    }
-    mine = {};
-    std::vector<std::uint8_t> all = cluster.gatherAll(bytes);
-    std::vector<MadeGather> out;
-    for (std::size_t at = 0; at < all.size();) {
-        MadeGather g;
-        g.key = getValue<std::uint64_t>(all, at);
-        for (Vec3* w : {&g.position, &g.normal, &g.u, &g.v, &g.origin, &g.geometricNormal})
-            *w = getValue<Vec3>(all, at);
-        for (std::int64_t& r : g.radiance) r = getValue<std::int64_t>(all, at);
-        g.inverseDistance = getValue<std::int64_t>(all, at);
-        g.rays = getValue<std::int32_t>(all, at);
-        g.strataRadiance.resize(getValue<std::uint32_t>(all, at));
-        for (Vec3& r : g.strataRadiance) r = getValue<Vec3>(all, at);
-        g.strataDistance.resize(getValue<std::uint32_t>(all, at));
-        for (float& d : g.strataDistance) d = getValue<float>(all, at);
-        out.push_back(std::move(g));
-    }
-    return out;
-}
-
-// Ward's cache, filled coarse to fine; returns the records inserted.
-std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
-                                const LightSet& lights, GiData& gi, IrradianceCache& cache,
-                                const EngineSettings& engine, const Cluster& cluster,
-                                Stats& stats) {
-    const Camera& full = scene.camera;
-    IcRequests requests;
-    const int filmExponent = Film::exponentFor(lights.radianceScale(scene.worldBounds()));
-    requests.setRadianceScale(IcRequest::radianceScale(filmExponent));
-    std::size_t inserted = 0;
-    constexpr int kScales[] = {16, 8, 4, 2, 1};
-    auto levelCamera = [&](int scale) {
-        Camera cam = full;
-        cam.width = std::max(1, (full.width + scale - 1) / scale);
-        cam.height = std::max(1, (full.height + scale - 1) / scale);
-        return cam;
-    };
-    // Progress: the levels weighted by their pixels (the full-resolution level is 3/4 of them).
-    double allPixels = 0;
-    for (int scale : kScales) allPixels += double(levelCamera(scale).width) * levelCamera(scale).height;
-    std::atomic<double> pixelsBefore{0};
-    std::atomic<const CameraEmitter*> current{nullptr};
-    std::atomic<double> currentPixels{0};
-    Progress progress(
-        "gi irradiance cache", engine.quiet,
-        [&] {
-            double f = pixelsBefore.load();
-            // The monitor thread reads the level's emitter only while it is published.
-            if (const CameraEmitter* c = current.load())
-                f += currentPixels.load() * double(c->unitsEmitted()) /
-                     double(std::max<std::uint64_t>(c->unitsPerPass(), 1));
-            return f / allPixels;
-        },
-        [&] { return std::uint64_t(stats.merged().raysTraced); });
-    for (int scale : kScales) {
-        // The level's own work on this thread: its film and stages, merging, sorting and
-        // inserting its records; the gathers are the workers' (cache_prepass).
-        PhaseTimer levelPhase(engine.phases, "cache_insert");
-        if (stopped(cluster)) break;
-        Camera cam = levelCamera(scale);
-        requests.beginLevel(std::size_t(cam.width) * cam.height * 2);
-
-        Film film(cam.width, cam.height, filmExponent);
-        ShadingPolicy policy;
-        policy.maxDepth = gi.settings.maxDepth;
-        policy.icPrepass = true;
-        policy.stratify = engine.stratification;
-        policy.rouletteEnabled = gi.settings.roulette;
-        RenderContext rc{scene, accel, lights, policy, film, engine.seed};
-        gi.cache = &cache;
-        gi.requests = &requests;
-        rc.gi = &gi;
-        Intersector intersector(accel.root(), engine.packetWidth);
-        RayProcessor processor(intersector, stats, engine.threads);
-        ShadowStage shadow(rc);
-        ReflectionStage reflection(rc);
-        RefractionStage refraction(rc);
-        GatherStage gather(rc);
-        SurfaceStage surface(rc, shadow, reflection, refraction, &gather);
-        for (RayKind k : {RayKind::Camera, RayKind::Reflection, RayKind::Refraction})
-            processor.setStage(k, &surface);
-        processor.setStage(RayKind::Shadow, &shadow);
-        processor.setStage(RayKind::Gather, &gather);
-        processor.setStage(RayKind::GatherShadow, &gather);
-        CameraEmitter camera(rc, &cam);
-        camera.setShare(cluster.rank(), cluster.size()); // each rank gathers for its tiles
-        camera.beginPass(0, 1);
-        currentPixels = double(cam.width) * cam.height;
-        current = &camera;
-        timeWorkers(engine.phases, "cache_prepass", stats, processor.threads(),
-                    [&] { processor.run(camera, [] { return interruptRequested(); }); });
-        current = nullptr;
-        pixelsBefore = pixelsBefore.load() + double(cam.width) * cam.height;
-
-        // New records (every rank's) in a fixed order, then into the cache.
-        std::size_t n = requests.claimed();
-        std::vector<MadeGather> made;
-        for (std::size_t i = 0; i < n; ++i) {
-            const IcRequest& r = requests[std::uint32_t(i)];
-            if (r.rays.load() <= 0) continue;
-            MadeGather g;
-            g.key = r.key;
-            g.position = r.position;
-            g.normal = r.normal;
-            g.u = r.u;
-            g.v = r.v;
-            g.origin = r.origin;
-            g.geometricNormal = r.geometricNormal;
-            for (int c = 0; c < 3; ++c) g.radiance[c] = r.radiance[c].load();
-            g.inverseDistance = r.inverseDistance.load();
-            g.rays = r.rays.load();
-            g.strataRadiance.resize(r.strataRadiance.size());
-            for (std::size_t s = 0; s < r.strataRadiance.size(); ++s)
-                for (int c = 0; c < 3; ++c)
-                    g.strataRadiance[s][c] =
-                        float(double(r.strataRadiance[s][std::size_t(c)]) / requests.radianceScale());
-            g.strataDistance = r.strataDistance;
-            made.push_back(std::move(g));
-        }
-        made = mergeGatherShares(cluster, std::move(made));
-        // A level cut short would leave holes in the cache; the render is cancelled anyway.
-        if (stopped(cluster)) break;
-        std::sort(made.begin(), made.end(), [](const MadeGather& a, const MadeGather& b) {
-            if (a.key != b.key) return a.key < b.key;
-            return std::tie(a.position.x, a.position.y, a.position.z) <
-                   std::tie(b.position.x, b.position.y, b.position.z);
-        });
-        std::vector<IrradianceRecord> records;
-        for (const MadeGather& r : made) {
-            double rays = r.rays;
-            IrradianceRecord rec;
-            rec.position = r.position;
-            rec.normal = r.normal;
-            rec.gatherOrigin = r.origin;
-            rec.geometricNormal = r.geometricNormal;
-            rec.gatherRays = r.rays;
-            // Cosine-weighted gather: E = pi / N * sum L.
-            for (int c = 0; c < 3; ++c)
-                rec.irradiance[c] = float(kPi * double(r.radiance[c]) / requests.radianceScale() / rays);
-            double inv = double(r.inverseDistance) / IcRequest::kScale;
-            float harmonic = inv > 0 ? float(rays / inv) : gi.icMaxRadius;
-            rec.radius = std::clamp(harmonic, gi.icMinRadius, gi.icMaxRadius);
-            if (gi.strataWanted &&
-                r.strataRadiance.size() == std::size_t(gi.gatherTheta) * std::size_t(gi.gatherPhi)) {
-                // Ward & Heckbert's gradients from the same strata (the irradiance above is
-                // pi / (M N) times their sum).
-                GatherStrata strata;
-                strata.thetaCount = gi.gatherTheta;
-                strata.phiCount = gi.gatherPhi;
-                strata.radiance = r.strataRadiance;
-                strata.distance = r.strataDistance;
-                IrradianceCache::estimateGradients(strata, r.u, r.v, r.normal, rec.gradT, rec.gradR);
-            }
-            records.push_back(rec);
-        }
-        cache.insert(records);
-        inserted += records.size();
-    }
-    gi.requests = nullptr;
-    progress.finish(!interruptRequested());
-    return inserted;
-}
-
 // The ic-records debug view: the render dimmed to a quarter, and every cache record's position
 // projected through the (pinhole) camera marked with kIcRecordMarker at its pixel (records are
 // points the camera's rays reached, so nearly all project into the image; occlusion is not
@@ -318,6 +108,146 @@ std::size_t markIcRecords(Image& image, const Camera& cam, const IrradianceCache
         ++marked;
     }
     return marked;
+}
+
+using Extras = std::vector<std::pair<std::string, double>>;
+
+// What the gi passes share, before the maps: the settings, the gathers' strata, and lengths
+// that scale with the scene, or with the part the camera sees when that is much smaller.
+GiData giDataFor(const GiSettings& s, const Scene& scene, const FocusRegion& focus,
+                 const EngineSettings& engine, Extras& extras) {
+    GiData gi;
+    gi.settings = s;
+    gatherStrata(s.gatherRays, gi.gatherTheta, gi.gatherPhi);
+    gatherStrata(filmGatherRays(s), gi.filmGatherTheta, gi.filmGatherPhi);
+    // Gradients need the strata layout: independent gather rays (--no-stratification) have none.
+    gi.strataWanted = s.irradianceCache && s.icGradients && engine.stratification;
+    float diag = std::max(1e-6f, length((focus.active ? focus.bounds : scene.worldBounds()).diagonal()));
+    gi.globalRadius = s.globalRadius > 0 ? s.globalRadius : 0.05f * diag;
+    gi.causticRadius = s.causticRadius > 0 ? s.causticRadius : 0.02f * diag;
+    gi.icMinRadius = 0.005f * diag;
+    gi.icMaxRadius = 0.15f * diag;
+    extras.push_back({"gi/focus_active", focus.active ? 1.0 : 0.0});
+    extras.push_back({"gi/focus_diagonal", double(diag)});
+    return gi;
+}
+
+// The first pass's products: the photon maps (the caustic map, with progressive caustics, is
+// the per-pass ProgressiveCaustics' instead) and what building them took.
+struct GiPhotonMaps {
+    PhotonMap global, caustic, gatherMap;
+    PhotonRounds rounds;
+    std::optional<ProgressiveCaustics> progressive;
+    double photonSeconds = 0, precomputeSeconds = 0;
+};
+
+// First pass: photons. Each rank traces a range of the photon indices; every rank builds the
+// merged maps. Progressive caustics trace the first pass's caustic map here and a new one
+// before every later render pass. Then Christensen's precomputed irradiance, and the maps
+// into `gi`.
+void tracePhotonMaps(GiPhotonMaps& maps, GiData& gi, const Scene& scene,
+                     const EmbreeScene& accel, const LightSet& lights, const RenderPlan& plan,
+                     const FocusRegion& focus, const EngineSettings& engine,
+                     const Cluster& cluster, Stats& photonStats) {
+    const GiSettings& s = gi.settings;
+    auto t0 = Clock::now();
+    // Direct light at gather hits: only delta lights and the sky are sampled there.
+    const bool gatherDirect =
+        s.gatherDirect && (lights.hasEnvironment() || lights.hasDeltaLights());
+    if (s.photons > 0 && plan.globalMap)
+        maps.rounds = buildPhotonMap(maps.global, scene, accel, lights, s, engine, cluster,
+                                     {false, std::uint32_t(s.photons), 1, "gi photons",
+                                      s.photonRounds, std::size_t(s.photons) / 4},
+                                     focus, photonStats, gatherDirect ? &maps.gatherMap : nullptr);
+    const bool causticPass = s.caustics && s.causticPhotons > 0 && plan.causticMap;
+    if (causticPass && s.progressiveCaustics) {
+        maps.progressive.emplace(scene, accel, lights, gi, engine, cluster, focus, photonStats);
+        gi.causticFixedRadius = true;
+    } else if (causticPass) {
+        buildPhotonMap(maps.caustic, scene, accel, lights, s, engine, cluster,
+                       {true, std::uint32_t(s.causticPhotons), 2, "gi caustic photons"}, focus,
+                       photonStats);
+    }
+    maps.photonSeconds = secondsSince(t0);
+    auto t1 = Clock::now();
+    PhaseTimer precomputePhase(engine.phases, "irradiance_precompute", PhaseKind::Parallel);
+    if (s.precomputedIrradiance && maps.global.size() > 0 && !stopped(cluster))
+        precomputePhotonIrradiance(maps.global, s, gi.globalRadius, engine, cluster);
+    if (s.precomputedIrradiance && maps.gatherMap.size() > 0 && !stopped(cluster))
+        precomputePhotonIrradiance(maps.gatherMap, s, gi.globalRadius, engine, cluster);
+    maps.precomputeSeconds = secondsSince(t1);
+    precomputePhase.stop();
+    gi.global = &maps.global;
+    if (gatherDirect && maps.global.size() > 0) gi.globalIndirect = &maps.gatherMap;
+    if (!maps.progressive) gi.caustic = &maps.caustic;
+}
+
+void addPhotonExtras(Extras& extras, const GiPhotonMaps& maps, const GiData& gi) {
+    extras.push_back({"gi/photon_seconds", maps.photonSeconds});
+    extras.push_back({"gi/photons_global", double(maps.global.size())});
+    extras.push_back({"gi/photon_rounds", double(maps.rounds.rounds)});
+    extras.push_back(
+        {"gi/photons_emitted", double(maps.rounds.rounds) * double(gi.settings.photons)});
+    extras.push_back({"gi/photons_in_view", double(maps.rounds.inView)});
+    extras.push_back({"gi/photons_gather_map", double(maps.gatherMap.size())});
+    extras.push_back({"gi/photons_caustic", double(gi.caustic ? gi.caustic->size() : 0)});
+    extras.push_back({"gi/photon_map_bytes",
+                      double(maps.global.memoryBytes() + maps.gatherMap.memoryBytes() +
+                             (gi.caustic ? gi.caustic->memoryBytes() : 0))});
+    extras.push_back({"gi/precompute_seconds", maps.precomputeSeconds});
+}
+
+// The render passes' shading: raytrace's direct light and specular chains, gi's settings, what
+// the scene analysis skips.
+ShadingPolicy giRenderPolicy(const GiSettings& s, const EngineSettings& engine,
+                             const RenderPlan& plan) {
+    ShadingPolicy policy;
+    policy.maxDepth = s.maxDepth;
+    policy.lightSamples = s.lightSamples;
+    policy.directLight = s.debugView == GiDebugView::None || s.debugView == GiDebugView::IcRecords;
+    policy.rouletteEnabled = s.roulette;
+    policy.stratify = engine.stratification;
+    policy.glossyMis = engine.glossyMis;
+    policy.diffuseMis = engine.diffuseMis;
+    policy.lightChoice = engine.lightChoice;
+    plan.apply(policy);
+    return policy;
+}
+
+// What the render passes did: maps read, caustic passes, gathers, refinement, cache lookups.
+void addRenderExtras(Extras& extras, const RenderResult& r, const GiPhotonMaps& maps,
+                     const GiData& gi, const CacheRefinement* refinement) {
+    // Precomputed estimates the render needed (all of them when not lazy).
+    extras.push_back({"gi/precomputed_estimates",
+                      double(maps.global.precomputedEstimatesMade() +
+                             maps.gatherMap.precomputedEstimatesMade())});
+    extras.push_back({"gi/precomputed_photons",
+                      double(maps.global.precomputedCount() + maps.gatherMap.precomputedCount())});
+    if (const ProgressiveCaustics* progressive = maps.progressive ? &*maps.progressive : nullptr) {
+        extras.push_back({"gi/caustic_passes", double(progressive->passesTraced())});
+        extras.push_back({"gi/caustic_first_radius", double(progressive->firstRadius())});
+        extras.push_back({"gi/caustic_last_radius", double(gi.causticRadius)});
+        if (const CausticPixelRadius* pixels = progressive->pixelRadius())
+            extras.push_back({"gi/caustic_mean_pixel_radius", pixels->meanRadius()});
+    }
+    const ThreadStats& t = r.stats.totals;
+    extras.push_back({"gi/gather_rays", double(t.stages[int(kGatherStageId)].raysOut)});
+    extras.push_back({"gi/correction_rays", double(t.stages[int(kCorrectionStageId)].raysOut)});
+    extras.push_back({"gi/refine_rays", refinement ? double(refinement->raysGathered()) : 0.0});
+    extras.push_back({"gi/ic_correction_rays",
+                      refinement ? double(refinement->correctionRays()) : 0.0});
+    extras.push_back({"gi/ic_correction_weight",
+                      refinement ? refinement->correctionWeight() : 0.0});
+    extras.push_back({"gi/ic_correction_smoothing",
+                      refinement ? double(refinement->correctionSmoothing()) : 0.0});
+    const double cacheLookups = double(giCounter(t, kGiCacheLookups));
+    extras.push_back({"gi/cache_lookups", cacheLookups});
+    extras.push_back({"gi/cache_hit_rate",
+                      cacheLookups > 0 ? double(giCounter(t, kGiCacheHits)) / cacheLookups : 0.0});
+    const double lookups = cacheLookups + double(giCounter(t, kGiCausticLookups)) +
+                           double(giCounter(t, kGiGlobalLookups));
+    double gatherSeconds = t.stages[int(kGatherStageId)].seconds;
+    extras.push_back({"gi/lookups_per_second", gatherSeconds > 0 ? lookups / gatherSeconds : 0.0});
 }
 
 } // namespace
@@ -366,105 +296,37 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     if (!plan.render) return blackRender(scene);
     LightSet lights = plan.sampledLights(all);
     lightPhase.stop();
-    GiData gi;
-    gi.settings = s;
-    gatherStrata(s.gatherRays, gi.gatherTheta, gi.gatherPhi);
-    gatherStrata(filmGatherRays(s), gi.filmGatherTheta, gi.filmGatherPhi);
-    // Gradients need the strata layout: independent gather rays (--no-stratification) have none.
-    gi.strataWanted = s.irradianceCache && s.icGradients && engine.stratification;
-    // Lengths scale with the scene, or with the part the camera sees when that is much smaller.
     PhaseTimer focusPhase(engine.phases, "focus_region"); // rays from this thread
     FocusRegion focus = cameraFocusRegion(scene, accel, engine.packetWidth);
     focusPhase.stop();
-    float diag = std::max(1e-6f, length((focus.active ? focus.bounds : scene.worldBounds()).diagonal()));
-    gi.globalRadius = s.globalRadius > 0 ? s.globalRadius : 0.05f * diag;
-    gi.causticRadius = s.causticRadius > 0 ? s.causticRadius : 0.02f * diag;
-    gi.icMinRadius = 0.005f * diag;
-    gi.icMaxRadius = 0.15f * diag;
-    std::vector<std::pair<std::string, double>> extras;
-    extras.push_back({"gi/focus_active", focus.active ? 1.0 : 0.0});
-    extras.push_back({"gi/focus_diagonal", double(diag)});
+    Extras extras;
+    GiData gi = giDataFor(s, scene, focus, engine, extras);
 
-    // First pass: photons. Each rank traces a range of the photon indices; every rank builds
-    // the merged maps. Progressive caustics trace the first pass's caustic map here and a new
-    // one before every later render pass.
     Stats photonStats;
-    auto t0 = Clock::now();
-    // Direct light at gather hits: only delta lights and the sky are sampled there.
-    const bool gatherDirect =
-        s.gatherDirect && (lights.hasEnvironment() || lights.hasDeltaLights());
-    PhotonMap global, caustic, gatherMap;
-    PhotonRounds rounds;
-    if (s.photons > 0 && plan.globalMap)
-        rounds = buildPhotonMap(global, scene, accel, lights, s, engine, cluster,
-                                {false, std::uint32_t(s.photons), 1, "gi photons",
-                                 s.photonRounds, std::size_t(s.photons) / 4},
-                                focus, photonStats, gatherDirect ? &gatherMap : nullptr);
-    const bool causticPass = s.caustics && s.causticPhotons > 0 && plan.causticMap;
-    std::optional<ProgressiveCaustics> progressive;
-    if (causticPass && s.progressiveCaustics) {
-        progressive.emplace(scene, accel, lights, gi, engine, cluster, focus, photonStats);
-        gi.causticFixedRadius = true;
-    } else if (causticPass) {
-        buildPhotonMap(caustic, scene, accel, lights, s, engine, cluster,
-                       {true, std::uint32_t(s.causticPhotons), 2, "gi caustic photons"}, focus,
-                       photonStats);
-    }
-    double photonSeconds = secondsSince(t0);
-    auto t1 = Clock::now();
-    PhaseTimer precomputePhase(engine.phases, "irradiance_precompute", PhaseKind::Parallel);
-    if (s.precomputedIrradiance && global.size() > 0 && !stopped(cluster))
-        precomputePhotonIrradiance(global, s, gi.globalRadius, engine, cluster);
-    if (s.precomputedIrradiance && gatherMap.size() > 0 && !stopped(cluster))
-        precomputePhotonIrradiance(gatherMap, s, gi.globalRadius, engine, cluster);
-    double precomputeSeconds = secondsSince(t1);
-    precomputePhase.stop();
-    gi.global = &global;
-    if (gatherDirect && global.size() > 0) gi.globalIndirect = &gatherMap;
-    if (!progressive) gi.caustic = &caustic;
-    extras.push_back({"gi/photon_seconds", photonSeconds});
-    extras.push_back({"gi/photons_global", double(global.size())});
-    extras.push_back({"gi/photon_rounds", double(rounds.rounds)});
-    extras.push_back({"gi/photons_emitted", double(rounds.rounds) * double(s.photons)});
-    extras.push_back({"gi/photons_in_view", double(rounds.inView)});
-    extras.push_back({"gi/photons_gather_map", double(gatherMap.size())});
-    extras.push_back({"gi/photons_caustic", double(gi.caustic ? gi.caustic->size() : 0)});
-    extras.push_back({"gi/photon_map_bytes",
-                      double(global.memoryBytes() + gatherMap.memoryBytes() +
-                             (gi.caustic ? gi.caustic->memoryBytes() : 0))});
-    extras.push_back({"gi/precompute_seconds", precomputeSeconds});
+    GiPhotonMaps maps;
+    tracePhotonMaps(maps, gi, scene, accel, lights, plan, focus, engine, cluster, photonStats);
+    addPhotonExtras(extras, maps, gi);
 
-    // Cache prepass.
+    // Cache prepass (gi/cache_prepass.h).
     IrradianceCacheSettings cs;
     cs.accuracy = s.icAccuracy;
     cs.useGradients = s.icGradients;
     IrradianceCache cache(scene.worldBounds(), cs);
     Stats cacheStats;
     auto t2 = Clock::now();
+    gi.cache = s.irradianceCache ? &cache : nullptr;
     if (s.irradianceCache && plan.globalMap && !stopped(cluster))
         fillIrradianceCache(scene, accel, lights, gi, cache, engine, cluster, cacheStats);
     double cacheSeconds = secondsSince(t2);
-    gi.cache = s.irradianceCache ? &cache : nullptr;
-    gi.requests = nullptr;
     ThreadStats cacheTotals = cacheStats.merged();
     sumToRoot(cluster, cacheTotals); // every rank's share of the prepass
     extras.push_back({"gi/cache_seconds", cacheSeconds});
     extras.push_back({"gi/cache_records", double(cache.size())});
-    extras.push_back({"gi/cache_prepass_gather_rays", double(cacheTotals.stages[int(StageId::Gather)].raysOut)});
+    extras.push_back({"gi/cache_prepass_gather_rays",
+                      double(cacheTotals.stages[int(kGatherStageId)].raysOut)});
 
-    // Second pass: the render.
-    ShadingPolicy policy;
-    policy.maxDepth = s.maxDepth;
-    policy.lightSamples = s.lightSamples;
-    policy.directLight = s.debugView == GiDebugView::None || s.debugView == GiDebugView::IcRecords;
-    policy.rouletteEnabled = s.roulette;
-    policy.stratify = engine.stratification;
-    policy.glossyMis = engine.glossyMis;
-    policy.diffuseMis = engine.diffuseMis;
-    policy.lightChoice = engine.lightChoice;
-    plan.apply(policy);
-    // Before each render pass: a new caustic map (progressive caustics), the records' new
-    // gather rays (cache refinement).
+    // Second pass: the render. Before each render pass: a new caustic map (progressive
+    // caustics), the records' new gather rays (cache refinement).
     Stats refineStats;
     std::optional<CacheRefinement> refinement;
     if (s.irradianceCache && (s.icRefineRays > 0 || s.icCorrectionRays > 0) && plan.globalMap &&
@@ -472,44 +334,19 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
         refinement.emplace(scene, accel, lights, gi, cache, engine, cluster, refineStats);
     // Without diffuse surfaces the gather stage would never get work: not registered.
     std::function<void(int, int)> beforePass;
-    if ((progressive || refinement) && plan.globalMap)
+    if ((maps.progressive || refinement) && plan.globalMap)
         beforePass = [&](int pass, int samples) {
-            if (progressive) progressive->beginPass(pass, samples);
+            if (maps.progressive) maps.progressive->beginPass(pass, samples);
             if (refinement && pass > 0) refinement->beginPass(pass);
         };
+    const ShadingPolicy policy = giRenderPolicy(s, engine, plan);
+    GiRenderStages giStages(gi);
     RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine,
-                                  RadianceStage::Surface, plan.globalMap ? &gi : nullptr,
+                                  RadianceStage::Surface, plan.globalMap ? &giStages : nullptr,
                                   beforePass);
-    // Precomputed estimates the render needed (all of them when not lazy).
-    extras.push_back({"gi/precomputed_estimates", double(global.precomputedEstimatesMade() +
-                                                         gatherMap.precomputedEstimatesMade())});
-    extras.push_back({"gi/precomputed_photons",
-                      double(global.precomputedCount() + gatherMap.precomputedCount())});
-    if (progressive) {
-        extras.push_back({"gi/caustic_passes", double(progressive->passesTraced())});
-        extras.push_back({"gi/caustic_first_radius", double(progressive->firstRadius())});
-        extras.push_back({"gi/caustic_last_radius", double(gi.causticRadius)});
-        if (const CausticPixelRadius* pixels = progressive->pixelRadius())
-            extras.push_back({"gi/caustic_mean_pixel_radius", pixels->meanRadius()});
-    }
-    const ThreadStats& t = r.stats.totals;
-    extras.push_back({"gi/gather_rays", double(t.stages[int(StageId::Gather)].raysOut)});
-    extras.push_back({"gi/correction_rays", double(t.stages[int(StageId::Correction)].raysOut)});
-    extras.push_back({"gi/refine_rays", refinement ? double(refinement->raysGathered()) : 0.0});
-    extras.push_back({"gi/ic_correction_rays",
-                      refinement ? double(refinement->correctionRays()) : 0.0});
-    extras.push_back({"gi/ic_correction_weight",
-                      refinement ? refinement->correctionWeight() : 0.0});
-    extras.push_back({"gi/ic_correction_smoothing",
-                      refinement ? double(refinement->correctionSmoothing()) : 0.0});
-    extras.push_back({"gi/cache_lookups", double(t.cacheLookups)});
-    extras.push_back({"gi/cache_hit_rate", t.cacheLookups ? double(t.cacheHits) / double(t.cacheLookups) : 0.0});
-    double gatherSeconds = t.stages[int(StageId::Gather)].seconds;
-    extras.push_back({"gi/lookups_per_second",
-                      gatherSeconds > 0 ? double(t.cacheLookups + t.causticLookups + t.globalLookups) / gatherSeconds : 0.0});
-    if (s.debugView == GiDebugView::IcRecords) {
+    addRenderExtras(extras, r, maps, gi, refinement ? &*refinement : nullptr);
+    if (s.debugView == GiDebugView::IcRecords)
         extras.push_back({"gi/ic_marked_pixels", double(markIcRecords(r.image, scene.camera, cache))});
-    }
     // runRenderJob measured its wall time from engine.workStart: the pre-passes are in it.
     ThreadStats photonTotals = photonStats.merged();
     sumToRoot(cluster, photonTotals);

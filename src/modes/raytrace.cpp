@@ -44,11 +44,6 @@ RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
     return runRenderJob("raytrace", scene, accel, lights, policy, s.spp, engine);
 }
 
-const std::vector<std::string>& knownModes() {
-    static const std::vector<std::string> modes{"preview", "raytrace", "gi", "path"};
-    return modes;
-}
-
 // The most complete mode implemented: full global illumination.
 std::string defaultMode() { return "path"; }
 

@@ -13,9 +13,7 @@
 #include "engine/refraction_stage.h"
 #include "engine/shadow_stage.h"
 #include "engine/surface_stage.h"
-#include "gi/correction_stage.h"
-#include "gi/gather_stage.h"
-#include "gi/gi_context.h"
+#include "engine/mode_stages.h"
 
 #include "cluster/cluster.h"
 #include "image/metrics.h"
@@ -35,21 +33,6 @@
 
 namespace rayproc {
 
-std::string EngineSettings::toString() const {
-    std::ostringstream o;
-    o << "threads=" << (threads > 0 ? std::to_string(threads) : std::string("all"))
-      << " packet_width=" << packetWidth << " seed=" << seed
-      << " scene_analysis=" << (sceneAnalysis ? "on" : "off")
-      << " stratification=" << (stratification ? "on" : "off")
-      << " glossy_mis=" << (glossyMis ? "on" : "off")
-      << " light_choice=" << (lightChoice ? "on" : "off")
-      << " diffuse_mis=" << (diffuseMis ? "on" : "off")
-      << " sky_compensation=" << (skyCompensation ? "on" : "off")
-      << " adaptive=" << (adaptiveSampling ? "on" : "off");
-    if (adaptiveSampling) o << " adaptive_min_spp=" << adaptiveMinSpp;
-    return o.str();
-}
-
 namespace {
 constexpr int kMinTargetPasses = 8;
 // Adaptive sampling without a target: no pixel takes more than this times the mean asked.
@@ -64,282 +47,402 @@ enum PassDecision : std::uint32_t {
     kDecideSignalShift = 4,
     kDecideInterrupted = kInterruptBit << kDecideSignalShift,
 };
-} // namespace
 
-RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
-                          const LightSet& lights, const ShadingPolicy& policy, int spp,
-                          const EngineSettings& engine, RadianceStage radiance,
-                          const GiData* gi, const std::function<void(int pass, int samples)>& beforePass) {
-    // The film, the stages and the log before the first pass: one thread.
-    PhaseTimer setupPhase(engine.phases, "render_setup");
-    // The mode's clock: seconds from the start of its work, less the time the error log has
-    // spent measuring; it decides the time limit, and the progress monitor's thread reads it.
-    using Clock = std::chrono::steady_clock;
-    std::atomic<Clock::rep> startTicks{
-        (engine.workStart ? *engine.workStart : Clock::now()).time_since_epoch().count()};
-    auto secondsAt = [&startTicks](Clock::time_point t) {
-        return std::chrono::duration<double>(t.time_since_epoch() -
-                                             Clock::duration(startTicks.load()))
-            .count();
-    };
+using Clock = std::chrono::steady_clock;
+
+const Cluster& clusterOf(const EngineSettings& engine) {
     static const Cluster alone;
-    const Cluster& cluster = engine.cluster ? *engine.cluster : alone;
-    Film film(scene.camera.width, scene.camera.height,
-              Film::exponentFor(lights.radianceScale(scene.worldBounds())));
-    RenderContext rc{scene, accel, lights, policy, film, engine.seed};
-    rc.gi = gi;
-    std::optional<NoiseBreakdown> noise;
-    if (engine.noiseBreakdown) {
-        noise.emplace(film.width(), film.height(), film.exponent());
-        rc.noise = &*noise;
+    return engine.cluster ? *engine.cluster : alone;
+}
+
+// The engine's retrace stages of a render.
+struct EngineStageSet {
+    ShadowStage shadow;
+    ReflectionStage reflection;
+    RefractionStage refraction;
+    SurfaceStage surface;
+    PathStage path;
+    explicit EngineStageSet(const RenderContext& rc)
+        : shadow(rc), reflection(rc), refraction(rc), surface(rc, shadow, reflection, refraction),
+          path(rc) {}
+
+    // Camera and bounce rays to the radiance stage, shadow rays to the shadow stage; then the
+    // mode's own stages (gi's). Kinds of rays the scene analysis rules out get no stage: one
+    // would fail a check.
+    void route(RayProcessor& processor, const RenderContext& rc, RadianceStage radiance,
+               ModeStages* modeStages) {
+        RetraceStage* radianceStage = radiance == RadianceStage::Path
+                                          ? static_cast<RetraceStage*>(&path)
+                                          : static_cast<RetraceStage*>(&surface);
+        processor.setStage(RayKind::Camera, radianceStage);
+        processor.setStage(RayKind::Reflection, radianceStage);
+        processor.setStage(RayKind::Refraction,
+                           rc.policy.refractionStage ? radianceStage : nullptr);
+        processor.setStage(RayKind::Shadow, rc.policy.shadowStage ? &shadow : nullptr);
+        if (modeStages) modeStages->attach({rc, processor, surface, shadow});
+    }
+};
+
+// The convergence log (EngineSettings::errorLogPath), on rank 0. A write that fails (a full
+// disk) ends the log, not the render: the image is still saved; `failure` says why.
+class ErrorLog {
+public:
+    ErrorLog(const std::string& path, std::string& failure) : m_path(path), m_failure(failure) {}
+    void open() {
+        m_file.reset(std::fopen(m_path.c_str(), "w"));
+        if (!m_file) throw std::runtime_error("cannot write the error log " + m_path);
+        if (std::fprintf(m_file.get(), "spp,seconds,relmse,rmse,relmse_estimate\n") < 0 ||
+            std::fflush(m_file.get()) != 0)
+            failed();
+    }
+    bool isOpen() const { return bool(m_file); }
+    void row(double spp, double seconds, const ImageMetrics& m, double estimate) {
+        if (m_file && (std::fprintf(m_file.get(), "%.9g,%.6f,%.9g,%.9g,%.9g\n", spp, seconds,
+                                    m.relmse, m.rmse, estimate) < 0 ||
+                       std::fflush(m_file.get()) != 0))
+            failed();
+    }
+    void close() {
+        if (m_file && std::fclose(m_file.release()) != 0 && m_failure.empty()) failed();
     }
 
-    // The pipeline: one emitter, one intersection handler, the retrace stages by ray kind.
-    Stats stats;
-    Intersector intersector(accel.root(), engine.packetWidth);
-    RayProcessor processor(intersector, stats, engine.threads);
-    CameraEmitter camera(rc);
-    camera.setShare(cluster.rank(), cluster.size());
-    ShadowStage shadow(rc);
-    ReflectionStage reflection(rc);
-    RefractionStage refraction(rc);
-    GatherStage gather(rc);
-    // gi: the photon map's correction rays, and the paths they trace on (gi/correction_stage.h).
-    CorrectionStage correction(rc, gather);
-    const bool correcting = gi && gi->settings.mapCorrection;
-    SurfaceStage surface(rc, shadow, reflection, refraction, gi ? &gather : nullptr,
-                         correcting ? &correction : nullptr);
-    PathStage path(rc);
-    RetraceStage* radianceStage = radiance == RadianceStage::Path
-                                      ? static_cast<RetraceStage*>(&path)
-                                      : static_cast<RetraceStage*>(&surface);
-    processor.setStage(RayKind::Camera, radianceStage);
-    processor.setStage(RayKind::Reflection, radianceStage);
-    // Kinds of rays the scene analysis rules out get no stage: one would fail a check.
-    processor.setStage(RayKind::Refraction, policy.refractionStage ? radianceStage : nullptr);
-    // Correction paths sample lights wherever they go.
-    processor.setStage(RayKind::Shadow, policy.shadowStage || correcting ? &shadow : nullptr);
-    processor.setStage(RayKind::Gather, gi ? &gather : nullptr);
-    processor.setStage(RayKind::GatherShadow, gi ? &gather : nullptr);
-    processor.setStage(RayKind::Correction, correcting ? &correction : nullptr);
-    processor.setStage(RayKind::CorrectionPath, correcting ? &correction.pathStage() : nullptr);
-
-    RenderResult result;
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> errorLog(nullptr, &std::fclose);
-    // A write that fails (a full disk) ends the log, not the render: the image is still saved.
-    auto logFailed = [&] {
+private:
+    void failed() {
         int err = errno;
-        result.errorLogFailure = "cannot write the error log " + engine.errorLogPath + ": " +
-                                 std::strerror(err) + "; its rows stop there";
-        if (errorLog) std::fclose(errorLog.release());
-    };
-    // Every rank takes part in the log's image merge; rank 0 writes it.
-    const bool logging = engine.reference && (!engine.errorLogPath.empty() || engine.onPassError);
-    if (logging && cluster.root() && !engine.errorLogPath.empty()) {
-        errorLog.reset(std::fopen(engine.errorLogPath.c_str(), "w"));
-        if (!errorLog) throw std::runtime_error("cannot write the error log " + engine.errorLogPath);
-        if (std::fprintf(errorLog.get(), "spp,seconds,relmse,rmse,relmse_estimate\n") < 0 ||
-            std::fflush(errorLog.get()) != 0)
-            logFailed();
+        m_failure = "cannot write the error log " + m_path + ": " + std::strerror(err) +
+                    "; its rows stop there";
+        if (m_file) std::fclose(m_file.release());
     }
+    const std::string& m_path;
+    std::string& m_failure;
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> m_file{nullptr, &std::fclose};
+};
 
+// One render job: its film, pipeline and log, and the passes with their decisions.
+class RenderJob {
+public:
+    RenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
+              const LightSet& lights, const ShadingPolicy& policy, int spp,
+              const EngineSettings& engine, RadianceStage radiance, ModeStages* modeStages,
+              const std::function<void(int pass, int samples)>& beforePass);
+    RenderResult run();
+
+private:
+    void planPasses();
+    // Seconds of the mode's clock at t (the error log's measuring excluded).
+    double secondsAt(Clock::time_point t) const {
+        return std::chrono::duration<double>(t.time_since_epoch() -
+                                             Clock::duration(m_startTicks.load()))
+            .count();
+    }
+    double fraction() const;
+    std::uint64_t raysSoFar() const { return std::uint64_t(m_stats.merged().raysTraced); }
+    bool stopRequested() const { return m_engine.stop && m_engine.stop(); }
+    Image wholeImage();
+    // One pass; false when the render ends after it.
+    bool renderPass(int pass);
+    void tracePass(int pass, int first, int count);
+    bool adaptiveStep(int pass);
+    void logPass(Clock::time_point now);
+    std::uint32_t decide(int pass, Clock::time_point now);
+    void finish();
+
+    // The film, the stages and the log before the first pass: one thread.
+    PhaseTimer m_setupPhase;
+    const std::string& m_label;
+    const EngineSettings& m_engine;
+    const int m_spp;
+    const std::function<void(int, int)>& m_beforePass;
+    // The mode's clock: its start, moved on by the time the error log spends measuring; it
+    // decides the time limit, and the progress monitor's thread reads it.
+    std::atomic<Clock::rep> m_startTicks;
+    const Cluster& m_cluster;
+    Film m_film;
+    RenderContext m_rc;
+    std::optional<NoiseBreakdown> m_noise;
+    // The pipeline: one emitter, one intersection handler, the retrace stages by ray kind.
+    Stats m_stats;
+    Intersector m_intersector;
+    RayProcessor m_processor;
+    CameraEmitter m_camera;
+    EngineStageSet m_stages;
+    RenderResult m_result;
+    ErrorLog m_errorLog;
+    bool m_logging = false; // the log's image merge, on every rank
     // Passes of a few samples per pixel: the film commits between passes, which is where
     // progressive output is written and where a cancel leaves a consistent image.
-    // Under a time limit or an error target, passes of 1 spp keep the budget closely.
+    int m_passSpp = 1;
+    int m_passes = 0;
+    std::optional<AdaptiveSampler> m_adaptive;
+    // The samples per pixel of each pass of the next pair, once adaptive sampling decides.
+    int m_adaptiveCount = 0;
+    double m_meanSpp = 0;     // samples per pixel taken so far, the mean over the image
+    double m_activeShare = 1; // the share of the pixels the current pair samples
+    std::atomic<int> m_passIndex{0};
+    std::atomic<std::uint64_t> m_unitsBefore{0};
+    // Whether the camera's count is of a pass not yet in unitsBefore: between passes (gi's
+    // refinement runs there) the last pass counted twice without it.
+    std::atomic<bool> m_passInFlight{false};
+    std::uint64_t m_totalUnits = 0;
+    std::atomic<double> m_targetFraction{0.0};
+    Clock::time_point m_lastProgressive;
+    bool m_stop = false;
+    bool m_stopped = false; // by the caller's stop, which leaves the interrupt alone
+};
+
+RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
+                     const LightSet& lights, const ShadingPolicy& policy, int spp,
+                     const EngineSettings& engine, RadianceStage radiance,
+                     ModeStages* modeStages,
+                     const std::function<void(int pass, int samples)>& beforePass)
+    : m_setupPhase(engine.phases, "render_setup"), m_label(label), m_engine(engine), m_spp(spp),
+      m_beforePass(beforePass),
+      m_startTicks((engine.workStart ? *engine.workStart : Clock::now()).time_since_epoch().count()),
+      m_cluster(clusterOf(engine)),
+      m_film(scene.camera.width, scene.camera.height,
+             Film::exponentFor(lights.radianceScale(scene.worldBounds()))),
+      m_rc{scene, accel, lights, policy, m_film, engine.seed},
+      m_intersector(accel.root(), engine.packetWidth),
+      m_processor(m_intersector, m_stats, engine.threads), m_camera(m_rc), m_stages(m_rc),
+      m_errorLog(engine.errorLogPath, m_result.errorLogFailure) {
+    if (engine.noiseBreakdown) {
+        m_noise.emplace(m_film.width(), m_film.height(), m_film.exponent());
+        m_rc.noise = &*m_noise;
+    }
+    m_camera.setShare(m_cluster.rank(), m_cluster.size());
+    m_stages.route(m_processor, m_rc, radiance, modeStages);
+    // Every stage for --stats in pipeline order: the engine's, then the mode's.
+    m_result.stats.pipeline = enginePipeline();
+    if (modeStages)
+        for (const StageLabel& stage : modeStages->labels())
+            m_result.stats.pipeline.push_back(stage);
+    // Every rank takes part in the log's image merge; rank 0 writes it.
+    m_logging = engine.reference && (!engine.errorLogPath.empty() || engine.onPassError);
+    if (m_logging && m_cluster.root() && !engine.errorLogPath.empty()) m_errorLog.open();
+    planPasses();
+}
+
+// Under a time limit or an error target, passes of 1 spp keep the budget closely; the noise
+// breakdown takes each pass's sums for one sample's values.
+void RenderJob::planPasses() {
+    const EngineSettings& engine = m_engine;
+    const int spp = m_spp;
     const bool stopEarly = engine.timeLimitSeconds > 0 || engine.targetRelMse > 0;
-    // The noise breakdown takes each pass's sums for one sample's values.
-    int passSpp = stopEarly || noise ? 1 : std::clamp(spp / 32, 1, 16);
+    m_passSpp = stopEarly || m_noise ? 1 : std::clamp(spp / 32, 1, 16);
     // Half buffers (alternate passes) give the relMSE estimate the target, the log and adaptive
     // sampling use.
-    if (engine.targetRelMse > 0 || logging || engine.adaptiveSampling) film.enableHalfBuffers();
+    if (engine.targetRelMse > 0 || m_logging || engine.adaptiveSampling)
+        m_film.enableHalfBuffers();
     // Adaptive sampling: `spp` is the mean over the pixels (or the cap under a target).
-    std::optional<AdaptiveSampler> adaptive;
     if (engine.adaptiveSampling) {
         AdaptiveSampler::Settings as;
         as.minSpp = std::min(engine.adaptiveMinSpp, spp);
         as.targetRelMse = engine.targetRelMse;
         as.meanSpp = spp;
         as.maxSpp = engine.targetRelMse > 0 ? spp : kAdaptiveMaxFactor * spp;
-        as.passSpp = passSpp;
-        as.maxPassSpp = noise ? 1 : 16 * passSpp;
-        adaptive.emplace(film.width(), film.height(), as);
+        as.passSpp = m_passSpp;
+        as.maxPassSpp = m_noise ? 1 : 16 * m_passSpp;
+        m_adaptive.emplace(m_film.width(), m_film.height(), as);
     }
-    // The samples per pixel of each pass of the next pair, once adaptive sampling decides.
-    int adaptiveCount = 0;
-    double meanSpp = 0;     // samples per pixel taken so far, the mean over the image
-    double activeShare = 1; // the share of the pixels the current pair samples
-    // The image of the whole job (every rank's tiles), on rank 0; a collective.
-    auto wholeImage = [&] {
-        if (!cluster.distributed()) return film.resolve();
-        std::vector<double> sums = film.sums();
-        std::vector<std::uint64_t> samples = film.sampleCounts();
-        cluster.sumToRoot(sums);
-        cluster.sumToRoot(samples);
-        return Film::resolve(film.width(), film.height(), sums, samples);
-    };
-    int passes = adaptive ? std::numeric_limits<int>::max() : (spp + passSpp - 1) / passSpp;
-    std::atomic<int> passIndex{0};
-    std::atomic<std::uint64_t> unitsBefore{0};
-    // Whether the camera's count is of a pass not yet in unitsBefore: between passes (gi's
-    // refinement runs there) the last pass counted twice without it.
-    std::atomic<bool> passInFlight{false};
-    std::uint64_t totalUnits = 0;
-    {
-        // This rank's share: progress is rank 0's, which the others keep pace with.
-        totalUnits = std::uint64_t(std::max(camera.tilesInShare(), 1)) * std::uint64_t(spp);
-    }
-    std::atomic<double> targetFraction{0.0};
-    // Under a time limit the share of the budget spent, when it is ahead of the samples' (a
-    // render asked for 100,000 spp and 90 s said 0.1% done and an ETA of hours).
-    auto fraction = [&] {
-        const std::uint64_t current = passInFlight.load() ? camera.unitsEmitted() : 0;
-        double f = double(unitsBefore.load() + current) / double(totalUnits);
-        if (engine.timeLimitSeconds > 0)
-            f = std::max(f, std::min(1.0, secondsAt(Clock::now()) / engine.timeLimitSeconds));
-        return engine.targetRelMse > 0 ? std::max(f, targetFraction.load()) : f;
-    };
-    auto raysSoFar = [&] { return std::uint64_t(stats.merged().raysTraced); };
-    Progress progress(label, engine.quiet, fraction, raysSoFar);
+    m_passes = m_adaptive ? std::numeric_limits<int>::max() : (spp + m_passSpp - 1) / m_passSpp;
+    // This rank's share: progress is rank 0's, which the others keep pace with.
+    m_totalUnits = std::uint64_t(std::max(m_camera.tilesInShare(), 1)) * std::uint64_t(spp);
+}
+
+// Under a time limit the share of the budget spent, when it is ahead of the samples' (a
+// render asked for 100,000 spp and 90 s said 0.1% done and an ETA of hours).
+double RenderJob::fraction() const {
+    const std::uint64_t current = m_passInFlight.load() ? m_camera.unitsEmitted() : 0;
+    double f = double(m_unitsBefore.load() + current) / double(m_totalUnits);
+    if (m_engine.timeLimitSeconds > 0)
+        f = std::max(f, std::min(1.0, secondsAt(Clock::now()) / m_engine.timeLimitSeconds));
+    return m_engine.targetRelMse > 0 ? std::max(f, m_targetFraction.load()) : f;
+}
+
+// The image of the whole job (every rank's tiles), on rank 0; a collective.
+Image RenderJob::wholeImage() {
+    if (!m_cluster.distributed()) return m_film.resolve();
+    std::vector<double> sums = m_film.sums();
+    std::vector<std::uint64_t> samples = m_film.sampleCounts();
+    m_cluster.sumToRoot(sums);
+    m_cluster.sumToRoot(samples);
+    return Film::resolve(m_film.width(), m_film.height(), sums, samples);
+}
+
+RenderResult RenderJob::run() {
+    Progress progress(m_label, m_engine.quiet, [this] { return fraction(); },
+                      [this] { return raysSoFar(); });
     // The watcher stops watching before the film goes away, whatever ends the render.
     struct WatchScope {
         const EngineSettings::Watcher* w;
         ~WatchScope() {
             if (w && w->end) w->end();
         }
-    } watch{engine.watcher};
-    if (engine.watcher && engine.watcher->begin) engine.watcher->begin(film, fraction, raysSoFar);
+    } watch{m_engine.watcher};
+    if (m_engine.watcher && m_engine.watcher->begin)
+        m_engine.watcher->begin(m_film, [this] { return fraction(); },
+                                [this] { return raysSoFar(); });
+    m_lastProgressive = Clock::now();
+    m_stop = m_cluster.distributed() ? agreeInterrupted(m_cluster) : interruptRequested();
+    if (!m_cluster.distributed() && stopRequested()) m_stop = m_stopped = true;
+    m_setupPhase.stop();
+    for (int pass = 0; pass < m_passes && !m_stop; ++pass)
+        if (!renderPass(pass)) break;
+    PhaseTimer resolvePhase(m_engine.phases, "film_resolve");
+    m_result.cancelled = interruptRequested() || m_stopped;
+    progress.finish(!m_result.cancelled);
+    m_errorLog.close();
+    finish();
+    return std::move(m_result);
+}
 
-    auto lastProgressive = std::chrono::steady_clock::now();
-    // The caller's stop, when it has one, is a cancel that leaves the interrupt alone.
-    bool stopped = false;
-    auto stopRequested = [&engine] { return engine.stop && engine.stop(); };
-    bool stop = cluster.distributed() ? agreeInterrupted(cluster) : interruptRequested();
-    if (!cluster.distributed() && stopRequested()) stop = stopped = true;
-    setupPhase.stop();
-    for (int pass = 0; pass < passes && !stop; ++pass) {
-        // What a pass does besides its hook, its processor run and the film's commit: the
-        // estimates, the log, the decisions; on this thread.
-        PhaseTimer betweenPhase(engine.phases, "between_passes");
-        int first = adaptiveCount > 0 ? 0 : pass * passSpp;
-        int count = adaptiveCount > 0 ? adaptiveCount : std::min(passSpp, spp - first);
-        if (beforePass) {
-            // gi's caustic maps and cache refinement time their own phases; the rest is here.
-            PhaseTimer hookPhase(engine.phases, "pass_hooks");
-            beforePass(pass, count);
-        }
-        camera.beginPass(first, count);
-        passInFlight = true;
-        timeWorkers(engine.phases, "render_passes", stats, processor.threads(), [&] {
-            processor.run(camera, [&] { return interruptRequested() || stopRequested(); });
-        });
-        unitsBefore += std::min<std::uint64_t>(camera.unitsEmitted(), camera.unitsPerPass());
-        passInFlight = false;
-        {
-            PhaseTimer commitPhase(engine.phases, "film_commit", PhaseKind::Parallel);
-            film.commitPass(pass % 2);
-        }
-        if (noise) noise->commitPass();
-        if (film.hasHalfBuffers()) {
-            std::vector<double> parts = film.relMseParts();
-            cluster.sumAll(parts);
-            result.relMseEstimate = Film::relMseFromParts(parts);
-        }
-        passIndex = pass + 1;
-        ++result.passesDone;
-        meanSpp = adaptiveCount > 0 ? meanSpp + double(count) * activeShare : first + count;
-        result.samplesDone = int(std::lround(meanSpp));
-        bool budgetSpent = false; // without adaptive sampling the passes end the loop
-        // Adaptive sampling decides between pairs of passes (one into each half), once every
-        // pixel has its first samples.
-        if (adaptive && pass % 2 == 1 && meanSpp >= adaptive->settings().minSpp) {
-            AdaptiveSampler::Decision d = adaptive->update(film, [&](std::vector<double>& v) {
-                cluster.sumAll(v);
-            });
-            meanSpp = d.meanSpp;
-            activeShare = d.pixels > 0 ? double(d.activePixels) / double(d.pixels) : 0;
-            budgetSpent = d.done;
-            adaptiveCount = d.passSamples;
-            camera.setMask(&adaptive->activeMask());
-        }
-        auto now = std::chrono::steady_clock::now();
-        if (logging) {
-            // The log's clock stops while the error is measured.
-            double seconds = secondsAt(now);
-            Image whole = wholeImage();
-            if (cluster.root() && (errorLog || engine.onPassError)) {
-                ImageMetrics m = compareImages(whole, *engine.reference);
-                if (errorLog &&
-                    (std::fprintf(errorLog.get(), "%.9g,%.6f,%.9g,%.9g,%.9g\n", meanSpp,
-                                  seconds, m.relmse, m.rmse, result.relMseEstimate) < 0 ||
-                     std::fflush(errorLog.get()) != 0))
-                    logFailed();
-                if (engine.onPassError)
-                    engine.onPassError({result.samplesDone, seconds, m.relmse, m.rmse,
-                                        result.relMseEstimate, raysSoFar()});
-            }
-            startTicks += (Clock::now() - now).count();
-        }
-        if (film.hasHalfBuffers() && std::isfinite(result.relMseEstimate) &&
-            result.relMseEstimate > 0)
-            // The variance part falls as 1/spp: the share of the work done is target/estimate.
-            targetFraction = std::min(1.0, engine.targetRelMse / result.relMseEstimate);
-        // Rank 0's clock and progressive schedule rule; an interrupt anywhere stops every rank.
-        std::uint32_t decision = interruptBits() << kDecideSignalShift;
-        if (stopRequested()) decision |= kDecideStopped;
-        if (cluster.root() && engine.timeLimitSeconds > 0 && pass + 1 < passes &&
-            secondsAt(Clock::now()) >= engine.timeLimitSeconds)
-            decision |= kDecideTimeUp;
-        if (cluster.root() && engine.onProgress && pass + 1 < passes &&
-            std::chrono::duration<double>(now - lastProgressive).count() >= engine.progressiveSeconds)
-            decision |= kDecideProgressive;
-        if (cluster.distributed()) decision = cluster.orAll(decision);
-        if (decision & kDecideInterrupted) {
-            adoptInterrupt(decision >> kDecideSignalShift); // and the signal some rank received
-            stop = true;
-        }
-        if (decision & kDecideStopped) stop = stopped = true;
-        // At least kMinTargetPasses passes: with one or two samples per half the estimate is
-        // itself too noisy to stop on (a 3-spp render estimated 0.044 measured 0.066).
-        if (engine.targetRelMse > 0 && pass + 1 >= kMinTargetPasses &&
-            result.relMseEstimate <= engine.targetRelMse) {
-            result.targetReached = true;
-            break;
-        }
-        if (decision & kDecideTimeUp) {
-            result.timeLimitReached = true;
-            break;
-        }
-        if (budgetSpent) break;
-        if (decision & kDecideProgressive) {
-            Image whole = wholeImage();
-            if (engine.onProgress && cluster.root()) engine.onProgress(whole);
-            lastProgressive = now;
-        }
+// The pass's hook (gi's), its processor run and the film's commit.
+void RenderJob::tracePass(int pass, int first, int count) {
+    if (m_beforePass) {
+        // gi's caustic maps and cache refinement time their own phases; the rest is here.
+        PhaseTimer hookPhase(m_engine.phases, "pass_hooks");
+        m_beforePass(pass, count);
     }
-    PhaseTimer resolvePhase(engine.phases, "film_resolve");
-    result.cancelled = interruptRequested() || stopped;
-    progress.finish(!result.cancelled);
-    if (errorLog && std::fclose(errorLog.release()) != 0 && result.errorLogFailure.empty())
-        logFailed();
-    // The whole job's film on rank 0: each pixel is one rank's, the others add exact zeros.
-    std::vector<double> sums = film.sums();
-    std::vector<std::uint64_t> samples = film.sampleCounts();
-    cluster.sumToRoot(sums);
-    cluster.sumToRoot(samples);
-    result.image = Film::resolve(film.width(), film.height(), sums, samples);
-    if (noise) {
-        std::vector<std::vector<double>> moments = noise->moments();
-        for (auto& m : moments) cluster.sumToRoot(m);
-        result.layers = NoiseBreakdown::layers(film.width(), film.height(), moments, samples);
+    m_camera.beginPass(first, count);
+    m_passInFlight = true;
+    timeWorkers(m_engine.phases, "render_passes", m_stats, m_processor.threads(), [&] {
+        m_processor.run(m_camera, [&] { return interruptRequested() || stopRequested(); });
+    });
+    m_unitsBefore += std::min<std::uint64_t>(m_camera.unitsEmitted(), m_camera.unitsPerPass());
+    m_passInFlight = false;
+    {
+        PhaseTimer commitPhase(m_engine.phases, "film_commit", PhaseKind::Parallel);
+        m_film.commitPass(pass % 2);
     }
-    result.filmLimit = film.fixedLimit();
-    result.stats.totals = stats.merged();
-    sumToRoot(cluster, result.stats.totals);
-    result.stats.wallSeconds = secondsAt(Clock::now());
-    result.stats.peakMemoryBytes = peakResidentBytes();
-    result.stats.batchesAllocated = processor.batchesAllocated();
-    result.stats.pixelsWithoutSamples = std::size_t(std::count(samples.begin(), samples.end(), 0));
-    return result;
+    if (m_noise) m_noise->commitPass();
+    if (m_film.hasHalfBuffers()) {
+        std::vector<double> parts = m_film.relMseParts();
+        m_cluster.sumAll(parts);
+        m_result.relMseEstimate = Film::relMseFromParts(parts);
+    }
+}
+
+// Adaptive sampling decides between pairs of passes (one into each half), once every pixel
+// has its first samples; whether the budget is spent.
+bool RenderJob::adaptiveStep(int pass) {
+    if (!m_adaptive || pass % 2 != 1 || m_meanSpp < m_adaptive->settings().minSpp) return false;
+    AdaptiveSampler::Decision d = m_adaptive->update(m_film, [&](std::vector<double>& v) {
+        m_cluster.sumAll(v);
+    });
+    m_meanSpp = d.meanSpp;
+    m_activeShare = d.pixels > 0 ? double(d.activePixels) / double(d.pixels) : 0;
+    m_adaptiveCount = d.passSamples;
+    m_camera.setMask(&m_adaptive->activeMask());
+    return d.done;
+}
+
+// The error log's row and the caller's; the log's clock stops while the error is measured.
+void RenderJob::logPass(Clock::time_point now) {
+    double seconds = secondsAt(now);
+    Image whole = wholeImage();
+    if (m_cluster.root() && (m_errorLog.isOpen() || m_engine.onPassError)) {
+        ImageMetrics m = compareImages(whole, *m_engine.reference);
+        m_errorLog.row(m_meanSpp, seconds, m, m_result.relMseEstimate);
+        if (m_engine.onPassError)
+            m_engine.onPassError({m_result.samplesDone, seconds, m.relmse, m.rmse,
+                                  m_result.relMseEstimate, raysSoFar()});
+    }
+    m_startTicks += (Clock::now() - now).count();
+}
+
+// Rank 0's clock and progressive schedule rule; an interrupt anywhere stops every rank.
+std::uint32_t RenderJob::decide(int pass, Clock::time_point now) {
+    std::uint32_t decision = interruptBits() << kDecideSignalShift;
+    if (stopRequested()) decision |= kDecideStopped;
+    if (m_cluster.root() && m_engine.timeLimitSeconds > 0 && pass + 1 < m_passes &&
+        secondsAt(Clock::now()) >= m_engine.timeLimitSeconds)
+        decision |= kDecideTimeUp;
+    if (m_cluster.root() && m_engine.onProgress && pass + 1 < m_passes &&
+        std::chrono::duration<double>(now - m_lastProgressive).count() >=
+            m_engine.progressiveSeconds)
+        decision |= kDecideProgressive;
+    if (m_cluster.distributed()) decision = m_cluster.orAll(decision);
+    return decision;
+}
+
+bool RenderJob::renderPass(int pass) {
+    // What a pass does besides its hook, its processor run and the film's commit: the
+    // estimates, the log, the decisions; on this thread.
+    PhaseTimer betweenPhase(m_engine.phases, "between_passes");
+    int first = m_adaptiveCount > 0 ? 0 : pass * m_passSpp;
+    int count = m_adaptiveCount > 0 ? m_adaptiveCount : std::min(m_passSpp, m_spp - first);
+    tracePass(pass, first, count);
+    m_passIndex = pass + 1;
+    ++m_result.passesDone;
+    m_meanSpp = m_adaptiveCount > 0 ? m_meanSpp + double(count) * m_activeShare : first + count;
+    m_result.samplesDone = int(std::lround(m_meanSpp));
+    // Without adaptive sampling the passes end the loop.
+    const bool budgetSpent = adaptiveStep(pass);
+    auto now = Clock::now();
+    if (m_logging) logPass(now);
+    if (m_film.hasHalfBuffers() && std::isfinite(m_result.relMseEstimate) &&
+        m_result.relMseEstimate > 0)
+        // The variance part falls as 1/spp: the share of the work done is target/estimate.
+        m_targetFraction = std::min(1.0, m_engine.targetRelMse / m_result.relMseEstimate);
+    const std::uint32_t decision = decide(pass, now);
+    if (decision & kDecideInterrupted) {
+        adoptInterrupt(decision >> kDecideSignalShift); // and the signal some rank received
+        m_stop = true;
+    }
+    if (decision & kDecideStopped) m_stop = m_stopped = true;
+    // At least kMinTargetPasses passes: with one or two samples per half the estimate is
+    // itself too noisy to stop on (a 3-spp render estimated 0.044 measured 0.066).
+    if (m_engine.targetRelMse > 0 && pass + 1 >= kMinTargetPasses &&
+        m_result.relMseEstimate <= m_engine.targetRelMse) {
+        m_result.targetReached = true;
+        return false;
+    }
+    if (decision & kDecideTimeUp) {
+        m_result.timeLimitReached = true;
+        return false;
+    }
+    if (budgetSpent) return false;
+    if (decision & kDecideProgressive) {
+        Image whole = wholeImage();
+        if (m_engine.onProgress && m_cluster.root()) m_engine.onProgress(whole);
+        m_lastProgressive = now;
+    }
+    return true;
+}
+
+// The whole job's film on rank 0 (each pixel is one rank's, the others add exact zeros), the
+// noise layers and the statistics.
+void RenderJob::finish() {
+    std::vector<double> sums = m_film.sums();
+    std::vector<std::uint64_t> samples = m_film.sampleCounts();
+    m_cluster.sumToRoot(sums);
+    m_cluster.sumToRoot(samples);
+    m_result.image = Film::resolve(m_film.width(), m_film.height(), sums, samples);
+    if (m_noise) {
+        std::vector<std::vector<double>> moments = m_noise->moments();
+        for (auto& m : moments) m_cluster.sumToRoot(m);
+        m_result.layers = NoiseBreakdown::layers(m_film.width(), m_film.height(), moments, samples);
+    }
+    m_result.filmLimit = m_film.fixedLimit();
+    m_result.stats.totals = m_stats.merged();
+    sumToRoot(m_cluster, m_result.stats.totals);
+    m_result.stats.wallSeconds = secondsAt(Clock::now());
+    m_result.stats.peakMemoryBytes = peakResidentBytes();
+    m_result.stats.batchesAllocated = m_processor.batchesAllocated();
+    m_result.stats.pixelsWithoutSamples =
+        std::size_t(std::count(samples.begin(), samples.end(), 0));
+}
+
+} // namespace
+
+RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
+                          const LightSet& lights, const ShadingPolicy& policy, int spp,
+                          const EngineSettings& engine, RadianceStage radiance,
+                          ModeStages* modeStages,
+                          const std::function<void(int pass, int samples)>& beforePass) {
+    RenderJob job(label, scene, accel, lights, policy, spp, engine, radiance, modeStages,
+                  beforePass);
+    return job.run();
 }
 
 } // namespace rayproc

@@ -188,21 +188,11 @@ RenderPlan fullPlan(const LightSet& lights) {
     return p;
 }
 
-RenderPlan analyseScene(const Scene& scene, const EmbreeScene& accel, const LightSet& lights) {
-    RenderPlan p = fullPlan(lights);
-    p.analysed = true;
+namespace {
 
-    std::vector<PlacedLeaf> leaves;
-    if (scene.root) collectPlaced(*scene.root, scene.root->transform, leaves);
-    for (const PlacedLeaf& l : leaves) {
-        int m = l.shape->material;
-        if (m < 0 || std::size_t(m) >= scene.materials.size()) continue;
-        countMaterial(scene.materials, m, p, 0);
-    }
-    const bool diffuse = p.diffuseLeaves > 0, glossy = p.glossyLeaves > 0;
-    // Coats reflect light onto other surfaces too (gi's caustic photons follow them).
-    const bool specular = p.mirrorLeaves + p.dielectricLeaves + p.coatLeaves > 0;
-
+// Which lights are sampled (zero power, or radiating away from everything) and what radiates.
+void decideLights(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
+                  const std::vector<PlacedLeaf>& leaves, RenderPlan& p) {
     // Lights. Tolerances are relative to the scene's extent: a plane test must not be fooled
     // by the rounding of world-space vertices.
     Bounds3 world = scene.worldBounds();
@@ -256,7 +246,11 @@ RenderPlan analyseScene(const Scene& scene, const EmbreeScene& accel, const Ligh
     }
     if (lights.hasEnvironment()) ++p.radiatingLights;
     p.deltaLightsOnly = deltaOnly && p.radiatingLights > 0;
+}
 
+// The skips, each with its reason and the modes it concerns.
+void decideSkips(const LightSet& lights, bool diffuse, bool glossy, bool specular,
+                 RenderPlan& p) {
     // Decisions, in the order the issue lists them.
     auto skip = [&](const std::string& what, const std::string& why, unsigned modes) {
         p.skipped.push_back({what, why, modes});
@@ -306,6 +300,26 @@ RenderPlan analyseScene(const Scene& scene, const EmbreeScene& accel, const Ligh
         what << "light " << i << " (" << kindName(lights.lights[i].kind) << ")";
         skip(what.str(), p.lights[i].reason, kPlanAllModes);
     }
+}
+
+} // namespace
+
+RenderPlan analyseScene(const Scene& scene, const EmbreeScene& accel, const LightSet& lights) {
+    RenderPlan p = fullPlan(lights);
+    p.analysed = true;
+
+    std::vector<PlacedLeaf> leaves;
+    if (scene.root) collectPlaced(*scene.root, scene.root->transform, leaves);
+    for (const PlacedLeaf& l : leaves) {
+        int m = l.shape->material;
+        if (m < 0 || std::size_t(m) >= scene.materials.size()) continue;
+        countMaterial(scene.materials, m, p, 0);
+    }
+    const bool diffuse = p.diffuseLeaves > 0, glossy = p.glossyLeaves > 0;
+    // Coats reflect light onto other surfaces too (gi's caustic photons follow them).
+    const bool specular = p.mirrorLeaves + p.dielectricLeaves + p.coatLeaves > 0;
+    decideLights(scene, accel, lights, leaves, p);
+    decideSkips(lights, diffuse, glossy, specular, p);
     return p;
 }
 

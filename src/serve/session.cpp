@@ -9,6 +9,7 @@
 #include "engine/intersect.h"
 #include "engine/ray_batch.h"
 #include "kernels/camera_rays.h"
+#include "modes/mode_registry.h"
 #include "modes/modes.h"
 #include "modes/render_plan.h"
 #include "modes/render_watch.h"
@@ -780,12 +781,8 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
 RenderResult Session::runMode(const Scene& scene, const EmbreeScene& accel,
                               const RenderRequest& request, const EngineSettings& engine) {
     ModeOverrides overrides{request.spp, 0, 0};
-    if (request.mode == "raytrace")
-        return renderRaytrace(scene, accel, raytraceSettings(scene.render, overrides), engine);
-    if (request.mode == "gi") return renderGi(scene, accel, giSettings(scene, overrides), engine);
-    if (request.mode == "path")
-        return renderPath(scene, accel, pathSettings(scene.render, overrides), engine);
-    return rayproc::renderPreview(scene, accel, previewSettings(scene.render, overrides), engine);
+    return findMode(request.mode)->render(scene, accel, ModeSettings::forScene(scene, overrides),
+                                          engine);
 }
 
 } // namespace rayproc::serve

@@ -5,6 +5,7 @@
 
 #include "engine/cancel.h"
 #include "image/image.h"
+#include "modes/mode_registry.h"
 #include "scene/camera_check.h"
 #include "scene/scene_loader_detail.h"
 
@@ -199,7 +200,7 @@ Json Session::replySave(const Json& m, int) {
 Json Session::replyRender(const Json& m, int client) {
     expectKeys(m, {"mode", "spp"});
     const Json& mode = field(m, "mode", "render");
-    if (!mode.is_string() || (mode != "raytrace" && mode != "gi" && mode != "path" && mode != "preview"))
+    if (!mode.is_string() || !findMode(mode.get<std::string>()))
         refuse("render.mode: expected preview, raytrace, gi or path");
     int spp = 0;
     if (m.contains("spp")) {

@@ -4,6 +4,7 @@
 #include "engine/stats.h"
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -72,15 +73,26 @@ TEST_CASE("timeWorkers takes the stage seconds gained during the run", "[engine]
 }
 
 TEST_CASE("The stage table lists the stages in pipeline order, each once", "[engine]") {
-    const auto& order = pipelineOrder();
-    CHECK(order.front() == StageId::CameraEmit);
-    for (int i = 0; i < kStageCount; ++i)
-        CHECK(std::count(order.begin(), order.end(), StageId(i)) == 1);
+    const auto& order = enginePipeline();
+    CHECK(order.front().id == StageId::CameraEmit);
+    for (int i = 0; i < kFirstModeStage; ++i)
+        CHECK(std::count_if(order.begin(), order.end(),
+                            [&](const StageLabel& s) { return s.id == StageId(i); }) == 1);
     RenderStats r;
     std::string table = r.toTable();
     CHECK(table.find("camera") < table.find("intersect"));
     CHECK(table.find("intersect") < table.find("surface"));
+    CHECK(table.find("gather") == std::string::npos); // the engine knows no mode's stages
+    // A mode's stages follow the engine's, under the mode's names, with their own counters.
+    r.pipeline = enginePipeline();
+    r.pipeline.push_back({modeStage(1), "gather"});
+    r.totals.stages[int(modeStage(1))].raysIn = 12345;
+    table = r.toTable();
     CHECK(table.find("surface") < table.find("gather"));
+    CHECK(table.find("12345", table.find("gather")) != std::string::npos);
+    nlohmann::json j = nlohmann::json::parse(r.toJson());
+    CHECK(j["pipeline"].back() == "gather");
+    CHECK(j["stages"]["gather"]["rays"] == 12345);
 }
 
 } // namespace rayproc

@@ -4,6 +4,7 @@
 // 6M-photon gi render: no exit in 100 s; now "out of memory" in 1.6 s).
 #include "engine/intersect.h"
 #include "engine/processor.h"
+#include "gi/gi_pipeline.h"
 #include "gi/photon_emitter.h"
 #include "gi/photon_stage.h"
 
@@ -75,13 +76,74 @@ TEST_CASE("Ray processor: a stage's exception stops every worker and run() rethr
     RayProcessor processor(intersector, stats, threads);
     PhotonStage photons(rc, /*causticPass=*/false, 16);
     FailingStage failing(photons, failAt);
-    processor.setStage(RayKind::Photon, &failing);
+    processor.setStage(kPhotonRay, &failing);
     PhotonEmitter emitter(lights, scene->worldBounds(), 200000, 1, 1);
     CHECK(runWithin(processor, emitter) == 1);
 
     // The processor is usable again: a run that does not fail completes.
     FailingStage never(photons, -1);
-    processor.setStage(RayKind::Photon, &never);
+    processor.setStage(kPhotonRay, &never);
     PhotonEmitter again(lights, scene->worldBounds(), 1000, 2, 1);
     CHECK(runWithin(processor, again) == 0);
+}
+
+namespace {
+
+// One batch of `kind`: a ray from the sphere's centre out through its wall.
+class OneBatchEmitter : public Emitter {
+public:
+    explicit OneBatchEmitter(RayKind kind) : m_kind(kind) {}
+    bool emit(StageContext& ctx) override {
+        if (m_done.exchange(true)) return false;
+        RayBatch& b = ctx.out(m_kind);
+        b.push(0, 0, 0, 0, 0, -1, 0.0f, 100.0f);
+        ctx.flush(m_kind);
+        return true;
+    }
+
+private:
+    RayKind m_kind;
+    std::atomic<bool> m_done{false};
+};
+
+// Keeps what the intersection handler wrote into the one ray it is handed.
+class ResultStage : public RetraceStage {
+public:
+    void retrace(RayBatch& b, StageContext&) override {
+        occluded = b.occluded(0);
+        hit = b.hit(0);
+        ++batches;
+    }
+    bool occluded = false, hit = false;
+    int batches = 0;
+};
+
+} // namespace
+
+TEST_CASE("A mode's ray kind is traced as its route says: closest hit or occlusion",
+          "[engine][processor]") {
+    auto scene = sceneFromJson(
+        R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "fov": 70, "resolution": [8, 8]},
+            "materials": {"wall": {"type": "diffuse", "color": [0.8, 0.8, 0.8]}},
+            "lights": [{"type": "point", "position": [0.3, -0.2, 0.1], "intensity": [1, 1, 1]}],
+            "nodes": [{"type": "sphere", "material": "wall", "radius": 2}]})");
+    EmbreeScene accel(*scene);
+    Intersector intersector(accel.root(), GENERATE(1, 16));
+    Stats stats;
+    RayProcessor processor(intersector, stats, 1);
+    const RayKind kind = modeRayKind(2);
+    const bool occlusion = GENERATE(false, true);
+    INFO((occlusion ? "occlusion" : "closest hit") << ", width " << intersector.width());
+    ResultStage result;
+    processor.setStage(kind, &result, occlusion ? RayQuery::Occlusion : RayQuery::Closest);
+    OneBatchEmitter emitter(kind);
+    processor.run(emitter, [] { return false; });
+    REQUIRE(result.batches == 1);
+    // An occlusion query writes only tfar (negative: occluded); a closest-hit query writes the
+    // hit (the wall) and leaves tfar.
+    CHECK(result.occluded == occlusion);
+    const ThreadStats t = stats.merged();
+    CHECK(t.stages[int(StageId::Occlude)].raysIn == (occlusion ? 1u : 0u));
+    CHECK(t.stages[int(StageId::Intersect)].raysIn == (occlusion ? 0u : 1u));
+    if (!occlusion) CHECK(result.hit);
 }

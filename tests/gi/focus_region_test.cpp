@@ -6,6 +6,7 @@
 #include "engine/intersect.h"
 #include "engine/processor.h"
 #include "gi/focus_region.h"
+#include "gi/gi_pipeline.h"
 #include "gi/photon_emitter.h"
 #include "gi/photon_stage.h"
 
@@ -44,7 +45,7 @@ Stored storedOnNearSphere(const Scene& scene, const EmbreeScene& accel, const Fo
     Stats stats;
     RayProcessor processor(intersector, stats, 2);
     PhotonStage stage(rc, /*causticPass=*/false, /*maxPhotonDepth=*/1);
-    processor.setStage(RayKind::Photon, &stage);
+    processor.setStage(kPhotonRay, &stage);
     PhotonEmitter emitter(lights, scene.worldBounds(), count, 5, 1,
                           focus.active ? focus.emissionBounds() : Bounds3{},
                           focus.active ? kFocusPhotonShare : 0.0f);

@@ -12,6 +12,7 @@
 #include "engine/intersect.h"
 #include "engine/processor.h"
 #include "gi/photon_emitter.h"
+#include "gi/gi_pipeline.h"
 #include "gi/photon_map.h"
 #include "gi/photon_stage.h"
 
@@ -35,7 +36,7 @@ std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& ac
     Stats stats;
     RayProcessor processor(intersector, stats, 2);
     PhotonStage stage(rc, /*causticPass=*/false, maxPhotonDepth);
-    processor.setStage(RayKind::Photon, &stage);
+    processor.setStage(kPhotonRay, &stage);
     PhotonEmitter emitter(lights, scene.worldBounds(), count, seed, 1);
     processor.run(emitter, [] { return false; });
     return stage.takePhotons();

@@ -6,6 +6,7 @@
 #include "engine/intersect.h"
 #include "engine/processor.h"
 #include "gi/photon_emitter.h"
+#include "gi/gi_pipeline.h"
 #include "gi/photon_stage.h"
 #include "image/image.h"
 
@@ -50,7 +51,7 @@ TEST_CASE("Image sky photons: a sphere stores 4 pi <L> pi R^2 at first hits", "[
     Stats stats;
     RayProcessor processor(intersector, stats, 2);
     PhotonStage stage(rc, /*causticPass=*/false, /*maxPhotonDepth=*/1);
-    processor.setStage(RayKind::Photon, &stage);
+    processor.setStage(kPhotonRay, &stage);
     PhotonEmitter emitter(lights, scene->worldBounds(), 200000, 7, 1);
     processor.run(emitter, [] { return false; });
     double stored[3] = {0, 0, 0};

@@ -7,6 +7,7 @@
 // in a skipped stage. Also: --no-stratification and --no-russian-roulette keep path mode
 // unbiased.
 #include "modes/render_plan.h"
+#include "gi/gi_pipeline.h"
 #include "test_util.h"
 
 #include <nlohmann/json.hpp>
@@ -217,8 +218,8 @@ TEST_CASE("Scene analysis: no diffuse surface skips the global map, final gather
         INFO("mode " << mode);
         Pair p = renderBoth(*scene, accel, mode);
         CHECK(p.analysed.image.pixels == p.full.image.pixels);
-        CHECK(stage(p.analysed, StageId::Gather).raysIn == 0);
-        CHECK(stage(p.analysed, StageId::Gather).raysOut == 0);
+        CHECK(stage(p.analysed, kGatherStageId).raysIn == 0);
+        CHECK(stage(p.analysed, kGatherStageId).raysOut == 0);
         if (mode == "gi") {
             CHECK(extraStat(p.analysed, "gi/photons_global") == 0);
             CHECK(extraStat(p.analysed, "gi/cache_records") == 0);

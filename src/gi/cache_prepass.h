@@ -1,0 +1,34 @@
+// gi's irradiance cache prepass (Ward, Rubinstein & Clear 1988): camera rays at 1/16, 1/8, 1/4,
+// 1/2 and full resolution through the surface stage, whose diffuse hits go to the gather stage
+// alone (ShadingPolicy::handlersOnly); where the frozen cache has no usable record, a final
+// gather makes one into a request slot (IcRequests). After each level its records, every
+// rank's, are inserted sorted by (pixel and path key, position), so the cache depends neither on
+// the thread count nor on the ranks (docs/irradiance-cache.md).
+//
+// Consumes: the photon maps and settings in GiData (its `cache` the cache being filled, read
+// frozen during each level). Produces: the cache's records. Shows progress ("gi irradiance
+// cache", weighted by each level's pixels) and stops at an interrupt between levels.
+#pragma once
+
+#include "engine/engine_settings.h"
+#include "engine/stats.h"
+
+#include <cstddef>
+
+namespace rayproc {
+
+class Cluster;
+class EmbreeScene;
+class IrradianceCache;
+struct GiData;
+struct LightSet;
+struct Scene;
+
+// Fills `cache` (gi.cache must point at it) coarse to fine; returns the records inserted. A
+// collective under MPI: each rank gathers for its tiles of each level.
+std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
+                                const LightSet& lights, const GiData& gi, IrradianceCache& cache,
+                                const EngineSettings& engine, const Cluster& cluster,
+                                Stats& stats);
+
+} // namespace rayproc

@@ -1,0 +1,82 @@
+#include "modes/mode_registry.h"
+
+#include "gi/progressive_caustics.h"
+
+#include <algorithm>
+
+namespace rayproc {
+
+namespace {
+
+std::pair<std::uint64_t, std::uint64_t> noPhotons(const ModeSettings&) { return {0, 0}; }
+
+// One round of the global map: most scenes take one (docs/robustness.md, "Memory").
+// Progressive caustics' passes of several samples trace maps of several times the photons.
+std::pair<std::uint64_t, std::uint64_t> giPhotons(const ModeSettings& m) {
+    const GiSettings& s = m.gi;
+    const std::uint64_t caustic = std::uint64_t(std::max(0, s.causticPhotons));
+    return {std::uint64_t(std::max(0, s.photons)),
+            !s.caustics             ? 0
+            : s.progressiveCaustics ? progressiveMaxPassPhotons(caustic)
+                                    : caustic};
+}
+
+} // namespace
+
+ModeSettings ModeSettings::forScene(const Scene& scene, const ModeOverrides& cli) {
+    ModeSettings m;
+    m.preview = previewSettings(scene.render, cli);
+    m.raytrace = raytraceSettings(scene.render, cli);
+    m.gi = giSettings(scene, cli);
+    m.path = pathSettings(scene.render, cli);
+    return m;
+}
+
+const std::vector<ModeEntry>& modeRegistry() {
+    static const std::vector<ModeEntry> modes{
+        {"preview",
+         "real-time approximation: point lights at area-light corners, hard shadows",
+         [](const ModeSettings& m) { return m.preview.spp; },
+         [](const ModeSettings& m) { return m.preview.toString(); }, noPhotons,
+         [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
+            const EngineSettings& engine) { return renderPreview(scene, accel, m.preview, engine); }},
+        {"raytrace",
+         "direct light with soft shadows, mirror reflection, Fresnel refraction",
+         [](const ModeSettings& m) { return m.raytrace.spp; },
+         [](const ModeSettings& m) { return m.raytrace.toString(); }, noPhotons,
+         [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
+            const EngineSettings& engine) {
+             return renderRaytrace(scene, accel, m.raytrace, engine);
+         }},
+        {"gi",
+         "photon mapping with final gathering and an irradiance cache",
+         [](const ModeSettings& m) { return m.gi.spp; },
+         [](const ModeSettings& m) { return m.gi.toString(); }, giPhotons,
+         [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
+            const EngineSettings& engine) { return renderGi(scene, accel, m.gi, engine); }},
+        {"path",
+         "unbiased path tracing with next-event estimation and MIS: the reference",
+         [](const ModeSettings& m) { return m.path.spp; },
+         [](const ModeSettings& m) { return m.path.toString(); }, noPhotons,
+         [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
+            const EngineSettings& engine) { return renderPath(scene, accel, m.path, engine); }},
+    };
+    return modes;
+}
+
+const ModeEntry* findMode(const std::string& name) {
+    for (const ModeEntry& m : modeRegistry())
+        if (name == m.name) return &m;
+    return nullptr;
+}
+
+const std::vector<std::string>& knownModes() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> out;
+        for (const ModeEntry& m : modeRegistry()) out.push_back(m.name);
+        return out;
+    }();
+    return names;
+}
+
+} // namespace rayproc
