@@ -137,19 +137,11 @@ void applyGiOptions(const RenderArgs& a, GiSettings& s) {
                                                 : GiDebugView::None;
 }
 
-int runRender(const RenderArgs& a) {
-    // Where the command's time goes (--stats, --stats-json "phases"; engine/phases.h).
-    const auto processStart = std::chrono::steady_clock::now();
-    PhaseLog phases;
-    // Under mpirun every rank runs this with the same arguments; rank 0 writes the files
-    // (docs/distributed.md), the others render their share quietly.
-    const Cluster& cluster = Cluster::world();
-    const bool writer = cluster.root();
-    if (!writer) quietInterruptMessages();
-    // Every file the render will write is checked before the scene loads: an output that
-    // cannot be written, or that would overwrite an input, fails now, not after the render.
-    std::string output = a.output;
-    if (output.empty()) output = std::filesystem::path(a.scene).stem().string() + ".png";
+// Every file the render will write is checked before the scene loads: an output that cannot
+// be written, or that would overwrite an input, fails now, not after the render. Returns the
+// files the command reads and writes (the scene's images are added once it is loaded).
+std::vector<NamedPath> checkRenderFiles(const RenderArgs& a, const std::string& output,
+                                        bool writer) {
     imageFormatFromPath(output); // throws for an unknown extension
     if (!a.reference.empty() && a.errorLog.empty())
         throw InputError("--reference needs --error-log FILE");
@@ -171,19 +163,12 @@ int runRender(const RenderArgs& a) {
             std::fprintf(stderr, "rayproc: removed %zu temporary file(s) of %s left by a run "
                                  "that was killed\n", stale, output.c_str());
     }
+    return files;
+}
 
-    // Under an address-space limit, no more threads than their stacks fit in: TBB aborts the
-    // process when it cannot create one (engine/thread_budget.h).
-    const ThreadBudget budget = applyThreadBudget(a.threads);
-    if (writer && !budget.warning.empty())
-        std::fprintf(stderr, "rayproc: warning: %s\n", budget.warning.c_str());
-    tbb::global_control stackSize(tbb::global_control::thread_stack_size, kWorkerStackBytes);
-    // --threads bounds every phase, not only the ray processor's: the BVH build, photon map
-    // builds, precomputation and sorts run in TBB's global arena (and so do, under mpirun,
-    // the ranks that share a machine).
-    std::optional<tbb::global_control> threadLimit;
-    if (budget.threads > 0)
-        threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(budget.threads));
+// The scene, its images checked against the outputs, at the command line's size.
+std::unique_ptr<Scene> loadRenderScene(const RenderArgs& a, std::vector<NamedPath>& files,
+                                       PhaseLog& phases) {
     PhaseTimer loadPhase(&phases, "scene_load");
     std::unique_ptr<Scene> scene = loadScene(a.scene);
     loadPhase.stop();
@@ -200,10 +185,15 @@ int runRender(const RenderArgs& a) {
                          std::to_string(scene->camera.width) + " x " +
                          std::to_string(scene->camera.height) + " pixels exceeds the limit of " +
                          std::to_string(kMaxImagePixels) + " (2^26) pixels");
+    return scene;
+}
 
+// The mode the render runs: the command line's, the scene's, or the default; with the
+// debug views only their own mode has.
+std::string renderModeOf(const RenderArgs& a, const Scene& scene) {
     std::string mode = !a.mode.empty() ? a.mode
-                       : !scene->render.mode.empty() ? scene->render.mode
-                                                     : defaultMode();
+                       : !scene.render.mode.empty() ? scene.render.mode
+                                                    : defaultMode();
     bool known = false;
     for (auto& m : knownModes()) known |= m == mode;
     if (!known) throw InputError("unknown mode '" + mode + "'; known modes: " + joinModes());
@@ -212,14 +202,18 @@ int runRender(const RenderArgs& a) {
     if (a.debugView != "none" && a.debugView != "noise" && mode != "gi")
         throw InputError("--debug-view " + a.debugView + " is gi mode's (the render's mode is " +
                          mode + ")");
+    return mode;
+}
 
+EngineSettings engineSettingsOf(const RenderArgs& a, const Scene& scene, int threads,
+                                const Cluster& cluster, PhaseLog& phases) {
     EngineSettings engine;
-    engine.threads = budget.threads;
+    engine.threads = threads;
     engine.packetWidth = a.packetWidth;
     engine.seed = a.seed >= 0 ? std::uint64_t(a.seed)
-                  : scene->render.seed >= 0 ? std::uint64_t(scene->render.seed)
-                                            : 1;
-    engine.quiet = a.quiet || !writer;
+                  : scene.render.seed >= 0 ? std::uint64_t(scene.render.seed)
+                                           : 1;
+    engine.quiet = a.quiet || !cluster.root();
     engine.cluster = &cluster;
     engine.sceneAnalysis = !a.noSceneAnalysis;
     engine.stratification = !a.noStratification;
@@ -233,116 +227,138 @@ int runRender(const RenderArgs& a) {
     engine.adaptiveMinSpp = a.adaptiveMinSpp;
     engine.noiseBreakdown = a.debugView == "noise";
     engine.phases = &phases;
+    return engine;
+}
+
+ToneMapSettings toneMapOf(const RenderArgs& a) {
     ToneMapSettings tm;
     tm.exposure = a.exposure;
     tm.op = a.tonemap == "reinhard" ? ToneMap::Reinhard
             : a.tonemap == "aces"   ? ToneMap::Aces
                                     : ToneMap::Clamp;
-    if (a.progressive && writer) {
-        engine.progressiveSeconds = a.progressiveSeconds;
-        // A failed progressive write must not end the render: warn once, keep rendering; the
-        // final write reports its own failure.
-        engine.onProgress = [output, tm, warned = false](const Image& img) mutable {
-            try {
-                writeImage(output, img, tm);
-            } catch (const ImageIoError& e) {
-                if (!warned) std::fprintf(stderr, "rayproc: warning: %s; rendering goes on\n", e.what());
-                warned = true;
-            }
-        };
-    }
+    return tm;
+}
 
-    Image reference;
-    if (!a.reference.empty()) {
-        reference = readImage(a.reference);
-        if (reference.width != scene->camera.width || reference.height != scene->camera.height)
-            throw InputError(a.reference + ": the reference is " + std::to_string(reference.width) +
-                             "x" + std::to_string(reference.height) + " but the render is " +
-                             std::to_string(scene->camera.width) + "x" +
-                             std::to_string(scene->camera.height));
-        // Left out of the error log as diff leaves them out; none finite is an error.
-        std::size_t bad = nonFiniteReferencePixels(reference, a.reference);
-        if (bad > 0 && !a.quiet)
-            std::fprintf(stderr,
-                         "rayproc: warning: --reference: %zu pixels are NaN or infinite; the "
-                         "error log leaves them out\n",
-                         bad);
-        engine.reference = &reference;
-        engine.errorLogPath = a.errorLog;
-    }
+// --progressive: the image written every few seconds. A failed progressive write must not end
+// the render: warn once, keep rendering; the final write reports its own failure.
+void writeProgressively(const RenderArgs& a, const std::string& output, const ToneMapSettings& tm,
+                        EngineSettings& engine) {
+    engine.progressiveSeconds = a.progressiveSeconds;
+    engine.onProgress = [output, tm, warned = false](const Image& img) mutable {
+        try {
+            writeImage(output, img, tm);
+        } catch (const ImageIoError& e) {
+            if (!warned) std::fprintf(stderr, "rayproc: warning: %s; rendering goes on\n", e.what());
+            warned = true;
+        }
+    };
+}
 
+// --reference: read and checked against the render's size; the error log compares with it.
+void loadReference(const RenderArgs& a, const Scene& scene, Image& reference,
+                   EngineSettings& engine) {
+    reference = readImage(a.reference);
+    if (reference.width != scene.camera.width || reference.height != scene.camera.height)
+        throw InputError(a.reference + ": the reference is " + std::to_string(reference.width) +
+                         "x" + std::to_string(reference.height) + " but the render is " +
+                         std::to_string(scene.camera.width) + "x" +
+                         std::to_string(scene.camera.height));
+    // Left out of the error log as diff leaves them out; none finite is an error.
+    std::size_t bad = nonFiniteReferencePixels(reference, a.reference);
+    if (bad > 0 && !a.quiet)
+        std::fprintf(stderr,
+                     "rayproc: warning: --reference: %zu pixels are NaN or infinite; the "
+                     "error log leaves them out\n",
+                     bad);
+    engine.reference = &reference;
+    engine.errorLogPath = a.errorLog;
+}
+
+std::unique_ptr<EmbreeScene> buildAccel(const RenderArgs& a, const Scene& scene,
+                                        PhaseLog& phases, bool writer) {
     std::unique_ptr<EmbreeScene> built;
     PhaseTimer bvhPhase(&phases, "bvh_build", PhaseKind::Parallel); // Embree's builder: TBB
     try {
-        built = std::make_unique<EmbreeScene>(*scene);
+        built = std::make_unique<EmbreeScene>(scene);
     } catch (const InputError& e) {
         throw InputError(a.scene + ": " + e.what()); // the range checks name no file
     }
     bvhPhase.stop();
-    const EmbreeScene& accel = *built;
-    if (writer && scene->lights.empty() && accel.emitters().empty())
+    if (writer && scene.lights.empty() && built->emitters().empty())
         std::fprintf(stderr, "rayproc: warning: %s has no lights; the image will be black\n",
                      a.scene.c_str());
+    return built;
+}
 
-    // --display-server: the image in the tev viewer, refreshed every second while the passes
-    // run and once at the end. A viewer that is not there is a warning, not a failed render.
-    std::unique_ptr<DisplayClient> display;
-    std::unique_ptr<PeriodicReport> displayReport;
-    if (writer && !a.displayServer.empty()) {
-        display = std::make_unique<DisplayClient>(a.displayServer,
-                                                  std::filesystem::path(output).filename().string());
-        if (!display->connected()) {
+// --display-server: the image in the tev viewer, refreshed every second while the passes run
+// and once at the end. A viewer that is not there is a warning, not a failed render.
+struct TevDisplay {
+    std::unique_ptr<DisplayClient> client;
+    std::unique_ptr<PeriodicReport> report;
+
+    void connect(const std::string& server, const std::string& output, EngineSettings& engine) {
+        client = std::make_unique<DisplayClient>(server,
+                                                 std::filesystem::path(output).filename().string());
+        if (!client->connected()) {
             std::fprintf(stderr, "rayproc: warning: --display-server: %s; rendering goes on\n",
-                         display->error().c_str());
-            display.reset();
-        } else {
-            displayReport = std::make_unique<PeriodicReport>(
-                1.0, [&display](const Film& film, const PeriodicReport::Progress&) {
-                    display->show(film.resolveInProgress());
-                });
-            engine.watcher = displayReport->watcher();
+                         client->error().c_str());
+            client.reset();
+            return;
         }
+        DisplayClient* shown = client.get();
+        report = std::make_unique<PeriodicReport>(
+            1.0, [shown](const Film& film, const PeriodicReport::Progress&) {
+                shown->show(film.resolveInProgress());
+            });
+        engine.watcher = report->watcher();
     }
+    void showFinal(const Image& image) {
+        if (!client) return;
+        client->show(image); // the final image, every rank's tiles
+        if (!client->connected())
+            std::fprintf(stderr, "rayproc: warning: --display-server: %s\n", client->error().c_str());
+    }
+};
 
-    // Before the long work: a render that cannot fit in memory is refused with the figures,
-    // one that may not fit is warned of.
-    auto checkMemory = [&](long long pixelCount, std::uint64_t photons, std::uint64_t caustic) {
-        MemoryEstimate need = estimateRenderMemory(std::uint64_t(pixelCount), photons, caustic, 0);
-        bool fatal = false;
-        std::string problem = memoryProblem(need, systemMemory(), fatal);
-        if (problem.empty()) return;
-        if (fatal)
-            throw InputError(problem + "; lower --width/--height" +
-                             (photons > 0 ? std::string(" or --photons/--caustic-photons") : "") +
-                             " (docs/robustness.md, \"Memory\")");
-        if (writer) std::fprintf(stderr, "rayproc: warning: %s\n", problem.c_str());
-    };
+// Before the long work: a render that cannot fit in memory is refused with the figures, one
+// that may not fit is warned of.
+void checkMemory(long long pixels, std::uint64_t photons, std::uint64_t caustic, bool writer) {
+    MemoryEstimate need = estimateRenderMemory(std::uint64_t(pixels), photons, caustic, 0);
+    bool fatal = false;
+    std::string problem = memoryProblem(need, systemMemory(), fatal);
+    if (problem.empty()) return;
+    if (fatal)
+        throw InputError(problem + "; lower --width/--height" +
+                         (photons > 0 ? std::string(" or --photons/--caustic-photons") : "") +
+                         " (docs/robustness.md, \"Memory\")");
+    if (writer) std::fprintf(stderr, "rayproc: warning: %s\n", problem.c_str());
+}
+
+// The mode's settings (each mode reads its own) with the command line's options, logged so the
+// image can be reproduced, checked against the memory, then the render.
+RenderResult renderWithMode(const RenderArgs& a, const Scene& scene, const EmbreeScene& accel,
+                            const std::string& mode, const EngineSettings& engine) {
     // With an error target and no --spp, samples go on until the target (or the time limit,
     // or Ctrl-C) stops them.
     int sppCap = a.spp > 0 ? a.spp : a.targetRelMse > 0 ? kTargetSppCap : 0;
     ModeOverrides overrides{sppCap, a.maxDepth, a.lightSamples};
     installInterruptHandler();
-    RenderResult result;
-    // The render log: every setting, so the image can be reproduced from it.
-    auto logSettings = [&](const std::string& settings) {
-        if (!engine.quiet)
-            std::fprintf(stderr, "rayproc render %s: %s %s%s %dx%d\n", a.scene.c_str(),
-                         settings.c_str(), engine.toString().c_str(),
-                         cluster.distributed()
-                             ? (" ranks=" + std::to_string(cluster.size())).c_str()
-                             : "",
-                         scene->camera.width, scene->camera.height);
-    };
-    // The mode's settings (each mode reads its own), with the command line's options.
     const ModeEntry& entry = *findMode(mode);
-    ModeSettings settings = ModeSettings::forScene(*scene, overrides);
+    ModeSettings settings = ModeSettings::forScene(scene, overrides);
     applyGiOptions(a, settings.gi);
     settings.raytrace.roulette = settings.path.roulette = !a.noRoulette;
-    logSettings(entry.describe(settings));
+    const Cluster& cluster = *engine.cluster;
+    if (!engine.quiet)
+        std::fprintf(stderr, "rayproc render %s: %s %s%s %dx%d\n", a.scene.c_str(),
+                     entry.describe(settings).c_str(), engine.toString().c_str(),
+                     cluster.distributed()
+                         ? (" ranks=" + std::to_string(cluster.size())).c_str()
+                         : "",
+                     scene.camera.width, scene.camera.height);
     const auto [photons, causticPhotons] = entry.photons(settings);
-    checkMemory(pixels, photons, causticPhotons);
-    result = entry.render(*scene, accel, settings, engine);
-
+    checkMemory((long long)scene.camera.width * scene.camera.height, photons, causticPhotons,
+                cluster.root());
+    RenderResult result = entry.render(scene, accel, settings, engine);
     // The job's communication, summed over the ranks (a collective; zero for one process).
     std::vector<std::uint64_t> sent{cluster.bytesSent()};
     cluster.sumToRoot(sent);
@@ -350,7 +366,11 @@ int runRender(const RenderArgs& a) {
         result.stats.extras.push_back({"cluster/ranks", double(cluster.size())});
         result.stats.extras.push_back({"cluster/bytes_sent", double(sent[0])});
     }
-    if (!writer) return result.cancelled ? interruptExitStatus() : 0;
+    return result;
+}
+
+// What the render reached and what it could not hold, said on stderr.
+void reportOutcome(const RenderArgs& a, const RenderResult& result) {
     if (a.targetRelMse > 0 && !a.quiet)
         std::fprintf(stderr,
                      "rayproc: relMSE estimate %.4g (target %g) %s after %d spp (%.2f s)\n",
@@ -370,18 +390,13 @@ int runRender(const RenderArgs& a) {
         std::fprintf(stderr,
                      "rayproc: warning: %llu NaN or infinite contributions were discarded\n",
                      (unsigned long long)result.stats.totals.invalidSamples);
-    if (display) {
-        display->show(result.image); // the final image, every rank's tiles
-        if (!display->connected())
-            std::fprintf(stderr, "rayproc: warning: --display-server: %s\n", display->error().c_str());
-    }
-    // Interrupted before any pixel had a sample (gi's photon pass or cache prepass): an image
-    // of nothing must not replace what the output held.
-    if (result.cancelled && result.stats.pixelsWithoutSamples >= std::size_t(pixels)) {
-        std::fprintf(stderr, "rayproc: interrupted before any pixel had a sample: nothing was "
-                             "written (%s is as it was)\n", output.c_str());
-        return interruptExitStatus();
-    }
+}
+
+// The image, the statistics, and the exit status; stdout carries only the image's location,
+// so scripts can capture it.
+int writeRenderOutputs(const RenderArgs& a, const std::string& output, const ToneMapSettings& tm,
+                       RenderResult& result, PhaseLog& phases, int threads,
+                       std::chrono::steady_clock::time_point processStart) {
     PhaseTimer writePhase(&phases, "image_write");
     if (!result.layers.empty())
         writeExrWithLayers(output, result.image, result.layers);
@@ -391,24 +406,75 @@ int runRender(const RenderArgs& a) {
     result.stats.phases = phases.phases();
     result.stats.processSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - processStart).count();
-    result.stats.threads = budget.threads > 0 ? budget.threads : tbb::this_task_arena::max_concurrency();
+    result.stats.threads = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
     if (a.stats) std::fputs(result.stats.toTable().c_str(), stderr);
     if (!a.statsJson.empty()) writeFileAtomically(a.statsJson, result.stats.toJson() + "\n");
+    const std::string where = std::filesystem::absolute(output).string();
     if (!result.errorLogFailure.empty()) {
         printError(result.errorLogFailure + " (the image was written)");
-        std::printf("%s\n", std::filesystem::absolute(output).c_str());
+        std::printf("%s\n", where.c_str());
         return 1;
     }
     if (result.cancelled) {
         std::fprintf(stderr,
                      "rayproc: interrupted: wrote the partial image (%zu pixels had no sample)\n",
                      result.stats.pixelsWithoutSamples);
-        std::printf("%s\n", std::filesystem::absolute(output).c_str());
+        std::printf("%s\n", where.c_str());
         return interruptExitStatus();
     }
-    // stdout carries only the image's location, so scripts can capture it.
-    std::printf("%s\n", std::filesystem::absolute(output).c_str());
+    std::printf("%s\n", where.c_str());
     return 0;
+}
+
+int runRender(const RenderArgs& a) {
+    // Where the command's time goes (--stats, --stats-json "phases"; engine/phases.h).
+    const auto processStart = std::chrono::steady_clock::now();
+    PhaseLog phases;
+    // Under mpirun every rank runs this with the same arguments; rank 0 writes the files
+    // (docs/distributed.md), the others render their share quietly.
+    const Cluster& cluster = Cluster::world();
+    const bool writer = cluster.root();
+    if (!writer) quietInterruptMessages();
+    std::string output = a.output;
+    if (output.empty()) output = std::filesystem::path(a.scene).stem().string() + ".png";
+    std::vector<NamedPath> files = checkRenderFiles(a, output, writer);
+
+    // Under an address-space limit, no more threads than their stacks fit in: TBB aborts the
+    // process when it cannot create one (engine/thread_budget.h).
+    const ThreadBudget budget = applyThreadBudget(a.threads);
+    if (writer && !budget.warning.empty())
+        std::fprintf(stderr, "rayproc: warning: %s\n", budget.warning.c_str());
+    tbb::global_control stackSize(tbb::global_control::thread_stack_size, kWorkerStackBytes);
+    // --threads bounds every phase, not only the ray processor's: the BVH build, photon map
+    // builds, precomputation and sorts run in TBB's global arena (and so do, under mpirun,
+    // the ranks that share a machine).
+    std::optional<tbb::global_control> threadLimit;
+    if (budget.threads > 0)
+        threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(budget.threads));
+    std::unique_ptr<Scene> scene = loadRenderScene(a, files, phases);
+    const std::string mode = renderModeOf(a, *scene);
+    EngineSettings engine = engineSettingsOf(a, *scene, budget.threads, cluster, phases);
+    const ToneMapSettings tm = toneMapOf(a);
+    if (a.progressive && writer) writeProgressively(a, output, tm, engine);
+    Image reference;
+    if (!a.reference.empty()) loadReference(a, *scene, reference, engine);
+    std::unique_ptr<EmbreeScene> accel = buildAccel(a, *scene, phases, writer);
+    TevDisplay display;
+    if (writer && !a.displayServer.empty()) display.connect(a.displayServer, output, engine);
+
+    RenderResult result = renderWithMode(a, *scene, *accel, mode, engine);
+    if (!writer) return result.cancelled ? interruptExitStatus() : 0;
+    reportOutcome(a, result);
+    display.showFinal(result.image);
+    // Interrupted before any pixel had a sample (gi's photon pass or cache prepass): an image
+    // of nothing must not replace what the output held.
+    const std::size_t pixels = std::size_t(scene->camera.width) * std::size_t(scene->camera.height);
+    if (result.cancelled && result.stats.pixelsWithoutSamples >= pixels) {
+        std::fprintf(stderr, "rayproc: interrupted before any pixel had a sample: nothing was "
+                             "written (%s is as it was)\n", output.c_str());
+        return interruptExitStatus();
+    }
+    return writeRenderOutputs(a, output, tm, result, phases, budget.threads, processStart);
 }
 
 // The scene, the output, the mode and its basic settings, the image size, PNG output.

@@ -59,22 +59,6 @@ float diskRadius(const Bounds3& bounds) {
     return bounds.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(bounds.diagonal()));
 }
 
-// A point on a mesh light, uniform by area (u.x picks the triangle, its remainder and u.y the
-// point in it), its rounding error bound and the triangle's unit normal.
-Vec3 meshLightPoint(const LightSource& l, Vec2 u, Vec3& err, Vec3& n) {
-    float target = u.x * l.area;
-    std::size_t t = std::size_t(std::lower_bound(l.areaCdf.begin(), l.areaCdf.end(), target) -
-                                l.areaCdf.begin());
-    t = std::min(t, l.areaCdf.size() - 1);
-    float lo = t == 0 ? 0.0f : l.areaCdf[t - 1];
-    float w = l.areaCdf[t] - lo;
-    float ux = w > 0 ? std::clamp((target - lo) / w, 0.0f, 0.99999994f) : 0.5f;
-    Vec2 b = kernels::uniformTriangle({ux, u.y});
-    const Vec3 &a = l.triangles[3 * t], &bb = l.triangles[3 * t + 1], &cc = l.triangles[3 * t + 2];
-    n = normalize(cross(bb - a, cc - a));
-    return kernels::trianglePoint(a, bb, cc, b.x, b.y, err);
-}
-
 } // namespace
 
 double PhotonEmitter::powerUnit(const LightSet& lights, const Bounds3& sceneBounds) {

@@ -182,18 +182,8 @@ LightSample samplePointLight(const LightSource& l, const Vec3& p) {
 
 // A mesh light: a triangle picked by area with u.x, then the remainder of u.x reused inside it.
 LightSample sampleMeshLight(const LightSource& l, const Vec3& p, Vec2 u) {
-    float target = u.x * l.area;
-    std::size_t t =
-        std::lower_bound(l.areaCdf.begin(), l.areaCdf.end(), target) - l.areaCdf.begin();
-    t = std::min(t, l.areaCdf.size() - 1);
-    float lo = t == 0 ? 0.0f : l.areaCdf[t - 1];
-    float width = l.areaCdf[t] - lo;
-    float ux = width > 0 ? std::clamp((target - lo) / width, 0.0f, 0.99999994f) : 0.5f;
-    Vec2 b = kernels::uniformTriangle({ux, u.y});
-    const Vec3 &a = l.triangles[3 * t], &bb = l.triangles[3 * t + 1], &c = l.triangles[3 * t + 2];
-    Vec3 qErr;
-    Vec3 q = kernels::trianglePoint(a, bb, c, b.x, b.y, qErr);
-    Vec3 n = normalize(cross(bb - a, c - a));
+    Vec3 qErr, n;
+    Vec3 q = meshLightPoint(l, u, qErr, n);
     return fromAreaPoint(l, p, q, qErr, n, 1.0f / l.area);
 }
 
@@ -235,6 +225,20 @@ LightSample sampleSphereLight(const LightSource& l, const Vec3& p, Vec2 u) {
 }
 
 } // namespace
+
+Vec3 meshLightPoint(const LightSource& l, Vec2 u, Vec3& err, Vec3& n) {
+    float target = u.x * l.area;
+    std::size_t t =
+        std::lower_bound(l.areaCdf.begin(), l.areaCdf.end(), target) - l.areaCdf.begin();
+    t = std::min(t, l.areaCdf.size() - 1);
+    float lo = t == 0 ? 0.0f : l.areaCdf[t - 1];
+    float width = l.areaCdf[t] - lo;
+    float ux = width > 0 ? std::clamp((target - lo) / width, 0.0f, 0.99999994f) : 0.5f;
+    Vec2 b = kernels::uniformTriangle({ux, u.y});
+    const Vec3 &a = l.triangles[3 * t], &bb = l.triangles[3 * t + 1], &c = l.triangles[3 * t + 2];
+    n = normalize(cross(bb - a, c - a));
+    return kernels::trianglePoint(a, bb, c, b.x, b.y, err);
+}
 
 LightSample LightSource::sample(const Vec3& p, Vec2 u) const {
     switch (kind) {

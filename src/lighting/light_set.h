@@ -87,6 +87,11 @@ public:
     Vec3 power() const; // total emitted power (W), for statistics and photon emission
 };
 
+// A point on a mesh light, uniform by area (u.x picks the triangle by the area CDF, its
+// remainder and u.y the point in it), its rounding error bound and the triangle's unit normal:
+// light samples (LightSource::sample) and emitted photons (gi/photon_emitter.cpp) alike.
+Vec3 meshLightPoint(const LightSource& l, Vec2 u, Vec3& err, Vec3& n);
+
 struct LightSet {
     std::vector<LightSource> lights;
     EnvironmentLight environment; // the sky; absent when no scene light is an environment

@@ -206,10 +206,7 @@ ShadingPolicy giRenderPolicy(const GiSettings& s, const EngineSettings& engine,
     policy.lightSamples = s.lightSamples;
     policy.directLight = s.debugView == GiDebugView::None || s.debugView == GiDebugView::IcRecords;
     policy.rouletteEnabled = s.roulette;
-    policy.stratify = engine.stratification;
-    policy.glossyMis = engine.glossyMis;
-    policy.diffuseMis = engine.diffuseMis;
-    policy.lightChoice = engine.lightChoice;
+    applyLightSwitches(engine, policy);
     plan.apply(policy);
     return policy;
 }

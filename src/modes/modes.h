@@ -49,6 +49,16 @@ struct ModeOverrides {
     int spp = 0, maxDepth = 0, lightSamples = 0;
 };
 
+// The light-sampling switches of the command line (--no-stratification, --no-glossy-mis,
+// --no-diffuse-mis, --no-light-choice) in the policy of a mode whose stages sample lights at
+// its hits (raytrace, gi's render passes).
+inline void applyLightSwitches(const EngineSettings& engine, ShadingPolicy& policy) {
+    policy.stratify = engine.stratification;
+    policy.glossyMis = engine.glossyMis;
+    policy.diffuseMis = engine.diffuseMis;
+    policy.lightChoice = engine.lightChoice;
+}
+
 // A setting's value by precedence: the command line's, else the scene file's, else the mode's
 // default already in `field`. Zero means "not set" in both sources.
 inline void applySetting(int& field, int fromScene, int fromCli) {

@@ -36,10 +36,7 @@ RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
     policy.lightSamples = s.lightSamples;
     policy.rrThreshold = s.rrThreshold;
     policy.rouletteEnabled = s.roulette;
-    policy.stratify = engine.stratification;
-    policy.glossyMis = engine.glossyMis;
-    policy.diffuseMis = engine.diffuseMis;
-    policy.lightChoice = engine.lightChoice;
+    applyLightSwitches(engine, policy);
     plan.apply(policy);
     return runRenderJob("raytrace", scene, accel, lights, policy, s.spp, engine);
 }
