@@ -20,6 +20,13 @@ using namespace rayproc::test;
 
 namespace {
 
+// A point light inside a closed diffuse sphere: every ray hits the wall.
+const char* const kClosedSphere =
+    R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "fov": 70, "resolution": [8, 8]},
+        "materials": {"wall": {"type": "diffuse", "color": [0.8, 0.8, 0.8]}},
+        "lights": [{"type": "point", "position": [0.3, -0.2, 0.1], "intensity": [1, 1, 1]}],
+        "nodes": [{"type": "sphere", "material": "wall", "radius": 2}]})";
+
 // The photon stage, except that the n-th batch it is handed throws std::bad_alloc.
 class FailingStage : public RetraceStage {
 public:
@@ -58,11 +65,7 @@ int runWithin(RayProcessor& processor, Emitter& emitter) {
 
 TEST_CASE("Ray processor: a stage's exception stops every worker and run() rethrows it",
           "[engine][processor]") {
-    auto scene = sceneFromJson(
-        R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "fov": 70, "resolution": [8, 8]},
-            "materials": {"wall": {"type": "diffuse", "color": [0.8, 0.8, 0.8]}},
-            "lights": [{"type": "point", "position": [0.3, -0.2, 0.1], "intensity": [1, 1, 1]}],
-            "nodes": [{"type": "sphere", "material": "wall", "radius": 2}]})");
+    auto scene = sceneFromJson(kClosedSphere);
     EmbreeScene accel(*scene);
     LightSet lights = LightSet::build(*scene, accel);
     Film film(1, 1);
@@ -122,11 +125,7 @@ public:
 
 TEST_CASE("A mode's ray kind is traced as its route says: closest hit or occlusion",
           "[engine][processor]") {
-    auto scene = sceneFromJson(
-        R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "fov": 70, "resolution": [8, 8]},
-            "materials": {"wall": {"type": "diffuse", "color": [0.8, 0.8, 0.8]}},
-            "lights": [{"type": "point", "position": [0.3, -0.2, 0.1], "intensity": [1, 1, 1]}],
-            "nodes": [{"type": "sphere", "material": "wall", "radius": 2}]})");
+    auto scene = sceneFromJson(kClosedSphere);
     EmbreeScene accel(*scene);
     Intersector intersector(accel.root(), GENERATE(1, 16));
     Stats stats;
