@@ -3,6 +3,8 @@
 // header is the test's choice (a browser would not let a script set Origin or Host).
 #include "serve/serve_client.h"
 
+#include <algorithm>
+
 using namespace rayproc;
 using namespace rayproc::test;
 
@@ -93,5 +95,10 @@ TEST_CASE("serve: a binary WebSocket message is refused with a message - the soc
     c.sendFrame(1, "{\"type\": \"state\"}");
     std::vector<std::string> before;
     CHECK(c.readText("state", &before)["type"] == "state");
-    CHECK(before.empty()); // no reply to the continuation
+    // No reply to the continuation. The still view's refinement may send its "refine" messages
+    // at any time (CI once saw one here), so only an error would be a reply.
+    std::string skipped;
+    for (const std::string& type : before) skipped += type + " ";
+    INFO("skipped before the state: " << skipped);
+    CHECK(std::count(before.begin(), before.end(), std::string("error")) == 0);
 }
