@@ -1,7 +1,9 @@
 // Build-time generator: reads the CIE 1931 2-degree colour matching functions and the CIE
 // illuminants from Debian's colord-data (CGATS text files, 5 nm steps; CIE A in 1 nm steps) and writes them as C++
-// arrays (docs/spectral.md, "Data"). Usage:
-//   spectral_data_gen OUT.cpp CMF_FILE NAME=ILLUMINANT_FILE...
+// arrays (docs/spectral.md, "Data"), with the CIE daylight basis S0, S1, S2 (the CIE's 1986
+// table, colord's ref/CIE-1986-daylight-SPD.cmf) from which a D-series illuminant of any
+// chromaticity follows. Usage:
+//   spectral_data_gen OUT.cpp CMF_FILE DAYLIGHT_FILE NAME=ILLUMINANT_FILE...
 // Any file that is missing or malformed stops the build with a message naming it.
 #include <cmath>
 #include <cstdio>
@@ -79,8 +81,9 @@ void writeArray(std::ostream& out, const char* name, const std::vector<double>& 
 } // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 3) {
-        std::fprintf(stderr, "usage: spectral_data_gen OUT.cpp CMF_FILE [NAME=ILLUMINANT_FILE...]\n");
+    if (argc < 4) {
+        std::fprintf(stderr, "usage: spectral_data_gen OUT.cpp CMF_FILE DAYLIGHT_FILE "
+                             "[NAME=ILLUMINANT_FILE...]\n");
         return 2;
     }
     std::ostringstream out;
@@ -93,16 +96,26 @@ int main(int argc, char** argv) {
     writeArray(out, "kCmfX", cmf.rows[0]);
     writeArray(out, "kCmfY", cmf.rows[1]);
     writeArray(out, "kCmfZ", cmf.rows[2]);
+    Cgats daylight = readCgats(argv[3]);
+    if (daylight.rows.size() != 3) fail(argv[3], "expected three lines (S0, S1, S2)");
+    const char* basis[3] = {"kDaylightS0", "kDaylightS1", "kDaylightS2"};
+    for (int i = 0; i < 3; ++i) writeArray(out, basis[i], daylight.rows[std::size_t(i)]);
+    out << "const TabulatedSpectrum kDaylightBasis[3] = {\n";
+    for (int i = 0; i < 3; ++i)
+        out << "    {\"S" << i << "\", " << daylight.startNm << ", "
+            << (daylight.endNm - daylight.startNm) / (daylight.bands - 1) << ", "
+            << daylight.bands << ", " << basis[i] << "},\n";
+    out << "};\n";
     std::vector<std::string> names;
     std::vector<Cgats> illum;
-    for (int i = 3; i < argc; ++i) {
+    for (int i = 4; i < argc; ++i) {
         std::string arg = argv[i];
         auto eq = arg.find('=');
         if (eq == std::string::npos) fail(arg, "expected NAME=FILE");
         names.push_back(arg.substr(0, eq));
         illum.push_back(readCgats(arg.substr(eq + 1)));
         if (illum.back().rows.empty()) fail(arg.substr(eq + 1), "no data line");
-        writeArray(out, ("kIlluminant" + std::to_string(i - 3)).c_str(), illum.back().rows[0]);
+        writeArray(out, ("kIlluminant" + std::to_string(i - 4)).c_str(), illum.back().rows[0]);
     }
     out << "\nconst TabulatedSpectrum kIlluminants[] = {\n";
     for (std::size_t i = 0; i < names.size(); ++i)

@@ -28,13 +28,14 @@ namespace {
 
 // The columns of RGB -> XYZ are the primaries' XYZ (x/y, 1, (1-x-y)/y), each scaled so that
 // RGB (1, 1, 1) lands on the white point's XYZ.
-ColorSpace make(ColorSpaceId id, const char* name, const double xy[3][2], const char* illum) {
+ColorSpace make(ColorSpaceId id, const char* name, const double xy[3][2],
+               const DenseSpectrum* illum) {
     ColorSpace cs{};
     cs.id = id;
     cs.name = name;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 2; ++j) cs.primaries[i][j] = xy[i][j];
-    cs.illuminant = cieIlluminant(illum);
+    cs.illuminant = illum;
     cs.white = toXyz(*cs.illuminant);
     Mat3 p;
     for (int c = 0; c < 3; ++c) {
@@ -53,14 +54,17 @@ ColorSpace make(ColorSpaceId id, const char* name, const double xy[3][2], const 
 
 const ColorSpace* all() {
     // Primaries: IEC 61966-2-1 (sRGB), ITU-R BT.2020, SMPTE EG 432-1 (P3 with the D65 white, as
-    // pbrt-v4's "dci-p3").
+    // pbrt-v4's "dci-p3"), SMPTE ST 2065-1 (ACES's AP0, with the D-series white "D60").
     static const double srgb[3][2] = {{0.64, 0.33}, {0.30, 0.60}, {0.15, 0.06}};
     static const double rec2020[3][2] = {{0.708, 0.292}, {0.170, 0.797}, {0.131, 0.046}};
     static const double p3[3][2] = {{0.680, 0.320}, {0.265, 0.690}, {0.150, 0.060}};
+    static const double ap0[3][2] = {{0.7347, 0.2653}, {0.0, 1.0}, {0.0001, -0.0770}};
+    const DenseSpectrum* d65 = cieIlluminant("D65");
     static const ColorSpace spaces[kColorSpaceCount] = {
-        make(ColorSpaceId::Srgb, "srgb", srgb, "D65"),
-        make(ColorSpaceId::Rec2020, "rec2020", rec2020, "D65"),
-        make(ColorSpaceId::DciP3, "dci-p3", p3, "D65")};
+        make(ColorSpaceId::Srgb, "srgb", srgb, d65),
+        make(ColorSpaceId::Rec2020, "rec2020", rec2020, d65),
+        make(ColorSpaceId::DciP3, "dci-p3", p3, d65),
+        make(ColorSpaceId::Aces2065_1, "aces2065-1", ap0, &acesD60Illuminant())};
     return spaces;
 }
 

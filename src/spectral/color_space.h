@@ -18,12 +18,12 @@ struct Mat3 {
     Mat3 inverse() const;
 };
 
-enum class ColorSpaceId { Srgb, Rec2020, DciP3 };
-constexpr int kColorSpaceCount = 3;
+enum class ColorSpaceId { Srgb, Rec2020, DciP3, Aces2065_1 };
+constexpr int kColorSpaceCount = 4;
 
 struct ColorSpace {
     ColorSpaceId id;
-    const char* name; // pbrt-v4's name: "srgb", "rec2020", "dci-p3"
+    const char* name; // pbrt-v4's name: "srgb", "rec2020", "dci-p3", "aces2065-1"
     double primaries[3][2]; // xy of red, green, blue
     const DenseSpectrum* illuminant; // luminance 1 (cieIlluminant)
     Xyz white;                       // the illuminant's XYZ, Y = 1
@@ -40,8 +40,7 @@ struct ColorSpace {
 };
 
 const ColorSpace& colorSpace(ColorSpaceId id);
-// By pbrt-v4's name; nullptr for one rayproc does not define ("aces2065-1": its D60
-// illuminant is not among colord-data's spectra).
+// By pbrt-v4's name; nullptr for any other.
 const ColorSpace* colorSpaceByName(const std::string& name);
 
 } // namespace rayproc::spectral

@@ -14,6 +14,7 @@ extern "C" {
 extern const unsigned char rayproc_rgb2spec_srgb[], rayproc_rgb2spec_srgb_end[];
 extern const unsigned char rayproc_rgb2spec_rec2020[], rayproc_rgb2spec_rec2020_end[];
 extern const unsigned char rayproc_rgb2spec_dci_p3[], rayproc_rgb2spec_dci_p3_end[];
+extern const unsigned char rayproc_rgb2spec_aces2065_1[], rayproc_rgb2spec_aces2065_1_end[];
 }
 
 namespace rayproc::spectral {
@@ -44,7 +45,8 @@ const Table& table(ColorSpaceId id) {
     static const Table tables[kColorSpaceCount] = {
         parse(rayproc_rgb2spec_srgb, rayproc_rgb2spec_srgb_end),
         parse(rayproc_rgb2spec_rec2020, rayproc_rgb2spec_rec2020_end),
-        parse(rayproc_rgb2spec_dci_p3, rayproc_rgb2spec_dci_p3_end)};
+        parse(rayproc_rgb2spec_dci_p3, rayproc_rgb2spec_dci_p3_end),
+        parse(rayproc_rgb2spec_aces2065_1, rayproc_rgb2spec_aces2065_1_end)};
     return tables[int(id)];
 }
 
@@ -94,7 +96,7 @@ SigmoidPolynomial rgbToCoefficientsRefined(const ColorSpace& cs, float r, float 
     if (std::isinf(p.c[2]) || (p.c[0] == 0 && p.c[1] == 0)) return p; // grey: exact already
     static const RgbFitter fitters[kColorSpaceCount] = {
         RgbFitter(colorSpace(ColorSpaceId::Srgb)), RgbFitter(colorSpace(ColorSpaceId::Rec2020)),
-        RgbFitter(colorSpace(ColorSpaceId::DciP3))};
+        RgbFitter(colorSpace(ColorSpaceId::DciP3)), RgbFitter(colorSpace(ColorSpaceId::Aces2065_1))};
     SigmoidCoefficients c{p.c[0], p.c[1], p.c[2]};
     // fit() only takes steps that lower the CIELAB residual, so the result is never worse
     // than the table's.

@@ -90,6 +90,27 @@ const DenseSpectrum* cieIlluminant(const std::string& name) {
     return it == table.end() ? nullptr : it->second.get();
 }
 
+DenseSpectrum daylightIlluminant(double x, double y) {
+    // CIE 15: the basis weights of a daylight of chromaticity (x, y).
+    double m = 0.0241 + 0.2562 * x - 0.7341 * y;
+    double m1 = (-1.3515 - 1.7703 * x + 5.9114 * y) / m;
+    double m2 = (0.0300 - 31.4424 * x + 30.0717 * y) / m;
+    const data::TabulatedSpectrum* b = data::kDaylightBasis;
+    auto at = [&](int k, double nm) {
+        return tabulatedAt(b[k].values, b[k].count, b[k].startNm, b[k].stepNm, nm);
+    };
+    DenseSpectrum s = DenseSpectrum::sample(
+        [&](double nm) { return at(0, nm) + m1 * at(1, nm) + m2 * at(2, nm); });
+    double lum = toXyz(s).y;
+    for (float& v : s.values) v = float(v / lum);
+    return s;
+}
+
+const DenseSpectrum& acesD60Illuminant() {
+    static const DenseSpectrum s = daylightIlluminant(0.32168, 0.33767);
+    return s;
+}
+
 std::vector<std::string> cieIlluminantNames() {
     std::vector<std::string> names;
     for (int k = 0; k < data::kIlluminantCount; ++k) names.push_back(data::kIlluminants[k].name);

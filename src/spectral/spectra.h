@@ -46,6 +46,14 @@ Xyz toXyz(const DenseSpectrum& s);
 const DenseSpectrum* cieIlluminant(const std::string& name);
 std::vector<std::string> cieIlluminantNames();
 
+// The CIE D-series (daylight) illuminant of chromaticity (x, y): S0 + M1 S1 + M2 S2 of the CIE's
+// daylight basis (CIE 15, the weights M1, M2 from x and y), at luminance 1 as cieIlluminant's.
+// Meaningful near the daylight locus (correlated colour temperatures 4000-25000 K).
+DenseSpectrum daylightIlluminant(double x, double y);
+// ACES's white, the D-series illuminant at the chromaticity SMPTE ST 2065-1 gives its white
+// point (0.32168, 0.33767), "D60" (pbrt-v4's "illum-acesD60"); luminance 1.
+const DenseSpectrum& acesD60Illuminant();
+
 // Piecewise-linear spectrum from (wavelength nm, value) pairs with ascending wavelengths; zero
 // outside the first and last wavelength (pbrt-v4's PiecewiseLinearSpectrum).
 double piecewiseLinear(const std::vector<double>& pairs, double nm);

@@ -6,6 +6,7 @@
 #include "image/image.h"
 #include "scene/metals.h"
 #include "scene/pbrt/pbrt_spectrum.h"
+#include "spectral/color_space.h"
 
 #include <cmath>
 
@@ -342,4 +343,61 @@ TEST_CASE("displacement textures and normal maps reach the material (bump mappin
     CHECK(missing.normalMap < 0);
     CHECK(anyContains(warnings, "no-such-normals.png"));
     CHECK(anyContains(warnings, "keeps its own normals"));
+}
+
+TEST_CASE("ColorSpace: rgb values in rec2020, dci-p3 and aces2065-1 become sRGB, scoped by attributes",
+          "[pbrt]") {
+    // White and grey reflectances are flat spectra in every colour space: the same sRGB.
+    Material white = materialOf("ColorSpace \"aces2065-1\"\n"
+                                "Material \"diffuse\" \"rgb reflectance\" [1 1 1]");
+    CHECK(near(white.color, Vec3(1.0f), 1e-3f));
+    Material grey = materialOf("ColorSpace \"rec2020\"\n"
+                               "Material \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]");
+    CHECK(near(grey.color, Vec3(0.5f), 1e-3f));
+    // sRGB's red written in Rec2020 (its XYZ through Rec2020's matrix) comes back as red.
+    const spectral::ColorSpace& rec2020 = spectral::colorSpace(spectral::ColorSpaceId::Rec2020);
+    const spectral::ColorSpace& srgb = spectral::colorSpace(spectral::ColorSpaceId::Srgb);
+    spectral::ColorSpace::Rgb v = rec2020.fromXyz(srgb.toXyz(0.8, 0.2, 0.1));
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "ColorSpace \"rec2020\"\nMaterial \"diffuse\" \"rgb reflectance\" [%.9g %.9g %.9g]",
+                  v.r, v.g, v.b);
+    Material red = materialOf(text);
+    CHECK(near(red.color, Vec3(0.8f, 0.2f, 0.1f), 2e-3f));
+    // The same numbers read as sRGB differ from it (the conversion is not the identity).
+    CHECK_FALSE(near(Vec3(float(v.r), float(v.g), float(v.b)), Vec3(0.8f, 0.2f, 0.1f), 2e-2f));
+
+    // An illuminant's white is the colour space's illuminant: ACES's D60 is warmer than D65,
+    // at luminance 1; pbrt-v4's "illum-acesD60" is the same spectrum.
+    auto lightColor = [](const std::string& world) {
+        auto r = loadWorld(world + "\nShape \"sphere\"\n");
+        REQUIRE(!r.scene->lights.empty());
+        return r.scene->lights[0].intensity;
+    };
+    Vec3 d60 = lightColor("ColorSpace \"aces2065-1\"\nLightSource \"point\" \"rgb I\" [1 1 1]");
+    CHECK(d60.x > d60.y);
+    CHECK(d60.y > d60.z);
+    CHECK(luminance(d60) == Approx(1.0f).epsilon(2e-3));
+    Vec3 named = lightColor("LightSource \"point\" \"spectrum I\" \"illum-acesD60\"");
+    CHECK(near(named, d60, 2e-3f));
+    // sRGB's own white light stays (1, 1, 1) exactly.
+    CHECK(lightColor("LightSource \"point\" \"rgb I\" [1 1 1]") == Vec3(1.0f));
+
+    // AttributeEnd restores the colour space of the enclosing state.
+    Material after = materialOf("AttributeBegin\nColorSpace \"rec2020\"\nAttributeEnd\n"
+                                "Material \"diffuse\" \"rgb reflectance\" [0.8 0.2 0.1]");
+    CHECK(after.color == Vec3(0.8f, 0.2f, 0.1f));
+    // Constant textures keep the colour space they were defined in.
+    Material tex = materialOf("ColorSpace \"rec2020\"\n"
+                              "Texture \"t\" \"spectrum\" \"constant\" \"rgb value\" [0.5 0.5 0.5]\n"
+                              "ColorSpace \"srgb\"\n"
+                              "Material \"diffuse\" \"texture reflectance\" \"t\"");
+    CHECK(near(tex.color, Vec3(0.5f), 1e-3f));
+
+    // An unknown name is an error at its line; a film under another space warns.
+    std::string error = pbrtErrorOf(std::string(kPbrtHeader) + "ColorSpace \"adobe-rgb\"\n");
+    CHECK_THAT(error, Catch::Contains("bad.pbrt:5:"));
+    CHECK_THAT(error, Catch::Contains("unknown colour space \"adobe-rgb\""));
+    auto r = loadPbrt("ColorSpace \"aces2065-1\"\n" + std::string(kPbrtHeader) + "Shape \"sphere\"\n");
+    CHECK(anyContains(r.warnings, "film's colour space \"aces2065-1\" is not applied"));
 }

@@ -80,7 +80,7 @@ TEST_CASE("RGB upsampling: reflectances round-trip within 1e-3", "[spectral]") {
 }
 
 TEST_CASE("RGB upsampling: other colour spaces round-trip sRGB's colours", "[spectral]") {
-    for (ColorSpaceId id : {ColorSpaceId::Rec2020, ColorSpaceId::DciP3}) {
+    for (ColorSpaceId id : {ColorSpaceId::Rec2020, ColorSpaceId::DciP3, ColorSpaceId::Aces2065_1}) {
         const ColorSpace& cs = colorSpace(id);
         const ColorSpace& srgb = colorSpace(ColorSpaceId::Srgb);
         Lcg rng;
@@ -94,7 +94,10 @@ TEST_CASE("RGB upsampling: other colour spaces round-trip sRGB's colours", "[spe
             worst = std::max(worst, maxDiff(reflectedRgb(cs, s), float(v.r), float(v.g), float(v.b)));
         }
         INFO(cs.name << ": largest difference " << worst);
-        CHECK(worst < 1e-3);
+        // ACES: its white is D60, not sRGB's D65, so a saturated sRGB colour is a reflectance
+        // under another light there, and a few lie at the sigmoid family's edge (measured
+        // largest 5.0e-3; Rec2020 and P3, which share D65, stay within 1e-3).
+        CHECK(worst < (id == ColorSpaceId::Aces2065_1 ? 1e-2 : 1e-3));
     }
 }
 

@@ -76,7 +76,17 @@ void SceneBuilder::end(const std::string& kind, const SourceLoc& loc) {
         m_state.ctm = f.saved.ctm;
     else
         m_state = f.saved;
+    m_values.setColorSpace(*m_state.colorSpace);
     m_stack.pop_back();
+}
+
+void SceneBuilder::colorSpace(const std::string& name, const SourceLoc& loc) {
+    const spectral::ColorSpace* cs = spectral::colorSpaceByName(name);
+    if (!cs)
+        failAt(loc, "unknown colour space \"" + name +
+                        "\" (expected srgb, rec2020, dci-p3 or aces2065-1)");
+    m_state.colorSpace = cs;
+    m_values.setColorSpace(*cs);
 }
 
 void SceneBuilder::requireOptions(const std::string& directive, const SourceLoc& loc) const {
@@ -112,6 +122,9 @@ void SceneBuilder::camera(const std::string& type, ParamList params, const Sourc
 
 void SceneBuilder::film(ParamList params, const SourceLoc& loc) {
     requireOptions("Film", loc);
+    if (m_state.colorSpace->id != spectral::ColorSpaceId::Srgb)
+        m_warnings.add(loc, std::string("the film's colour space \"") + m_state.colorSpace->name +
+                                "\" is not applied: rayproc writes linear sRGB");
     m_film = {true, std::move(params), loc};
 }
 

@@ -33,6 +33,9 @@ public:
     void coordinateSystem(const std::string& name);
     void coordSysTransform(const std::string& name, const SourceLoc& loc);
     void reverseOrientation() { m_state.reverseOrientation = !m_state.reverseOrientation; }
+    // ColorSpace: "srgb", "rec2020", "dci-p3" or "aces2065-1" for the "rgb" values that follow
+    // (part of the graphics state, as in pbrt-v4); another name is an error.
+    void colorSpace(const std::string& name, const SourceLoc& loc);
 
     // Blocks. `kind` is "Attribute", "Transform" or "Object".
     void begin(const std::string& kind, const SourceLoc& loc);
@@ -85,6 +88,7 @@ private:
         SourceLoc materialLoc;
         std::optional<AreaEmission> area;
         std::string mediumInside, mediumOutside; // MediumInterface; empty: vacuum
+        const spectral::ColorSpace* colorSpace = &spectral::colorSpace(spectral::ColorSpaceId::Srgb);
     };
     struct Frame {
         std::string kind;

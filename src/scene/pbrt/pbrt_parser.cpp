@@ -275,8 +275,7 @@ bool Parser::optionDirective(const Token& d) {
         std::string type = string(d, "filter type");
         b.pixelFilter(type, params(), loc);
     } else if (n == "ColorSpace") {
-        if (string(d, "colour space") != "srgb")
-            b.unsupported("A colour space other than srgb", "values are read as sRGB", loc);
+        b.colorSpace(string(d, "colour space"), loc);
     } else if (n == "Option") {
         params();
         b.unsupported("Option", "ignored", loc);

@@ -1,6 +1,7 @@
 #include "scene/pbrt/pbrt_spectrum.h"
 
 #include "spectral/color_space.h"
+#include "spectral/rgb_spectrum.h"
 #include "spectral/spectra.h"
 
 #include <algorithm>
@@ -70,6 +71,11 @@ Vec3 sampledReflectanceRgb(const std::vector<double>& pairs) {
 bool namedIlluminantRgb(const std::string& name, Vec3& rgb) {
     static const char* const kNames[] = {"A",  "D50", "D65", "F1",  "F2",  "F3",  "F4", "F5",
                                          "F6", "F7",  "F8",  "F9", "F10", "F11", "F12"};
+    if (name == "illum-acesD60") {
+        const spectral::DenseSpectrum& d60 = spectral::acesD60Illuminant();
+        rgb = emissionRgb([&d60](double nm) { return double(d60.at(float(nm))); });
+        return true;
+    }
     const std::string prefix = "stdillum-";
     if (name.compare(0, prefix.size(), prefix) != 0) return false;
     std::string id = name.substr(prefix.size());
@@ -78,6 +84,36 @@ bool namedIlluminantRgb(const std::string& name, Vec3& rgb) {
     if (!s) return false;
     rgb = emissionRgb([s](double nm) { return double(s->at(float(nm))); });
     return true;
+}
+
+namespace {
+
+// A reflectance-like spectrum's colour under D65, sRGB's illuminant (luminance 1).
+template <class S> Vec3 underD65(const S& s) {
+    const spectral::DenseSpectrum& d65 = *srgb().illuminant;
+    return toSrgb(spectral::toXyz([&](double nm) { return double(s(float(nm))) * d65.at(float(nm)); }));
+}
+
+bool isSrgb(const spectral::ColorSpace& cs) { return cs.id == spectral::ColorSpaceId::Srgb; }
+
+} // namespace
+
+Vec3 rgbAlbedoToSrgb(const Vec3& rgb, const spectral::ColorSpace& cs) {
+    if (isSrgb(cs)) return rgb;
+    Vec3 c = underD65(spectral::RgbAlbedoSpectrum(cs, rgb.x, rgb.y, rgb.z));
+    return vmin(vmax(c, Vec3(0.0f)), Vec3(1.0f));
+}
+
+Vec3 rgbUnboundedToSrgb(const Vec3& rgb, const spectral::ColorSpace& cs) {
+    if (isSrgb(cs)) return rgb;
+    return vmax(underD65(spectral::RgbUnboundedSpectrum(cs, rgb.x, rgb.y, rgb.z)), Vec3(0.0f));
+}
+
+Vec3 rgbIlluminantToSrgb(const Vec3& rgb, const spectral::ColorSpace& cs) {
+    if (isSrgb(cs)) return rgb;
+    spectral::RgbIlluminantSpectrum s(cs, rgb.x, rgb.y, rgb.z);
+    return vmax(toSrgb(spectral::toXyz([&](double nm) { return double(s(float(nm))); })),
+                Vec3(0.0f));
 }
 
 bool namedGlassIor(const std::string& name, double& ior) {

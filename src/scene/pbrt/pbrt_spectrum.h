@@ -16,6 +16,10 @@
 #include <string>
 #include <vector>
 
+namespace rayproc::spectral {
+struct ColorSpace;
+}
+
 namespace rayproc::pbrt {
 
 // x-bar, y-bar, z-bar of CIE 1931 (2 degree observer) at `nm` nanometres (the tables, linear
@@ -36,9 +40,19 @@ Vec3 sampledReflectanceRgb(const std::vector<double>& pairs); // flat spectrum -
 // refraction at one wavelength).
 double sampledValueAt(const std::vector<double>& pairs, double nm);
 
-// The colour of pbrt-v4's named illuminant "stdillum-A", "-D50", "-D65", "-F1".."-F12",
-// luminance 1; false for other names.
+// The colour of pbrt-v4's named illuminant "stdillum-A", "-D50", "-D65", "-F1".."-F12" or
+// "illum-acesD60", luminance 1; false for other names.
 bool namedIlluminantRgb(const std::string& name, Vec3& rgb);
+
+// An "rgb" value written under another ColorSpace than sRGB, as sRGB (docs/pbrt-import.md,
+// "Colour spaces"): pbrt-v4 upsamples it with that colour space's table (Jakob & Hanika), so
+// rayproc does too and takes the spectrum's colour as the sRGB colour of the same kind: a
+// reflectance's colour under D65 (clamped to [0, 1]), an unbounded value's likewise (clamped
+// to >= 0), an illuminant's XYZ (the colour space's illuminant times the upsampled value,
+// pbrt-v4's RGBIlluminantSpectrum) in sRGB. Under sRGB itself each returns `rgb` unchanged.
+Vec3 rgbAlbedoToSrgb(const Vec3& rgb, const spectral::ColorSpace& cs);
+Vec3 rgbUnboundedToSrgb(const Vec3& rgb, const spectral::ColorSpace& cs);
+Vec3 rgbIlluminantToSrgb(const Vec3& rgb, const spectral::ColorSpace& cs);
 
 // The index of refraction (at the helium d line, 587.6 nm) of pbrt's named glass spectra
 // ("glass-BK7", ...); false for other names.

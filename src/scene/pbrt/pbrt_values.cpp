@@ -113,7 +113,7 @@ void ValueReader::operand(const ParamList& params, std::string_view name, bool i
         p->used = true;
         const Texture* t = texture(*p, isFloat);
         if (t->constant)
-            value = t->hasValue ? convert(t->value, SpectrumUse::Unbounded, def) : Vec3(1.0f);
+            value = convertConstant(*t, SpectrumUse::Unbounded, def);
         else if (!t->missing)
             index = t->index;
         return;
@@ -128,6 +128,7 @@ void ValueReader::defineTexture(const std::string& name, const std::string& type
     t.isFloat = type == "float";
     t.className = className;
     t.constant = className == "constant";
+    t.colorSpace = m_colorSpace;
     if (t.constant) {
         const Param* v = t.isFloat ? params.get("value", {"float"})
                                    : params.get("value", {"rgb", "spectrum", "blackbody"});
@@ -195,7 +196,7 @@ ColorParam ValueReader::colorParam(const ParamList& params, std::string_view nam
     }
     const Texture* t = texture(*p, false);
     if (t->constant)
-        c.value = t->hasValue ? convert(t->value, use, def) : Vec3(1.0f);
+        c.value = convertConstant(*t, use, def);
     else if (!t->missing)
         c.texture = t->index;
     return c;
@@ -246,12 +247,23 @@ bool ValueReader::plainColor(const Param& p, Vec3& out) {
     return false;
 }
 
-Vec3 ValueReader::convert(const Param& p, SpectrumUse use, Vec3 def) const {
+Vec3 ValueReader::convert(const Param& p, SpectrumUse use, Vec3 def,
+                          const spectral::ColorSpace& cs) const {
     if (p.size() != 1 && !(p.type == "spectrum" && !p.numbers.empty()))
         failAt(p.loc,
                "parameter " + p.decl() + " expects one value, got " + std::to_string(p.size()));
     Vec3 c = def;
-    if (p.type == "rgb" || p.type == "float") {
+    if (p.type == "rgb") {
+        plainColor(p, c);
+        // Checked as written, before a colour space's conversion can move it.
+        if (!isFinite(c) || c.x < 0 || c.y < 0 || c.z < 0)
+            failAt(p.loc, "parameter " + p.decl() + " must not be negative");
+        if (use == SpectrumUse::Albedo && maxComponent(c) > 1)
+            failAt(p.loc, "parameter " + p.decl() + " is a reflectance and must not exceed 1");
+        c = use == SpectrumUse::Albedo     ? rgbAlbedoToSrgb(c, cs)
+            : use == SpectrumUse::Unbounded ? rgbUnboundedToSrgb(c, cs)
+                                            : rgbIlluminantToSrgb(c, cs);
+    } else if (p.type == "float") {
         plainColor(p, c);
     } else if (p.type == "blackbody") {
         if (!(p.numbers[0] > 0))
@@ -297,7 +309,7 @@ Vec3 ValueReader::color(const ParamList& params, std::string_view name, Spectrum
     if (p->type != "texture") return convert(*p, use, def);
     const Texture* t = texture(*p, false);
     if (!t->constant) return def;
-    return t->hasValue ? convert(t->value, use, def) : Vec3(1.0f);
+    return convertConstant(*t, use, def);
 }
 
 float ValueReader::scalar(const ParamList& params, std::string_view name, float def) const {

@@ -11,6 +11,7 @@
 #include "scene/texture.h"
 #include "scene/pbrt/pbrt_params.h"
 #include "scene/pbrt/pbrt_warnings.h"
+#include "spectral/color_space.h"
 
 #include <filesystem>
 #include <string>
@@ -54,6 +55,10 @@ public:
     // is absent, a named or sampled spectrum, or a texture.
     static bool plainColor(const Param& p, Vec3& out);
 
+    // The ColorSpace directive's colour space in the graphics state: "rgb" values read from now
+    // on (and constant textures defined from now on) are in it (pbrt_spectrum.h's conversions).
+    void setColorSpace(const spectral::ColorSpace& cs) { m_colorSpace = &cs; }
+
 private:
     struct Texture {
         bool isFloat = false;
@@ -63,13 +68,20 @@ private:
         bool hasValue = false;
         int index = -1;       // Scene::textures entry of the other classes
         bool missing = false; // an image map whose file could not be read
+        const spectral::ColorSpace* colorSpace = nullptr; // where it was defined
     };
     // A texture operand ("tex", "tex1", "amount", ...): a texture index or a value.
     void operand(const ParamList& params, std::string_view name, bool isFloat, Vec3 def,
                  int& index, Vec3& value) const;
     rayproc::Texture imageTexture(const std::string& name, const ParamList& params,
                                   bool isFloat, const SourceLoc& loc, bool& missing) const;
-    Vec3 convert(const Param& p, SpectrumUse use, Vec3 def) const;
+    Vec3 convert(const Param& p, SpectrumUse use, Vec3 def) const {
+        return convert(p, use, def, *m_colorSpace);
+    }
+    Vec3 convert(const Param& p, SpectrumUse use, Vec3 def, const spectral::ColorSpace& cs) const;
+    Vec3 convertConstant(const Texture& t, SpectrumUse use, Vec3 def) const {
+        return t.hasValue ? convert(t.value, use, def, *t.colorSpace) : Vec3(1.0f);
+    }
     const Texture* texture(const Param& ref, bool wantFloat) const;
 
     Warnings& m_warnings;
@@ -77,6 +89,7 @@ private:
     std::unordered_map<std::string, Texture> m_spectrumTextures;
     std::vector<rayproc::Texture>* m_table = nullptr;
     std::filesystem::path m_dir;
+    const spectral::ColorSpace* m_colorSpace = &spectral::colorSpace(spectral::ColorSpaceId::Srgb);
 };
 
 } // namespace rayproc::pbrt
