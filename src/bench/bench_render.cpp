@@ -47,6 +47,7 @@ std::string RenderConfig::settingsString() const {
         if (!gi.caustics) o << " no-caustics";
         if (!gi.progressiveCaustics) o << " no-progressive-caustics";
         else if (!gi.causticPixelRadius) o << " no-caustic-pixel-radius";
+        if (!gi.roughCaustics) o << " no-rough-caustics";
     }
     if ((mode == "path" && !path.roulette) || (mode == "raytrace" && !raytrace.roulette) ||
         (mode == "gi" && !gi.roulette))

@@ -65,7 +65,7 @@ struct RenderArgs {
     bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
     bool noIcSmoothing = false;
     bool noProgressiveCaustics = false, noCausticPixelRadius = false, noGatherDirect = false,
-         noLazyIrradiance = false, mapCorrection = false;
+         noLazyIrradiance = false, mapCorrection = false, noRoughCaustics = false;
     float causticAlpha = 0;
     float causticRadius = 0;
     double timeLimit = 0;
@@ -121,6 +121,7 @@ void applyGiOptions(const RenderArgs& a, GiSettings& s) {
     s.caustics = !a.noCaustics;
     s.progressiveCaustics = !a.noProgressiveCaustics;
     s.causticPixelRadius = !a.noCausticPixelRadius;
+    s.roughCaustics = !a.noRoughCaustics;
     if (a.causticAlpha > 0) s.causticAlpha = a.causticAlpha;
     if (a.causticRadius > 0) s.causticRadius = a.causticRadius;
     s.precomputedIrradiance = !a.noPrecomputed;
@@ -580,6 +581,11 @@ void addGiSwitches(CLI::App* cmd, RenderArgs* args) {
                   "gi: progressive caustics with one radius sequence for the whole image instead "
                   "of a radius per pixel shrunk by the photons the pixel receives (SPPM's "
                   "statistics; docs/photon-map.md)");
+    cmd->add_flag("--no-rough-caustics", args->noRoughCaustics,
+                  "gi: caustic photons end at rough glass and rough water instead of going on "
+                  "through them as through smooth glass; the light through such surfaces then "
+                  "reaches the image through final gathers and the global map (blurred, not "
+                  "progressive; docs/caustics.md)");
     cmd->add_option("--caustic-alpha", args->causticAlpha,
                     "gi: progressive caustics' radius reduction alpha: each pass's squared radius "
                     "is the last one's times (i + alpha) / (i + 1) (default 0.667; smaller "

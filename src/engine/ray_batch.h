@@ -48,7 +48,16 @@ enum RayFlags : std::uint8_t {
     // A path ray whose escape adds nothing (gi's correction paths leave the sky's direct light
     // at their origin to their gather's light samples).
     kFlagSkipEnvironment = 64,
+    // A camera chain through smooth and rough dielectric interfaces only (a rough one cleared
+    // kFlagCountEmission): a mode may take its first diffuse hit as a visible point, as it
+    // takes one reached through mirrors and smooth glass (gi: light samples, the caustic map,
+    // the final gather). Kept through delta bounces, cleared by any other glossy one.
+    kFlagVisibleChain = 128,
 };
+// The first diffuse hit of a camera chain (kFlagCountEmission or kFlagVisibleChain).
+inline bool visiblePoint(std::uint8_t flags) {
+    return (flags & (kFlagCountEmission | kFlagVisibleChain)) != 0;
+}
 
 struct RayBatch {
     RayKind kind = RayKind::Camera;

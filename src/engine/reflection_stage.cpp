@@ -95,7 +95,8 @@ private:
         if (!s.delta) {
             if (!s.coat && materialClass(m_rc.scene.materials, h.material) != MaterialClass::Glossy)
                 return false;
-            glossyFlags(k, s.pdf, s.coat, s.transmitted, r);
+            glossyFlags(k, s.pdf, s.coat, s.transmitted,
+                        bsdf.kind == kernels::BsdfKind::Dielectric && !s.coat, r);
         }
         r.wi = s.wi;
         r.w = r.w * s.weight * basicRadianceScale(bsdf, wo, h.ng, s);
@@ -114,7 +115,7 @@ private:
         if (pdf <= 0 || dot(r.wi, ng) <= 0) return false;
         r.w = r.w * kernels::glossyEvalCos(wo, r.wi, ns, mat.color, alpha) / pdf;
         // The shadow stage does not sample the sky for it (see there): the ray sees it.
-        glossyFlags(k, pdf, false, false, r);
+        glossyFlags(k, pdf, false, false, false, r);
         return true;
     }
 
@@ -123,10 +124,14 @@ private:
     // (the shadow stage did not run here) wholly (pdf 0). Without MIS it sees no emitter, and
     // the sky only where the shadow stage's sky samples leave it out (glossy classes; a coat's
     // reflection is in the sky samples of its diffuse class). A transmitted ray's sky is never
-    // light sampled (sky samples stay above).
-    void glossyFlags(int k, float pdf, bool coat, bool transmitted, Bounce& r) const {
+    // light sampled (sky samples stay above). A rough dielectric's sample keeps a camera chain
+    // a visible chain (kFlagVisibleChain); any other glossy one ends it.
+    void glossyFlags(int k, float pdf, bool coat, bool transmitted, bool dielectric,
+                     Bounce& r) const {
         const bool lit = m_hits.lightSampled[k];
-        r.flags = std::uint8_t((r.flags & ~kFlagCountEmission) | kFlagCountEnvironment);
+        const bool visible = dielectric && visiblePoint(r.flags);
+        r.flags = std::uint8_t((r.flags & ~(kFlagCountEmission | kFlagVisibleChain)) |
+                               kFlagCountEnvironment | (visible ? kFlagVisibleChain : 0));
         if (m_policy.glossyMis || !lit) {
             r.flags |= kFlagMisEmission;
             if (!transmitted) r.flags |= kFlagMisEnvironment;

@@ -15,7 +15,7 @@ struct Routes {
 
 // Routes hit h of lane i by its material: `addDirect` light sampling, `handled` diffuse hits
 // to the mode's handlers (the light past a glossy bounce theirs), `prepass` the handlers' alone.
-void routeByMaterial(const Scene& scene, int i, const SurfaceHit& h, bool countEmission,
+void routeByMaterial(const Scene& scene, int i, const SurfaceHit& h, bool visible,
                             bool addDirect, bool handled, bool prepass, Routes& r) {
     const MaterialType type = scene.materials[h.material].type;
     const MaterialClass cls = materialClass(scene.materials, h.material);
@@ -23,13 +23,14 @@ void routeByMaterial(const Scene& scene, int i, const SurfaceHit& h, bool countE
     case MaterialType::Diffuse:
     case MaterialType::DiffuseTransmission:
     case MaterialType::CoatedDiffuse:
-        // gi: past a glossy bounce the global map gives all reflected light, direct too.
-        if (addDirect && (!handled || countEmission)) r.direct.add(i, h);
+        // gi: past a glossy bounce (other than a rough dielectric's on a camera chain, which
+        // keeps the hit a visible point) the global map gives all reflected light, direct too.
+        if (addDirect && (!handled || visible)) r.direct.add(i, h);
         if (handled) r.indirect.add(i, h);
         // The coat's reflection of the scene, mirror or rough, traced by the reflection stage
         // (kernels::sampleCoatReflection).
         if (type == MaterialType::CoatedDiffuse && !prepass)
-            r.reflect.add(i, h, addDirect && (!handled || countEmission));
+            r.reflect.add(i, h, addDirect && (!handled || visible));
         break;
     case MaterialType::Glossy:
         if (prepass) break;
@@ -119,8 +120,8 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             SurfaceHit h = resolveHit(b, i, addDirect, stats);
             if (b.flags[i] & kFlagEmissionOnly) continue; // a last vertex's MIS partner
             resolveShading(m_rc.scene, h, -laneDirection(b, i));
-            routeByMaterial(m_rc.scene, i, h, (b.flags[i] & kFlagCountEmission) != 0, addDirect,
-                            handled, prepass, r);
+            routeByMaterial(m_rc.scene, i, h, visiblePoint(b.flags[i]), addDirect, handled,
+                            prepass, r);
         }
     }
     // A stage the scene analysis skipped getting work means the analysis is wrong.

@@ -47,7 +47,7 @@ void CorrectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
     for (int k = 0; k < hits.count; ++k) {
         int i = hits.lane[k];
         const SurfaceHit& h = hits.hit[k];
-        if (!(b.flags[i] & kFlagCountEmission)) {
+        if (!visiblePoint(b.flags[i])) {
             // Past a glossy bounce: the gather stage adds the map's estimate of all the light
             // reflected here (GatherStage::spawn, its BSDF stream 0).
             spawned += replaceMap(b, i, h, false, 0, ctx);

@@ -47,13 +47,17 @@ Bounds3 trimmedBounds(const std::vector<Vec3>& points) {
     return b;
 }
 
-// The direction a camera probe continues in past a mirror or smooth glass hit (refracted if it
-// can be, reflected otherwise; straight on through thin glass); false at other materials.
+// The direction a camera probe continues in past a mirror or glass hit (refracted if it can be,
+// reflected otherwise; straight on through thin glass; rough glass as if smooth, the centre of
+// its lobe, since caustic photons go through it too); false at other materials.
 bool specularContinuation(const Scene& scene, const SurfaceHit& h, const Vec3& d, Vec3& wi, Vec3& g) {
     Vec3 wo = -d;
     int material = resolveMix(scene, h.material, h, wo);
-    if (materialClass(scene.materials, material) != MaterialClass::Specular) return false;
     const Material& m = scene.materials[std::size_t(material)];
+    const MaterialClass cls = materialClass(scene.materials, material);
+    if (cls != MaterialClass::Specular &&
+        !(cls == MaterialClass::Glossy && m.type == MaterialType::Dielectric))
+        return false;
     bool front = dot(wo, h.ng) > 0;
     Vec3 n = front ? h.ns : -h.ns;
     g = front ? h.ng : -h.ng;

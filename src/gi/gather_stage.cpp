@@ -212,7 +212,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         facingNormals(h, wo, ng, ns);
         Vec3 w = laneThroughput(b, i);
         Vec3 reflect = w * albedo * kInvPi; // Lambertian: L = albedo / pi * E
-        bool firstDiffuse = (b.flags[i] & kFlagCountEmission) != 0;
+        bool firstDiffuse = visiblePoint(b.flags[i]);
 
         if (!firstDiffuse) {
             ++giCounter(stats, kGiGlobalLookups);
@@ -268,7 +268,7 @@ bool GatherStage::shadeHit(const RayBatch& b, int i, Vec3& radiance, float& dist
     // From the hit point, not Embree's t: t of a sphere differs by an ulp between
     // packet widths, and the cache's record radii must not (determinism).
     distance = length(h.p - o);
-    if (pastGlossy) radiance += emittedRadiance(*h.shape, h.ng, -d);
+    if (pastGlossy && !gi.roughCaustics) radiance += emittedRadiance(*h.shape, h.ng, -d);
     resolveShading(m_rc.scene, h, -d);
     // Emitters are light sampled at the gather's origin, and light reaching it through
     // specular surfaces (a coat's reflection included) straight from an emitter is the
@@ -361,7 +361,7 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
         const bool pastGlossy = (b.flags[i] & kFlagPastGlossy) != 0;
         if (b.hit(i)) {
             done = !shadeHit(b, i, radiance, distance, spawned, ctx);
-        } else if (pastGlossy && m_rc.lights.hasEnvironment()) {
+        } else if (pastGlossy && !m_gi.roughCaustics && m_rc.lights.hasEnvironment()) {
             radiance = m_rc.lights.environment.radiance(laneDirection(b, i));
         }
         deposit(b, i, laneThroughput(b, i) * radiance, stats);

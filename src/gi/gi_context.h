@@ -100,6 +100,12 @@ struct GiSettings {
     // Progressive caustics with a radius per pixel, shrunk by the photons each pixel receives
     // (SPPM's statistics, gi/caustic_pixel_radius.h); off: one radius sequence for all.
     bool causticPixelRadius = true;
+    // Caustic photons go on through rough dielectric interfaces (rough water, frosted glass) as
+    // through smooth ones, so the light they carry onto diffuse surfaces converges with the
+    // progressive radius; gathers then leave the emitters and sky they find past a rough
+    // interface to the caustic map. Off: those photons end at the rough interface, the light
+    // reaches the visible points through the gathers' continuations and the global map.
+    bool roughCaustics = true;
     bool precomputedIrradiance = true;
     // Each precomputed estimate made when a gather lookup first lands on its photon instead of
     // all of them before the render (PhotonMap::deferIrradiance): the same image, and no work
@@ -250,6 +256,10 @@ struct GiData {
     bool causticFixedRadius = false;
     // With GiSettings::causticPixelRadius: each pixel's radius, and its photon counts.
     CausticPixelRadius* causticPixels = nullptr;
+    // The caustic map carries the light through rough dielectric interfaces (a caustic pass
+    // with GiSettings::roughCaustics): a gather leaves the emission and sky it finds past one to
+    // it, as it leaves what it finds past smooth glass.
+    bool roughCaustics = false;
     float icMinRadius = 0, icMaxRadius = 0;
     // The final gather's strata: M rings of equal sin^2(theta) by N azimuth sectors, one ray
     // each (M N ~ gatherRays, N ~ pi M as Ward & Heckbert suggest); see gatherStrata().

@@ -34,7 +34,8 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     // short of maxPhotonDepth D, so that a path through either has at most D scattering events
     // from the light to the visible point, as pbrt-v4's SPPM deposits its photons at up to D.
     PhotonStage stage(rc, pass.caustic,
-                      pass.caustic ? s.maxPhotonDepth : std::max(1, s.maxPhotonDepth - 1));
+                      pass.caustic ? s.maxPhotonDepth : std::max(1, s.maxPhotonDepth - 1),
+                      s.roughCaustics);
     processor.setStage(kPhotonRay, &stage);
     PhotonEmitter emitter(lights, scene.worldBounds(), pass.count, engine.seed, pass.tag,
                           !focus.active ? Bounds3{}

@@ -31,9 +31,14 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         Vec3 wo = -d;
         resolveShading(m_rc.scene, h, wo);
         Vec3 power = laneThroughput(b, i) * interiorTransmittance(h, o, d);
-        // Photons are stored where a lookup may read them: at diffuse and glossy surfaces.
-        bool specularSurface =
-            materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
+        // Photons are stored where a lookup may read them: at diffuse and glossy surfaces. A
+        // caustic photon goes on through a rough dielectric interface as through a smooth one
+        // (GiSettings::roughCaustics): the camera's visible points past such interfaces and
+        // the surfaces lit through them read it (L S+ D with S rough or smooth glass).
+        const MaterialClass cls = materialClass(m_rc.scene.materials, h.material);
+        const bool roughInterface = m_roughCaustics && cls == MaterialClass::Glossy &&
+                                    m_rc.scene.materials[h.material].type == MaterialType::Dielectric;
+        const bool specularSurface = cls == MaterialClass::Specular || roughInterface;
         std::uint8_t flags = b.flags[i];
         if (!specularSurface) {
             bool store = m_causticPass ? (flags & kPhotonSpecular) && !(flags & kPhotonDiffuse) : true;
@@ -75,8 +80,8 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         // Without it a floor under open water came out n^2 = 1.77 times too bright.
         if (s.transmitted && bsdf.kind == kernels::BsdfKind::Dielectric && !kernels::roughAlphas(bsdf))
             next = next * smoothTransmissionScale(bsdf.ior, dot(wo, h.ng) > 0);
-        std::uint8_t nextFlags =
-            std::uint8_t(flags | (s.delta || s.coat ? kPhotonSpecular : kPhotonDiffuse));
+        std::uint8_t nextFlags = std::uint8_t(
+            flags | (s.delta || s.coat || roughInterface ? kPhotonSpecular : kPhotonDiffuse));
         Vec3 no = offsetRayOrigin(h, h.ng, s.wi);
         spawnRay(ctx.out(kPhotonRay), b, i, no, s.wi, next, std::uint8_t(depth), 0, nextFlags, 4);
         ++spawned;

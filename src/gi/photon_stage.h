@@ -32,8 +32,12 @@ inline float smoothTransmissionScale(float ior, bool entering) {
 
 class PhotonStage : public RetraceStage {
 public:
-    PhotonStage(const RenderContext& rc, bool causticPass, int maxDepth)
-        : m_rc(rc), m_causticPass(causticPass), m_maxDepth(maxDepth) {}
+    // roughCaustics: in the caustic pass, photons go on through rough dielectric interfaces as
+    // through smooth ones (GiSettings::roughCaustics).
+    PhotonStage(const RenderContext& rc, bool causticPass, int maxDepth,
+                bool roughCaustics = false)
+        : m_rc(rc), m_causticPass(causticPass), m_roughCaustics(causticPass && roughCaustics),
+          m_maxDepth(maxDepth) {}
     void retrace(RayBatch& batch, StageContext& ctx) override;
     // A photon's key: its index and bounce, (index << 8) | depth, unique in a pass.
     using KeyedPhoton = std::pair<std::uint64_t, PhotonRecord>;
@@ -49,6 +53,7 @@ public:
 private:
     const RenderContext& m_rc;
     bool m_causticPass;
+    bool m_roughCaustics;
     int m_maxDepth;
     tbb::enumerable_thread_specific<std::vector<std::pair<std::uint64_t, PhotonRecord>>> m_stored;
 };

@@ -160,6 +160,7 @@ void tracePhotonMaps(GiPhotonMaps& maps, GiData& gi, const Scene& scene,
                                       s.photonRounds, std::size_t(s.photons) / 4},
                                      focus, photonStats, gatherDirect ? &maps.gatherMap : nullptr);
     const bool causticPass = s.caustics && s.causticPhotons > 0 && plan.causticMap;
+    gi.roughCaustics = causticPass && s.roughCaustics;
     if (causticPass && s.progressiveCaustics) {
         maps.progressive.emplace(scene, accel, lights, gi, engine, cluster, focus, photonStats);
         gi.causticFixedRadius = true;
@@ -267,6 +268,7 @@ std::string GiSettings::toString() const {
       << " caustics=" << (caustics ? "on" : "off")
       << " progressive_caustics=" << (progressiveCaustics ? "on" : "off")
       << " caustic_pixel_radius=" << (causticPixelRadius ? "on" : "off")
+      << " rough_caustics=" << (roughCaustics ? "on" : "off")
       << " caustic_alpha=" << causticAlpha << " caustic_radius=" << causticRadius
       << " max_photon_depth=" << maxPhotonDepth
       << " precomputed_irradiance=" << (precomputedIrradiance ? "on" : "off")
