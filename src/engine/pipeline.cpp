@@ -43,11 +43,19 @@ Pipeline& Pipeline::stage(std::string name, std::vector<RayRoute> queues,
     return this->stage(std::move(name), std::move(queues), borrowed);
 }
 
+Pipeline& Pipeline::timedAs(PhaseLog* log, std::string phase) {
+    m_phases = log;
+    m_phase = std::move(phase);
+    return *this;
+}
+
 void Pipeline::run(Emitter& emitter, const std::function<bool()>& stopEmitting) {
-    // --stats lists the pipelines counted into this Stats (the last shape of each name).
+    // --stats lists the pipelines counted into this Stats (a shape built again under the
+    // same name adds its new stages to the first).
     m_stats.addPipeline(m_layout);
     try {
-        m_processor.run(emitter, stopEmitting);
+        timeWorkers(m_phases, m_phase, m_stats, m_processor.threads(),
+                    [&] { m_processor.run(emitter, stopEmitting); });
     } catch (const UnroutedRayKind& e) {
         throw PipelineError("pipeline " + m_layout.name + ": a stage spawned rays of kind " +
                             rayKindName(e.kind) + " but no stage takes them (" +

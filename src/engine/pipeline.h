@@ -11,6 +11,7 @@
 #pragma once
 
 #include "engine/intersect.h"
+#include "engine/phases.h"
 #include "engine/processor.h"
 #include "engine/stats.h"
 
@@ -45,9 +46,12 @@ public:
                     std::unique_ptr<RetraceStage> stage);
     // Whether some stage takes the rays of `kind`.
     bool routes(RayKind kind) const;
+    // Times every run as an entry of the Workers phase `phase` in `log` (engine/phases.h:
+    // "render_passes", "photon_tracing"...; --stats' phase table); a null log times nothing.
+    Pipeline& timedAs(PhaseLog* log, std::string phase);
 
-    // Drains the emitter and the work it causes (RayProcessor::run). A batch of a kind that
-    // no stage takes ends the run with a PipelineError that names it.
+    // Drains the emitter and the work it causes (RayProcessor::run), timed as timedAs says.
+    // A batch of a kind that no stage takes ends the run with a PipelineError that names it.
     void run(Emitter& emitter, const std::function<bool()>& stopEmitting);
 
     int threads() const { return m_processor.threads(); }
@@ -65,6 +69,8 @@ private:
     Intersector m_intersector;
     RayProcessor m_processor;
     PipelineLayout m_layout;
+    PhaseLog* m_phases = nullptr;
+    std::string m_phase;
     std::vector<std::unique_ptr<RetraceStage>> m_owned;
 };
 

@@ -143,14 +143,14 @@ void traceLevel(const Scene& scene, const EmbreeScene& accel, const LightSet& li
                 engineRoute(RayKind::Refraction)},
                surface)
         .stage("shadow", {engineRoute(RayKind::Shadow)}, shadow)
-        .stage("gather", {kGatherQueue, kGatherShadowQueue}, gather);
+        .stage("gather", {kGatherQueue, kGatherShadowQueue}, gather)
+        .timedAs(engine.phases, "cache_prepass");
     CameraEmitter camera(rc, &cam);
     camera.setShare(cluster.rank(), cluster.size()); // each rank gathers for its tiles
     camera.beginPass(0, 1);
     progress.currentPixels = double(cam.width) * cam.height;
     progress.current = &camera;
-    timeWorkers(engine.phases, "cache_prepass", stats, pipeline.threads(),
-                [&] { pipeline.run(camera, [] { return interruptRequested(); }); });
+    pipeline.run(camera, [] { return interruptRequested(); });
     progress.current = nullptr;
     progress.pixelsBefore = progress.pixelsBefore.load() + double(cam.width) * cam.height;
 }

@@ -136,7 +136,8 @@ CacheRefinement::PassSums CacheRefinement::tracePass(int pass, bool correcting) 
     // record emitter -> queue -> intersect -> gather [-> correction, correction path, shadow]
     Pipeline pipeline("cache refinement", "record", m_accel.root(), m_engine.packetWidth,
                       m_stats, m_engine.threads);
-    pipeline.stage("gather", {kGatherQueue, kGatherShadowQueue}, gather);
+    pipeline.stage("gather", {kGatherQueue, kGatherShadowQueue}, gather)
+        .timedAs(m_engine.phases, "cache_refinement");
     if (correcting) addCorrectionStages(pipeline, correction, shadow);
     const std::uint64_t key =
         kernels::hashCombine(kernels::hashCombine(m_engine.seed, 0x1c7e), std::uint64_t(pass));
@@ -145,8 +146,7 @@ CacheRefinement::PassSums CacheRefinement::tracePass(int pass, bool correcting) 
                           m_engine.stratification, key, slots.data());
     // Not interruptible halfway: the pass's sums are all or nothing (a cancel stops the render
     // after its current pass anyway).
-    timeWorkers(m_engine.phases, "cache_refinement", m_stats, pipeline.threads(),
-                [&] { pipeline.run(emitter, [] { return false; }); });
+    pipeline.run(emitter, [] { return false; });
     film.commitPass();
 
     // The pass's sums, every rank's, in record order.

@@ -35,7 +35,7 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     // photon emitter -> queue -> intersect -> photon stage (stores at diffuse hits, scatters)
     Pipeline pipeline("photons", "photon", accel.root(), engine.packetWidth, stats,
                       engine.threads);
-    pipeline.stage("photon", {kPhotonQueue}, stage);
+    pipeline.stage("photon", {kPhotonQueue}, stage).timedAs(engine.phases, "photon_tracing");
     PhotonEmitter emitter(lights, scene.worldBounds(), pass.count, engine.seed, pass.tag,
                           !focus.active ? Bounds3{}
                           : pass.caustic ? focus.causticEmissionBounds()
@@ -51,8 +51,7 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
                    double(std::max<std::uint64_t>(emitter.photonsInRange(), 1));
         },
         [&] { return std::uint64_t(stats.merged().raysTraced); });
-    timeWorkers(engine.phases, "photon_tracing", stats, pipeline.threads(),
-                [&] { pipeline.run(emitter, [] { return interruptRequested(); }); });
+    pipeline.run(emitter, [] { return interruptRequested(); });
     progress.finish(!interruptRequested());
     if (interruptRequested()) return {};
     PhaseTimer sortPhase(engine.phases, "photon_sort", PhaseKind::Parallel);

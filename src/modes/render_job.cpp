@@ -211,6 +211,7 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
     }
     m_camera.setShare(m_cluster.rank(), m_cluster.size());
     m_stages.build(m_pipeline, m_rc, radiance, modeStages);
+    m_pipeline.timedAs(engine.phases, "render_passes");
     // Every stage for --stats in pipeline order: the engine's, then the mode's.
     m_result.stats.pipeline = enginePipeline();
     if (modeStages)
@@ -305,9 +306,7 @@ void RenderJob::tracePass(int pass, int first, int count) {
     }
     m_camera.beginPass(first, count);
     m_passInFlight = true;
-    timeWorkers(m_engine.phases, "render_passes", m_stats, m_pipeline.threads(), [&] {
-        m_pipeline.run(m_camera, [&] { return interruptRequested() || stopRequested(); });
-    });
+    m_pipeline.run(m_camera, [&] { return interruptRequested() || stopRequested(); });
     m_unitsBefore += std::min<std::uint64_t>(m_camera.unitsEmitted(), m_camera.unitsPerPass());
     m_passInFlight = false;
     {

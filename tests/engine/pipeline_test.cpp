@@ -199,3 +199,25 @@ TEST_CASE("Pipeline: one of the same name built again adds its new stages to the
     CHECK(pipelineShape(p) == "record emitter -> queue -> intersect (packets of 8) -> gather "
                               "[gather, gather-shadow: occlusion] -> correction [correction]");
 }
+
+TEST_CASE("Pipeline: each run is one entry of the Workers phase it is timed as",
+          "[engine][pipeline]") {
+    SphereScene s;
+    Stats stats;
+    PhaseLog log;
+    Pipeline pipeline("test", "kinds", s.accel.root(), 8, stats, 2);
+    RecordingStage radiance;
+    pipeline.stage("radiance", {engineRoute(RayKind::Camera)}, radiance)
+        .timedAs(&log, "test_passes");
+    for (int run = 0; run < 3; ++run) {
+        KindsEmitter emitter({RayKind::Camera}, 4);
+        pipeline.run(emitter, [] { return false; });
+    }
+    REQUIRE(log.phases().size() == 1);
+    const PhaseStats& phase = log.phases()[0];
+    CHECK(phase.name == "test_passes");
+    CHECK(phase.kind == PhaseKind::Workers);
+    CHECK(phase.count == 3);
+    CHECK(phase.threads == 2);
+    CHECK(phase.seconds > 0);
+}
