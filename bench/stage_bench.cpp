@@ -16,7 +16,7 @@
 //                              (raytrace policy, 4 samples per area light)   rays/s spawned
 //   BM_ShadowRetrace/scene:S   ShadowStage::retrace on traced shadow batches the surface
 //                              stage spawned (film accumulation of the unoccluded)   rays/s
-//   BM_PhotonTrace/scene:S     PhotonEmitter + PhotonStage through a 1-thread RayProcessor,
+//   BM_PhotonTrace/scene:S     PhotonEmitter + PhotonStage through a 1-thread Pipeline,
 //                              50K global-map photons per iteration   photons/s, rays/s
 //   BM_Gather/scene:S          GatherStage::retrace on traced final-gather batches (the
 //                              global map's precomputed irradiance at every hit)   rays/s,
@@ -29,7 +29,7 @@
 #include "stage_rig.h"
 
 #include "engine/path_state.h"
-#include "engine/processor.h"
+#include "engine/pipeline.h"
 #include "gi/irradiance_cache.h"
 #include "gi/gi_pipeline.h"
 #include "gi/photon_emitter.h"
@@ -194,12 +194,11 @@ PhotonRun tracePhotons(const std::string& sceneName, std::uint32_t count, int th
     ShadingPolicy policy;
     RenderContext rc{*s.scene, *s.accel, lights, policy, film, 1};
     Stats stats;
-    Intersector intersector(s.accel->root(), 16);
-    RayProcessor processor(intersector, stats, threads);
     PhotonStage stage(rc, false, GiSettings{}.maxPhotonDepth);
-    processor.setStage(kPhotonRay, &stage);
+    Pipeline pipeline("photons", "photon", s.accel->root(), 16, stats, threads);
+    pipeline.stage("photon", {kPhotonQueue}, stage);
     PhotonEmitter emitter(lights, s.scene->worldBounds(), count, 1, 1);
-    processor.run(emitter, [] { return false; });
+    pipeline.run(emitter, [] { return false; });
     return {stage.takePhotons(), stats.merged().raysTraced};
 }
 

@@ -186,6 +186,7 @@ bool agreeInterrupted(const Cluster& cluster) {
 static_assert(sizeof(ThreadStats) ==
               sizeof(StageCounters) * kStageCount +
                   (5 + ThreadStats::kModeCounterCount) * sizeof(std::uint64_t) +
+                  sizeof(QueueCounters) * kRayKindCount +
                   sizeof(std::vector<ContributionMoments>));
 
 void sumToRoot(const Cluster& cluster, ThreadStats& s) {
@@ -200,6 +201,10 @@ void sumToRoot(const Cluster& cluster, ThreadStats& s) {
     std::vector<std::uint64_t*> fields = {&s.raysTraced, &s.samples, &s.invalidSamples,
                                           &s.clampedSamples, &s.batches};
     for (std::uint64_t& c : s.modeCounters) fields.push_back(&c);
+    for (QueueCounters& q : s.queues) {
+        fields.push_back(&q.batches);
+        fields.push_back(&q.rays);
+    }
     for (std::uint64_t* f : fields) counts.push_back(*f);
     cluster.sumToRoot(counts);
     cluster.sumToRoot(seconds);

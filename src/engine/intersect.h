@@ -13,15 +13,6 @@ namespace rayproc {
 
 class RayRecorder;
 
-// How a batch is traced: its closest hits, or only whether anything lies before tfar (an
-// occluded ray gets tfar < 0).
-enum class RayQuery : std::uint8_t { Closest, Occlusion };
-// The engine's kinds' queries: occlusion for shadow rays. A mode's kinds say theirs when routed
-// (RayProcessor::setStage).
-inline RayQuery defaultQuery(RayKind k) {
-    return k == RayKind::Shadow ? RayQuery::Occlusion : RayQuery::Closest;
-}
-
 class Intersector {
 public:
     // width: 1 selects single-ray rtcIntersect1 / rtcOccluded1; 4, 8, 16 select packets.

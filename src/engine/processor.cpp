@@ -6,6 +6,7 @@
 
 #include <exception>
 #include <mutex>
+#include <string>
 #include <thread>
 
 namespace rayproc {
@@ -28,6 +29,10 @@ bool StageContext::flush() {
     return any;
 }
 
+UnroutedRayKind::UnroutedRayKind(RayKind k)
+    : std::logic_error(std::string("no stage takes the rays of kind ") + rayKindName(k)),
+      kind(k) {}
+
 RayProcessor::RayProcessor(const Intersector& intersector, Stats& stats, int threads)
     : m_intersector(intersector), m_stats(stats),
       m_threads(threads > 0 ? threads : tbb::this_task_arena::max_concurrency()),
@@ -36,9 +41,15 @@ RayProcessor::RayProcessor(const Intersector& intersector, Stats& stats, int thr
 void RayProcessor::process(RayBatch* batch, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     ++stats.batches;
-    m_intersector.trace(*batch, stats, m_queries[int(batch->kind)]);
+    QueueCounters& queue = stats.queues[int(batch->kind)];
+    ++queue.batches;
+    queue.rays += std::uint64_t(batch->count);
     RetraceStage* stage = m_stages[int(batch->kind)];
-    RAYPROC_CHECK(stage != nullptr);
+    if (!stage) {
+        m_pool.release(batch);
+        throw UnroutedRayKind(batch->kind);
+    }
+    m_intersector.trace(*batch, stats, m_queries[int(batch->kind)]);
     stage->retrace(*batch, ctx);
     m_pool.release(batch);
 }

@@ -18,15 +18,24 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 
 namespace rayproc {
+
+// A batch of a kind that no stage takes: run() rethrows it (the pipeline names its stages).
+class UnroutedRayKind : public std::logic_error {
+public:
+    explicit UnroutedRayKind(RayKind kind);
+    RayKind kind;
+};
 
 class RayProcessor {
 public:
     RayProcessor(const Intersector& intersector, Stats& stats, int threads);
 
-    // Routes the rays of `kind` to `stage` (null: no stage; a batch of that kind fails a
-    // check), traced as `query` says (a mode's occlusion kinds say so here).
+    // Routes the rays of `kind` to `stage` (null: no stage; a batch of that kind ends the
+    // run with UnroutedRayKind), traced as `query` says (a mode's occlusion kinds say so
+    // here). Passes build their processor through a Pipeline (engine/pipeline.h).
     void setStage(RayKind kind, RetraceStage* stage, RayQuery query) {
         m_stages[int(kind)] = stage;
         m_queries[int(kind)] = query;

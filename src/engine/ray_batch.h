@@ -32,6 +32,25 @@ constexpr RayKind modeRayKind(int i) { return RayKind(kFirstModeRayKind + i); }
 // The engine's kinds' names; "mode-<i>" for a mode's.
 const char* rayKindName(RayKind k);
 
+// How a batch is traced: its closest hits, or only whether anything lies before tfar (an
+// occluded ray gets tfar < 0).
+enum class RayQuery : std::uint8_t { Closest, Occlusion };
+// The engine's kinds' queries: occlusion for shadow rays. A mode's kinds say theirs when routed
+// (engine/pipeline.h).
+inline RayQuery defaultQuery(RayKind k) {
+    return k == RayKind::Shadow ? RayQuery::Occlusion : RayQuery::Closest;
+}
+
+// One queue of a pipeline (engine/pipeline.h): the rays of one kind, its name for --stats and
+// how the intersector traces them. A mode names its kinds' queues (gi: gi/gi_pipeline.h).
+struct RayRoute {
+    RayKind kind;
+    const char* name;
+    RayQuery query;
+};
+// An engine kind's queue: its name (rayKindName) and query (defaultQuery).
+inline RayRoute engineRoute(RayKind kind) { return {kind, rayKindName(kind), defaultQuery(kind)}; }
+
 // Per-ray flags.
 enum RayFlags : std::uint8_t {
     kFlagCountEmission = 1,    // add emission where this ray lands (camera and specular chains)

@@ -31,11 +31,45 @@ ThreadStats Stats::merged() const {
         t.invalidSamples += s.invalidSamples;
         t.clampedSamples += s.clampedSamples;
         t.batches += s.batches;
+        for (int k = 0; k < kRayKindCount; ++k) {
+            t.queues[k].batches += s.queues[k].batches;
+            t.queues[k].rays += s.queues[k].rays;
+        }
         for (int c = 0; c < ThreadStats::kModeCounterCount; ++c) t.modeCounters[c] += s.modeCounters[c];
         if (t.contributions.size() < s.contributions.size()) t.contributions.resize(s.contributions.size());
         for (std::size_t c = 0; c < s.contributions.size(); ++c) t.contributions[c].merge(s.contributions[c]);
     }
     return t;
+}
+
+void PipelineLayout::merge(const PipelineLayout& other) {
+    for (const StageLayout& o : other.stages) {
+        auto same = std::find_if(stages.begin(), stages.end(),
+                                 [&](const StageLayout& s) { return s.name == o.name; });
+        if (same == stages.end()) {
+            stages.push_back(o);
+            continue;
+        }
+        for (const QueueLayout& q : o.queues)
+            if (std::none_of(same->queues.begin(), same->queues.end(),
+                             [&](const QueueLayout& m) { return m.kind == q.kind; }))
+                same->queues.push_back(q);
+    }
+}
+
+void Stats::addPipeline(const PipelineLayout& layout) {
+    for (PipelineLayout& p : m_pipelines)
+        if (p.name == layout.name) {
+            p.merge(layout);
+            return;
+        }
+    m_pipelines.push_back(layout);
+}
+
+std::vector<PipelineRun> Stats::pipelineRuns(const ThreadStats& totals) const {
+    std::vector<PipelineRun> runs;
+    for (const PipelineLayout& p : m_pipelines) runs.push_back({p, totals.queues});
+    return runs;
 }
 
 std::size_t peakResidentBytes() {
@@ -80,7 +114,69 @@ void phaseTable(std::ostringstream& o, const RenderStats& r) {
     o << line;
 }
 
+// Each pipeline the render ran: a line of its shape (emitter -> queue -> intersect -> stages in
+// order), then a row per stage and queue with the batches and rays that queue carried.
+void pipelineTable(std::ostringstream& o, const std::vector<PipelineRun>& runs) {
+    char line[200];
+    for (const PipelineRun& run : runs) {
+        o << "pipeline " << run.layout.name << ": " << pipelineShape(run.layout) << "\n";
+        std::snprintf(line, sizeof line, "  %-16s %-16s %-10s %12s %14s\n", "stage", "queue",
+                      "traced as", "batches", "rays");
+        o << line;
+        for (const StageLayout& stage : run.layout.stages)
+            for (const QueueLayout& q : stage.queues) {
+                const QueueCounters& c = run.queues[int(q.kind)];
+                std::snprintf(line, sizeof line, "  %-16s %-16s %-10s %12llu %14llu\n",
+                              stage.name.c_str(), q.name.c_str(),
+                              q.occlusion ? "occlusion" : "closest", (unsigned long long)c.batches,
+                              (unsigned long long)c.rays);
+                o << line;
+            }
+    }
+}
+
+nlohmann::json pipelineJson(const PipelineRun& run) {
+    nlohmann::json stages = nlohmann::json::array();
+    for (const StageLayout& stage : run.layout.stages) {
+        nlohmann::json queues = nlohmann::json::array();
+        std::uint64_t batches = 0, rays = 0;
+        for (const QueueLayout& q : stage.queues) {
+            const QueueCounters& c = run.queues[int(q.kind)];
+            queues.push_back({{"kind", q.name},
+                              {"query", q.occlusion ? "occlusion" : "closest"},
+                              {"batches", c.batches},
+                              {"rays", c.rays}});
+            batches += c.batches;
+            rays += c.rays;
+        }
+        stages.push_back(
+            {{"name", stage.name}, {"queues", queues}, {"batches", batches}, {"rays", rays}});
+    }
+    return {{"name", run.layout.name},
+            {"emitter", run.layout.emitter},
+            {"packet_width", run.layout.packetWidth},
+            {"shape", pipelineShape(run.layout)},
+            {"stages", stages}};
+}
+
 } // namespace
+
+std::string pipelineShape(const PipelineLayout& p) {
+    std::string s = p.emitter + " emitter -> queue -> intersect (" +
+                    (p.packetWidth > 1 ? "packets of " + std::to_string(p.packetWidth)
+                                       : std::string("single rays")) +
+                    ")";
+    for (const StageLayout& stage : p.stages) {
+        s += " -> " + stage.name + " [";
+        for (std::size_t i = 0; i < stage.queues.size(); ++i) {
+            if (i > 0) s += ", ";
+            s += stage.queues[i].name;
+            if (stage.queues[i].occlusion) s += ": occlusion";
+        }
+        s += "]";
+    }
+    return s;
+}
 
 std::string RenderStats::toTable() const {
     std::ostringstream o;
@@ -117,6 +213,7 @@ std::string RenderStats::toTable() const {
                       commits ? commits->seconds : 0.0, resolve ? resolve->seconds : 0.0);
         o << line;
     }
+    pipelineTable(o, pipelines);
     if (!phases.empty()) phaseTable(o, *this);
     for (auto& [name, value] : extras) {
         std::snprintf(line, sizeof line, "%-40s %.6g\n", name.c_str(), value);
@@ -146,6 +243,9 @@ std::string RenderStats::toJson() const {
     }
     j["stages"] = stageTable;
     j["pipeline"] = order;
+    nlohmann::json runs = nlohmann::json::array();
+    for (const PipelineRun& run : pipelines) runs.push_back(pipelineJson(run));
+    j["pipelines"] = runs;
     if (!phases.empty()) {
         const PhaseSummary sum = summarizePhases(phases, processSeconds);
         nlohmann::json list = nlohmann::json::array();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "engine/phases.h"
+#include "engine/ray_batch.h"
 
 #include <tbb/enumerable_thread_specific.h>
 
@@ -49,6 +50,33 @@ struct StageCounters {
     double seconds = 0;
 };
 
+// What one queue (the rays of one kind) carried to its stage: batches and rays.
+struct QueueCounters {
+    std::uint64_t batches = 0;
+    std::uint64_t rays = 0;
+};
+
+// A pipeline's shape (engine/pipeline.h): its emitter, then its stages in order, each with the
+// queues that feed it.
+struct QueueLayout {
+    RayKind kind;
+    std::string name;
+    bool occlusion = false; // traced as occlusion rays
+};
+struct StageLayout {
+    std::string name;
+    std::vector<QueueLayout> queues;
+};
+struct PipelineLayout {
+    std::string name;    // "render", "photons", "cache prepass", ...
+    std::string emitter; // "camera", "photon", "record"
+    int packetWidth = 0;
+    std::vector<StageLayout> stages;
+    // Adds the stages and queues of `other` (the same pipeline built again with more stages)
+    // that this one lacks.
+    void merge(const PipelineLayout& other);
+};
+
 // Path mode's contributions to the film by how they were sampled (--stats, "path/..."): their
 // count, the sum and the sum of squares of their luminance, and the largest. The sums of squares
 // say which strategy's samples the noise comes from: a firefly is one huge square.
@@ -82,6 +110,7 @@ struct ThreadStats {
     std::uint64_t invalidSamples = 0; // NaN/Inf contributions discarded before the film
     std::uint64_t clampedSamples = 0; // contributions beyond the film's fixed-point range
     std::uint64_t batches = 0;
+    std::array<QueueCounters, kRayKindCount> queues{}; // by ray kind
     // A mode's own counts, indexed by the mode's names for them (gi: gi/gi_pipeline.h).
     static constexpr int kModeCounterCount = 6;
     std::array<std::uint64_t, kModeCounterCount> modeCounters{};
@@ -91,6 +120,16 @@ struct ThreadStats {
         if (contributions.size() <= category) contributions.resize(category + 1);
         contributions[category].add(luminance);
     }
+};
+
+// One line: "camera emitter -> queue -> intersect (packets of 16) -> surface [camera,
+// reflection] -> shadow [shadow: occlusion]".
+std::string pipelineShape(const PipelineLayout& layout);
+
+// A pipeline as it ran: its shape and what its queues carried over all its runs.
+struct PipelineRun {
+    PipelineLayout layout;
+    std::array<QueueCounters, kRayKindCount> queues{};
 };
 
 struct RenderStats {
@@ -105,6 +144,9 @@ struct RenderStats {
     // The stages of the render's pipeline in order, named (--stats' rows, the JSON's "stages"
     // and "pipeline"); empty: the engine's (enginePipeline()).
     std::vector<StageLabel> pipeline;
+    // Every pipeline the render ran, in the order they ran (gi: photons, the cache's prepass
+    // and refinement, then the render), with their queues' batches and rays (--stats).
+    std::vector<PipelineRun> pipelines;
     // Where the whole command's time went (engine/phases.h), filled by the render command:
     // empty for renders run by serve and bench. processSeconds is the command's wall time
     // from before the scene load to after the image write; threads the processor's.
@@ -122,9 +164,16 @@ class Stats {
 public:
     ThreadStats& local() { return m_perThread.local(); }
     ThreadStats merged() const;
+    // The pipelines counted here (engine/pipeline.h records its own on its first run); one
+    // of a name built again is merged into the first.
+    void addPipeline(const PipelineLayout& layout);
+    const std::vector<PipelineLayout>& pipelines() const { return m_pipelines; }
+    // The pipelines with their queues' counts from `totals` (merged, and summed over ranks).
+    std::vector<PipelineRun> pipelineRuns(const ThreadStats& totals) const;
 
 private:
     tbb::enumerable_thread_specific<ThreadStats> m_perThread;
+    std::vector<PipelineLayout> m_pipelines;
 };
 
 // Adds the seconds of a scope to a stage's counter.

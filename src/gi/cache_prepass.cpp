@@ -5,9 +5,8 @@
 #include "engine/camera_emitter.h"
 #include "engine/cancel.h"
 #include "engine/film.h"
-#include "engine/intersect.h"
 #include "engine/phases.h"
-#include "engine/processor.h"
+#include "engine/pipeline.h"
 #include "engine/progress.h"
 #include "engine/reflection_stage.h"
 #include "engine/refraction_stage.h"
@@ -130,25 +129,28 @@ void traceLevel(const Scene& scene, const EmbreeScene& accel, const LightSet& li
     policy.stratify = engine.stratification;
     policy.rouletteEnabled = gi.settings.roulette;
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
-    Intersector intersector(accel.root(), engine.packetWidth);
-    RayProcessor processor(intersector, stats, engine.threads);
     ShadowStage shadow(rc);
     ReflectionStage reflection(rc);
     RefractionStage refraction(rc);
     GatherStage gather(rc, gi, &requests);
     SurfaceStage surface(rc, shadow, reflection, refraction);
     surface.addDiffuseHandler(gather);
-    for (RayKind k : {RayKind::Camera, RayKind::Reflection, RayKind::Refraction})
-        processor.setStage(k, &surface);
-    processor.setStage(RayKind::Shadow, &shadow);
-    routeGatherRays(processor, gather);
+    Pipeline pipeline("cache prepass", "camera", accel.root(), engine.packetWidth, stats,
+                      engine.threads);
+    pipeline
+        .stage("surface",
+               {engineRoute(RayKind::Camera), engineRoute(RayKind::Reflection),
+                engineRoute(RayKind::Refraction)},
+               surface)
+        .stage("shadow", {engineRoute(RayKind::Shadow)}, shadow)
+        .stage("gather", {kGatherQueue, kGatherShadowQueue}, gather)
+        .timedAs(engine.phases, "cache_prepass");
     CameraEmitter camera(rc, &cam);
     camera.setShare(cluster.rank(), cluster.size()); // each rank gathers for its tiles
     camera.beginPass(0, 1);
     progress.currentPixels = double(cam.width) * cam.height;
     progress.current = &camera;
-    timeWorkers(engine.phases, "cache_prepass", stats, processor.threads(),
-                [&] { processor.run(camera, [] { return interruptRequested(); }); });
+    pipeline.run(camera, [] { return interruptRequested(); });
     progress.current = nullptr;
     progress.pixelsBefore = progress.pixelsBefore.load() + double(cam.width) * cam.height;
 }

@@ -3,9 +3,8 @@
 #include "cluster/cluster.h"
 #include "engine/cancel.h"
 #include "engine/film.h"
-#include "engine/intersect.h"
 #include "engine/phases.h"
-#include "engine/processor.h"
+#include "engine/pipeline.h"
 #include "engine/shadow_stage.h"
 #include "gi/correction_stage.h"
 #include "gi/gather_stage.h"
@@ -131,13 +130,15 @@ CacheRefinement::PassSums CacheRefinement::tracePass(int pass, bool correcting) 
     policy.stratify = m_engine.stratification;
     policy.rouletteEnabled = s.roulette;
     RenderContext rc{m_scene, m_accel, m_lights, policy, film, m_engine.seed};
-    Intersector intersector(m_accel.root(), m_engine.packetWidth);
-    RayProcessor processor(intersector, m_stats, m_engine.threads);
     GatherStage gather(rc, m_gi, &requests); // the records' gathers add to their slots
     CorrectionStage correction(rc, m_gi, gather);
     ShadowStage shadow(rc);
-    routeGatherRays(processor, gather);
-    if (correcting) routeCorrectionRays(processor, correction, shadow);
+    // record emitter -> queue -> intersect -> gather [-> correction, correction path, shadow]
+    Pipeline pipeline("cache refinement", "record", m_accel.root(), m_engine.packetWidth,
+                      m_stats, m_engine.threads);
+    pipeline.stage("gather", {kGatherQueue, kGatherShadowQueue}, gather)
+        .timedAs(m_engine.phases, "cache_refinement");
+    if (correcting) addCorrectionStages(pipeline, correction, shadow);
     const std::uint64_t key =
         kernels::hashCombine(kernels::hashCombine(m_engine.seed, 0x1c7e), std::uint64_t(pass));
     RecordEmitter emitter(records, std::size_t(first), std::size_t(last),
@@ -145,8 +146,7 @@ CacheRefinement::PassSums CacheRefinement::tracePass(int pass, bool correcting) 
                           m_engine.stratification, key, slots.data());
     // Not interruptible halfway: the pass's sums are all or nothing (a cancel stops the render
     // after its current pass anyway).
-    timeWorkers(m_engine.phases, "cache_refinement", m_stats, processor.threads(),
-                [&] { processor.run(emitter, [] { return false; }); });
+    pipeline.run(emitter, [] { return false; });
     film.commitPass();
 
     // The pass's sums, every rank's, in record order.

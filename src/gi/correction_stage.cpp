@@ -3,7 +3,7 @@
 #include "engine/material_bsdf.h"
 #include "engine/path_stage.h"
 #include "engine/path_state.h"
-#include "engine/processor.h"
+#include "engine/pipeline.h"
 #include "engine/shadow_stage.h"
 #include "engine/sample_numbers.h"
 #include "gi/gather_stage.h"
@@ -139,11 +139,11 @@ std::uint64_t CorrectionStage::replaceMap(const RayBatch& b, int i, const Surfac
     return spawned;
 }
 
-void routeCorrectionRays(RayProcessor& processor, CorrectionStage& correction,
-                         ShadowStage& shadow) {
-    processor.setStage(kCorrectionRay, &correction);
-    processor.setStage(kCorrectionPathRay, &correction.pathStage());
-    processor.setStage(RayKind::Shadow, &shadow);
+void addCorrectionStages(Pipeline& pipeline, CorrectionStage& correction, ShadowStage& shadow) {
+    pipeline.stage("correction", {kCorrectionQueue}, correction)
+        .stage("correction path", {kCorrectionPathQueue}, correction.pathStage());
+    if (!pipeline.routes(RayKind::Shadow))
+        pipeline.stage("shadow", {engineRoute(RayKind::Shadow)}, shadow);
 }
 
 } // namespace rayproc

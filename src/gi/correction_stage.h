@@ -30,7 +30,7 @@
 namespace rayproc {
 
 class GatherStage;
-class RayProcessor;
+class Pipeline;
 class ShadowStage;
 struct GiData;
 
@@ -68,9 +68,9 @@ private:
     PathStage m_paths;
 };
 
-// Routes correction rays and the paths traced on from them to `correction`, and those paths'
-// light samples to `shadow`.
-void routeCorrectionRays(RayProcessor& processor, CorrectionStage& correction,
-                         ShadowStage& shadow);
+// Appends the correction stages to `pipeline`: correction rays to `correction`, the paths
+// traced on from them to its path stage, and those paths' light samples to `shadow` unless
+// the pipeline's shadow rays have a stage already.
+void addCorrectionStages(Pipeline& pipeline, CorrectionStage& correction, ShadowStage& shadow);
 
 } // namespace rayproc

@@ -2,7 +2,6 @@
 
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
-#include "engine/processor.h"
 #include "engine/sample_numbers.h"
 #include "gi/caustic_pixel_radius.h"
 #include "gi/gi_context.h"
@@ -368,11 +367,6 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
         if (b.flags[i] & kFlagGatherRecord) recordGatherEnd(b, i, distance, done);
     }
     stats.stages[int(kGatherStageId)].raysOut += spawned;
-}
-
-void routeGatherRays(RayProcessor& processor, GatherStage& gather) {
-    processor.setStage(kGatherRay, &gather);
-    processor.setStage(kGatherShadowRay, &gather, RayQuery::Occlusion);
 }
 
 } // namespace rayproc

@@ -36,7 +36,6 @@
 namespace rayproc {
 
 class PhotonMap;
-class RayProcessor;
 class IcRequests;
 struct GiData;
 
@@ -100,8 +99,5 @@ private:
     const GiData& m_gi;
     IcRequests* m_requests;
 };
-
-// Routes gather rays and the occlusion rays of their hits' light samples to `gather`.
-void routeGatherRays(RayProcessor& processor, GatherStage& gather);
 
 } // namespace rayproc

@@ -15,6 +15,13 @@ constexpr RayKind kGatherShadowRay = modeRayKind(2); // occlusion rays of a gath
 constexpr RayKind kCorrectionRay = modeRayKind(3); // one per first diffuse hit: corrects the map's bias
 constexpr RayKind kCorrectionPathRay = modeRayKind(4); // the path traced on from a correction ray's far end
 
+// Their queues (engine/pipeline.h): names for --stats, and how each is traced.
+constexpr RayRoute kPhotonQueue{kPhotonRay, "photon", RayQuery::Closest};
+constexpr RayRoute kGatherQueue{kGatherRay, "gather", RayQuery::Closest};
+constexpr RayRoute kGatherShadowQueue{kGatherShadowRay, "gather-shadow", RayQuery::Occlusion};
+constexpr RayRoute kCorrectionQueue{kCorrectionRay, "correction", RayQuery::Closest};
+constexpr RayRoute kCorrectionPathQueue{kCorrectionPathRay, "correction-path", RayQuery::Closest};
+
 // A gather ray of an irradiance-cache record (its pixel is the record's request slot).
 constexpr std::uint8_t kFlagGatherRecord = kFlagModeBit;
 

@@ -1,5 +1,6 @@
 #include "gi/gi_render_stages.h"
 
+#include "engine/pipeline.h"
 #include "engine/surface_stage.h"
 #include "gi/gi_context.h"
 #include "gi/gi_pipeline.h"
@@ -9,11 +10,11 @@ namespace rayproc {
 void GiRenderStages::attach(const EngineStages& engine) {
     m_correction.reset();
     m_gather = std::make_unique<GatherStage>(engine.rc, m_gi);
-    routeGatherRays(engine.processor, *m_gather);
+    engine.pipeline.stage("gather", {kGatherQueue, kGatherShadowQueue}, *m_gather);
     engine.surface.addDiffuseHandler(*m_gather);
     if (!m_gi.settings.mapCorrection) return;
     m_correction = std::make_unique<CorrectionStage>(engine.rc, m_gi, *m_gather);
-    routeCorrectionRays(engine.processor, *m_correction, engine.shadow);
+    addCorrectionStages(engine.pipeline, *m_correction, engine.shadow);
     engine.surface.addDiffuseHandler(*m_correction);
 }
 

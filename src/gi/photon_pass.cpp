@@ -3,9 +3,8 @@
 #include "cluster/cluster.h"
 #include "engine/cancel.h"
 #include "engine/engine_settings.h"
-#include "engine/intersect.h"
 #include "engine/phases.h"
-#include "engine/processor.h"
+#include "engine/pipeline.h"
 #include "engine/progress.h"
 #include "gi/gi_pipeline.h"
 #include "gi/photon_emitter.h"
@@ -27,8 +26,6 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     ShadingPolicy policy;
     policy.rouletteEnabled = s.roulette;
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
-    Intersector intersector(accel.root(), engine.packetWidth);
-    RayProcessor processor(intersector, stats, engine.threads);
     // The caustic map is read at a visible point, the global map one bounce from it (a final
     // gather, or a camera chain through a glossy reflection): its photons stop one intersection
     // short of maxPhotonDepth D, so that a path through either has at most D scattering events
@@ -36,7 +33,10 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     PhotonStage stage(rc, pass.caustic,
                       pass.caustic ? s.maxPhotonDepth : std::max(1, s.maxPhotonDepth - 1),
                       s.roughCaustics);
-    processor.setStage(kPhotonRay, &stage);
+    // photon emitter -> queue -> intersect -> photon stage (stores at diffuse hits, scatters)
+    Pipeline pipeline("photons", "photon", accel.root(), engine.packetWidth, stats,
+                      engine.threads);
+    pipeline.stage("photon", {kPhotonQueue}, stage).timedAs(engine.phases, "photon_tracing");
     PhotonEmitter emitter(lights, scene.worldBounds(), pass.count, engine.seed, pass.tag,
                           !focus.active ? Bounds3{}
                           : pass.caustic ? focus.causticEmissionBounds()
@@ -52,8 +52,7 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
                    double(std::max<std::uint64_t>(emitter.photonsInRange(), 1));
         },
         [&] { return std::uint64_t(stats.merged().raysTraced); });
-    timeWorkers(engine.phases, "photon_tracing", stats, processor.threads(),
-                [&] { processor.run(emitter, [] { return interruptRequested(); }); });
+    pipeline.run(emitter, [] { return interruptRequested(); });
     progress.finish(!interruptRequested());
     if (interruptRequested()) return {};
     PhaseTimer sortPhase(engine.phases, "photon_sort", PhaseKind::Parallel);

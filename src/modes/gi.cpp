@@ -38,8 +38,10 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <initializer_list>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 namespace rayproc {
 
@@ -248,6 +250,17 @@ void addRenderExtras(Extras& extras, const RenderResult& r, const GiPhotonMaps& 
     extras.push_back({"gi/lookups_per_second", gatherSeconds > 0 ? lookups / gatherSeconds : 0.0});
 }
 
+// --stats lists every pipeline in the order they first ran: the pre-passes' (each with its
+// Stats and their totals over the ranks), then the render's.
+void prependPipelines(RenderStats& stats,
+                      std::initializer_list<std::pair<const Stats*, const ThreadStats*>> passes) {
+    std::vector<PipelineRun> all;
+    for (auto [counted, totals] : passes)
+        for (PipelineRun& p : counted->pipelineRuns(*totals)) all.push_back(std::move(p));
+    for (PipelineRun& p : stats.pipelines) all.push_back(std::move(p));
+    stats.pipelines = std::move(all);
+}
+
 } // namespace
 
 std::string GiSettings::toString() const {
@@ -353,6 +366,9 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     sumToRoot(cluster, refineTotals);
     r.stats.totals.raysTraced +=
         photonTotals.raysTraced + cacheTotals.raysTraced + refineTotals.raysTraced;
+    prependPipelines(r.stats, {{&photonStats, &photonTotals},
+                               {&cacheStats, &cacheTotals},
+                               {&refineStats, &refineTotals}});
     r.stats.extras = extras;
     return r;
 }

@@ -3,11 +3,10 @@
 #include "engine/adaptive_sampler.h"
 #include "engine/camera_emitter.h"
 #include "engine/cancel.h"
-#include "engine/intersect.h"
 #include "engine/noise_breakdown.h"
 #include "engine/path_stage.h"
 #include "engine/phases.h"
-#include "engine/processor.h"
+#include "engine/pipeline.h"
 #include "engine/progress.h"
 #include "engine/reflection_stage.h"
 #include "engine/refraction_stage.h"
@@ -66,20 +65,22 @@ struct EngineStageSet {
         : shadow(rc), reflection(rc), refraction(rc), surface(rc, shadow, reflection, refraction),
           path(rc) {}
 
-    // Camera and bounce rays to the radiance stage, shadow rays to the shadow stage; then the
-    // mode's own stages (gi's). Kinds of rays the scene analysis rules out get no stage: one
-    // would fail a check.
-    void route(RayProcessor& processor, const RenderContext& rc, RadianceStage radiance,
+    // The render's pipeline, in order:
+    //   camera emitter -> queue -> intersect
+    //     -> surface (or path) [camera, reflection, refraction]
+    //     -> shadow [shadow: occlusion]
+    //     -> the mode's own stages (gi: gather [gather, gather-shadow], correction, ...)
+    // Kinds of rays the scene analysis rules out get no stage: one would end the run with
+    // an error that names it.
+    void build(Pipeline& pipeline, const RenderContext& rc, RadianceStage radiance,
                ModeStages* modeStages) {
-        RetraceStage* radianceStage = radiance == RadianceStage::Path
-                                          ? static_cast<RetraceStage*>(&path)
-                                          : static_cast<RetraceStage*>(&surface);
-        processor.setStage(RayKind::Camera, radianceStage);
-        processor.setStage(RayKind::Reflection, radianceStage);
-        processor.setStage(RayKind::Refraction,
-                           rc.policy.refractionStage ? radianceStage : nullptr);
-        processor.setStage(RayKind::Shadow, rc.policy.shadowStage ? &shadow : nullptr);
-        if (modeStages) modeStages->attach({rc, processor, surface, shadow});
+        std::vector<RayRoute> radianceQueues{engineRoute(RayKind::Camera),
+                                             engineRoute(RayKind::Reflection)};
+        if (rc.policy.refractionStage) radianceQueues.push_back(engineRoute(RayKind::Refraction));
+        if (radiance == RadianceStage::Path) pipeline.stage("path", radianceQueues, path);
+        else pipeline.stage("surface", radianceQueues, surface);
+        if (rc.policy.shadowStage) pipeline.stage("shadow", {engineRoute(RayKind::Shadow)}, shadow);
+        if (modeStages) modeStages->attach({rc, pipeline, surface, shadow});
     }
 };
 
@@ -162,8 +163,7 @@ private:
     std::optional<NoiseBreakdown> m_noise;
     // The pipeline: one emitter, one intersection handler, the retrace stages by ray kind.
     Stats m_stats;
-    Intersector m_intersector;
-    RayProcessor m_processor;
+    Pipeline m_pipeline;
     CameraEmitter m_camera;
     EngineStageSet m_stages;
     RenderResult m_result;
@@ -202,15 +202,16 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
       m_film(scene.camera.width, scene.camera.height,
              Film::exponentFor(lights.radianceScale(scene.worldBounds()))),
       m_rc{scene, accel, lights, policy, m_film, engine.seed},
-      m_intersector(accel.root(), engine.packetWidth),
-      m_processor(m_intersector, m_stats, engine.threads), m_camera(m_rc), m_stages(m_rc),
+      m_pipeline("render", "camera", accel.root(), engine.packetWidth, m_stats, engine.threads),
+      m_camera(m_rc), m_stages(m_rc),
       m_errorLog(engine.errorLogPath, m_result.errorLogFailure) {
     if (engine.noiseBreakdown) {
         m_noise.emplace(m_film.width(), m_film.height(), m_film.exponent());
         m_rc.noise = &*m_noise;
     }
     m_camera.setShare(m_cluster.rank(), m_cluster.size());
-    m_stages.route(m_processor, m_rc, radiance, modeStages);
+    m_stages.build(m_pipeline, m_rc, radiance, modeStages);
+    m_pipeline.timedAs(engine.phases, "render_passes");
     // Every stage for --stats in pipeline order: the engine's, then the mode's.
     m_result.stats.pipeline = enginePipeline();
     if (modeStages)
@@ -305,9 +306,7 @@ void RenderJob::tracePass(int pass, int first, int count) {
     }
     m_camera.beginPass(first, count);
     m_passInFlight = true;
-    timeWorkers(m_engine.phases, "render_passes", m_stats, m_processor.threads(), [&] {
-        m_processor.run(m_camera, [&] { return interruptRequested() || stopRequested(); });
-    });
+    m_pipeline.run(m_camera, [&] { return interruptRequested() || stopRequested(); });
     m_unitsBefore += std::min<std::uint64_t>(m_camera.unitsEmitted(), m_camera.unitsPerPass());
     m_passInFlight = false;
     {
@@ -428,7 +427,8 @@ void RenderJob::finish() {
     sumToRoot(m_cluster, m_result.stats.totals);
     m_result.stats.wallSeconds = secondsAt(Clock::now());
     m_result.stats.peakMemoryBytes = peakResidentBytes();
-    m_result.stats.batchesAllocated = m_processor.batchesAllocated();
+    m_result.stats.batchesAllocated = m_pipeline.batchesAllocated();
+    m_result.stats.pipelines = m_stats.pipelineRuns(m_result.stats.totals);
     m_result.stats.pixelsWithoutSamples =
         std::size_t(std::count(samples.begin(), samples.end(), 0));
 }

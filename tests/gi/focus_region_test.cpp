@@ -4,7 +4,7 @@
 // and under a constant sky of radiance L, 4 pi L pi R^2, however the photons are distributed,
 // as long as each carries its flux divided by the emission density.
 #include "engine/intersect.h"
-#include "engine/processor.h"
+#include "engine/pipeline.h"
 #include "gi/focus_region.h"
 #include "gi/gi_pipeline.h"
 #include "gi/photon_emitter.h"
@@ -41,15 +41,14 @@ Stored storedOnNearSphere(const Scene& scene, const EmbreeScene& accel, const Fo
     Film film(1, 1);
     ShadingPolicy policy;
     RenderContext rc{scene, accel, lights, policy, film, 5};
-    Intersector intersector(accel.root(), 16);
     Stats stats;
-    RayProcessor processor(intersector, stats, 2);
     PhotonStage stage(rc, /*causticPass=*/false, /*maxPhotonDepth=*/1);
-    processor.setStage(kPhotonRay, &stage);
+    Pipeline pipeline("photons", "photon", accel.root(), 16, stats, 2);
+    pipeline.stage("photon", {kPhotonQueue}, stage);
     PhotonEmitter emitter(lights, scene.worldBounds(), count, 5, 1,
                           focus.active ? focus.emissionBounds() : Bounds3{},
                           focus.active ? kFocusPhotonShare : 0.0f);
-    processor.run(emitter, [] { return false; });
+    pipeline.run(emitter, [] { return false; });
     Stored s;
     double sum[3] = {0, 0, 0};
     for (const PhotonRecord& p : stage.takePhotons()) {

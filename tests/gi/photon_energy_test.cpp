@@ -4,13 +4,13 @@
 // (Russian roulette keeps the estimate unbiased). With at most D stores per path
 // (maxPhotonDepth) the expected total stored power is
 //   Phi (1 + a + ... + a^(D-1)) = Phi (1 - a^D) / (1 - a)   per channel.
-// The photons are traced through the real pipeline (PhotonEmitter -> RayProcessor ->
+// The photons are traced through the real pipeline (PhotonEmitter -> Pipeline ->
 // PhotonStage) and their powers summed as the stage hands them over (floats). The map's RGBE
 // encoding is checked separately: here every photon of a bounce has the same power (uniform
 // albedo), so its rounding does not cancel but repeats; the decoded sums are checked within
 // RGBE's half step of the largest channel, 1/256.
 #include "engine/intersect.h"
-#include "engine/processor.h"
+#include "engine/pipeline.h"
 #include "gi/photon_emitter.h"
 #include "gi/gi_pipeline.h"
 #include "gi/photon_map.h"
@@ -32,13 +32,12 @@ std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& ac
     Film film(1, 1);
     ShadingPolicy policy;
     RenderContext rc{scene, accel, lights, policy, film, seed};
-    Intersector intersector(accel.root(), 16);
     Stats stats;
-    RayProcessor processor(intersector, stats, 2);
     PhotonStage stage(rc, /*causticPass=*/false, maxPhotonDepth);
-    processor.setStage(kPhotonRay, &stage);
+    Pipeline pipeline("photons", "photon", accel.root(), 16, stats, 2);
+    pipeline.stage("photon", {kPhotonQueue}, stage);
     PhotonEmitter emitter(lights, scene.worldBounds(), count, seed, 1);
-    processor.run(emitter, [] { return false; });
+    pipeline.run(emitter, [] { return false; });
     return stage.takePhotons();
 }
 

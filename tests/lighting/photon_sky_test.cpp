@@ -4,7 +4,7 @@
 // A map whose power is mostly one bright pixel checks that photons are emitted by the sky's
 // density with flux L / pdf (a uniform emission would leave that estimate very noisy).
 #include "engine/intersect.h"
-#include "engine/processor.h"
+#include "engine/pipeline.h"
 #include "gi/photon_emitter.h"
 #include "gi/gi_pipeline.h"
 #include "gi/photon_stage.h"
@@ -47,13 +47,12 @@ TEST_CASE("Image sky photons: a sphere stores 4 pi <L> pi R^2 at first hits", "[
     Film film(1, 1);
     ShadingPolicy policy;
     RenderContext rc{*scene, accel, lights, policy, film, 7};
-    Intersector intersector(accel.root(), 16);
     Stats stats;
-    RayProcessor processor(intersector, stats, 2);
     PhotonStage stage(rc, /*causticPass=*/false, /*maxPhotonDepth=*/1);
-    processor.setStage(kPhotonRay, &stage);
+    Pipeline pipeline("photons", "photon", accel.root(), 16, stats, 2);
+    pipeline.stage("photon", {kPhotonQueue}, stage);
     PhotonEmitter emitter(lights, scene->worldBounds(), 200000, 7, 1);
-    processor.run(emitter, [] { return false; });
+    pipeline.run(emitter, [] { return false; });
     double stored[3] = {0, 0, 0};
     for (const PhotonRecord& p : stage.takePhotons())
         for (int c = 0; c < 3; ++c) stored[c] += p.power[c];
