@@ -10,8 +10,9 @@
 namespace rayproc::kernels {
 
 // The kinds follow pbrt-v4's BxDFs (DiffuseBxDF, ConductorBxDF, DielectricBxDF,
-// ThinDielectricBxDF, DiffuseTransmissionBxDF, CoatedDiffuseBxDF, CoatedConductorBxDF) plus rayproc's Mirror and
-// Glossy (GGX + Schlick). Mix materials are resolved to one of their two before this point.
+// ThinDielectricBxDF, DiffuseTransmissionBxDF, CoatedDiffuseBxDF, CoatedConductorBxDF) plus
+// rayproc's Mirror and Glossy (GGX + Schlick). Mix materials are resolved to one of their two
+// before this point.
 enum class BsdfKind {
     Diffuse,
     Mirror,
@@ -39,9 +40,9 @@ struct BsdfParams {
     Vec3 eta{1.0f, 1.0f, 1.0f}, k{0.0f, 0.0f, 0.0f};
     float baseAlphaX = 0.0f, baseAlphaY = 0.0f; // CoatedConductor's conductor roughness
     Vec3 transmittance{0.0f, 0.0f, 0.0f};            // DiffuseTransmission
-    // CoatedDiffuse and CoatedConductor (pbrt-v4's LayeredBxDF): coat thickness, albedo and HG asymmetry of the
-    // medium between coat and base, maximum random-walk depth and the number of walks that
-    // average one evaluation.
+    // CoatedDiffuse and CoatedConductor (pbrt-v4's LayeredBxDF): coat thickness, albedo and HG
+    // asymmetry of the medium between coat and base, maximum random-walk depth and the number
+    // of walks that average one evaluation.
     float thickness = 0.01f;
     Vec3 albedo{0.0f, 0.0f, 0.0f};
     float g = 0.0f;

@@ -5,8 +5,9 @@
 // `weight` is f * |cos(wi, ns)| / pdf; delta lobes report pdf = 0 and delta = true.
 // Transmissive kinds (Dielectric, ThinDielectric, DiffuseTransmission) return values for wi on
 // either side of ng, opaque ones 0 on the other side. CoatedDiffuse (its walk model) and
-// CoatedConductor are stochastic (pbrt-v4's LayeredBxDF): f and pdf are estimates seeded by BsdfParams::key, and a sample's weight is its
-// random walk's (unbiased, not f / pdf of evalBsdf). Rough Dielectric transmission carries
+// CoatedConductor are stochastic (pbrt-v4's LayeredBxDF): f and pdf are estimates seeded by
+// BsdfParams::key, and a sample's weight is its random walk's (unbiased, not f / pdf of
+// evalBsdf). Rough Dielectric transmission carries
 // radiance (f / eta^2), as pbrt-v4's TransportMode::Radiance.
 #pragma once
 

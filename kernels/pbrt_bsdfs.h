@@ -1,10 +1,11 @@
 // World-space evaluation and sampling of the pbrt-v4 kinds (Conductor, rough Dielectric,
-// ThinDielectric, DiffuseTransmission, CoatedDiffuse, CoatedConductor): the local BxDFs of local_bxdfs.h,
-// dielectric_bxdf.h and layered.h in the shading frame of (ns, tangent), plus the geometric
-// test every rayproc BSDF makes: a reflection must leave on wo's side of ng and a transmission on
-// the other, so shading normals cannot leak light through a surface. Samples are re-evaluated
-// with the eval functions, so a sample's pdf and weight are exactly evalBsdf's (except
-// the layered kinds, whose weight is their random walk's and whose pdf the stochastic estimate).
+// ThinDielectric, DiffuseTransmission, CoatedDiffuse, CoatedConductor): the local BxDFs of
+// local_bxdfs.h, dielectric_bxdf.h and layered.h in the shading frame of (ns, tangent), plus the
+// geometric test every rayproc BSDF makes: a reflection must leave on wo's side of ng and a
+// transmission on the other, so shading normals cannot leak light through a surface. Samples
+// are re-evaluated with the eval functions, so a sample's pdf and weight are exactly evalBsdf's
+// (except the layered kinds, whose weight is their random walk's and whose pdf the stochastic
+// estimate).
 #pragma once
 
 #include "kernels/bsdf.h"

@@ -1,7 +1,7 @@
 // Materials as the scene describes them: pbrt-v4's set (diffuse, coateddiffuse, conductor,
-// coatedconductor, dielectric, thindielectric, diffusetransmission, mix) plus rayproc's own mirror and glossy.
-// Any colour or float parameter may be a texture (Scene::textures); the engine resolves a
-// material at a hit into the kernels' BsdfParams (engine/material_bsdf.h).
+// coatedconductor, dielectric, thindielectric, diffusetransmission, mix) plus rayproc's own
+// mirror and glossy. Any colour or float parameter may be a texture (Scene::textures); the
+// engine resolves a material at a hit into the kernels' BsdfParams (engine/material_bsdf.h).
 #pragma once
 
 #include "core/math.h"

@@ -54,8 +54,8 @@ TEST_CASE("coatedconductor in JSON: coat, conductor and slab keys", "[scene][coa
     CHECK(m[2].thickness.value == 0.01f);
     CHECK(materialClass(m, 2) == MaterialClass::Specular);
 
-    checkLoadError("cc-key.json", R"({"materials": {"a": {"type": "coatedconductor", "color": [1, 0, 0]}},
-        "nodes": [{"type": "sphere", "radius": 1, "material": "a"}]})",
+    checkLoadError("cc-key.json", R"({"materials": {"a": {"type": "coatedconductor",
+        "color": [1, 0, 0]}}, "nodes": [{"type": "sphere", "radius": 1, "material": "a"}]})",
                    "/materials/a/color", "unknown key \"color\" in a coatedconductor material");
     checkLoadError("cc-both.json", R"({"materials": {"a": {"type": "coatedconductor", "metal": "Ag",
         "reflectance": [1, 1, 1]}}, "nodes": [{"type": "sphere", "radius": 1, "material": "a"}]})",
