@@ -10,8 +10,9 @@
 namespace rayproc::kernels {
 
 // The kinds follow pbrt-v4's BxDFs (DiffuseBxDF, ConductorBxDF, DielectricBxDF,
-// ThinDielectricBxDF, DiffuseTransmissionBxDF, CoatedDiffuseBxDF) plus rayproc's Mirror and
-// Glossy (GGX + Schlick). Mix materials are resolved to one of their two before this point.
+// ThinDielectricBxDF, DiffuseTransmissionBxDF, CoatedDiffuseBxDF, CoatedConductorBxDF) plus
+// rayproc's Mirror and Glossy (GGX + Schlick). Mix materials are resolved to one of their two
+// before this point.
 enum class BsdfKind {
     Diffuse,
     Mirror,
@@ -21,6 +22,7 @@ enum class BsdfKind {
     ThinDielectric,
     DiffuseTransmission,
     CoatedDiffuse,
+    CoatedConductor, // pbrt-v4's layered walk over a conductor (kernels/layered.h)
 };
 
 struct BsdfParams {
@@ -28,16 +30,19 @@ struct BsdfParams {
     // Diffuse albedo, mirror reflectance, glossy F0, dielectric transmission tint,
     // diffusetransmission's reflectance, coateddiffuse's base reflectance.
     Vec3 color{0.5f, 0.5f, 0.5f};
-    float ior = 1.5f;    // dielectric, thin dielectric, coateddiffuse's coat
+    float ior = 1.5f;    // dielectric, thin dielectric, the coats of the coated kinds
     float alpha = 0.04f; // GGX alpha (Glossy)
     // Trowbridge-Reitz alphas along the tangent and the bitangent (Conductor, Dielectric,
-    // CoatedDiffuse's coat).
+    // the coats of the coated kinds).
     float alphaX = 0.0f, alphaY = 0.0f;
-    Vec3 eta{1.0f, 1.0f, 1.0f}, k{0.0f, 0.0f, 0.0f}; // Conductor: complex IOR per channel
+    // Conductor and CoatedConductor's base: complex IOR per channel (the base's relative to
+    // vacuum; the kernel divides it by the coat's index, as pbrt-v4's material does).
+    Vec3 eta{1.0f, 1.0f, 1.0f}, k{0.0f, 0.0f, 0.0f};
+    float baseAlphaX = 0.0f, baseAlphaY = 0.0f; // CoatedConductor's conductor roughness
     Vec3 transmittance{0.0f, 0.0f, 0.0f};            // DiffuseTransmission
-    // CoatedDiffuse (pbrt-v4's LayeredBxDF): coat thickness, albedo and HG asymmetry of the
-    // medium between coat and base, maximum random-walk depth and the number of walks that
-    // average one evaluation.
+    // CoatedDiffuse and CoatedConductor (pbrt-v4's LayeredBxDF): coat thickness, albedo and HG
+    // asymmetry of the medium between coat and base, maximum random-walk depth and the number
+    // of walks that average one evaluation.
     float thickness = 0.01f;
     Vec3 albedo{0.0f, 0.0f, 0.0f};
     float g = 0.0f;

@@ -4,9 +4,10 @@
 // shape defines it (outward / by winding), ns the shading normal on the same side as ng.
 // `weight` is f * |cos(wi, ns)| / pdf; delta lobes report pdf = 0 and delta = true.
 // Transmissive kinds (Dielectric, ThinDielectric, DiffuseTransmission) return values for wi on
-// either side of ng, opaque ones 0 on the other side. CoatedDiffuse is stochastic (pbrt-v4's
-// LayeredBxDF): f and pdf are estimates seeded by BsdfParams::key, and a sample's weight is its
-// random walk's (unbiased, not f / pdf of evalBsdf). Rough Dielectric transmission carries
+// either side of ng, opaque ones 0 on the other side. CoatedDiffuse (its walk model) and
+// CoatedConductor are stochastic (pbrt-v4's LayeredBxDF): f and pdf are estimates seeded by
+// BsdfParams::key, and a sample's weight is its random walk's (unbiased, not f / pdf of
+// evalBsdf). Rough Dielectric transmission carries
 // radiance (f / eta^2), as pbrt-v4's TransportMode::Radiance.
 #pragma once
 
@@ -31,6 +32,7 @@ inline Vec3 evalBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& wi, const 
         break;
     case BsdfKind::DiffuseTransmission: return evalDiffuseTransmission(b, wo, wi, ng, ns, pdf);
     case BsdfKind::CoatedDiffuse: return evalCoatedDiffuse(b, wo, wi, ng, ns, pdf);
+    case BsdfKind::CoatedConductor: return evalCoatedConductor(b, wo, wi, ng, ns, pdf);
     default: break;
     }
     Vec3 fg, fs;
@@ -60,6 +62,7 @@ inline BsdfSample sampleBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& ng
     case BsdfKind::ThinDielectric: return sampleThinDielectric(b, wo, ng, ns, uc);
     case BsdfKind::DiffuseTransmission: return sampleDiffuseTransmission(b, wo, ng, ns, u, uc);
     case BsdfKind::CoatedDiffuse: return sampleCoatedDiffuse(b, wo, ng, ns, u, uc);
+    case BsdfKind::CoatedConductor: return sampleCoatedConductor(b, wo, ng, ns, u, uc);
     default: break;
     }
     BsdfSample s;
@@ -131,7 +134,8 @@ inline BsdfSample sampleBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& ng
 // (multiple importance sampling of those two strategies): f * |cos| of that lobe alone and the
 // pdf with which the stage's sampler picks wi. A coated surface's rough coat (the stage samples
 // it alone, kernels::sampleCoatReflection; its base is lit by light samples only); a rough
-// conductor's or rough dielectric's whole BSDF and rayproc's glossy lobe (sampleBsdf). Zero
+// conductor's or rough dielectric's whole BSDF, a coated conductor's whole BSDF (its walk's
+// estimate) and rayproc's glossy lobe (sampleBsdf). Zero
 // with pdf 0 for every other kind: no sampled ray of theirs collects emission.
 inline Vec3 sampledLobeEvalCos(const BsdfParams& b, const Vec3& wo, const Vec3& wi, const Vec3& ng,
                                const Vec3& ns, float& pdf) {
@@ -153,6 +157,7 @@ inline Vec3 sampledLobeEvalCos(const BsdfParams& b, const Vec3& wo, const Vec3& 
     case BsdfKind::Dielectric:
         if (!roughAlphas(b)) return Vec3(0.0f);
         return evalBsdf(b, wo, wi, ng, ns, pdf);
+    case BsdfKind::CoatedConductor:
     case BsdfKind::Glossy: return evalBsdf(b, wo, wi, ng, ns, pdf);
     default: return Vec3(0.0f);
     }
@@ -165,6 +170,7 @@ inline bool isDeltaBsdf(const BsdfParams& b) {
     case BsdfKind::ThinDielectric: return true;
     case BsdfKind::Dielectric: return !roughAlphas(b) || b.ior == 1.0f;
     case BsdfKind::Conductor: return !roughAlphas(b);
+    case BsdfKind::CoatedConductor: return coatedConductorDelta(b);
     default: return false;
     }
 }

@@ -1,5 +1,6 @@
-// pbrt-v4's LayeredBxDF specialised to its CoatedDiffuse use: a dielectric coat (smooth or rough)
-// over a Lambertian base, with a homogeneous slab of unit extinction and `thickness` between
+// pbrt-v4's LayeredBxDF as its CoatedDiffuse and CoatedConductor use it: a dielectric coat
+// (smooth or rough) over an opaque base (Lambertian or a Trowbridge-Reitz conductor; one walk,
+// a template on the base), with a homogeneous slab of unit extinction and `thickness` between
 // them (single-scattering albedo `albedo`, Henyey-Greenstein phase with asymmetry g; albedo 0
 // means pure attenuation exp(-thickness / |cos|)). Two-sided: wo below the surface is mirrored
 // above. Guo et al. 2018 ("Position-Free Monte Carlo Simulation for Arbitrary Layered BSDFs")
@@ -80,9 +81,20 @@ struct HenyeyGreenstein {
     }
 };
 
-struct CoatedDiffuseBxdf {
+// Whether every lobe of a base is a delta (pbrt-v4's IsSpecular(bottom.Flags())): the walk then
+// has no next-event estimate through it, and its samples leave through a rough coat with MIS
+// weight 1.
+inline bool isSpecularBase(const LambertBxdf&) { return false; }
+inline bool isSpecularBase(const ConductorBxdf& c) { return c.smooth(); }
+
+// pbrt-v4's LayeredBxDF<DielectricBxDF, Base, twoSided = true> over an opaque base: Lambert
+// (CoatedDiffuse) or Trowbridge-Reitz conductor (CoatedConductor, whose eta and k are relative
+// to the coat: the material divides them by the coat's index). Base provides f(wo, wi),
+// pdf(wo, wi) and sample(wo, u) in the local frame, and an isSpecularBase overload.
+template <class Base>
+struct LayeredBxdf {
     DielectricBxdf top;
-    LambertBxdf base;
+    Base base;
     float thickness = 0.01f;
     Vec3 albedo{0.0f};
     float g = 0;
@@ -102,100 +114,13 @@ struct CoatedDiffuseBxdf {
         if (!sameHemisphere(wo, wi)) return Vec3(0.0f);
         Vec3 sum = Vec3(top.f(wo, wi, Transport::Radiance)) * float(nSamples);
         HashedStream r{hashFloats(key, {wo.x, wo.y, wo.z, wi.x, wi.y, wi.z})};
-        const bool exitSpecular = top.smooth();
-        const float exitZ = thickness;
-        HenyeyGreenstein phase{g};
-        for (int s = 0; s < nSamples; ++s) {
-            // Into the slab from wo, and the virtual light's path into the slab from wi.
-            float uc = r.next();
-            LobeSample wos = top.sample(wo, uc, r.next2(), Transport::Radiance, kTransmissionLobes);
-            if (!wos.valid || isBlack(wos.f) || wos.pdf == 0 || wos.wi.z == 0) continue;
-            uc = r.next();
-            LobeSample wis =
-                top.sample(wi, uc, r.next2(), Transport::Importance, kTransmissionLobes);
-            if (!wis.valid || isBlack(wis.f) || wis.pdf == 0 || wis.wi.z == 0) continue;
-
-            Vec3 beta = wos.f * (std::abs(wos.wi.z) / wos.pdf);
-            float z = thickness;
-            Vec3 w = wos.wi;
-            for (int depth = 0; depth < maxDepth; ++depth) {
-                // Russian roulette once the throughput is low.
-                if (depth > 3 && maxComponent(beta) < 0.25f) {
-                    float q = std::max(0.0f, 1.0f - maxComponent(beta));
-                    if (r.next() < q) break;
-                    beta = beta / (1.0f - q);
-                }
-                if (isBlack(albedo)) {
-                    // Straight to the other boundary.
-                    z = (z == thickness) ? 0.0f : thickness;
-                    beta *= tr(thickness, w);
-                } else {
-                    // A free flight along w: dz ~ exponential with rate 1 / |w.z|.
-                    float dz = -std::log(1.0f - r.next()) * std::abs(w.z);
-                    float zp = w.z > 0 ? z + dz : z - dz;
-                    if (zp == z) continue;
-                    if (0 < zp && zp < thickness) {
-                        // Scattering in the medium: next-event estimation through wis.
-                        float wt = 1.0f;
-                        if (!exitSpecular)
-                            wt = powerHeuristic(wis.pdf, phase.p(-w, -wis.wi));
-                        sum += beta * albedo * wis.f *
-                               (phase.p(-w, -wis.wi) * wt * tr(zp - exitZ, wis.wi) / wis.pdf);
-                        LobeSample ps = phase.sample(-w, r.next2());
-                        if (!ps.valid || ps.wi.z == 0) continue;
-                        beta *= albedo * (ps.f.x / ps.pdf);
-                        w = ps.wi;
-                        z = zp;
-                        // The phase sample itself may leave through the rough coat towards wi.
-                        if (((z < exitZ && w.z > 0) || (z > exitZ && w.z < 0)) && !exitSpecular) {
-                            float fExit = top.f(-w, wi, Transport::Radiance);
-                            if (fExit > 0) {
-                                float exitPdf = top.pdf(wi, -w, kTransmissionLobes);
-                                float wt2 = powerHeuristic(ps.pdf, exitPdf);
-                                sum += beta * (tr(zp - exitZ, ps.wi) * fExit * wt2);
-                            }
-                        }
-                        continue;
-                    }
-                    z = std::clamp(zp, 0.0f, thickness);
-                }
-                if (z == exitZ) {
-                    // Internal reflection at the coat.
-                    uc = r.next();
-                    LobeSample bs =
-                        top.sample(-w, uc, r.next2(), Transport::Radiance, kReflectionLobes);
-                    if (!bs.valid || isBlack(bs.f) || bs.pdf == 0 || bs.wi.z == 0) break;
-                    beta *= bs.f * (std::abs(bs.wi.z) / bs.pdf);
-                    w = bs.wi;
-                } else {
-                    // At the diffuse base: next-event estimation through wis...
-                    float wt = 1.0f;
-                    if (!exitSpecular) wt = powerHeuristic(wis.pdf, base.pdf(-w, -wis.wi));
-                    sum += beta * base.f(-w, -wis.wi) * wis.f *
-                           (std::abs(wis.wi.z) * wt * tr(thickness, wis.wi) / wis.pdf);
-                    // ...then a new direction from the base.
-                    LobeSample bs = base.sample(-w, r.next2());
-                    if (!bs.valid || isBlack(bs.f) || bs.pdf == 0 || bs.wi.z == 0) break;
-                    beta *= bs.f * (std::abs(bs.wi.z) / bs.pdf);
-                    w = bs.wi;
-                    // The base's sample may leave through the rough coat towards wi.
-                    if (!exitSpecular) {
-                        float fExit = top.f(-w, wi, Transport::Radiance);
-                        if (fExit > 0) {
-                            float exitPdf = top.pdf(wi, -w, kTransmissionLobes);
-                            float wt2 = powerHeuristic(bs.pdf, exitPdf);
-                            sum += beta * (tr(thickness, bs.wi) * fExit * wt2);
-                        }
-                    }
-                }
-            }
-        }
+        for (int s = 0; s < nSamples; ++s) walkF(wo, wi, r, sum);
         return sum / float(nSamples);
     }
 
     // The approximate density of sample(): reflection at the coat plus the
-    // transmit-reflect-transmit chain (MIS of its two one-sample estimates when the coat is
-    // rough), mixed as 0.9 of it and 0.1 of the uniform sphere.
+    // transmit-reflect-transmit chain (MIS of its two one-sample estimates when both the coat
+    // and the base are rough), mixed as 0.9 of it and 0.1 of the uniform sphere.
     float pdf(Vec3 wo, Vec3 wi, std::uint64_t key) const {
         if (wo.z < 0) {
             wo = -wo;
@@ -219,6 +144,11 @@ struct CoatedDiffuseBxdf {
             }
             LobeSample rs = base.sample(-wos.wi, r.next2());
             if (!rs.valid || isBlack(rs.f) || !(rs.pdf > 0)) continue;
+            if (rs.specular) {
+                // A mirror base: only the coat's transmission density remains.
+                sum += top.pdf(-rs.wi, wi, kAllLobes);
+                continue;
+            }
             float rPdf = base.pdf(-wos.wi, -wis.wi);
             sum += powerHeuristic(wis.pdf, rPdf) * rPdf;
             float tPdf = top.pdf(-rs.wi, wi, kAllLobes);
@@ -239,66 +169,196 @@ struct CoatedDiffuseBxdf {
             if (flip) bs.wi = -bs.wi;
             return bs;
         }
-        Vec3 w = bs.wi;
-        bool specularPath = bs.specular;
         HashedStream r{hashFloats(mix64(key ^ 0x73616d70ULL), {wo.x, wo.y, wo.z, uc, u.x, u.y})};
-        Vec3 f = bs.f * std::abs(bs.wi.z);
-        float pdf = bs.pdf;
-        float z = thickness;
-        HenyeyGreenstein phase{g};
+        SampleWalk p{bs.f * std::abs(bs.wi.z), bs.pdf, thickness, bs.wi, bs.specular};
         for (int depth = 0; depth < maxDepth; ++depth) {
-            float rrBeta = maxComponent(f) / pdf;
+            float rrBeta = maxComponent(p.f) / p.pdf;
             if (depth > 3 && rrBeta < 0.25f) {
                 float q = std::max(0.0f, 1.0f - rrBeta);
                 if (r.next() < q) return out;
-                pdf *= 1.0f - q;
+                p.pdf *= 1.0f - q;
             }
-            if (w.z == 0) return out;
-            if (!isBlack(albedo)) {
-                float dz = -std::log(1.0f - r.next()) * std::abs(w.z);
-                float zp = w.z > 0 ? z + dz : z - dz;
-                if (zp == z) return out;
-                if (0 < zp && zp < thickness) {
-                    LobeSample ps = phase.sample(-w, r.next2());
-                    if (!ps.valid || ps.wi.z == 0) return out;
-                    f *= albedo * ps.f.x;
-                    pdf *= ps.pdf;
-                    specularPath = false;
-                    w = ps.wi;
-                    z = zp;
-                    continue;
-                }
-                z = std::clamp(zp, 0.0f, thickness);
-            } else {
-                z = (z == thickness) ? 0.0f : thickness;
-                f *= tr(thickness, w);
-            }
-            LobeSample is;
-            float uci = r.next();
-            Vec2 ui = r.next2();
-            if (z == 0)
-                is = base.sample(-w, ui);
-            else
-                is = top.sample(-w, uci, ui, Transport::Radiance, kAllLobes);
-            if (!is.valid || isBlack(is.f) || is.pdf == 0 || is.wi.z == 0) return out;
-            f *= is.f;
-            pdf *= is.pdf;
-            specularPath = specularPath && is.specular;
-            w = is.wi;
-            if (z != 0 && !is.reflection) {
+            if (p.w.z == 0) return out;
+            int step = sampleStep(p, r);
+            if (step < 0) return out;
+            if (step == 0) continue;
+            if (p.z != 0 && p.left) {
                 // Out through the coat: the walk's direction is the sample.
-                out.wi = flip ? -w : w;
-                out.f = f;
-                out.pdf = pdf;
-                out.specular = specularPath;
+                out.wi = flip ? -p.w : p.w;
+                out.f = p.f;
+                out.pdf = p.pdf;
+                out.specular = p.specular;
                 out.reflection = true;
                 out.valid = true;
                 return out;
             }
-            f *= std::abs(is.wi.z);
         }
         return out;
     }
+
+private:
+    // The state of f's walk: throughput, height and direction inside the slab.
+    struct Walk {
+        Vec3 beta;
+        float z;
+        Vec3 w;
+    };
+    // The state of sample's walk: the path's f and pdf products, height, direction, whether
+    // every vertex so far was a delta, and whether the last interface event left the slab.
+    struct SampleWalk {
+        Vec3 f;
+        float pdf;
+        float z;
+        Vec3 w;
+        bool specular;
+        bool left = false;
+    };
+
+    // One walk of f: into the slab from wo, and the virtual light's path into it from wi.
+    void walkF(const Vec3& wo, const Vec3& wi, HashedStream& r, Vec3& sum) const {
+        float uc = r.next();
+        LobeSample wos = top.sample(wo, uc, r.next2(), Transport::Radiance, kTransmissionLobes);
+        if (!wos.valid || isBlack(wos.f) || wos.pdf == 0 || wos.wi.z == 0) return;
+        uc = r.next();
+        LobeSample wis = top.sample(wi, uc, r.next2(), Transport::Importance, kTransmissionLobes);
+        if (!wis.valid || isBlack(wis.f) || wis.pdf == 0 || wis.wi.z == 0) return;
+
+        Walk p{wos.f * (std::abs(wos.wi.z) / wos.pdf), thickness, wos.wi};
+        for (int depth = 0; depth < maxDepth; ++depth) {
+            // Russian roulette once the throughput is low.
+            if (depth > 3 && maxComponent(p.beta) < 0.25f) {
+                float q = std::max(0.0f, 1.0f - maxComponent(p.beta));
+                if (r.next() < q) break;
+                p.beta = p.beta / (1.0f - q);
+            }
+            if (isBlack(albedo)) {
+                // Straight to the other boundary.
+                p.z = (p.z == thickness) ? 0.0f : thickness;
+                p.beta *= tr(thickness, p.w);
+            } else {
+                // A free flight along w: dz ~ exponential with rate 1 / |w.z|.
+                float dz = -std::log(1.0f - r.next()) * std::abs(p.w.z);
+                float zp = p.w.z > 0 ? p.z + dz : p.z - dz;
+                if (zp == p.z) continue;
+                if (0 < zp && zp < thickness) {
+                    scatterInSlab(p, zp, wi, wis, r, sum);
+                    continue;
+                }
+                p.z = std::clamp(zp, 0.0f, thickness);
+            }
+            if (p.z == thickness) {
+                // Internal reflection at the coat.
+                uc = r.next();
+                LobeSample bs =
+                    top.sample(-p.w, uc, r.next2(), Transport::Radiance, kReflectionLobes);
+                if (!bs.valid || isBlack(bs.f) || bs.pdf == 0 || bs.wi.z == 0) break;
+                p.beta *= bs.f * (std::abs(bs.wi.z) / bs.pdf);
+                p.w = bs.wi;
+            } else if (!bounceAtBase(p, wi, wis, r, sum)) {
+                break;
+            }
+        }
+    }
+
+    // f's walk scatters in the medium at height zp: next-event estimation through wis, then a
+    // phase-function sample, which may itself leave through a rough coat towards wi.
+    void scatterInSlab(Walk& p, float zp, const Vec3& wi, const LobeSample& wis, HashedStream& r,
+                       Vec3& sum) const {
+        const bool exitSpecular = top.smooth();
+        const float exitZ = thickness;
+        HenyeyGreenstein phase{g};
+        float wt = 1.0f;
+        if (!exitSpecular) wt = powerHeuristic(wis.pdf, phase.p(-p.w, -wis.wi));
+        sum += p.beta * albedo * wis.f *
+               (phase.p(-p.w, -wis.wi) * wt * tr(zp - exitZ, wis.wi) / wis.pdf);
+        LobeSample ps = phase.sample(-p.w, r.next2());
+        if (!ps.valid || ps.wi.z == 0) return;
+        p.beta *= albedo * (ps.f.x / ps.pdf);
+        p.w = ps.wi;
+        p.z = zp;
+        if (((p.z < exitZ && p.w.z > 0) || (p.z > exitZ && p.w.z < 0)) && !exitSpecular) {
+            float fExit = top.f(-p.w, wi, Transport::Radiance);
+            if (fExit > 0) {
+                float exitPdf = top.pdf(wi, -p.w, kTransmissionLobes);
+                float wt2 = powerHeuristic(ps.pdf, exitPdf);
+                sum += p.beta * (tr(zp - exitZ, ps.wi) * fExit * wt2);
+            }
+        }
+    }
+
+    // f's walk at the base: next-event estimation through wis (not for a delta base), then a
+    // new direction from the base, which may leave through a rough coat towards wi. False when
+    // the base's sample fails (the walk ends).
+    bool bounceAtBase(Walk& p, const Vec3& wi, const LobeSample& wis, HashedStream& r,
+                      Vec3& sum) const {
+        const bool exitSpecular = top.smooth();
+        if (!isSpecularBase(base)) {
+            float wt = 1.0f;
+            if (!exitSpecular) wt = powerHeuristic(wis.pdf, base.pdf(-p.w, -wis.wi));
+            sum += p.beta * base.f(-p.w, -wis.wi) * wis.f *
+                   (std::abs(wis.wi.z) * wt * tr(thickness, wis.wi) / wis.pdf);
+        }
+        LobeSample bs = base.sample(-p.w, r.next2());
+        if (!bs.valid || isBlack(bs.f) || bs.pdf == 0 || bs.wi.z == 0) return false;
+        p.beta *= bs.f * (std::abs(bs.wi.z) / bs.pdf);
+        p.w = bs.wi;
+        if (!exitSpecular) {
+            float fExit = top.f(-p.w, wi, Transport::Radiance);
+            if (fExit > 0) {
+                float wt2 = 1.0f;
+                if (!bs.specular) {
+                    float exitPdf = top.pdf(wi, -p.w, kTransmissionLobes);
+                    wt2 = powerHeuristic(bs.pdf, exitPdf);
+                }
+                sum += p.beta * (tr(thickness, bs.wi) * fExit * wt2);
+            }
+        }
+        return true;
+    }
+
+    // One step of sample's walk: a scattering in the medium (0: continue), or arrival at a
+    // boundary and its interface's sample (1, p.left when it left through the coat), or the
+    // end of the walk (-1).
+    int sampleStep(SampleWalk& p, HashedStream& r) const {
+        if (!isBlack(albedo)) {
+            float dz = -std::log(1.0f - r.next()) * std::abs(p.w.z);
+            float zp = p.w.z > 0 ? p.z + dz : p.z - dz;
+            if (zp == p.z) return -1;
+            if (0 < zp && zp < thickness) {
+                HenyeyGreenstein phase{g};
+                LobeSample ps = phase.sample(-p.w, r.next2());
+                if (!ps.valid || ps.wi.z == 0) return -1;
+                p.f *= albedo * ps.f.x;
+                p.pdf *= ps.pdf;
+                p.specular = false;
+                p.w = ps.wi;
+                p.z = zp;
+                return 0;
+            }
+            p.z = std::clamp(zp, 0.0f, thickness);
+        } else {
+            p.z = (p.z == thickness) ? 0.0f : thickness;
+            p.f *= tr(thickness, p.w);
+        }
+        LobeSample is;
+        float uci = r.next();
+        Vec2 ui = r.next2();
+        if (p.z == 0)
+            is = base.sample(-p.w, ui);
+        else
+            is = top.sample(-p.w, uci, ui, Transport::Radiance, kAllLobes);
+        if (!is.valid || isBlack(is.f) || is.pdf == 0 || is.wi.z == 0) return -1;
+        p.f *= is.f;
+        p.pdf *= is.pdf;
+        p.specular = p.specular && is.specular;
+        p.w = is.wi;
+        p.left = p.z != 0 && !is.reflection;
+        if (!p.left) p.f *= std::abs(is.wi.z);
+        return 1;
+    }
 };
+
+using CoatedDiffuseBxdf = LayeredBxdf<LambertBxdf>;
+using CoatedConductorBxdf = LayeredBxdf<ConductorBxdf>;
 
 } // namespace rayproc::kernels

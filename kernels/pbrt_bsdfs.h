@@ -1,10 +1,11 @@
 // World-space evaluation and sampling of the pbrt-v4 kinds (Conductor, rough Dielectric,
-// ThinDielectric, DiffuseTransmission, CoatedDiffuse): the local BxDFs of local_bxdfs.h,
-// dielectric_bxdf.h and layered.h in the shading frame of (ns, tangent), plus the geometric
-// test every rayproc BSDF makes: a reflection must leave on wo's side of ng and a transmission on
-// the other, so shading normals cannot leak light through a surface. Samples are re-evaluated
-// with the eval functions, so a sample's pdf and weight are exactly evalBsdf's (except
-// CoatedDiffuse, whose weight is its random walk's and whose pdf is the stochastic estimate).
+// ThinDielectric, DiffuseTransmission, CoatedDiffuse, CoatedConductor): the local BxDFs of
+// local_bxdfs.h, dielectric_bxdf.h and layered.h in the shading frame of (ns, tangent), plus the
+// geometric test every rayproc BSDF makes: a reflection must leave on wo's side of ng and a
+// transmission on the other, so shading normals cannot leak light through a surface. Samples
+// are re-evaluated with the eval functions, so a sample's pdf and weight are exactly evalBsdf's
+// (except the layered kinds, whose weight is their random walk's and whose pdf the stochastic
+// estimate).
 #pragma once
 
 #include "kernels/bsdf.h"
@@ -180,16 +181,36 @@ inline BsdfSample sampleDiffuseTransmission(const BsdfParams& b, const Vec3& wo,
 // --- CoatedDiffuse: opaque (the base is), shades the side wo is on. Stochastic: f and pdf are
 // estimates from streams keyed by b.key and the directions, deterministic for the same inputs.
 
-inline CoatedDiffuseBxdf coatedDiffuseOf(const BsdfParams& b) {
-    CoatedDiffuseBxdf c;
+// The walk's slab parameters, shared by both layered kinds.
+template <class Base>
+inline LayeredBxdf<Base> layeredOf(const BsdfParams& b, const Base& base) {
+    LayeredBxdf<Base> c;
     c.top = DielectricBxdf{b.ior, microfacetsOf(b)};
-    c.base = LambertBxdf{b.color};
+    c.base = base;
     c.thickness = std::max(b.thickness, std::numeric_limits<float>::min());
     c.albedo = b.albedo;
     c.g = b.g;
     c.maxDepth = b.maxDepth;
     c.nSamples = std::max(1, b.nSamples);
     return c;
+}
+
+inline CoatedDiffuseBxdf coatedDiffuseOf(const BsdfParams& b) {
+    return layeredOf(b, LambertBxdf{b.color});
+}
+
+// pbrt-v4's CoatedConductorMaterial: the conductor's eta and k are relative to the coat's
+// medium, so both are divided by the coat's index (1 gives the bare conductor's Fresnel).
+inline CoatedConductorBxdf coatedConductorOf(const BsdfParams& b) {
+    return layeredOf(b, ConductorBxdf{TrowbridgeReitz{b.baseAlphaX, b.baseAlphaY}, b.eta / b.ior,
+                                      b.k / b.ior});
+}
+
+// Whether a coated conductor has only delta lobes: a smooth coat (or an index-matched one) over
+// a smooth conductor with nothing scattering between them.
+inline bool coatedConductorDelta(const BsdfParams& b) {
+    return (!roughAlphas(b) || b.ior == 1.0f) &&
+           std::max(b.baseAlphaX, b.baseAlphaY) < kSmoothAlpha && isBlack(b.albedo);
 }
 
 inline CoatedAnalytic coatedAnalyticOf(const BsdfParams& b) {
@@ -206,6 +227,21 @@ inline Vec3 evalCoatedDiffuse(const BsdfParams& b, const Vec3& wo, const Vec3& w
     Vec3 lo = frame.toLocal(wo), li = frame.toLocal(wi);
     if (!b.coatWalk) return coatedAnalyticOf(b).evalCos(lo, li, pdf);
     CoatedDiffuseBxdf c = coatedDiffuseOf(b);
+    pdf = c.pdf(lo, li, b.key);
+    return c.f(lo, li, b.key) * std::abs(li.z);
+}
+
+// --- CoatedConductor: the same walk over a conductor base; opaque, shades wo's side.
+
+inline Vec3 evalCoatedConductor(const BsdfParams& b, const Vec3& wo, const Vec3& wi,
+                                const Vec3& ng, const Vec3& ns, float& pdf) {
+    pdf = 0;
+    Vec3 fg, fs;
+    facingSide(wo, ng, ns, fg, fs);
+    if (dot(wi, fg) <= 0 || coatedConductorDelta(b)) return Vec3(0.0f);
+    ShadingFrame frame(fs, b.tangent);
+    Vec3 lo = frame.toLocal(wo), li = frame.toLocal(wi);
+    CoatedConductorBxdf c = coatedConductorOf(b);
     pdf = c.pdf(lo, li, b.key);
     return c.f(lo, li, b.key) * std::abs(li.z);
 }
@@ -256,8 +292,30 @@ inline BsdfSample sampleCoatReflection(const BsdfParams& b, const Vec3& wo, cons
     return s;
 }
 
-// The weight is the walk's f |cos| / pdf (unbiased for f |cos| / p), the pdf evalBsdf's estimate
-// (what MIS needs); a smooth coat's mirror reflection is a delta sample.
+// One sample of a layered walk (wo = lo in `frame`): the weight is the walk's f |cos| / pdf
+// (unbiased for f |cos| / p), the pdf evalBsdf's estimate (what MIS needs); an all-delta path
+// (a smooth coat's mirror reflection; through a smooth coat onto a smooth conductor and back) is
+// a delta sample.
+template <class Base>
+inline BsdfSample sampleLayeredWalk(const LayeredBxdf<Base>& c, std::uint64_t key,
+                                    const ShadingFrame& frame, const Vec3& fg, const Vec3& lo,
+                                    Vec2 u, float uc) {
+    BsdfSample s;
+    LobeSample ls = c.sample(lo, uc, u, key);
+    if (!ls.valid || !(ls.pdf > 0)) return s;
+    s.wi = normalize(frame.toWorld(ls.wi));
+    if (dot(s.wi, fg) <= 0) return s;
+    s.weight = ls.f * (std::abs(ls.wi.z) / ls.pdf);
+    if (ls.specular) {
+        s.delta = true;
+    } else {
+        s.pdf = c.pdf(lo, frame.toLocal(s.wi), key);
+    }
+    s.valid = isFinite(s.weight);
+    return s;
+}
+
+// The coated diffuse surface's sample: the closed form's mixture, or the walk.
 inline BsdfSample sampleCoatedDiffuse(const BsdfParams& b, const Vec3& wo, const Vec3& ng,
                                       const Vec3& ns, Vec2 u, float uc) {
     BsdfSample s;
@@ -295,19 +353,15 @@ inline BsdfSample sampleCoatedDiffuse(const BsdfParams& b, const Vec3& wo, const
         s.valid = isFinite(s.weight);
         return s;
     }
-    CoatedDiffuseBxdf c = coatedDiffuseOf(b);
-    LobeSample ls = c.sample(lo, uc, u, b.key);
-    if (!ls.valid || !(ls.pdf > 0)) return s;
-    s.wi = normalize(frame.toWorld(ls.wi));
-    if (dot(s.wi, fg) <= 0) return s;
-    s.weight = ls.f * (std::abs(ls.wi.z) / ls.pdf);
-    if (ls.specular) {
-        s.delta = true;
-    } else {
-        s.pdf = c.pdf(lo, frame.toLocal(s.wi), b.key);
-    }
-    s.valid = isFinite(s.weight);
-    return s;
+    return sampleLayeredWalk(coatedDiffuseOf(b), b.key, frame, fg, lo, u, uc);
+}
+
+inline BsdfSample sampleCoatedConductor(const BsdfParams& b, const Vec3& wo, const Vec3& ng,
+                                        const Vec3& ns, Vec2 u, float uc) {
+    Vec3 fg, fs;
+    facingSide(wo, ng, ns, fg, fs);
+    ShadingFrame frame(fs, b.tangent);
+    return sampleLayeredWalk(coatedConductorOf(b), b.key, frame, fg, frame.toLocal(wo), u, uc);
 }
 
 } // namespace rayproc::kernels

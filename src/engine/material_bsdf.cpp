@@ -17,21 +17,68 @@ std::uint32_t floatBits(float f) {
     return u;
 }
 
+// A material's parameter, constant or its texture at the hit (constants only without one).
+struct ParamEval {
+    const Scene* scene;
+    const TextureContext* tc;
+    Vec3 operator()(const ColorParam& p) const {
+        return scene && tc ? evalColor(*scene, p, *tc) : p.value;
+    }
+    float operator()(const FloatParam& p) const {
+        return scene && tc ? evalFloat(*scene, p, *tc) : p.value;
+    }
+};
+
+// A conductor's complex index: its eta and k, or pbrt-v4's equivalent of a reflectance r at
+// normal incidence (eta = 1, k = 2 sqrt(r) / sqrt(1 - r)).
+void conductorIndex(const Material& m, const ParamEval& eval, kernels::BsdfParams& b) {
+    if (m.useReflectance) {
+        Vec3 r = b.color;
+        auto kOf = [](float x) {
+            x = std::clamp(x, 0.0f, 0.9999f);
+            return 2.0f * std::sqrt(x) / std::sqrt(1.0f - x);
+        };
+        b.eta = Vec3(1.0f);
+        b.k = {kOf(r.x), kOf(r.y), kOf(r.z)};
+    } else {
+        b.eta = eval(m.eta);
+        b.k = eval(m.k);
+    }
+}
+
+// The slab between a coat and its base (pbrt-v4's LayeredBxDF parameters).
+void layerParams(const Material& m, const ParamEval& eval, kernels::BsdfParams& b) {
+    b.thickness = std::max(eval(m.thickness), 1e-6f);
+    b.albedo = eval(m.albedo);
+    b.g = m.g;
+    b.maxDepth = m.maxDepth;
+    b.nSamples = m.nSamples;
+}
+
+// pbrt-v4's coatedconductor: the coat's alphas are b.alphaX / alphaY; an index of 0 counts as 1,
+// as pbrt-v4's material takes it; albedo is clamped to [0, 1] and g to [-1, 1] there too.
+void coatedConductorParams(const Material& m, const ParamEval& eval, kernels::BsdfParams& b) {
+    b.kind = kernels::BsdfKind::CoatedConductor;
+    if (b.ior == 0) b.ior = 1.0f;
+    conductorIndex(m, eval, b);
+    b.baseAlphaX = roughnessToAlpha(eval(m.conductorURoughness), m.remapRoughness);
+    b.baseAlphaY = roughnessToAlpha(eval(m.conductorVRoughness), m.remapRoughness);
+    layerParams(m, eval, b);
+    b.albedo = {std::clamp(b.albedo.x, 0.0f, 1.0f), std::clamp(b.albedo.y, 0.0f, 1.0f),
+                std::clamp(b.albedo.z, 0.0f, 1.0f)};
+    b.g = std::clamp(b.g, -1.0f, 1.0f);
+}
+
 // Fills the parameters every kind reads from the material's constants and textures.
 kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureContext* tc) {
-    auto color = [&](const ColorParam& p) {
-        return scene && tc ? evalColor(*scene, p, *tc) : p.value;
-    };
-    auto scalar = [&](const FloatParam& p) {
-        return scene && tc ? evalFloat(*scene, p, *tc) : p.value;
-    };
+    const ParamEval eval{scene, tc};
     kernels::BsdfParams b;
     b.color = m.colorTexture >= 0 && scene && tc ? evalTexture(*scene, m.colorTexture, *tc)
                                                  : m.color;
     b.ior = m.ior;
     b.alpha = kernels::ggxAlpha(m.roughness);
-    b.alphaX = roughnessToAlpha(scalar(m.uRoughness), m.remapRoughness);
-    b.alphaY = roughnessToAlpha(scalar(m.vRoughness), m.remapRoughness);
+    b.alphaX = roughnessToAlpha(eval(m.uRoughness), m.remapRoughness);
+    b.alphaY = roughnessToAlpha(eval(m.vRoughness), m.remapRoughness);
     switch (m.type) {
     case MaterialType::Diffuse: b.kind = kernels::BsdfKind::Diffuse; break;
     case MaterialType::Mirror: b.kind = kernels::BsdfKind::Mirror; break;
@@ -39,36 +86,20 @@ kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureCo
     case MaterialType::Glossy: b.kind = kernels::BsdfKind::Glossy; break;
     case MaterialType::Conductor:
         b.kind = kernels::BsdfKind::Conductor;
-        if (m.useReflectance) {
-            // pbrt-v4: eta = 1 and k = 2 sqrt(r) / sqrt(1 - r) reproduce reflectance r at
-            // normal incidence.
-            Vec3 r = b.color;
-            auto kOf = [](float x) {
-                x = std::clamp(x, 0.0f, 0.9999f);
-                return 2.0f * std::sqrt(x) / std::sqrt(1.0f - x);
-            };
-            b.eta = Vec3(1.0f);
-            b.k = {kOf(r.x), kOf(r.y), kOf(r.z)};
-        } else {
-            b.eta = color(m.eta);
-            b.k = color(m.k);
-        }
+        conductorIndex(m, eval, b);
         break;
     case MaterialType::CoatedDiffuse:
         b.kind = kernels::BsdfKind::CoatedDiffuse;
-        b.thickness = std::max(scalar(m.thickness), 1e-6f);
-        b.albedo = color(m.albedo);
-        b.g = m.g;
-        b.maxDepth = m.maxDepth;
-        b.nSamples = m.nSamples;
+        layerParams(m, eval, b);
         b.coatWalk = m.coatModel == Material::CoatModel::RandomWalk ||
                      (m.coatModel == Material::CoatModel::Auto && !isBlack(b.albedo));
         break;
+    case MaterialType::CoatedConductor: coatedConductorParams(m, eval, b); break;
     case MaterialType::ThinDielectric: b.kind = kernels::BsdfKind::ThinDielectric; break;
     case MaterialType::DiffuseTransmission:
         b.kind = kernels::BsdfKind::DiffuseTransmission;
         b.color = b.color * m.scale;
-        b.transmittance = color(m.transmittance) * m.scale;
+        b.transmittance = eval(m.transmittance) * m.scale;
         break;
     case MaterialType::Mix: b.kind = kernels::BsdfKind::Diffuse; break; // resolved earlier
     }

@@ -44,6 +44,7 @@ void routeByMaterial(const Scene& scene, int i, const SurfaceHit& h, bool visibl
         }
         [[fallthrough]]; // rough glass: light sampling and one sampled continuation
     case MaterialType::Conductor:
+    case MaterialType::CoatedConductor: // its whole walk sampled, as a conductor's BSDF
         if (cls == MaterialClass::Glossy) {
             if (prepass) break;
             if (addDirect) r.direct.add(i, h);

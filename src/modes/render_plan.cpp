@@ -157,7 +157,8 @@ void countMaterial(const std::vector<Material>& materials, int m, RenderPlan& p,
         ++p.dielectricLeaves;
         if (!delta) ++p.glossyLeaves; // light sampling and a sampled continuation
         break;
-    case MaterialType::Conductor: ++(delta ? p.mirrorLeaves : p.glossyLeaves); break;
+    case MaterialType::Conductor:
+    case MaterialType::CoatedConductor: ++(delta ? p.mirrorLeaves : p.glossyLeaves); break;
     case MaterialType::ThinDielectric:
         ++p.dielectricLeaves;
         ++p.mirrorLeaves;

@@ -14,6 +14,7 @@ const char* materialTypeName(MaterialType t) {
     case MaterialType::Glossy: return "glossy";
     case MaterialType::Conductor: return "conductor";
     case MaterialType::CoatedDiffuse: return "coateddiffuse";
+    case MaterialType::CoatedConductor: return "coatedconductor";
     case MaterialType::ThinDielectric: return "thindielectric";
     case MaterialType::DiffuseTransmission: return "diffusetransmission";
     case MaterialType::Mix: return "mix";
@@ -26,11 +27,17 @@ const char* materialTypeName(MaterialType t) {
 namespace rayproc {
 
 namespace {
-bool smooth(const Material& m) {
+bool smooth(const FloatParam& u, const FloatParam& v, bool remap) {
     // Textured roughness may vary: only constant zero-like roughness is delta.
-    return !m.uRoughness.textured() && !m.vRoughness.textured() &&
-           roughnessToAlpha(m.uRoughness.value, m.remapRoughness) < 1e-3f &&
-           roughnessToAlpha(m.vRoughness.value, m.remapRoughness) < 1e-3f;
+    return !u.textured() && !v.textured() && roughnessToAlpha(u.value, remap) < 1e-3f &&
+           roughnessToAlpha(v.value, remap) < 1e-3f;
+}
+bool smooth(const Material& m) { return smooth(m.uRoughness, m.vRoughness, m.remapRoughness); }
+// A coated conductor is all delta when its coat and its conductor are smooth and nothing
+// scatters between them (kernels::coatedConductorDelta).
+bool coatedConductorDelta(const Material& m) {
+    return smooth(m) && smooth(m.conductorURoughness, m.conductorVRoughness, m.remapRoughness) &&
+           !m.albedo.textured() && m.albedo.value == Vec3(0.0f);
 }
 } // namespace
 
@@ -50,6 +57,8 @@ MaterialClass materialClass(const std::vector<Material>& materials, int index) {
     case MaterialType::ThinDielectric: return MaterialClass::Specular;
     case MaterialType::Conductor:
     case MaterialType::Dielectric: return smooth(m) ? MaterialClass::Specular : MaterialClass::Glossy;
+    case MaterialType::CoatedConductor:
+        return coatedConductorDelta(m) ? MaterialClass::Specular : MaterialClass::Glossy;
     case MaterialType::Mix: {
         MaterialClass a = materialClass(materials, m.mix[0]), b = materialClass(materials, m.mix[1]);
         if (a == MaterialClass::Diffuse || b == MaterialClass::Diffuse) return MaterialClass::Diffuse;

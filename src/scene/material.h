@@ -1,7 +1,7 @@
 // Materials as the scene describes them: pbrt-v4's set (diffuse, coateddiffuse, conductor,
-// dielectric, thindielectric, diffusetransmission, mix) plus rayproc's own mirror and glossy.
-// Any colour or float parameter may be a texture (Scene::textures); the engine resolves a
-// material at a hit into the kernels' BsdfParams (engine/material_bsdf.h).
+// coatedconductor, dielectric, thindielectric, diffusetransmission, mix) plus rayproc's own
+// mirror and glossy. Any colour or float parameter may be a texture (Scene::textures); the
+// engine resolves a material at a hit into the kernels' BsdfParams (engine/material_bsdf.h).
 #pragma once
 
 #include "core/math.h"
@@ -30,6 +30,7 @@ enum class MaterialType {
     Glossy,              // rayproc's GGX with Schlick Fresnel, F0 = `color`, alpha = roughness^2
     Conductor,           // pbrt-v4 conductor: complex Fresnel (eta, k) or an artist's reflectance
     CoatedDiffuse,       // pbrt-v4 coateddiffuse: a dielectric coat over a diffuse base
+    CoatedConductor,     // pbrt-v4 coatedconductor: a dielectric coat over a conductor
     ThinDielectric,      // pbrt-v4 thindielectric: a thin slab, reflection + straight transmission
     DiffuseTransmission, // pbrt-v4 diffusetransmission: Lambertian reflection and transmission
     Mix,                 // pbrt-v4 mix: one of two materials, chosen per hit by `amount`
@@ -50,26 +51,32 @@ struct Material {
     // (when useReflectance), coateddiffuse's base reflectance, diffusetransmission's reflectance.
     Vec3 color{0.5f, 0.5f, 0.5f};
     int colorTexture = -1; // replaces `color` when >= 0
-    float ior = 1.5f;      // dielectric, thindielectric, coateddiffuse's coat
+    float ior = 1.5f;      // dielectric, thindielectric, the coated materials' coats
     float roughness = 0.2f; // Glossy only: GGX alpha = roughness^2
 
-    // Trowbridge-Reitz roughness of Conductor, Dielectric and CoatedDiffuse's coat, as pbrt-v4
+    // Trowbridge-Reitz roughness of Conductor, Dielectric and the coated materials' coats
+    // (pbrt-v4's interface.roughness for coatedconductor), as pbrt-v4
     // defines it: alpha = remap ? sqrt(r) : r (TrowbridgeReitzDistribution::RoughnessToAlpha);
     // both alphas below 1e-3 mean a perfectly smooth (delta) interface.
     FloatParam uRoughness{0.0f}, vRoughness{0.0f};
     bool remapRoughness = true;
 
-    // Conductor: complex index of refraction per channel, or `color` as the normal-incidence
-    // reflectance (pbrt-v4's "reflectance" parameter, Schlick-like via an equivalent eta/k).
+    // Conductor and CoatedConductor's base: complex index of refraction per channel, or `color`
+    // as the normal-incidence reflectance (pbrt-v4's "reflectance" parameter, Schlick-like via
+    // an equivalent eta/k).
     ColorParam eta{{0.2004f, 0.9240f, 1.1022f}}; // copper (pbrt-v4's default metal)
     ColorParam k{{3.9129f, 2.4528f, 2.1422f}};
     bool useReflectance = false;
+    // CoatedConductor: the conductor's roughness under the coat (pbrt-v4's
+    // conductor.roughness / uroughness / vroughness), remapped as uRoughness.
+    FloatParam conductorURoughness{0.0f}, conductorVRoughness{0.0f};
 
     // DiffuseTransmission: Lambertian transmission; both colours are multiplied by `scale`.
     ColorParam transmittance{{0.25f, 0.25f, 0.25f}};
     float scale = 1.0f;
 
-    // CoatedDiffuse: coat thickness, medium albedo and phase asymmetry between the layers, and
+    // CoatedDiffuse and CoatedConductor: coat thickness, medium albedo and phase asymmetry
+    // between the layers, and
     // the random walk's depth and sample count (pbrt-v4's LayeredBxDF).
     FloatParam thickness{0.01f};
     ColorParam albedo{{0.0f, 0.0f, 0.0f}};

@@ -254,7 +254,7 @@ void parseRoughness(const JsonRef& m, Material& mat) {
 
 // A conductor's complex index: "eta" and "k" as colours, or "metal": a name of pbrt-v4's
 // measured metals ("Ag", "Al", "Au", "Cu", "CuZn", "MgO", "TiO2"), or "reflectance".
-void parseConductor(const JsonRef& m, Material& mat) {
+void parseConductorIndex(const JsonRef& m, Material& mat) {
     if (m.has("metal")) {
         if (m.has("eta") || m.has("k") || m.has("reflectance"))
             m.fail("give \"metal\", or \"eta\" and \"k\", or \"reflectance\", not several");
@@ -273,7 +273,15 @@ void parseConductor(const JsonRef& m, Material& mat) {
         if (m.has("eta")) mat.eta.value = m["eta"].color();
         if (m.has("k")) mat.k.value = m["k"].color();
     }
-    parseRoughness(m, mat);
+}
+
+// The slab between a coat and its base: "thickness", "albedo", "g", "max_depth", "samples".
+void parseLayer(const JsonRef& m, Material& mat) {
+    if (m.has("thickness")) mat.thickness.value = m["thickness"].positive();
+    if (m.has("albedo")) mat.albedo.value = m["albedo"].albedo();
+    if (m.has("g")) mat.g = m["g"].numberIn(-0.999f, 0.999f);
+    if (m.has("max_depth")) mat.maxDepth = int(m["max_depth"].integer(1, 1000));
+    if (m.has("samples")) mat.nSamples = int(m["samples"].integer(1, 1000));
 }
 
 void parseCoatedDiffuse(const JsonRef& m, Material& mat) {
@@ -285,11 +293,7 @@ void parseCoatedDiffuse(const JsonRef& m, Material& mat) {
     mat.color = Vec3(0.5f);
     if (m.has("ior")) mat.ior = m["ior"].positive();
     parseRoughness(m, mat);
-    if (m.has("thickness")) mat.thickness.value = m["thickness"].positive();
-    if (m.has("albedo")) mat.albedo.value = m["albedo"].albedo();
-    if (m.has("g")) mat.g = m["g"].numberIn(-0.999f, 0.999f);
-    if (m.has("max_depth")) mat.maxDepth = int(m["max_depth"].integer(1, 1000));
-    if (m.has("samples")) mat.nSamples = int(m["samples"].integer(1, 1000));
+    parseLayer(m, mat);
     if (m.has("model")) {
         std::string model = m["model"].nonEmptyString();
         if (model == "auto")
@@ -301,6 +305,29 @@ void parseCoatedDiffuse(const JsonRef& m, Material& mat) {
         else
             m["model"].fail("expected \"auto\", \"analytic\" or \"random-walk\"");
     }
+}
+
+// pbrt-v4's coatedconductor: the coat's "ior" and roughness keys (as coateddiffuse's), the
+// conductor's index keys (as conductor's) and its "conductor_roughness" /
+// "conductor_u_roughness" / "conductor_v_roughness", and the slab's keys.
+void parseCoatedConductor(const JsonRef& m, Material& mat) {
+    m.expectObject({"type", "ior", "roughness", "u_roughness", "v_roughness", "remap_roughness",
+                    "metal", "eta", "k", "reflectance", "conductor_roughness",
+                    "conductor_u_roughness", "conductor_v_roughness", "thickness", "albedo", "g",
+                    "max_depth", "samples", "displacement", "normal_map"},
+                   "a coatedconductor material");
+    mat.type = MaterialType::CoatedConductor;
+    if (m.has("ior")) mat.ior = m["ior"].positive();
+    parseRoughness(m, mat);
+    parseConductorIndex(m, mat);
+    if (m.has("conductor_roughness"))
+        mat.conductorURoughness.value = mat.conductorVRoughness.value =
+            m["conductor_roughness"].numberIn(0, 1e6f);
+    if (m.has("conductor_u_roughness"))
+        mat.conductorURoughness.value = m["conductor_u_roughness"].numberIn(0, 1e6f);
+    if (m.has("conductor_v_roughness"))
+        mat.conductorVRoughness.value = m["conductor_v_roughness"].numberIn(0, 1e6f);
+    parseLayer(m, mat);
 }
 
 // One material of the given type, its keys checked against the type's. A mix's two materials
@@ -334,9 +361,12 @@ Material parseMaterial(const JsonRef& m, const std::string& name, const std::str
                         "v_roughness", "remap_roughness", "displacement", "normal_map"},
                        "a conductor material");
         mat.type = MaterialType::Conductor;
-        parseConductor(m, mat);
+        parseConductorIndex(m, mat);
+        parseRoughness(m, mat);
     } else if (type == "coateddiffuse") {
         parseCoatedDiffuse(m, mat);
+    } else if (type == "coatedconductor") {
+        parseCoatedConductor(m, mat);
     } else if (type == "thindielectric") {
         m.expectObject({"type", "ior", "displacement", "normal_map"}, "a thindielectric material");
         mat.type = MaterialType::ThinDielectric;
@@ -390,7 +420,7 @@ void parseMaterials(const JsonRef& v, Scene& scene) {
     if (!v.isObject()) v.fail("expected an object mapping material names to materials");
     static const std::vector<std::string> kTypes = {
         "diffuse", "mirror", "dielectric", "glossy", "conductor", "coateddiffuse",
-        "thindielectric", "diffusetransmission", "mix"};
+        "coatedconductor", "thindielectric", "diffusetransmission", "mix"};
     const std::size_t first = scene.materials.size();
     std::vector<std::pair<std::size_t, JsonRef>> mixes;
     for (const std::string& name : v.keys()) {

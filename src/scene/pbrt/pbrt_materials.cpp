@@ -36,46 +36,68 @@ ColorParam metalParam(const ParamList& params, const ValueReader& values, std::s
     return colorParam(params, values, name, SpectrumUse::Unbounded, def);
 }
 
-// A dielectric's "eta": a float, a constant spectrum or a named glass (at 587.6 nm).
+// A dielectric's index `name` ("eta", coatedconductor's "interface.eta"): a float, a constant
+// spectrum or a named glass (at 587.6 nm). `zeroIsOne`: 0 means index-matched (pbrt-v4's
+// coatedconductor), else the index must be positive.
 float etaParam(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
-               float def) {
-    const Param* eta = params.find("eta");
+               float def, std::string_view name = "eta", bool zeroIsOne = false) {
+    const Param* eta = params.find(name);
     double ior = def;
     if (eta && (eta->type == "float" || eta->type == "texture"))
-        ior = values.scalar(params, "eta", def);
+        ior = values.scalar(params, name, def);
     else if (eta)
-        ior = values.color(params, "eta", SpectrumUse::Unbounded, Vec3(def)).x;
-    if (!(ior > 0)) failAt(eta ? eta->loc : loc, "eta must be positive");
+        ior = values.color(params, name, SpectrumUse::Unbounded, Vec3(def)).x;
+    if (zeroIsOne && ior == 0) ior = 1.0;
+    if (!(ior > 0)) failAt(eta ? eta->loc : loc, std::string(name) + " must be positive");
     return float(ior);
+}
+
+// "<prefix>roughness", "<prefix>uroughness", "<prefix>vroughness", pbrt-v4's defaults (0).
+void roughnessPair(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
+                   const std::string& prefix, FloatParam& u, FloatParam& v) {
+    FloatParam r = floatParam(params, values, prefix + "roughness", 0.0f);
+    u = params.find(prefix + "uroughness") ? floatParam(params, values, prefix + "uroughness", 0.0f)
+                                           : r;
+    v = params.find(prefix + "vroughness") ? floatParam(params, values, prefix + "vroughness", 0.0f)
+                                           : r;
+    if (u.value < 0 || v.value < 0) failAt(loc, prefix + "roughness must not be negative");
 }
 
 // "roughness", "uroughness", "vroughness" and "remaproughness", pbrt-v4's defaults.
 void readRoughness(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
                    Material& m) {
-    FloatParam r = floatParam(params, values, "roughness", 0.0f);
-    m.uRoughness = params.find("uroughness") ? floatParam(params, values, "uroughness", 0.0f) : r;
-    m.vRoughness = params.find("vroughness") ? floatParam(params, values, "vroughness", 0.0f) : r;
+    roughnessPair(params, values, loc, "", m.uRoughness, m.vRoughness);
     m.remapRoughness = params.getBool("remaproughness", true);
-    if (m.uRoughness.value < 0 || m.vRoughness.value < 0)
-        failAt(loc, "roughness must not be negative");
+}
+
+// A conductor's index: "reflectance" (pbrt-v4's equivalent eta and k), else `etaName` and
+// `kName` (spectra, named metals or textures), pbrt-v4's copper by default. `both`: whether
+// giving reflectance with eta or k is an error (coatedconductor) or ignores them (conductor).
+void conductorIndex(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
+                    std::string_view etaName, std::string_view kName, bool both, Material& m) {
+    if (params.find("reflectance")) {
+        if (both && (params.find(etaName) || params.find(kName)))
+            failAt(loc, "Material \"coatedconductor\" takes \"reflectance\" or \"" +
+                            std::string(etaName) + "\" and \"" + std::string(kName) +
+                            "\", not both");
+        ColorParam r = colorParam(params, values, "reflectance", SpectrumUse::Albedo, Vec3(0.9f));
+        m.color = r.value;
+        m.colorTexture = r.texture;
+        m.useReflectance = true;
+        params.ignore({etaName, kName});
+    } else {
+        Vec3 cuEta, cuK;
+        namedMetalSpectrum("metal-Cu-eta", cuEta);
+        namedMetalSpectrum("metal-Cu-k", cuK);
+        m.eta = metalParam(params, values, etaName, cuEta);
+        m.k = metalParam(params, values, kName, cuK);
+    }
 }
 
 void conductor(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
                Material& m) {
     m.type = MaterialType::Conductor;
-    if (params.find("reflectance")) {
-        ColorParam r = colorParam(params, values, "reflectance", SpectrumUse::Albedo, Vec3(0.9f));
-        m.color = r.value;
-        m.colorTexture = r.texture;
-        m.useReflectance = true;
-        params.ignore({"eta", "k"});
-    } else {
-        Vec3 cuEta, cuK;
-        namedMetalSpectrum("metal-Cu-eta", cuEta);
-        namedMetalSpectrum("metal-Cu-k", cuK);
-        m.eta = metalParam(params, values, "eta", cuEta);
-        m.k = metalParam(params, values, "k", cuK);
-    }
+    conductorIndex(params, values, loc, "eta", "k", false, m);
     readRoughness(params, values, loc, m);
 }
 
@@ -98,12 +120,9 @@ void baseColor(const ParamList& params, const ValueReader& values, std::string_v
     m.colorTexture = c.texture;
 }
 
-void coatedDiffuse(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
-                   Material& m) {
-    m.type = MaterialType::CoatedDiffuse;
-    baseColor(params, values, "reflectance", Vec3(0.5f), m);
-    readRoughness(params, values, loc, m);
-    m.ior = etaParam(params, values, loc, 1.5f);
+// The slab between a coat and its base (pbrt-v4's LayeredBxDF parameters and defaults).
+void readLayer(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
+               Material& m) {
     m.thickness = floatParam(params, values, "thickness", 0.01f);
     m.albedo = colorParam(params, values, "albedo", SpectrumUse::Albedo, Vec3(0.0f));
     m.g = values.scalar(params, "g", 0.0f);
@@ -115,29 +134,27 @@ void coatedDiffuse(const ParamList& params, const ValueReader& values, const Sou
     if (!(m.thickness.value > 0)) failAt(loc, "\"thickness\" must be positive");
 }
 
-// A coated conductor: its conductor alone, without the dielectric coat (said in a warning).
-void coatedConductor(const ParamList& params, const ValueReader& values, Warnings& warnings,
-                     const SourceLoc& loc, Material& m) {
-    warnings.add(loc, "Material \"coatedconductor\" is rendered as its conductor without the "
-                      "dielectric coat");
-    m.type = MaterialType::Conductor;
-    Vec3 cuEta, cuK;
-    namedMetalSpectrum("metal-Cu-eta", cuEta);
-    namedMetalSpectrum("metal-Cu-k", cuK);
-    if (params.find("reflectance")) {
-        baseColor(params, values, "reflectance", Vec3(0.9f), m);
-        m.useReflectance = true;
-    } else {
-        m.eta = metalParam(params, values, "conductor.eta", cuEta);
-        m.k = metalParam(params, values, "conductor.k", cuK);
-    }
-    FloatParam r = floatParam(params, values, "conductor.roughness", 0.0f);
-    m.uRoughness = params.find("conductor.uroughness")
-                       ? floatParam(params, values, "conductor.uroughness", 0.0f) : r;
-    m.vRoughness = params.find("conductor.vroughness")
-                       ? floatParam(params, values, "conductor.vroughness", 0.0f) : r;
+void coatedDiffuse(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
+                   Material& m) {
+    m.type = MaterialType::CoatedDiffuse;
+    baseColor(params, values, "reflectance", Vec3(0.5f), m);
+    readRoughness(params, values, loc, m);
+    m.ior = etaParam(params, values, loc, 1.5f);
+    readLayer(params, values, loc, m);
+}
+
+// pbrt-v4's CoatedConductorMaterial: a dielectric coat ("interface.*") over a conductor
+// ("conductor.*" or "reflectance"), with the coateddiffuse's slab between them.
+void coatedConductor(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
+                     Material& m) {
+    m.type = MaterialType::CoatedConductor;
+    roughnessPair(params, values, loc, "interface.", m.uRoughness, m.vRoughness);
+    m.ior = etaParam(params, values, loc, 1.5f, "interface.eta", true);
+    conductorIndex(params, values, loc, "conductor.eta", "conductor.k", true, m);
+    roughnessPair(params, values, loc, "conductor.", m.conductorURoughness,
+                  m.conductorVRoughness);
     m.remapRoughness = params.getBool("remaproughness", true);
-    for (const Param& p : params.all()) p.used = true; // the coat is reported above
+    readLayer(params, values, loc, m);
 }
 
 // A mix: its two materials' names (resolved by the caller) and the amount.
@@ -170,7 +187,7 @@ MaterialResult convertMaterial(const std::string& type, const ParamList& params,
     } else if (type == "conductor") {
         conductor(params, values, loc, m);
     } else if (type == "coatedconductor") {
-        coatedConductor(params, values, warnings, loc, m);
+        coatedConductor(params, values, loc, m);
     } else if (type == "dielectric") {
         m.type = MaterialType::Dielectric;
         m.color = Vec3(1.0f);
