@@ -17,17 +17,34 @@ std::uint32_t floatBits(float f) {
     return u;
 }
 
-// Fills the parameters every kind reads from the material's constants and textures.
-kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureContext* tc) {
-    auto color = [&](const ColorParam& p) {
-        return scene && tc ? evalColor(*scene, p, *tc) : p.value;
+// An RGB parameter at a spectral lane's wavelengths: the precomputed spectrum of a constant,
+// the table's of a texel.
+Vec3 spectralValue(const SpectralShading& s, const UpsampledRgb& pre, const Vec3& rgb,
+                   bool unbounded) {
+    if (pre.valid) return SpectralRender::evaluate(pre, s.lane, false);
+    return unbounded ? s.render.unbounded(rgb, s.lane) : s.render.albedo(rgb, s.lane);
+}
+
+// Fills the parameters every kind reads from the material's constants and textures; with
+// `sp` (material index `mi`) the colours at the lane's wavelengths.
+kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureContext* tc,
+                          const SpectralShading* sp = nullptr, int mi = 0) {
+    using Field = UpsampledRgb SpectralRender::MaterialSpectra::*;
+    auto upsample = [&](Vec3 rgb, Field f, bool unbounded) {
+        return sp ? spectralValue(*sp, sp->render.material(mi).*f, rgb, unbounded) : rgb;
     };
+    auto colorOf = [&](const ColorParam& p, Field f, bool unbounded) {
+        return upsample(scene && tc ? evalColor(*scene, p, *tc) : p.value, f, unbounded);
+    };
+    auto color = [&](const ColorParam& p, Field f) { return colorOf(p, f, false); };
+    using MS = SpectralRender::MaterialSpectra;
     auto scalar = [&](const FloatParam& p) {
         return scene && tc ? evalFloat(*scene, p, *tc) : p.value;
     };
     kernels::BsdfParams b;
-    b.color = m.colorTexture >= 0 && scene && tc ? evalTexture(*scene, m.colorTexture, *tc)
-                                                 : m.color;
+    b.color = upsample(m.colorTexture >= 0 && scene && tc ? evalTexture(*scene, m.colorTexture, *tc)
+                                                          : m.color,
+                       &MS::color, false);
     b.ior = m.ior;
     b.alpha = kernels::ggxAlpha(m.roughness);
     b.alphaX = roughnessToAlpha(scalar(m.uRoughness), m.remapRoughness);
@@ -50,14 +67,14 @@ kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureCo
             b.eta = Vec3(1.0f);
             b.k = {kOf(r.x), kOf(r.y), kOf(r.z)};
         } else {
-            b.eta = color(m.eta);
-            b.k = color(m.k);
+            b.eta = colorOf(m.eta, &MS::eta, true);
+            b.k = colorOf(m.k, &MS::k, true);
         }
         break;
     case MaterialType::CoatedDiffuse:
         b.kind = kernels::BsdfKind::CoatedDiffuse;
         b.thickness = std::max(scalar(m.thickness), 1e-6f);
-        b.albedo = color(m.albedo);
+        b.albedo = color(m.albedo, &MS::albedo);
         b.g = m.g;
         b.maxDepth = m.maxDepth;
         b.nSamples = m.nSamples;
@@ -68,7 +85,7 @@ kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureCo
     case MaterialType::DiffuseTransmission:
         b.kind = kernels::BsdfKind::DiffuseTransmission;
         b.color = b.color * m.scale;
-        b.transmittance = color(m.transmittance) * m.scale;
+        b.transmittance = color(m.transmittance, &MS::transmittance) * m.scale;
         break;
     case MaterialType::Mix: b.kind = kernels::BsdfKind::Diffuse; break; // resolved earlier
     }
@@ -183,9 +200,10 @@ void resolveShading(const Scene& scene, SurfaceHit& hit, const Vec3& wo) {
 }
 
 kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& hit,
-                           std::uint64_t key) {
+                           std::uint64_t key, const SpectralShading* spectral) {
     TextureContext tc = textureContext(hit);
-    kernels::BsdfParams b = build(&scene, scene.materials[std::size_t(material)], &tc);
+    kernels::BsdfParams b =
+        build(&scene, scene.materials[std::size_t(material)], &tc, spectral, material);
     b.key = key;
     b.tangent = hit.dpdu; // the kernels make it perpendicular to the shading normal
     return b;
