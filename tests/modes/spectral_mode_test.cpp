@@ -157,7 +157,7 @@ TEST_CASE("Spectral images do not depend on the thread count", "[spectral-mode]"
     CHECK_FALSE(sameBits(one.image, rgb.image)); // it did render spectrally
 }
 
-TEST_CASE("--spectral fails in gi mode, which cannot render it yet", "[spectral-mode][cli]") {
+TEST_CASE("Spectral rendering fails in gi mode, which cannot render it yet", "[spectral-mode][cli]") {
     TempDir dir;
     RunResult r = runRayproc({"render", scenePath("cornell-box"), "--mode", "gi", "--spectral",
                               "--width", "16", "--height", "16", "--spp", "1", "-o",
