@@ -1,7 +1,8 @@
 // Per-wavelength evaluation for spectral rendering (docs/spectral.md): the few wavelengths a path
-// carries (hero-wavelength sampling, Wilkie et al. 2014, four per path as pbrt-v4), their
-// importance density over the visible range, and the spectra evaluated at them: tables sampled
-// every nanometre, Jakob & Hanika's sigmoid polynomials (RGB upsampling), Planck's law.
+// carries (hero-wavelength sampling, Wilkie et al. 2014: four per path as pbrt-v4, three in
+// rayproc's render mode; the count is a template parameter), their importance density over the
+// visible range, and the spectra evaluated at them: tables sampled every nanometre, Jakob &
+// Hanika's sigmoid polynomials (RGB upsampling), Planck's law.
 // Pure functions of their arguments; the tables themselves are set up in src/spectral/.
 #pragma once
 
@@ -14,34 +15,44 @@ namespace rayproc::kernels::spectral {
 constexpr int kWavelengths = 4;
 constexpr float kLambdaMin = 360.0f, kLambdaMax = 830.0f;
 
-// Values at a path's wavelengths.
-struct SampledSpectrum {
-    std::array<float, kWavelengths> v{};
-    SampledSpectrum() = default;
-    explicit SampledSpectrum(float c) { v.fill(c); }
+// Values at a path's N wavelengths (kWavelengths by default; rayproc's spectral render mode
+// carries 3, one in each float of the engine's colour triples, docs/spectral.md).
+template <int N>
+struct SampledSpectrumN {
+    std::array<float, N> v{};
+    SampledSpectrumN() = default;
+    explicit SampledSpectrumN(float c) { v.fill(c); }
     float operator[](int i) const { return v[i]; }
     float& operator[](int i) { return v[i]; }
-    SampledSpectrum& operator*=(const SampledSpectrum& o) {
-        for (int i = 0; i < kWavelengths; ++i) v[i] *= o.v[i];
+    SampledSpectrumN& operator*=(const SampledSpectrumN& o) {
+        for (int i = 0; i < N; ++i) v[i] *= o.v[i];
         return *this;
     }
-    SampledSpectrum& operator*=(float s) {
+    SampledSpectrumN& operator*=(float s) {
         for (float& x : v) x *= s;
         return *this;
     }
-    SampledSpectrum& operator+=(const SampledSpectrum& o) {
-        for (int i = 0; i < kWavelengths; ++i) v[i] += o.v[i];
+    SampledSpectrumN& operator+=(const SampledSpectrumN& o) {
+        for (int i = 0; i < N; ++i) v[i] += o.v[i];
         return *this;
     }
     float average() const {
         float s = 0;
         for (float x : v) s += x;
-        return s / kWavelengths;
+        return s / N;
     }
 };
-inline SampledSpectrum operator*(SampledSpectrum a, const SampledSpectrum& b) { return a *= b; }
-inline SampledSpectrum operator*(SampledSpectrum a, float s) { return a *= s; }
-inline SampledSpectrum operator+(SampledSpectrum a, const SampledSpectrum& b) { return a += b; }
+template <int N>
+inline SampledSpectrumN<N> operator*(SampledSpectrumN<N> a, const SampledSpectrumN<N>& b) {
+    return a *= b;
+}
+template <int N>
+inline SampledSpectrumN<N> operator*(SampledSpectrumN<N> a, float s) { return a *= s; }
+template <int N>
+inline SampledSpectrumN<N> operator+(SampledSpectrumN<N> a, const SampledSpectrumN<N>& b) {
+    return a += b;
+}
+using SampledSpectrum = SampledSpectrumN<kWavelengths>;
 
 // The importance density over wavelength: p(l) proportional to sech^2(a (l - mu)) on
 // [360, 830] nm, a = 0.0072 / nm, mu = 538 nm (the visible-importance shape pbrt-v4 uses; it
@@ -68,29 +79,31 @@ inline float sampleVisibleWavelength(float u) {
     return std::clamp(nm, kLambdaMin, kLambdaMax);
 }
 
-// A path's wavelengths: the hero from u, the others at u + i/4 (mod 1), each with its own
+// A path's N wavelengths: the hero from u, the others at u + i/N (mod 1), each with its own
 // density. Averaging f(l_i) / p(l_i) over them estimates the integral of f (each term alone
 // does; their average is a one-sample estimator with the stratified offsets).
-struct SampledWavelengths {
-    std::array<float, kWavelengths> lambda{}, pdf{};
+template <int N>
+struct SampledWavelengthsN {
+    std::array<float, N> lambda{}, pdf{};
 
-    static SampledWavelengths sampleVisible(float u) {
-        SampledWavelengths w;
-        for (int i = 0; i < kWavelengths; ++i) {
-            float up = u + float(i) / kWavelengths;
-            if (up >= 1) up -= 1;
-            w.lambda[i] = sampleVisibleWavelength(up);
+    // The i-th wavelength's position in [0, 1): u + i/N (mod 1).
+    static float offset(float u, int i) {
+        float up = u + float(i) / N;
+        return up >= 1 ? up - 1 : up;
+    }
+    static SampledWavelengthsN sampleVisible(float u) {
+        SampledWavelengthsN w;
+        for (int i = 0; i < N; ++i) {
+            w.lambda[i] = sampleVisibleWavelength(offset(u, i));
             w.pdf[i] = visibleWavelengthPdf(w.lambda[i]);
         }
         return w;
     }
-    static SampledWavelengths sampleUniform(float u) {
-        SampledWavelengths w;
+    static SampledWavelengthsN sampleUniform(float u) {
+        SampledWavelengthsN w;
         const float range = kLambdaMax - kLambdaMin;
-        for (int i = 0; i < kWavelengths; ++i) {
-            float up = u + float(i) / kWavelengths;
-            if (up >= 1) up -= 1;
-            w.lambda[i] = kLambdaMin + up * range;
+        for (int i = 0; i < N; ++i) {
+            w.lambda[i] = kLambdaMin + offset(u, i) * range;
             w.pdf[i] = 1.0f / range;
         }
         return w;
@@ -98,11 +111,12 @@ struct SampledWavelengths {
     // A wavelength-dependent event (dispersion) keeps only the hero: the others' densities
     // become 0 and the hero's carries the whole estimate.
     void terminateSecondary() {
-        if (pdf[1] == 0) return;
-        for (int i = 1; i < kWavelengths; ++i) pdf[i] = 0;
-        pdf[0] /= kWavelengths;
+        if (N < 2 || pdf[1] == 0) return;
+        for (int i = 1; i < N; ++i) pdf[i] = 0;
+        pdf[0] /= N;
     }
 };
+using SampledWavelengths = SampledWavelengthsN<kWavelengths>;
 
 // A table sampled at every integer nanometre from 360 to 830 (471 values), evaluated at the
 // nearest sample; zero outside.
@@ -111,9 +125,10 @@ inline float denseAt(const float* table, float nm) {
     int i = int(std::lround(nm)) - int(kLambdaMin);
     return (i < 0 || i >= kDenseCount) ? 0.0f : table[i];
 }
-inline SampledSpectrum denseSample(const float* table, const SampledWavelengths& w) {
-    SampledSpectrum s;
-    for (int i = 0; i < kWavelengths; ++i) s[i] = denseAt(table, w.lambda[i]);
+template <int N>
+inline SampledSpectrumN<N> denseSample(const float* table, const SampledWavelengthsN<N>& w) {
+    SampledSpectrumN<N> s;
+    for (int i = 0; i < N; ++i) s[i] = denseAt(table, w.lambda[i]);
     return s;
 }
 
@@ -153,17 +168,18 @@ inline double blackbodyNormalized(double nm, double kelvin) {
 struct Xyz {
     float x = 0, y = 0, z = 0;
 };
-inline Xyz sampledToXyz(const SampledSpectrum& L, const SampledWavelengths& w, const float* xBar,
-                        const float* yBar, const float* zBar, float yIntegral) {
+template <int N>
+inline Xyz sampledToXyz(const SampledSpectrumN<N>& L, const SampledWavelengthsN<N>& w,
+                        const float* xBar, const float* yBar, const float* zBar, float yIntegral) {
     Xyz r;
-    for (int i = 0; i < kWavelengths; ++i) {
+    for (int i = 0; i < N; ++i) {
         if (w.pdf[i] == 0) continue;
         float l = L[i] / w.pdf[i];
         r.x += denseAt(xBar, w.lambda[i]) * l;
         r.y += denseAt(yBar, w.lambda[i]) * l;
         r.z += denseAt(zBar, w.lambda[i]) * l;
     }
-    float s = 1.0f / (kWavelengths * yIntegral);
+    float s = 1.0f / (N * yIntegral);
     r.x *= s;
     r.y *= s;
     r.z *= s;

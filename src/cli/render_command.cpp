@@ -77,6 +77,7 @@ struct RenderArgs {
     // profiling switches
     bool noSceneAnalysis = false, noStratification = false, noRoulette = false;
     bool noGlossyMis = false, noDiffuseMis = false, noSkyCompensation = false;
+    bool spectral = false, noSpectral = false;
     bool noLightChoice = false;
 };
 
@@ -221,6 +222,7 @@ EngineSettings engineSettingsOf(const RenderArgs& a, const Scene& scene, int thr
     engine.glossyMis = !a.noGlossyMis;
     engine.diffuseMis = !a.noDiffuseMis;
     engine.skyCompensation = !a.noSkyCompensation;
+    engine.spectral = a.noSpectral ? false : a.spectral || scene.render.spectral;
     engine.lightChoice = !a.noLightChoice;
     engine.timeLimitSeconds = a.timeLimit;
     engine.targetRelMse = a.targetRelMse;
@@ -345,6 +347,10 @@ RenderResult renderWithMode(const RenderArgs& a, const Scene& scene, const Embre
     ModeOverrides overrides{sppCap, a.maxDepth, a.lightSamples};
     installInterruptHandler();
     const ModeEntry& entry = *findMode(mode);
+    if (engine.spectral && !entry.spectral)
+        throw InputError("spectral rendering (--spectral or the scene's render.spectral) is not "
+                         "supported in " + mode + " mode yet; path, raytrace and preview "
+                         "render spectrally (docs/spectral.md)");
     ModeSettings settings = ModeSettings::forScene(scene, overrides);
     applyGiOptions(a, settings.gi);
     settings.raytrace.roulette = settings.path.roulette = !a.noRoulette;
@@ -487,6 +493,13 @@ void addSceneOptions(CLI::App* cmd, RenderArgs* args) {
                     "Output image: .png (8-bit sRGB, tone-mapped), .exr, .hdr or .pfm (linear "
                     "radiance). Default: <scene name>.png in the current directory");
     cmd->add_option("--mode", args->mode, modeHelp());
+    cmd->add_flag("--spectral", args->spectral,
+                  "Render spectrally: three hero wavelengths per path, the scene's RGB colours "
+                  "upsampled as pbrt-v4 does, XYZ to linear sRGB at the film (docs/spectral.md; "
+                  "path, raytrace and preview; gi fails; default: the scene's render.spectral)");
+    cmd->add_flag("--no-spectral", args->noSpectral,
+                  "Render in RGB even where the scene's render.spectral asks for spectra")
+        ->excludes("--spectral");
     cmd->add_option("--spp", args->spp, "Samples per pixel (default: the mode's, or the scene's)")
         ->check(CLI::Range(1, 1000000));
     cmd->add_option("--threads", args->threads, "Worker threads, for every phase (default: all cores; under mpirun: per rank)")

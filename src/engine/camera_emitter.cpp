@@ -10,6 +10,8 @@
 namespace rayproc {
 
 static_assert(CameraEmitter::kTile * CameraEmitter::kTile == kBatchSize);
+// Keys the wavelength number's sequence apart from the film's and the lens's.
+constexpr std::uint64_t kWavelengthKey = 0x6c8e9cf570932bd5ULL;
 // filterShape converts the filter type by value.
 static_assert(int(kernels::FilterType::Box) == int(PixelFilter::Type::Box) &&
               int(kernels::FilterType::Triangle) == int(PixelFilter::Type::Triangle) &&
@@ -77,6 +79,7 @@ void CameraEmitter::beginPass(int firstSample, int count) {
 // One tile's camera samples, before they become rays.
 struct CameraEmitter::TileSamples {
     alignas(64) float fx[kBatchSize], fy[kBatchSize], lu[kBatchSize], lv[kBatchSize];
+    alignas(64) float lambdaU[kBatchSize];
     std::uint32_t pix[kBatchSize], samples[kBatchSize];
     std::uint64_t keys[kBatchSize];
 };
@@ -138,6 +141,11 @@ int CameraEmitter::sampleTile(int tile, int ofPass, TileSamples& t) const {
                 t.fx[n] = float(x) + 0.5f + fs.offset.x;
                 t.fy[n] = float(y) + 0.5f + fs.offset.y;
             }
+            // The wavelength number of spectral mode: its own sequence over the pixel's samples.
+            t.lambdaU[n] = sobol ? kernels::owenSobol2D(std::uint32_t(sample),
+                                                        kernels::mix64(pixelKey ^ kWavelengthKey))
+                                       .x
+                                 : kernels::uniform(key, 4);
             t.lu[n] = lens.x;
             t.lv[n] = lens.y;
             t.pix[n] = p;
@@ -160,6 +168,7 @@ void CameraEmitter::writeRays(const TileSamples& t, int n, RayBatch& batch) cons
         batch.sample[i] = t.samples[i];
         batch.prevPdf[i] = 0.0f;
         batch.prevCos[i] = 0.0f;
+        batch.lambdaU[i] = t.lambdaU[i];
         batch.wr[i] = batch.wg[i] = batch.wb[i] = 1.0f;
         batch.rngKey[i] = kernels::hashCombine(t.keys[i], 1);
         batch.depth[i] = 0;

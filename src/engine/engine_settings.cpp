@@ -14,6 +14,7 @@ std::string EngineSettings::toString() const {
       << " light_choice=" << (lightChoice ? "on" : "off")
       << " diffuse_mis=" << (diffuseMis ? "on" : "off")
       << " sky_compensation=" << (skyCompensation ? "on" : "off")
+      << " spectral=" << (spectral ? "on" : "off")
       << " adaptive=" << (adaptiveSampling ? "on" : "off");
     if (adaptiveSampling) o << " adaptive_min_spp=" << adaptiveMinSpp;
     return o.str();

@@ -36,6 +36,9 @@ struct EngineSettings {
     // path: light samples of an image sky by its excess over its mean, the rest left to the
     // BSDF samples (ShadingPolicy::skyCompensation).
     bool skyCompensation = true;
+    // Spectral rendering (engine/spectral_render.h, docs/spectral.md): three hero wavelengths
+    // per path; path, raytrace and preview (ModeEntry::spectral), not gi yet.
+    bool spectral = false;
     // Called with the image so far after each pass when set (progressive output); the job
     // calls it at most once per `progressiveSeconds`.
     std::function<void(const Image&)> onProgress;

@@ -17,12 +17,29 @@ std::uint32_t floatBits(float f) {
     return u;
 }
 
-// A material's parameter, constant or its texture at the hit (constants only without one).
+// An RGB parameter at a spectral lane's wavelengths: the precomputed spectrum of a constant,
+// the table's of a texel.
+Vec3 spectralValue(const SpectralShading& s, const UpsampledRgb& pre, const Vec3& rgb,
+                   bool unbounded) {
+    if (pre.valid) return SpectralRender::evaluate(pre, s.lane, false);
+    return unbounded ? s.render.unbounded(rgb, s.lane) : s.render.albedo(rgb, s.lane);
+}
+
+using MS = SpectralRender::MaterialSpectra;
+using Field = UpsampledRgb MS::*;
+
+// A material's parameter, constant or its texture at the hit (constants only without one); with
+// `sp` (material index `mi`) a colour at the lane's wavelengths.
 struct ParamEval {
     const Scene* scene;
     const TextureContext* tc;
-    Vec3 operator()(const ColorParam& p) const {
-        return scene && tc ? evalColor(*scene, p, *tc) : p.value;
+    const SpectralShading* sp = nullptr;
+    int mi = 0;
+    Vec3 upsample(const Vec3& rgb, Field f, bool unbounded) const {
+        return sp ? spectralValue(*sp, sp->render.material(mi).*f, rgb, unbounded) : rgb;
+    }
+    Vec3 color(const ColorParam& p, Field f, bool unbounded = false) const {
+        return upsample(scene && tc ? evalColor(*scene, p, *tc) : p.value, f, unbounded);
     }
     float operator()(const FloatParam& p) const {
         return scene && tc ? evalFloat(*scene, p, *tc) : p.value;
@@ -41,15 +58,15 @@ void conductorIndex(const Material& m, const ParamEval& eval, kernels::BsdfParam
         b.eta = Vec3(1.0f);
         b.k = {kOf(r.x), kOf(r.y), kOf(r.z)};
     } else {
-        b.eta = eval(m.eta);
-        b.k = eval(m.k);
+        b.eta = eval.color(m.eta, &MS::eta, true);
+        b.k = eval.color(m.k, &MS::k, true);
     }
 }
 
 // The slab between a coat and its base (pbrt-v4's LayeredBxDF parameters).
 void layerParams(const Material& m, const ParamEval& eval, kernels::BsdfParams& b) {
     b.thickness = std::max(eval(m.thickness), 1e-6f);
-    b.albedo = eval(m.albedo);
+    b.albedo = eval.color(m.albedo, &MS::albedo);
     b.g = m.g;
     b.maxDepth = m.maxDepth;
     b.nSamples = m.nSamples;
@@ -69,12 +86,16 @@ void coatedConductorParams(const Material& m, const ParamEval& eval, kernels::Bs
     b.g = std::clamp(b.g, -1.0f, 1.0f);
 }
 
-// Fills the parameters every kind reads from the material's constants and textures.
-kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureContext* tc) {
-    const ParamEval eval{scene, tc};
+// Fills the parameters every kind reads from the material's constants and textures; with
+// `sp` (material index `mi`) the colours at the lane's wavelengths.
+kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureContext* tc,
+                          const SpectralShading* sp = nullptr, int mi = 0) {
+    const ParamEval eval{scene, tc, sp, mi};
     kernels::BsdfParams b;
-    b.color = m.colorTexture >= 0 && scene && tc ? evalTexture(*scene, m.colorTexture, *tc)
-                                                 : m.color;
+    b.color = eval.upsample(m.colorTexture >= 0 && scene && tc
+                                ? evalTexture(*scene, m.colorTexture, *tc)
+                                : m.color,
+                            &MS::color, false);
     b.ior = m.ior;
     b.alpha = kernels::ggxAlpha(m.roughness);
     b.alphaX = roughnessToAlpha(eval(m.uRoughness), m.remapRoughness);
@@ -99,7 +120,7 @@ kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureCo
     case MaterialType::DiffuseTransmission:
         b.kind = kernels::BsdfKind::DiffuseTransmission;
         b.color = b.color * m.scale;
-        b.transmittance = eval(m.transmittance) * m.scale;
+        b.transmittance = eval.color(m.transmittance, &MS::transmittance) * m.scale;
         break;
     case MaterialType::Mix: b.kind = kernels::BsdfKind::Diffuse; break; // resolved earlier
     }
@@ -214,9 +235,10 @@ void resolveShading(const Scene& scene, SurfaceHit& hit, const Vec3& wo) {
 }
 
 kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& hit,
-                           std::uint64_t key) {
+                           std::uint64_t key, const SpectralShading* spectral) {
     TextureContext tc = textureContext(hit);
-    kernels::BsdfParams b = build(&scene, scene.materials[std::size_t(material)], &tc);
+    kernels::BsdfParams b =
+        build(&scene, scene.materials[std::size_t(material)], &tc, spectral, material);
     b.key = key;
     b.tangent = hit.dpdu; // the kernels make it perpendicular to the shading normal
     return b;

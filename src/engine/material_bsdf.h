@@ -4,6 +4,7 @@
 #pragma once
 
 #include "accel/embree_scene.h"
+#include "engine/spectral_render.h"
 #include "kernels/bsdf_sampling.h"
 #include "scene/scene.h"
 
@@ -23,15 +24,24 @@ int resolveMix(const Scene& scene, int material, const SurfaceHit& hit, const Ve
 // and v, pbrt-v4's own fallback, and the normal's derivatives are taken as zero).
 void resolveShading(const Scene& scene, SurfaceHit& hit, const Vec3& wo);
 
+// A spectral lane's wavelengths and the conversions at them (engine/spectral_render.h).
+struct SpectralShading {
+    const SpectralRender& render;
+    const LaneSpectrum& lane;
+};
+
 // The BSDF of Scene::materials[material] (not a mix: see resolveMix) at `hit`. `key` seeds the
-// stochastic evaluation of layered materials.
+// stochastic evaluation of layered materials. With `spectral` its colours hold their spectra
+// at the lane's wavelengths (reflectances as albedo spectra, eta and k as unbounded ones; the
+// dielectric's ior stays one number).
 kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& hit,
-                           std::uint64_t key);
+                           std::uint64_t key, const SpectralShading* spectral = nullptr);
 
 // Both steps: the BSDF the hit shades with.
 inline kernels::BsdfParams resolveBsdf(const Scene& scene, const SurfaceHit& hit, const Vec3& wo,
-                                       std::uint64_t key) {
-    return bsdfAt(scene, resolveMix(scene, hit.material, hit, wo), hit, key);
+                                       std::uint64_t key,
+                                       const SpectralShading* spectral = nullptr) {
+    return bsdfAt(scene, resolveMix(scene, hit.material, hit, wo), hit, key, spectral);
 }
 
 // raytrace's and gi's radiance chains (camera rays, gather rays) carry basic radiance L / n^2

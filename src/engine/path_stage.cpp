@@ -7,6 +7,8 @@
 #include "kernels/bsdf_sampling.h"
 #include "kernels/sampling.h"
 
+#include <optional>
+
 namespace rayproc {
 
 namespace {
@@ -20,7 +22,8 @@ enum PathDim : std::uint32_t { kDimPickLobe = 19, kDimLight = 21, kDimBsdf = 23,
 
 bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const SurfaceHit& h,
                     const kernels::BsdfParams& bsdf, const Vec3& wo, const Vec3& w, Vec2 u,
-                    float up, bool areaLightsOnly, bool compensated, RayBatch& out) {
+                    float up, bool areaLightsOnly, bool compensated, RayBatch& out,
+                    const SpectralShading* spectral) {
     if (lights.choiceCount() == 0) return false;
     const LightSampler::Pick choice = lights.sampler.sample(h.p, up);
     if (!(choice.pmf > 0)) return false;
@@ -41,6 +44,7 @@ bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const Surf
             lightPdf = ls.pdf;
             deltaLight = lights.lights[pick].delta();
             li = ls.weight; // radiance / pdf, or irradiance for delta lights
+            if (spectral) li = spectral->render.lightValue(pick, li, spectral->lane);
         }
     } else {
         if (areaLightsOnly) return false;
@@ -50,7 +54,7 @@ bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const Surf
         if (es.valid) {
             wi = es.wi;
             lightPdf = es.pdf;
-            li = es.weight;
+            li = spectral ? spectral->render.illuminant(es.weight, spectral->lane) : es.weight;
         }
     }
     const bool transmissive = kernels::hasTransmission(bsdf);
@@ -119,6 +123,10 @@ public:
           m_ctx(ctx), m_stats(*ctx.stats), m_sobol(sobol), m_seedKey(sampleSeedKey(rc.seed)) {}
 
     void retraceLane(int i) {
+        if (m_rc.spectral) {
+            m_lane = m_rc.spectral->lane(m_b.lambdaU[i]);
+            m_shading.emplace(SpectralShading{*m_rc.spectral, m_lane});
+        }
         Vec3 w = laneThroughput(m_b, i);
         Vec3 o{m_b.ox[i], m_b.oy[i], m_b.oz[i]}, d = laneDirection(m_b, i);
         bool fromDelta = m_b.prevPdf[i] == 0.0f;
@@ -129,7 +137,7 @@ public:
         SurfaceHit h = m_rc.accel.surface(m_b.instId[i], m_b.geomId[i], m_b.primId[i], m_b.u[i],
                                           m_b.v[i], o, d, m_b.t[i]);
         Vec3 wo = -d;
-        w = w * interiorTransmittance(h, o, d);
+        w = w * interiorTransmittance(h, o, d, m_rc.spectral, &m_lane);
         addEmission(i, h, w, o, wo, fromDelta);
         if (m_b.flags[i] & kFlagEmissionOnly) return; // the last vertex's BSDF sample
         scatter(i, h, w, wo);
@@ -139,11 +147,14 @@ public:
 
 private:
     // Filed for --stats and the noise breakdown: reached through delta lobes after a
-    // non-delta bounce is a caustic.
-    void file(int i, std::size_t category, double lum) {
-        fileContribution(m_stats, m_rc.noise, m_lights.lights.size(), m_b.pixel[i], category, lum,
-                         m_b.depth[i] > m_b.specularDepth[i]);
+    // non-delta bounce is a caustic. Then added to the film (in spectral mode its RGB).
+    void addToFilm(int i, std::size_t category, Vec3 c) {
+        if (m_rc.spectral) c = m_rc.spectral->toFilm(c, m_lane);
+        fileContribution(m_stats, m_rc.noise, m_lights.lights.size(), m_b.pixel[i], category,
+                         luminance(c), m_b.depth[i] > m_b.specularDepth[i]);
+        m_rc.film.add(m_b.pixel[i], c, m_stats);
     }
+    const SpectralShading* spectral() const { return m_rc.spectral ? &*m_shading : nullptr; }
 
     // An escaped ray's sky, MIS-weighted against the sky's light samples.
     void addSky(int i, const Vec3& w, const Vec3& o, const Vec3& d, bool fromDelta) {
@@ -155,9 +166,10 @@ private:
                            : m_lights.environment.pdf(d, Vec3(0.0f), m_policy.skyCompensation);
         float pick = m_lights.sampler.pmf(o, m_lights.lights.size()); // the sky's fixed share
         float mis = fromDelta ? 1.0f : kernels::powerHeuristic(m_b.prevPdf[i], pick * envPdf);
-        Vec3 sky = w * m_lights.environment.radiance(d) * mis;
-        file(i, fromDelta ? 0 : contributionOfBsdfHit(m_lights.lights.size()), luminance(sky));
-        m_rc.film.add(m_b.pixel[i], sky, m_stats);
+        Vec3 radiance = m_lights.environment.radiance(d);
+        if (m_rc.spectral) radiance = m_rc.spectral->illuminant(radiance, m_lane);
+        addToFilm(i, fromDelta ? 0 : contributionOfBsdfHit(m_lights.lights.size()),
+                  w * radiance * mis);
     }
 
     // The emission the ray found, MIS-weighted against the light sample at its origin.
@@ -167,6 +179,9 @@ private:
         if (isBlack(le)) return;
         float mis = 1.0f;
         int li = m_lights.indexOf(h.shape, h.instance);
+        if (m_rc.spectral)
+            le = li >= 0 ? m_rc.spectral->lightValue(std::size_t(li), le, m_lane)
+                         : m_rc.spectral->illuminant(le, m_lane);
         if (!fromDelta) {
             // The probability that the light sample at the ray's origin had come here.
             float pl = li >= 0 ? m_lights.sampler.pmf(o, std::size_t(li)) *
@@ -174,16 +189,16 @@ private:
                                : 0.0f;
             mis = kernels::powerHeuristic(m_b.prevPdf[i], pl);
         }
-        file(i, fromDelta || li < 0 ? 0 : contributionOfBsdfHit(std::size_t(li)),
-             luminance(w * le * mis));
-        m_rc.film.add(m_b.pixel[i], w * le * mis, m_stats);
+        addToFilm(i, fromDelta || li < 0 ? 0 : contributionOfBsdfHit(std::size_t(li)),
+                  w * le * mis);
     }
 
     // One light sample and one BSDF sample at the surface vertex.
     void scatter(int i, SurfaceHit& h, const Vec3& w, const Vec3& wo) {
         resolveShading(m_rc.scene, h, wo);
-        kernels::BsdfParams bsdf = bsdfAt(m_rc.scene, h.material, h,
-                                          kernels::hashCombine(m_b.rngKey[i], kDimLayered));
+        kernels::BsdfParams bsdf =
+            bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(m_b.rngKey[i], kDimLayered),
+                   spectral());
         const bool deltaMaterial =
             materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
         // Path mode's own paths take Sobol points, a sequence per (pixel, depth); gi's
@@ -193,7 +208,8 @@ private:
         // Next-event estimation: one light (or the sky), MIS-weighted against the BSDF.
         if (!deltaMaterial && m_lights.choiceCount() > 0 &&
             sampleOneLight(m_lights, m_b, i, h, bsdf, wo, w, u.get2D(kDimLight), pickLobe.x,
-                           false, m_policy.skyCompensation, m_ctx.out(m_outputs.shadow)))
+                           false, m_policy.skyCompensation, m_ctx.out(m_outputs.shadow),
+                           spectral()))
             ++shadowOut;
 
         // Continue the path by sampling the BSDF.
@@ -215,6 +231,9 @@ private:
     ThreadStats& m_stats;
     const bool m_sobol;
     const std::uint64_t m_seedKey;
+    // Spectral mode: the current lane's wavelengths.
+    LaneSpectrum m_lane{};
+    std::optional<SpectralShading> m_shading;
 };
 
 } // namespace

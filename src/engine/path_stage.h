@@ -14,6 +14,7 @@
 // adds no sky.
 #pragma once
 
+#include "engine/material_bsdf.h"
 #include "engine/render_context.h"
 #include "engine/stage.h"
 #include "kernels/bsdf_params.h"
@@ -27,10 +28,12 @@ namespace rayproc {
 // unoccluded contribution. `areaLightsOnly`: a delta light or the sky chosen adds nothing (gi's
 // correction paths leave their direct light to the gather). `compensated`: an image sky by
 // its excess over its mean (ShadingPolicy::skyCompensation; the escaped BSDF rays' MIS weights
-// must use the same density). Whether a ray was spawned.
+// must use the same density). With `spectral`, the light's emission at the lane's wavelengths.
+// Whether a ray was spawned.
 bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const SurfaceHit& h,
                     const kernels::BsdfParams& bsdf, const Vec3& wo, const Vec3& w, Vec2 u,
-                    float up, bool areaLightsOnly, bool compensated, RayBatch& out);
+                    float up, bool areaLightsOnly, bool compensated, RayBatch& out,
+                    const SpectralShading* spectral = nullptr);
 
 class PathStage : public RetraceStage {
 public:

@@ -6,6 +6,7 @@
 #include "accel/embree_scene.h"
 #include "engine/ray_batch.h"
 #include "engine/render_context.h"
+#include "engine/spectral_render.h"
 #include "kernels/random.h"
 
 namespace rayproc {
@@ -28,10 +29,14 @@ inline Vec3 laneThroughput(const RayBatch& b, int i) { return {b.wr[i], b.wg[i],
 
 // Beer-Lambert absorption of a segment travelled inside a shape filled with an absorbing medium:
 // a ray from o along d that reaches the shape's surface from its back side (d along the outward
-// normal) was inside for the whole segment.
-inline Vec3 interiorTransmittance(const SurfaceHit& h, const Vec3& o, const Vec3& d) {
-    const Vec3& sigma = h.shape->interiorAbsorption;
+// normal) was inside for the whole segment. With `spectral`, the absorption coefficient's
+// (unbounded) spectrum at the lane's wavelengths.
+inline Vec3 interiorTransmittance(const SurfaceHit& h, const Vec3& o, const Vec3& d,
+                                  const SpectralRender* spectral = nullptr,
+                                  const LaneSpectrum* lane = nullptr) {
+    Vec3 sigma = h.shape->interiorAbsorption;
     if (isBlack(sigma) || dot(d, h.ng) <= 0) return Vec3(1.0f);
+    if (spectral) sigma = spectral->unbounded(sigma, *lane);
     float t = length(h.p - o);
     return {std::exp(-sigma.x * t), std::exp(-sigma.y * t), std::exp(-sigma.z * t)};
 }
@@ -65,6 +70,7 @@ inline void spawnRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& o
     out.sample[j] = parent.sample[i];
     out.prevPdf[j] = 0.0f;
     out.prevCos[j] = 0.0f;
+    out.lambdaU[j] = parent.lambdaU[i];
     out.wr[j] = weight.x; out.wg[j] = weight.y; out.wb[j] = weight.z;
     out.rngKey[j] = kernels::hashCombine(parent.rngKey[i], 0x100u + branch);
     out.depth[j] = depth;
@@ -90,6 +96,7 @@ inline void spawnShadowRay(RayBatch& out, const RayBatch& parent, int i, const S
     out.pixel[j] = parent.pixel[i];
     out.sample[j] = parent.sample[i];
     out.wr[j] = contribution.x; out.wg[j] = contribution.y; out.wb[j] = contribution.z;
+    out.lambdaU[j] = parent.lambdaU[i];
     out.rngKey[j] = 0;
     out.depth[j] = parent.depth[i];
     out.specularDepth[j] = 0;

@@ -6,6 +6,8 @@
 #include "kernels/bsdf.h"
 #include "kernels/sampling.h"
 
+#include <optional>
+
 namespace rayproc {
 
 namespace {
@@ -44,13 +46,17 @@ public:
         // samples' at this hit (the same sequence key, other pairs of dimensions).
         const SampleNumbers numbers(m_b, i, m_policy.stratify, m_seedKey,
                                     1 + std::uint32_t(m_b.kind));
+        if (m_rc.spectral) {
+            m_lane = m_rc.spectral->lane(m_b.lambdaU[i]);
+            m_shading.emplace(SpectralShading{*m_rc.spectral, m_lane});
+        }
         if (mat.type == MaterialType::Mirror) {
             r.wi = kernels::reflect(wo, ns);
             if (dot(r.wi, ng) <= 0) r.wi = kernels::reflect(wo, ng);
-            r.w = r.w * mat.color;
+            r.w = r.w * colorOf(h.material, mat);
         } else if (mat.type != MaterialType::Glossy) {
             if (!sampleMaterial(k, h, mat, wo, numbers, r)) return;
-        } else if (!sampleGlossy(k, mat, wo, ng, ns, numbers, r)) {
+        } else if (!sampleGlossy(k, h.material, mat, wo, ng, ns, numbers, r)) {
             return;
         }
         if (r.transmitted) {
@@ -83,7 +89,8 @@ private:
                         const SampleNumbers& numbers, Bounce& r) const {
         const int i = m_hits.lane[k];
         kernels::BsdfParams bsdf =
-            bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(m_b.rngKey[i], kDimReflect));
+            bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(m_b.rngKey[i], kDimReflect),
+                   m_rc.spectral ? &*m_shading : nullptr);
         Vec2 u = numbers.get2D(kDimDirection);
         // A coated surface: its coat's reflection alone, mirror or rough; the shadow
         // stage and gi's gather light its base.
@@ -105,15 +112,15 @@ private:
     }
 
     // rayproc's glossy material: one GGX-importance-sampled reflection.
-    bool sampleGlossy(int k, const Material& mat, const Vec3& wo, const Vec3& ng, const Vec3& ns,
-                      const SampleNumbers& numbers, Bounce& r) const {
+    bool sampleGlossy(int k, int material, const Material& mat, const Vec3& wo, const Vec3& ng,
+                      const Vec3& ns, const SampleNumbers& numbers, Bounce& r) const {
         float alpha = kernels::ggxAlpha(mat.roughness);
         Vec2 u = numbers.get2D(kDimDirection);
         Vec3 hv = kernels::toWorld(kernels::ggxSampleHalf(u, alpha), ns);
         r.wi = kernels::reflect(wo, hv);
         float pdf = kernels::glossyPdf(wo, r.wi, ns, alpha);
         if (pdf <= 0 || dot(r.wi, ng) <= 0) return false;
-        r.w = r.w * kernels::glossyEvalCos(wo, r.wi, ns, mat.color, alpha) / pdf;
+        r.w = r.w * kernels::glossyEvalCos(wo, r.wi, ns, colorOf(material, mat), alpha) / pdf;
         // The shadow stage does not sample the sky for it (see there): the ray sees it.
         glossyFlags(k, pdf, false, false, false, r);
         return true;
@@ -155,6 +162,12 @@ private:
         return survivesRoulette(m_policy, m_b.rngKey[i], 0, r.w);
     }
 
+    // A material's constant colour, in spectral mode at the current lane's wavelengths.
+    Vec3 colorOf(int material, const Material& mat) const {
+        return m_rc.spectral ? m_rc.spectral->materialColor(material, mat.color, m_lane)
+                             : mat.color;
+    }
+
     const RenderContext& m_rc;
     const ShadingPolicy& m_policy;
     const RayBatch& m_b;
@@ -162,6 +175,9 @@ private:
     StageContext& m_ctx;
     const std::uint64_t m_seedKey;
     std::uint64_t m_spawned = 0;
+    // Spectral mode: the current hit's lane's wavelengths.
+    LaneSpectrum m_lane{};
+    std::optional<SpectralShading> m_shading;
 };
 
 } // namespace

@@ -55,7 +55,11 @@ void RefractionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
             wTrans = w * (1.0f - fr);
             if (spec > policy.maxDepth) continue;
         }
-        if (entering) wTrans = wTrans * mat.color;
+        if (entering)
+            wTrans = wTrans * (m_rc.spectral ? m_rc.spectral->materialColor(
+                                                   h.material, mat.color,
+                                                   m_rc.spectral->lane(b.lambdaU[i]))
+                                             : mat.color);
         if (!policy.previewGlass && !continuePath(policy, depth, b.rngKey[i], 2, wTrans)) continue;
         spawnRay(ctx.out(RayKind::Refraction), b, i, offsetRayOrigin(h, ng, wt),
                  wt, wTrans, tDepth, std::uint8_t(spec), flags, 2);

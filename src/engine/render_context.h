@@ -13,6 +13,7 @@
 namespace rayproc {
 
 class NoiseBreakdown;
+class SpectralRender;
 
 // How surfaces are shaded: the knobs that make preview and raytrace modes differ.
 struct ShadingPolicy {
@@ -69,6 +70,8 @@ struct RenderContext {
     std::uint64_t seed = 0;
     // Path mode's --debug-view noise: every contribution is also filed by pixel and strategy.
     NoiseBreakdown* noise = nullptr;
+    // Spectral mode (engine/spectral_render.h); null: RGB.
+    const SpectralRender* spectral = nullptr;
 };
 
 // The origin of a ray leaving hit h in direction `dir`: off the surface along the geometric

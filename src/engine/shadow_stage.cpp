@@ -9,6 +9,8 @@
 #include "kernels/bsdf_sampling.h"
 #include "kernels/sampling.h"
 
+#include <optional>
+
 namespace rayproc {
 
 namespace {
@@ -89,6 +91,10 @@ public:
           m_choose(choosesLights(rc.policy, rc.lights)), m_seedKey(sampleSeedKey(rc.seed)) {}
 
     void spawnAt(int i, const SurfaceHit& h) {
+        if (m_rc.spectral) {
+            m_lane = m_rc.spectral->lane(m_b.lambdaU[i]);
+            m_shading.emplace(SpectralShading{*m_rc.spectral, m_lane});
+        }
         const ShadedHit s = shadedHit(i, h);
         // Sobol points over the pixel's samples, a hit's n samples of a kind an aligned block
         // of n of them (SampleNumbers::get2D(dim, s, n)).
@@ -107,7 +113,8 @@ private:
         ShadedHit s{.h = h,
                     .mat = m_rc.scene.materials[h.material],
                     .bsdf = bsdfAt(m_rc.scene, h.material, h,
-                                   kernels::hashCombine(m_b.rngKey[i], kDimLightBase - 2)),
+                                   kernels::hashCombine(m_b.rngKey[i], kDimLightBase - 2),
+                                   m_rc.spectral ? &*m_shading : nullptr),
                     .wo = -laneDirection(m_b, i)};
         facingNormals(h, s.wo, s.ng, s.ns);
         s.w = laneThroughput(m_b, i);
@@ -159,6 +166,9 @@ private:
         if (!ls.valid || (dot(ls.wi, s.ng) <= 0 && !s.transmits)) return;
         float expected = float(n) * chosen; // this light's expected samples here
         float lightPdf = light.delta() ? kInfinity : expected * ls.pdf;
+        if (m_rc.spectral)
+            ls.weight = m_rc.spectral->lightValue(std::size_t(&light - m_lights.lights.data()),
+                                                  ls.weight, m_lane);
         Vec3 c = s.w * s.shaded(ls.wi, lightPdf, !light.delta()) * ls.weight / expected;
         if (isBlack(c)) return;
         emitShadow(i, s.h, s.side(ls.wi), ls.wi, &ls, c);
@@ -196,7 +206,13 @@ private:
             return;
         if (m_policy.ambientEnvironment) {
             // Preview: unshadowed sky light, the cosine-weighted integral of the BSDF.
-            m_rc.film.add(m_b.pixel[i], s.w * s.bsdf.color * m_lights.environment.average(),
+            Vec3 sky = m_lights.environment.average();
+            if (!m_rc.spectral) {
+                m_rc.film.add(m_b.pixel[i], s.w * s.bsdf.color * sky, *m_ctx.stats);
+                return;
+            }
+            sky = m_rc.spectral->illuminant(sky, m_lane);
+            m_rc.film.add(m_b.pixel[i], m_rc.spectral->toFilm(s.w * s.bsdf.color * sky, m_lane),
                           *m_ctx.stats);
             return;
         }
@@ -206,6 +222,7 @@ private:
             EnvironmentSample es = m_lights.environment.sample(u, s.ns);
             Vec3 wi = es.wi;
             if (!es.valid || dot(wi, s.ng) <= 0) continue;
+            if (m_rc.spectral) es.weight = m_rc.spectral->illuminant(es.weight, m_lane);
             Vec3 c = s.w * s.shaded(wi, float(n) * es.pdf) * es.weight / float(n);
             if (isBlack(c)) continue;
             emitShadow(i, s.h, s.ng, wi, nullptr, c);
@@ -220,6 +237,9 @@ private:
     const bool m_choose;
     const std::uint64_t m_seedKey;
     std::uint64_t m_spawned = 0;
+    // Spectral mode: the current hit's lane's wavelengths.
+    LaneSpectrum m_lane{};
+    std::optional<SpectralShading> m_shading;
 };
 
 } // namespace
@@ -238,12 +258,13 @@ void ShadowStage::retrace(RayBatch& b, StageContext& ctx) {
     stats.stages[int(StageId::Shadow)].raysIn += std::uint64_t(b.count);
     for (int i = 0; i < b.count; ++i) {
         if (b.occluded(i)) continue;
+        Vec3 c = laneThroughput(b, i);
+        if (m_rc.spectral) c = m_rc.spectral->toFilm(c, m_rc.spectral->lane(b.lambdaU[i]));
         // Path mode's light samples carry their category (1 + it) in the key they do not use.
         if (b.rngKey[i] != 0)
             fileContribution(stats, m_rc.noise, m_rc.lights.lights.size(), b.pixel[i],
-                             std::size_t(b.rngKey[i] - 1), luminance(laneThroughput(b, i)),
-                             false);
-        m_rc.film.add(b.pixel[i], laneThroughput(b, i), stats);
+                             std::size_t(b.rngKey[i] - 1), luminance(c), false);
+        m_rc.film.add(b.pixel[i], c, stats);
     }
 }
 

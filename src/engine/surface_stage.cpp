@@ -67,8 +67,14 @@ void SurfaceStage::addEscaped(const RayBatch& b, int i, ThreadStats& stats) cons
                     ? reflectionEnvironmentWeight(m_rc.policy, m_rc.lights.environment, d,
                                                   b.prevCos[i], b.prevPdf[i])
                     : 1.0f;
-    m_rc.film.add(b.pixel[i], laneThroughput(b, i) * m_rc.lights.environment.radiance(d) * mis,
-                  stats);
+    Vec3 sky = m_rc.lights.environment.radiance(d);
+    if (m_rc.spectral) {
+        const LaneSpectrum l = m_rc.spectral->lane(b.lambdaU[i]);
+        sky = m_rc.spectral->toFilm(laneThroughput(b, i) * m_rc.spectral->illuminant(sky, l), l);
+        m_rc.film.add(b.pixel[i], sky * mis, stats);
+        return;
+    }
+    m_rc.film.add(b.pixel[i], laneThroughput(b, i) * sky * mis, stats);
 }
 
 // Lane i's hit: its surface, the absorption of the medium it crossed (into the lane's
@@ -79,7 +85,9 @@ SurfaceHit SurfaceStage::resolveHit(RayBatch& b, int i, bool addDirect,
     Vec3 o{b.ox[i], b.oy[i], b.oz[i]}, d = laneDirection(b, i);
     SurfaceHit h =
         m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
-    Vec3 absorbed = interiorTransmittance(h, o, d);
+    LaneSpectrum l{};
+    if (m_rc.spectral) l = m_rc.spectral->lane(b.lambdaU[i]);
+    Vec3 absorbed = interiorTransmittance(h, o, d, m_rc.spectral, &l);
     if (absorbed.x != 1.0f || absorbed.y != 1.0f || absorbed.z != 1.0f) {
         w = w * absorbed;
         b.wr[i] = w.x;
@@ -98,7 +106,14 @@ SurfaceHit SurfaceStage::resolveHit(RayBatch& b, int i, bool addDirect,
         if (li >= 0)
             mis = reflectionEmissionWeight(m_rc.policy, m_rc.lights, std::size_t(li), o, h.p,
                                            h.ng, b.prevPdf[i]);
-        m_rc.film.add(b.pixel[i], w * le * mis, stats);
+        if (m_rc.spectral) {
+            int light = m_rc.lights.indexOf(h.shape, h.instance);
+            le = light >= 0 ? m_rc.spectral->lightValue(std::size_t(light), le, l)
+                            : m_rc.spectral->illuminant(le, l);
+            m_rc.film.add(b.pixel[i], m_rc.spectral->toFilm(w * le, l) * mis, stats);
+        } else {
+            m_rc.film.add(b.pixel[i], w * le * mis, stats);
+        }
     }
     return h;
 }

@@ -295,6 +295,9 @@ std::string GiSettings::toString() const {
 
 RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSettings& s,
                       const EngineSettings& engineIn) {
+    if (engineIn.spectral) // photons carry no wavelengths yet: refuse before tracing any
+        throw std::runtime_error("spectral rendering is not supported in gi mode yet "
+                                 "(docs/spectral.md)");
     // The mode's clock starts here: the error log's seconds and --time-limit count the
     // photon passes, the precomputation and the cache's prepass too.
     EngineSettings engine = engineIn;

@@ -11,6 +11,7 @@
 #include "engine/reflection_stage.h"
 #include "engine/refraction_stage.h"
 #include "engine/shadow_stage.h"
+#include "engine/spectral_render.h"
 #include "engine/surface_stage.h"
 #include "engine/mode_stages.h"
 
@@ -161,6 +162,7 @@ private:
     Film m_film;
     RenderContext m_rc;
     std::optional<NoiseBreakdown> m_noise;
+    std::optional<SpectralRender> m_spectral; // spectral mode's conversions
     // The pipeline: one emitter, one intersection handler, the retrace stages by ray kind.
     Stats m_stats;
     Pipeline m_pipeline;
@@ -208,6 +210,16 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
     if (engine.noiseBreakdown) {
         m_noise.emplace(m_film.width(), m_film.height(), m_film.exponent());
         m_rc.noise = &*m_noise;
+    }
+    if (engine.spectral) {
+        // The engine's stages carry wavelengths; a mode's own (gi's photons, gathers and
+        // corrections) do not yet (ModeEntry::spectral): it would render RGB under a spectral
+        // label.
+        if (modeStages)
+            throw std::runtime_error("spectral rendering is not supported in " + label +
+                                     " mode yet (docs/spectral.md)");
+        m_spectral.emplace(scene, lights);
+        m_rc.spectral = &*m_spectral;
     }
     m_camera.setShare(m_cluster.rank(), m_cluster.size());
     m_stages.build(m_pipeline, m_rc, radiance, modeStages);

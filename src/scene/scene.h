@@ -123,6 +123,7 @@ struct SceneRenderSettings {
     int maxDepth = 0;  // 0: the mode's default
     int lightSamples = 0;
     long long seed = -1; // -1: default
+    bool spectral = false; // render spectrally (docs/spectral.md)
     // A pbrt-v4 file's Integrator "sppm" (docs/pbrt-import.md): gi's caustic photons per pass,
     // its caustic radius (the first pass's radius at most) and its photons' depth; 0: gi's own.
     int photonsPerPass = 0;

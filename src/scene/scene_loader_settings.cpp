@@ -109,13 +109,15 @@ Camera parseCamera(const JsonRef& v) {
 }
 
 SceneRenderSettings parseRenderSettings(const JsonRef& v) {
-    v.expectObject({"mode", "spp", "max_depth", "light_samples", "seed"}, "the render settings");
+    v.expectObject({"mode", "spp", "max_depth", "light_samples", "seed", "spectral"},
+                   "the render settings");
     SceneRenderSettings s;
     if (v.has("mode")) s.mode = v["mode"].nonEmptyString(); // the CLI checks the name
     if (v.has("spp")) s.spp = int(v["spp"].integer(1, 1000000));
     if (v.has("max_depth")) s.maxDepth = int(v["max_depth"].integer(1, 10000));
     if (v.has("light_samples")) s.lightSamples = int(v["light_samples"].integer(1, 65536));
     if (v.has("seed")) s.seed = v["seed"].integer(0, LLONG_MAX);
+    if (v.has("spectral")) s.spectral = v["spectral"].boolean();
     return s;
 }
 

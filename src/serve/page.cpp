@@ -73,6 +73,7 @@ const char* const kPage = R"PAGE(<!doctype html>
   <div class="row">
     <button id="mode-raytrace">raytrace</button><button id="mode-gi">gi</button><button id="mode-path">path</button>
     spp <input id="spp" type="number" min="1" max="65536" placeholder="default">
+    <label title="three hero wavelengths per path, as pbrt-v4 renders (raytrace, path; not gi)"><input id="spectral" type="checkbox"> spectral</label>
   </div>
   <div id="spp-defaults" class="help"></div>
   <div class="row"><button id="cancel" disabled>Cancel</button>
@@ -694,7 +695,9 @@ $("save").onclick = () => send({type: "save", path: $("save-path").value});
 for (const mode of ["raytrace", "gi", "path"])
   $("mode-" + mode).onclick = () => {
     const spp = parseInt($("spp").value);
-    send(Number.isFinite(spp) ? {type: "render", mode, spp} : {type: "render", mode});
+    const m = Number.isFinite(spp) ? {type: "render", mode, spp} : {type: "render", mode};
+    if ($("spectral").checked) m.spectral = true;
+    send(m);
   };
 $("cancel").onclick = () => send({type: "cancel"});
 layout();

@@ -740,6 +740,7 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     EngineSettings engine;
     engine.threads = m_options.threads;
     engine.quiet = true;
+    engine.spectral = request.spectral;
     // While the passes run, four times a second: the image with the tiles done so far, and
     // the progress. Before them, the StartingTicker's messages.
     PeriodicReport watch(0.25, [&](const Film& film, const PeriodicReport::Progress& p) {
@@ -749,7 +750,7 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
                   {"eta_seconds", p.fraction > 0 ? p.seconds * (1 - p.fraction) / p.fraction : -1.0},
                   {"rays_per_second", p.seconds > 0 ? double(p.rays) / p.seconds : 0.0}});
     });
-    sendText({{"type", "render_begin"}, {"mode", request.mode}});
+    sendText({{"type", "render_begin"}, {"mode", request.mode}, {"spectral", request.spectral}});
     StartingTicker starting(*this, request.mode);
     const EngineSettings::Watcher* report = watch.watcher();
     EngineSettings::Watcher watcher{

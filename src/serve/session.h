@@ -113,6 +113,7 @@ private:
         std::string mode;
         int spp = 0;
         int client = -1;
+        bool spectral = false; // EngineSettings::spectral (docs/spectral.md)
     };
 
     Json reply(const Json& message, int client);

@@ -198,10 +198,17 @@ Json Session::replySave(const Json& m, int) {
 }
 
 Json Session::replyRender(const Json& m, int client) {
-    expectKeys(m, {"mode", "spp"});
+    expectKeys(m, {"mode", "spp", "spectral"});
     const Json& mode = field(m, "mode", "render");
     if (!mode.is_string() || !findMode(mode.get<std::string>()))
         refuse("render.mode: expected preview, raytrace, gi or path");
+    const bool spectral = m.contains("spectral") && m["spectral"].is_boolean() &&
+                          m["spectral"].get<bool>();
+    if (m.contains("spectral") && !m["spectral"].is_boolean())
+        refuse("render.spectral: expected true or false");
+    if (spectral && !findMode(mode.get<std::string>())->spectral)
+        refuse("render.spectral: " + mode.get<std::string>() +
+               " mode cannot render spectrally yet (path, raytrace and preview can)");
     int spp = 0;
     if (m.contains("spp")) {
         if (!m["spp"].is_number_integer() || m["spp"].get<long long>() < 1 ||
@@ -211,7 +218,7 @@ Json Session::replyRender(const Json& m, int client) {
     }
     std::lock_guard<std::mutex> lk(m_mutex);
     if (m_rendering || m_request) refuse("render: a render is already running");
-    m_request = RenderRequest{mode.get<std::string>(), spp, client};
+    m_request = RenderRequest{mode.get<std::string>(), spp, client, spectral};
     m_requestPending = true; // a refining preview stops for it
     m_wake.notify_all();
     return {{"type", "render_started"}, {"mode", mode}};

@@ -83,6 +83,9 @@ TEST_CASE("A render over 1, 2 and 4 MPI ranks is bit-identical to one process, i
         // Adaptive sampling: the needs come from every rank's tiles, summed in tile order.
         {"path", {"--adaptive", "--spp", "16", "--adaptive-min-spp", "4"}},
         {"path", {"--target-relmse", "0.02", "--spp", "256", "--adaptive-min-spp", "4"}},
+        // Spectral: each path's wavelengths are a pure function of its pixel and sample.
+        {"path", {"--spp", "8", "--spectral"}},
+        {"raytrace", {"--spp", "4", "--spectral"}},
     }));
     INFO("mode " << mode);
     TempDir dir;

@@ -93,6 +93,36 @@ TEST_CASE("Hero wavelengths estimate D65's XYZ without bias", "[kernels][spectra
     CHECK(Y / 20000 == Approx(1.0).epsilon(3e-3));
 }
 
+TEST_CASE("Three hero wavelengths (the render mode's) are a third apart and unbiased",
+          "[kernels][spectral][spectral-mode]") {
+    using W3 = SampledWavelengthsN<3>;
+    // The offsets: u, u + 1/3, u + 2/3 (mod 1), so the positions of one path cover [0, 1).
+    W3 w = W3::sampleUniform(0.5f);
+    const float range = kLambdaMax - kLambdaMin;
+    CHECK(w.lambda[0] == Approx(kLambdaMin + 0.5f * range));
+    CHECK(w.lambda[1] == Approx(kLambdaMin + (0.5f + 1.0f / 3) * range));
+    CHECK(w.lambda[2] == Approx(kLambdaMin + (0.5f + 2.0f / 3 - 1) * range));
+    const spectral::DenseSpectrum& d65 = *spectral::cieIlluminant("D65");
+    const float* xb = spectral::cieX().values.data();
+    const float* yb = spectral::cieY().values.data();
+    const float* zb = spectral::cieZ().values.data();
+    const float yInt = float(spectral::cieYIntegral());
+    double X = 0, Y = 0, Z = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+        W3 v = W3::sampleVisible((i + 0.5f) / n);
+        for (int k = 0; k < 3; ++k) CHECK(v.pdf[k] == visibleWavelengthPdf(v.lambda[k]));
+        Xyz c = sampledToXyz(denseSample(d65.values.data(), v), v, xb, yb, zb, yInt);
+        X += c.x;
+        Y += c.y;
+        Z += c.z;
+    }
+    spectral::Xyz ref = spectral::toXyz(d65);
+    CHECK(Y / n == Approx(1.0).epsilon(3e-3));
+    CHECK(X / n == Approx(ref.x).epsilon(3e-3));
+    CHECK(Z / n == Approx(ref.z).epsilon(3e-3));
+}
+
 TEST_CASE("Sigmoid polynomial limits and Planck's law", "[kernels][spectral]") {
     CHECK(sigmoid(0) == 0.5f);
     CHECK(sigmoid(INFINITY) == 1.0f);

@@ -277,6 +277,29 @@ TEST_CASE("serve: a render streams progress and frames - cancel returns to the p
     CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "path"}, {"spp", 0}})), Catch::Contains("render.spp"));
 }
 
+TEST_CASE("serve: a render may be spectral, except in gi", "[serve][spectral-mode]") {
+    Harness h(scenePath("cornell-box"));
+    h.session.waitIdle();
+    CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "gi"}, {"spectral", true}})),
+               Catch::Contains("render.spectral: gi mode cannot render spectrally"));
+    CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "path"}, {"spectral", 1}})),
+               Catch::Contains("render.spectral: expected true or false"));
+    Image rgb, spectral;
+    REQUIRE(h.send({{"type", "render"}, {"mode", "raytrace"}, {"spp", 1}})["type"] ==
+            "render_started");
+    h.session.waitIdle();
+    REQUIRE(h.session.lastRender(rgb));
+    REQUIRE(h.send({{"type", "render"}, {"mode", "raytrace"}, {"spp", 1}, {"spectral", true}})[
+                "type"] == "render_started");
+    h.session.waitIdle();
+    CHECK(h.sawText("render_begin", [](const Json& t) { return t["spectral"] == true; }));
+    CHECK(h.sawText("render_end", [](const Json& t) { return t["cancelled"] == false; }));
+    REQUIRE(h.session.lastRender(spectral));
+    // The same view, spectrally: near RGB's mean, not its bits.
+    CHECK(meanValue(spectral) == Approx(meanValue(rgb)).epsilon(0.05));
+    CHECK(spectral.pixels != rgb.pixels);
+}
+
 TEST_CASE("serve: a closed page cancels its own render, not another page's", "[serve]") {
     Harness h(scenePath("cornell-box"));
     REQUIRE(h.send({{"type", "render"}, {"mode", "path"}, {"spp", 60000}}, 7)["type"] == "render_started");

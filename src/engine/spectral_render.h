@@ -1,0 +1,111 @@
+// Spectral render mode (--spectral, docs/spectral.md): a path carries three hero wavelengths
+// (Wilkie et al. 2014; pbrt-v4 carries four) and the three floats of every radiance,
+// throughput and BSDF triple along it hold the spectrum at those wavelengths instead of RGB, so
+// the engine's arithmetic is unchanged. RGB values enter a path here, upsampled as pbrt-v4 does
+// (Jakob & Hanika 2019, src/spectral/rgb_spectrum.h): reflectances as RGBAlbedoSpectrum, a
+// conductor's eta and k as RGBUnboundedSpectrum, emission and skies as RGBIlluminantSpectrum.
+// At the film a path's three values become CIE XYZ (kernels::spectral::sampledToXyz, pbrt-v4's
+// "cie1931" sensor without white balance) and then linear sRGB, the film's colour space, so the
+// film, its outputs, adaptive sampling and MPI are those of RGB mode.
+#pragma once
+
+#include "core/math.h"
+#include "kernels/spectrum.h"
+#include "spectral/color_space.h"
+
+#include <cstddef>
+#include <vector>
+
+namespace rayproc {
+
+struct Scene;
+struct Material;
+struct LightSet;
+
+// The wavelengths of one path, from its one number u (RayBatch::lambdaU).
+using PathWavelengths = kernels::spectral::SampledWavelengthsN<3>;
+
+// An RGB value's spectrum: scale * S(c0 t^2 + c1 t + c2), times the colour space's illuminant
+// for an illuminant. Set up once for constant values (refined), per texel from the table.
+struct UpsampledRgb {
+    float c[3] = {0, 0, 0};
+    float scale = 1;
+    bool valid = false; // false: not precomputed (a textured parameter)
+};
+
+// A lane's wavelengths with what every conversion at them reads: the normalised wavelength of
+// the sigmoid polynomial, the illuminant's value, and the film's linear sRGB of a unit value at
+// each wavelength (its matching functions over its density, over 3 y-bar integrals).
+struct LaneSpectrum {
+    PathWavelengths w;
+    float t[3];
+    float illuminant[3];
+    Vec3 film[3];
+};
+
+class SpectralRender {
+public:
+    // Precomputes every material's constant colours and every light's emission.
+    SpectralRender(const Scene& scene, const LightSet& lights);
+
+    // The lane's wavelengths from its number u: the hero at u, the others at u + i/3 (mod 1),
+    // through the visible density's inverse CDF tabulated at kInverseCdfCells + 1 exact nodes
+    // and linear between them. The density of that map is the cell's mean of the visible
+    // density (its CDF is exact at the nodes), and that is the pdf a lane carries: exact for
+    // the map, and no transcendental function per lane (they were a fifth of a spectral
+    // render's time).
+    LaneSpectrum lane(float u) const;
+    static constexpr int kInverseCdfCells = 1024;
+
+    // RGB values at a lane's wavelengths, through the table (textures, skies).
+    Vec3 albedo(const Vec3& rgb, const LaneSpectrum& l) const;
+    Vec3 unbounded(const Vec3& rgb, const LaneSpectrum& l) const;
+    Vec3 illuminant(const Vec3& rgb, const LaneSpectrum& l) const;
+    // A precomputed value (unbounded; an illuminant also takes the illuminant's values).
+    static Vec3 evaluate(const UpsampledRgb& s, const LaneSpectrum& l, bool illuminant);
+
+    // A material's constant parameters, precomputed (invalid where textured).
+    struct MaterialSpectra {
+        UpsampledRgb color, eta, k, transmittance, albedo;
+    };
+    const MaterialSpectra& material(int index) const { return m_materials[std::size_t(index)]; }
+    // Material `index`'s constant colour `rgb` (Material::color, which raytrace's mirror,
+    // glossy and glass read directly) at the lane's wavelengths.
+    Vec3 materialColor(int index, const Vec3& rgb, const LaneSpectrum& l) const {
+        const UpsampledRgb& pre = material(index).color;
+        return pre.valid ? evaluate(pre, l, false) : albedo(rgb, l);
+    }
+
+    // The emission of light i (LightSet::lights) at the lane's wavelengths, for a value that is
+    // its radiance (an area light) or intensity (a delta light) times a scalar, as a light
+    // sample's weight and an emitter's radiance are.
+    Vec3 lightValue(std::size_t light, const Vec3& value, const LaneSpectrum& l) const;
+
+    // The film's linear sRGB of a path's values at its wavelengths: XYZ as pbrt-v4's "cie1931"
+    // sensor (imaging ratio 1, no white balance), then the colour space's XYZ -> RGB.
+    Vec3 toFilm(const Vec3& values, const LaneSpectrum& l) const;
+
+    const spectral::ColorSpace& colorSpace() const { return m_cs; }
+
+private:
+    UpsampledRgb lookup(const Vec3& rgb, bool unbounded) const;
+    void buildWavelengthTables();
+
+    const spectral::ColorSpace& m_cs;
+    std::vector<MaterialSpectra> m_materials;
+    struct LightSpectrum {
+        UpsampledRgb s;
+        Vec3 base;  // the RGB it was set up from
+        int channel; // base's largest channel: value / base in it is the scalar
+    };
+    std::vector<LightSpectrum> m_lights;
+    float m_xyzToRgb[3][3];
+    // The visible density's inverse CDF at u = k / kInverseCdfCells, and each cell's density.
+    std::vector<float> m_lambdaNodes, m_cellPdf;
+    // Per nanometre (kernels::spectral::denseAt's samples): the illuminant, and the film's
+    // linear sRGB of the matching functions over 3 y-bar integrals.
+    std::vector<float> m_illuminantNm;
+    std::vector<Vec3> m_filmNm;
+};
+
+} // namespace rayproc
