@@ -293,6 +293,31 @@ std::string GiSettings::toString() const {
     return o.str();
 }
 
+namespace {
+
+// The irradiance cache's prepass (gi/cache_prepass.h), when the cache is on, and its figures;
+// every rank's share of its rays summed.
+ThreadStats prepassCache(IrradianceCache& cache, GiData& gi, const Scene& scene,
+                         const EmbreeScene& accel, const LightSet& lights, const RenderPlan& plan,
+                         const EngineSettings& engine, const Cluster& cluster, Stats& cacheStats,
+                         Extras& extras) {
+    const GiSettings& s = gi.settings;
+    auto t0 = Clock::now();
+    gi.cache = s.irradianceCache ? &cache : nullptr;
+    if (s.irradianceCache && plan.globalMap && !stopped(cluster))
+        fillIrradianceCache(scene, accel, lights, gi, cache, engine, cluster, cacheStats);
+    double cacheSeconds = secondsSince(t0);
+    ThreadStats cacheTotals = cacheStats.merged();
+    sumToRoot(cluster, cacheTotals);
+    extras.push_back({"gi/cache_seconds", cacheSeconds});
+    extras.push_back({"gi/cache_records", double(cache.size())});
+    extras.push_back({"gi/cache_prepass_gather_rays",
+                      double(cacheTotals.stages[int(kGatherStageId)].raysOut)});
+    return cacheTotals;
+}
+
+} // namespace
+
 RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSettings& s,
                       const EngineSettings& engineIn) {
     if (engineIn.spectral) // photons carry no wavelengths yet: refuse before tracing any
@@ -328,17 +353,8 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     cs.useGradients = s.icGradients;
     IrradianceCache cache(scene.worldBounds(), cs);
     Stats cacheStats;
-    auto t2 = Clock::now();
-    gi.cache = s.irradianceCache ? &cache : nullptr;
-    if (s.irradianceCache && plan.globalMap && !stopped(cluster))
-        fillIrradianceCache(scene, accel, lights, gi, cache, engine, cluster, cacheStats);
-    double cacheSeconds = secondsSince(t2);
-    ThreadStats cacheTotals = cacheStats.merged();
-    sumToRoot(cluster, cacheTotals); // every rank's share of the prepass
-    extras.push_back({"gi/cache_seconds", cacheSeconds});
-    extras.push_back({"gi/cache_records", double(cache.size())});
-    extras.push_back({"gi/cache_prepass_gather_rays",
-                      double(cacheTotals.stages[int(kGatherStageId)].raysOut)});
+    const ThreadStats cacheTotals = prepassCache(cache, gi, scene, accel, lights, plan, engine,
+                                                 cluster, cacheStats, extras);
 
     // Second pass: the render. Before each render pass: a new caustic map (progressive
     // caustics), the records' new gather rays (cache refinement).
