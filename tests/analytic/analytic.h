@@ -30,6 +30,14 @@ inline Image renderMode(const Scene& scene, const EmbreeScene& accel, const std:
     return render(scene, accel, o).image;
 }
 
+// A point light inside a closed diffuse sphere of radius 2 around the camera: every ray from
+// the centre hits the wall (the processor's and the pipeline's tests).
+inline const char* const kClosedSphere =
+    R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "fov": 70, "resolution": [8, 8]},
+        "materials": {"wall": {"type": "diffuse", "color": [0.8, 0.8, 0.8]}},
+        "lights": [{"type": "point", "position": [0.3, -0.2, 0.1], "intensity": [1, 1, 1]}],
+        "nodes": [{"type": "sphere", "material": "wall", "radius": 2}]})";
+
 // gi mode at its defaults (photon counts, gather rays, cache) with `spp` and a fixed seed.
 inline RenderResult renderGiMode(const Scene& scene, const EmbreeScene& accel, int spp,
                                  std::uint64_t seed = 1,

@@ -14,13 +14,6 @@ using namespace rayproc::test;
 
 namespace {
 
-// A closed diffuse sphere: every ray from its centre hits the wall.
-const char* const kClosedSphere =
-    R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "fov": 70, "resolution": [8, 8]},
-        "materials": {"wall": {"type": "diffuse", "color": [0.8, 0.8, 0.8]}},
-        "lights": [{"type": "point", "position": [0.3, -0.2, 0.1], "intensity": [1, 1, 1]}],
-        "nodes": [{"type": "sphere", "material": "wall", "radius": 2}]})";
-
 // One batch of `count` rays of each of `kinds`, from the centre out through the wall.
 class KindsEmitter : public Emitter {
 public:

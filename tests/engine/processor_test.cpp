@@ -20,13 +20,6 @@ using namespace rayproc::test;
 
 namespace {
 
-// A point light inside a closed diffuse sphere: every ray hits the wall.
-const char* const kClosedSphere =
-    R"({"camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "fov": 70, "resolution": [8, 8]},
-        "materials": {"wall": {"type": "diffuse", "color": [0.8, 0.8, 0.8]}},
-        "lights": [{"type": "point", "position": [0.3, -0.2, 0.1], "intensity": [1, 1, 1]}],
-        "nodes": [{"type": "sphere", "material": "wall", "radius": 2}]})";
-
 // The photon stage, except that the n-th batch it is handed throws std::bad_alloc.
 class FailingStage : public RetraceStage {
 public:

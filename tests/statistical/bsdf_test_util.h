@@ -199,4 +199,23 @@ inline Albedo directionalAlbedo(
     return a;
 }
 
+// Whether 2000 samples of `b` from `wo` (key 3, a fixed stream) report, where not delta, the
+// pdf evalBsdf gives for their direction (what MIS uses), and evalBsdf its own f and pdf again
+// under the same key (a stochastic BSDF's estimate is a function of the key). Counts the
+// samples that do not, and the valid non-delta ones.
+inline void samplePdfConsistency(BsdfParams b, const Vec3& wo, int& valid, int& mismatches) {
+    b.key = 3;
+    TestRng rng(5);
+    valid = mismatches = 0;
+    for (int i = 0; i < 2000; ++i) {
+        kernels::BsdfSample s = kernels::sampleBsdf(b, wo, kUp, kUp, rng.uniform2(), rng.uniform());
+        if (!s.valid || s.delta) continue;
+        ++valid;
+        float p1, p2;
+        Vec3 f1 = kernels::evalBsdf(b, wo, s.wi, kUp, kUp, p1);
+        Vec3 f2 = kernels::evalBsdf(b, wo, s.wi, kUp, kUp, p2);
+        if (p1 != s.pdf || p1 != p2 || length(f1 - f2) != 0) ++mismatches;
+    }
+}
+
 } // namespace rayproc::test
