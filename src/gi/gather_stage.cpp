@@ -54,8 +54,18 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
         if (ls.valid) emit(ls.wi, &ls, ls.weight);
     }
     if (lights.hasEnvironment()) {
-        EnvironmentSample es =
-            lights.environment.sample({kernels::uniform(key, 0), kernels::uniform(key, 1)}, ns);
+        // A film gather of one ray per pixel sample (the default past a few samples) lands
+        // once per sample: its sky sample takes the pixel's Sobol points at this depth (a
+        // sequence of its own per chain segment), stratified over the passes as the gather's
+        // direction is. Several rays per sample would share them (the rays' index is not on
+        // the ray), and the prepass's records draw independent numbers: both keep the lane's.
+        const bool sobol = m_rc.policy.stratify && !(b.flags[i] & kFlagGatherRecord) &&
+                           m_gi.filmGatherTheta * m_gi.filmGatherPhi == 1;
+        const Vec2 u = sobol ? SampleNumbers(b, i, true, sampleSeedKey(m_rc.seed),
+                                             0x5d17u + b.specularDepth[i])
+                                   .get2D(0)
+                             : Vec2{kernels::uniform(key, 0), kernels::uniform(key, 1)};
+        EnvironmentSample es = lights.environment.sample(u, ns);
         if (es.valid) emit(es.wi, nullptr, es.weight);
     }
     return spawned;
