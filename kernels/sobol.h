@@ -21,6 +21,14 @@ inline std::uint32_t reverseBits(std::uint32_t v) {
     v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
     return ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
 }
+// Two 32-bit reversals for the price of one: reversing the 64 bits of (hi << 32 | lo) reverses
+// each half and swaps them, so the result is reverseBits(lo) << 32 | reverseBits(hi).
+inline std::uint64_t reverseBits64(std::uint64_t v) {
+    v = __builtin_bswap64(v);
+    v = ((v >> 4) & 0x0f0f0f0f0f0f0f0fULL) | ((v & 0x0f0f0f0f0f0f0f0fULL) << 4);
+    v = ((v >> 2) & 0x3333333333333333ULL) | ((v & 0x3333333333333333ULL) << 2);
+    return ((v >> 1) & 0x5555555555555555ULL) | ((v & 0x5555555555555555ULL) << 1);
+}
 
 // The second Sobol dimension (the first is the bit reversal of i): y = xor over the set bits k
 // of i of the direction number v_k, v_0 = 2^31 and v_(k+1) = v_k ^ (v_k >> 1) (the binary
@@ -93,8 +101,10 @@ struct SobolSeeds {
 inline Vec2 owenSobol2DReversed(std::uint32_t reversedIndex, std::uint64_t key) {
     SobolSeeds s(key);
     std::uint32_t i = reverseBits(laineKarras(reversedIndex, s.shuffle));
-    return {fixedToUnit(reverseBits(laineKarras(i, s.x))),
-            fixedToUnit(reverseBits(laineKarras(sobolSecondReversed(i), s.y)))};
+    // x's and y's scrambled values reversed together (reverseBits64): x's lands in the low half.
+    std::uint64_t xy = reverseBits64(std::uint64_t(laineKarras(i, s.x)) << 32 |
+                                     laineKarras(sobolSecondReversed(i), s.y));
+    return {fixedToUnit(std::uint32_t(xy)), fixedToUnit(std::uint32_t(xy >> 32))};
 }
 inline Vec2 owenSobol2D(std::uint32_t index, std::uint64_t key) {
     return owenSobol2DReversed(reverseBits(index), key);

@@ -60,6 +60,10 @@ TEST_CASE("Sobol: bit reversal and the second dimension match their plain defini
         state = mix64(state);
         std::uint32_t v = std::uint32_t(state);
         REQUIRE(reverseBits(v) == naiveReverse(v));
+        std::uint32_t w = std::uint32_t(state >> 32);
+        std::uint64_t both = reverseBits64(std::uint64_t(w) << 32 | v);
+        REQUIRE(std::uint32_t(both) == naiveReverse(w));
+        REQUIRE(std::uint32_t(both >> 32) == naiveReverse(v));
         REQUIRE(sobolSecond(v) == naiveSobolSecond(v));
     }
     CHECK(sobolSecond(1) == 0x80000000u);
