@@ -43,7 +43,11 @@ struct CoatedAnalytic {
     }
     // Diffuse part of f (no cosine), local frame, both directions above.
     Vec3 diffuse(const Vec3& wo, const Vec3& wi) const {
-        float fo = fresnelDielectricSigned(wo.z, eta), fi = fresnelDielectricSigned(wi.z, eta);
+        return diffuse(fresnelDielectricSigned(wo.z, eta), wo, wi);
+    }
+    // The same with fo = F(cos_o) given (evalCos computes it once for this and the lobe choice).
+    Vec3 diffuse(float fo, const Vec3& wo, const Vec3& wi) const {
+        float fi = fresnelDielectricSigned(wi.z, eta);
         float td = std::exp(-2.0f * thickness);
         float fint = internalDiffuseReflectance();
         float k = (1 - fo) * (1 - fi) * transmittance(wo.z) * transmittance(wi.z) /
@@ -85,7 +89,10 @@ struct CoatedAnalytic {
     // Probability of sampling the coat's reflection rather than the base: the Fresnel weight
     // against the diffuse albedo the base can return.
     float specularProbability(const Vec3& wo) const {
-        float f = fresnelDielectricSigned(wo.z, eta);
+        return specularProbability(fresnelDielectricSigned(wo.z, eta));
+    }
+    // The same from f = F(cos_o).
+    float specularProbability(float f) const {
         float d = (1 - f) * std::max(base.x, std::max(base.y, base.z));
         return std::clamp(f / std::max(f + d, 1e-6f), 0.05f, 0.95f);
     }
@@ -95,16 +102,25 @@ struct CoatedAnalytic {
         if (woh <= 0) return 0.0f;
         return mf.dVisible(wo, h) / (4.0f * woh);
     }
-    // f |cos i| and the pdf (lobe choice included) of the non-delta lobes.
+    // f |cos i| and the pdf (lobe choice included) of the non-delta lobes. The same operations
+    // as diffuse() + specular() and specularProbability(), specularPdf(), with what they share
+    // (F(cos_o), the half vector, D(h), Lambda(wo)) computed once: the same bits, less work.
     Vec3 evalCos(const Vec3& wo, const Vec3& wi, float& pdf) const {
         pdf = 0;
         if (wo.z <= 0 || wi.z <= 0) return Vec3(0.0f);
-        float ps = specularProbability(wo);
-        Vec3 f = diffuse(wo, wi);
+        float fo = fresnelDielectricSigned(wo.z, eta);
+        float ps = specularProbability(fo);
+        Vec3 f = diffuse(fo, wo, wi);
         pdf = (1 - ps) * wi.z * kInvPi;
         if (!smooth()) {
-            f += Vec3(specular(wo, wi));
-            pdf += ps * specularPdf(wo, wi);
+            // Both directions above: wo + wi is never zero (specular()'s guard).
+            Vec3 h = normalize(wo + wi);
+            float dh = mf.d(h), lambdaO = mf.lambda(wo), woh = dot(wo, h);
+            float g = 1.0f / (1.0f + lambdaO + mf.lambda(wi));
+            f += Vec3(dh * g * fresnelDielectricSigned(woh, eta) / (4.0f * wo.z * wi.z));
+            // specularPdf: dVisible(wo, h) / (4 wo.h), G1(wo) = 1 / (1 + Lambda(wo)).
+            float g1 = 1.0f / (1.0f + lambdaO);
+            pdf += ps * (woh > 0 ? g1 / std::abs(wo.z) * dh * std::abs(woh) / (4.0f * woh) : 0.0f);
         }
         return f * wi.z;
     }

@@ -11,6 +11,8 @@
 #include "kernels/random.h"
 #include "core/math.h"
 
+#include <immintrin.h>
+
 #include <cstdint>
 
 namespace rayproc::kernels {
@@ -20,6 +22,14 @@ inline std::uint32_t reverseBits(std::uint32_t v) {
     v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
     v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
     return ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+}
+// Two 32-bit reversals for the price of one: reversing the 64 bits of (hi << 32 | lo) reverses
+// each half and swaps them, so the result is reverseBits(lo) << 32 | reverseBits(hi).
+inline std::uint64_t reverseBits64(std::uint64_t v) {
+    v = __builtin_bswap64(v);
+    v = ((v >> 4) & 0x0f0f0f0f0f0f0f0fULL) | ((v & 0x0f0f0f0f0f0f0f0fULL) << 4);
+    v = ((v >> 2) & 0x3333333333333333ULL) | ((v & 0x3333333333333333ULL) << 2);
+    return ((v >> 1) & 0x5555555555555555ULL) | ((v & 0x5555555555555555ULL) << 1);
 }
 
 // The second Sobol dimension (the first is the bit reversal of i): y = xor over the set bits k
@@ -93,11 +103,56 @@ struct SobolSeeds {
 inline Vec2 owenSobol2DReversed(std::uint32_t reversedIndex, std::uint64_t key) {
     SobolSeeds s(key);
     std::uint32_t i = reverseBits(laineKarras(reversedIndex, s.shuffle));
-    return {fixedToUnit(reverseBits(laineKarras(i, s.x))),
-            fixedToUnit(reverseBits(laineKarras(sobolSecondReversed(i), s.y)))};
+    // x's and y's scrambled values reversed together (reverseBits64): x's lands in the low half.
+    std::uint64_t xy = reverseBits64(std::uint64_t(laineKarras(i, s.x)) << 32 |
+                                     laineKarras(sobolSecondReversed(i), s.y));
+    return {fixedToUnit(std::uint32_t(xy)), fixedToUnit(std::uint32_t(xy >> 32))};
 }
 inline Vec2 owenSobol2D(std::uint32_t index, std::uint64_t key) {
     return owenSobol2DReversed(reverseBits(index), key);
+}
+
+// reverseBits and laineKarras on each 32-bit lane (AVX2): the bytes reversed by a shuffle, the
+// bits of each byte by two nibble lookups; 32-bit multiplies keep the low half, as uint32_t's.
+inline __m256i reverseBits8(__m256i v) {
+    const __m256i bswap = _mm256_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12,
+                                           3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12);
+    const __m256i nibble = _mm256_setr_epi8(0, 8, 4, 12, 2, 10, 6, 14, 1, 9, 5, 13, 3, 11, 7, 15,
+                                            0, 8, 4, 12, 2, 10, 6, 14, 1, 9, 5, 13, 3, 11, 7, 15);
+    const __m256i low = _mm256_set1_epi8(0x0f);
+    v = _mm256_shuffle_epi8(v, bswap);
+    __m256i lo = _mm256_shuffle_epi8(nibble, _mm256_and_si256(v, low));
+    __m256i hi = _mm256_shuffle_epi8(nibble, _mm256_and_si256(_mm256_srli_epi16(v, 4), low));
+    return _mm256_or_si256(_mm256_slli_epi16(lo, 4), hi);
+}
+inline __m256i laineKarras8(__m256i x, __m256i seed) {
+    x = _mm256_add_epi32(x, seed);
+    for (std::uint32_t c : {0x6c50b47cu, 0xb82f1e52u, 0xc7afe638u, 0x8d22f6e6u})
+        x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32(int(c))));
+    return x;
+}
+
+// Three pairs of one sample at once (a path vertex's: keys[k] names pair k): owenSobol2DReversed
+// lane by lane, the shuffles in lanes 0-2, the x scrambles in 0-2 and the y ones in 4-6. The
+// same integer operations on the same values, so the same numbers.
+inline void owenSobol2DReversed3(std::uint32_t reversedIndex, const std::uint64_t (&keys)[3],
+                                 Vec2 (&out)[3]) {
+    const SobolSeeds s0(keys[0]), s1(keys[1]), s2(keys[2]);
+    alignas(32) std::uint32_t i[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(i),
+                       reverseBits8(laineKarras8(_mm256_set1_epi32(int(reversedIndex)),
+                                                 _mm256_setr_epi32(int(s0.shuffle), int(s1.shuffle),
+                                                                   int(s2.shuffle), 0, 0, 0, 0, 0))));
+    const __m256i v = _mm256_setr_epi32(int(i[0]), int(i[1]), int(i[2]), 0,
+                                        int(sobolSecondReversed(i[0])),
+                                        int(sobolSecondReversed(i[1])),
+                                        int(sobolSecondReversed(i[2])), 0);
+    const __m256i seeds = _mm256_setr_epi32(int(s0.x), int(s1.x), int(s2.x), 0, int(s0.y),
+                                            int(s1.y), int(s2.y), 0);
+    const __m256i r = _mm256_srli_epi32(reverseBits8(laineKarras8(v, seeds)), 8);
+    alignas(32) float f[8];
+    _mm256_store_ps(f, _mm256_mul_ps(_mm256_cvtepi32_ps(r), _mm256_set1_ps(1.0f / 16777216.0f)));
+    for (int k = 0; k < 3; ++k) out[k] = {f[k], f[4 + k]};
 }
 
 } // namespace rayproc::kernels

@@ -41,7 +41,10 @@ Vec3 robustNormalize(const Vec3& n) {
     if (!isFinite(n)) return Vec3(0.0f);
     float m = maxComponent(kernels::absVec(n));
     if (!(m > 0) || !std::isfinite(m)) return Vec3(0.0f);
-    return normalize(n / m);
+    // Largest component +-1: the squared length is in [1, 3], normalize()'s unscaled case,
+    // taken here without its range test.
+    Vec3 s = n / m;
+    return s / std::sqrt(dot(s, s));
 }
 
 // Embree's range (kEmbreeRayLimit, kMaxWorldCoordinate: scene/camera_check.h): in an

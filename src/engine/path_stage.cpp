@@ -203,18 +203,21 @@ private:
             materialClass(m_rc.scene.materials, h.material) == MaterialClass::Specular;
         // Path mode's own paths take Sobol points, a sequence per (pixel, depth); gi's
         // correction paths their lanes' streams.
-        const SampleNumbers u(m_b, i, m_sobol, m_seedKey);
-        const Vec2 pickLobe = u.get2D(kDimPickLobe);
+        // (The light's pair is drawn also where no light is sampled: pure functions, cheaper
+        // three at a time.)
+        const SampleNumbers numbers(m_b, i, m_sobol, m_seedKey);
+        Vec2 u[3];
+        numbers.get2D({kDimPickLobe, kDimLight, kDimBsdf}, u);
+        const Vec2 pickLobe = u[0];
         // Next-event estimation: one light (or the sky), MIS-weighted against the BSDF.
         if (!deltaMaterial && m_lights.choiceCount() > 0 &&
-            sampleOneLight(m_lights, m_b, i, h, bsdf, wo, w, u.get2D(kDimLight), pickLobe.x,
-                           false, m_policy.skyCompensation, m_ctx.out(m_outputs.shadow),
-                           spectral()))
+            sampleOneLight(m_lights, m_b, i, h, bsdf, wo, w, u[1], pickLobe.x, false,
+                           m_policy.skyCompensation, m_ctx.out(m_outputs.shadow), spectral()))
             ++shadowOut;
 
         // Continue the path by sampling the BSDF.
         // Russian roulette's number: the path's own stream (stratifying it buys nothing).
-        switch (spawnBounce(m_policy, m_b, i, h, bsdf, wo, w, u.get2D(kDimBsdf), pickLobe.y,
+        switch (spawnBounce(m_policy, m_b, i, h, bsdf, wo, w, u[2], pickLobe.y,
                             kernels::uniform(m_b.rngKey[i], kDimRr), 0, m_outputs, 3, m_ctx)) {
         case Bounce::Reflected: ++reflectOut; break;
         case Bounce::Transmitted: ++refractOut; break;

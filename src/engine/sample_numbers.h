@@ -45,6 +45,16 @@ public:
             return kernels::owenSobol2DReversed(m_reversedSample, pairKey(dim));
         return {kernels::uniform(m_key, dim), kernels::uniform(m_key, dim + 1)};
     }
+    // Three pairs at once (a path vertex's): get2D(dims[k]) in out[k], the three Sobol pairs
+    // eight lanes wide (kernels::owenSobol2DReversed3).
+    void get2D(const std::uint32_t (&dims)[3], Vec2 (&out)[3]) const {
+        if (!m_sobol) {
+            for (int k = 0; k < 3; ++k) out[k] = get2D(dims[k]);
+            return;
+        }
+        const std::uint64_t keys[3] = {pairKey(dims[0]), pairKey(dims[1]), pairKey(dims[2])};
+        kernels::owenSobol2DReversed3(m_reversedSample, keys, out);
+    }
     // Sample s of n that this pixel sample takes in the pair `dim` (a hit's n light samples):
     // point sample * n + s of the pair's sequence, so that the n of one pixel sample are an
     // aligned block (a net when n is a power of two) and a pixel's samples together are one

@@ -230,14 +230,18 @@ LightSampler::Pick LightSampler::sampleBounded(const Vec3& p, float u) const {
         alignas(32) float weights[kExhaustiveLimit];
         float total = boundedImportances(p, weights);
         if (!(total > 0)) return pick;
+        // The first light whose running sum passes u total, else (rounding) the last one of
+        // positive weight; its pmf divided once, for the light picked.
         float target = u * total, below = 0;
+        std::size_t picked = 0;
         for (std::size_t k = 0; k < m_boundedList.size(); ++k) {
             if (!(weights[k] > 0)) continue;
-            pick.index = m_boundedList[k];
-            pick.pmf = weights[k] / total;
+            picked = k;
             if (target < below + weights[k]) break;
             below += weights[k];
         }
+        pick.index = m_boundedList[picked];
+        pick.pmf = weights[picked] / total;
         return pick;
     }
     // Many: descend by the clusters' importance, reusing u within the chosen child.

@@ -78,6 +78,7 @@ LightSource fromEmitter(const EmitterRecord& e) {
             Vec3 b = e.toWorld.point(m.positions[m.indices[3 * t + 1]]);
             Vec3 c = e.toWorld.point(m.positions[m.indices[3 * t + 2]]);
             s.triangles.insert(s.triangles.end(), {a, b, c});
+            s.triangleNormals.push_back(normalize(cross(b - a, c - a)));
             total += triangleArea(a, b, c);
             s.areaCdf.push_back(total);
         }
@@ -236,7 +237,7 @@ Vec3 meshLightPoint(const LightSource& l, Vec2 u, Vec3& err, Vec3& n) {
     float ux = width > 0 ? std::clamp((target - lo) / width, 0.0f, 0.99999994f) : 0.5f;
     Vec2 b = kernels::uniformTriangle({ux, u.y});
     const Vec3 &a = l.triangles[3 * t], &bb = l.triangles[3 * t + 1], &c = l.triangles[3 * t + 2];
-    n = normalize(cross(bb - a, c - a));
+    n = l.triangleNormals[t];
     return kernels::trianglePoint(a, bb, c, b.x, b.y, err);
 }
 

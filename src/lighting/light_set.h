@@ -57,6 +57,7 @@ public:
     bool twoSided = false;
     std::vector<Vec3> triangles;   // world-space vertices, 3 per triangle
     std::vector<float> areaCdf;    // cumulative triangle areas, last = total area
+    std::vector<Vec3> triangleNormals; // unit normal per triangle (meshLightPoint's, once)
     Vec3 center, normal;           // sphere and disk
     float radius = 0;
     float area = 0;

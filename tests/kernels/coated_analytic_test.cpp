@@ -146,3 +146,38 @@ TEST_CASE("pbrt-v4's walk through a smooth clear coat returns the layered closed
         }
     }
 }
+
+// evalCos computes what its lobes share once (docs/performance.md, "Path mode's cost per
+// vertex"): it must stay the sum of diffuse() and specular() and the mixture of their pdfs, to
+// the bit, so that images do not change.
+TEST_CASE("Analytic coat: evalCos is its lobes' sum to the bit", "[bsdf]") {
+    TestRng rng(11);
+    for (float alpha : {0.0f, 0.05f, 0.3f, 0.8f}) {
+        CoatedAnalytic c;
+        c.eta = 1.45f;
+        c.mf.alphaX = alpha;
+        c.mf.alphaY = alpha * 0.7f;
+        c.base = {0.7f, 0.4f, 0.2f};
+        c.thickness = 0.05f;
+        for (int k = 0; k < 2000; ++k) {
+            Vec3 wo = cosineHemisphere(rng.uniform2());
+            Vec3 wi = cosineHemisphere(rng.uniform2());
+            if (wo.z <= 0 || wi.z <= 0) continue;
+            float ps = c.specularProbability(wo);
+            Vec3 f = c.diffuse(wo, wi);
+            float pdf = (1 - ps) * wi.z * kInvPi;
+            if (!c.smooth()) {
+                f += Vec3(c.specular(wo, wi));
+                pdf += ps * c.specularPdf(wo, wi);
+            }
+            f = f * wi.z;
+            float got;
+            Vec3 fc = c.evalCos(wo, wi, got);
+            INFO("alpha " << alpha << " sample " << k);
+            REQUIRE(fc.x == f.x);
+            REQUIRE(fc.y == f.y);
+            REQUIRE(fc.z == f.z);
+            REQUIRE(got == pdf);
+        }
+    }
+}

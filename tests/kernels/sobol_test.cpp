@@ -60,6 +60,10 @@ TEST_CASE("Sobol: bit reversal and the second dimension match their plain defini
         state = mix64(state);
         std::uint32_t v = std::uint32_t(state);
         REQUIRE(reverseBits(v) == naiveReverse(v));
+        std::uint32_t w = std::uint32_t(state >> 32);
+        std::uint64_t both = reverseBits64(std::uint64_t(w) << 32 | v);
+        REQUIRE(std::uint32_t(both) == naiveReverse(w));
+        REQUIRE(std::uint32_t(both >> 32) == naiveReverse(v));
         REQUIRE(sobolSecond(v) == naiveSobolSecond(v));
     }
     CHECK(sobolSecond(1) == 0x80000000u);
@@ -122,4 +126,21 @@ TEST_CASE("Sobol: each coordinate alone is stratified, and different keys give d
     }
     CHECK(same < 5);
     CHECK(product / n == Approx(0.25).margin(0.02));
+}
+
+TEST_CASE("Sobol: three pairs at once are the pairs one at a time, to the bit",
+          "[kernels][sobol]") {
+    std::uint64_t state = 777;
+    for (int n = 0; n < 20000; ++n) {
+        state = mix64(state);
+        std::uint32_t reversed = std::uint32_t(state);
+        const std::uint64_t keys[3] = {mix64(state + 1), mix64(state + 2), mix64(state + 3)};
+        Vec2 three[3];
+        owenSobol2DReversed3(reversed, keys, three);
+        for (int k = 0; k < 3; ++k) {
+            Vec2 one = owenSobol2DReversed(reversed, keys[k]);
+            REQUIRE(three[k].x == one.x);
+            REQUIRE(three[k].y == one.y);
+        }
+    }
 }
