@@ -9,6 +9,7 @@
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <optional>
 
 namespace rayproc {
 
@@ -28,6 +29,28 @@ void resolveShading(const Scene& scene, SurfaceHit& hit, const Vec3& wo);
 struct SpectralShading {
     const SpectralRender& render;
     const LaneSpectrum& lane;
+};
+
+// A stage's spectral state while it shades one lane after another: the lane's wavelengths and
+// the shading that reads them; nothing in RGB mode (no render). Not copyable: the shading
+// refers to the lane it holds.
+class LaneShading {
+public:
+    explicit LaneShading(const SpectralRender* render) {
+        if (render) m_shading.emplace(SpectralShading{*render, m_lane});
+    }
+    LaneShading(const LaneShading&) = delete;
+    LaneShading& operator=(const LaneShading&) = delete;
+    // The lane of wavelength sample u (RayBatch::lambdaU) is shaded next.
+    void select(float u) {
+        if (m_shading) m_lane = m_shading->render.lane(u);
+    }
+    const LaneSpectrum& lane() const { return m_lane; }
+    const SpectralShading* shading() const { return m_shading ? &*m_shading : nullptr; }
+
+private:
+    LaneSpectrum m_lane{};
+    std::optional<SpectralShading> m_shading;
 };
 
 // The BSDF of Scene::materials[material] (not a mix: see resolveMix) at `hit`. `key` seeds the

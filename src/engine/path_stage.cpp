@@ -7,8 +7,6 @@
 #include "kernels/bsdf_sampling.h"
 #include "kernels/sampling.h"
 
-#include <optional>
-
 namespace rayproc {
 
 namespace {
@@ -123,10 +121,7 @@ public:
           m_ctx(ctx), m_stats(*ctx.stats), m_sobol(sobol), m_seedKey(sampleSeedKey(rc.seed)) {}
 
     void retraceLane(int i) {
-        if (m_rc.spectral) {
-            m_lane = m_rc.spectral->lane(m_b.lambdaU[i]);
-            m_shading.emplace(SpectralShading{*m_rc.spectral, m_lane});
-        }
+        m_wl.select(m_b.lambdaU[i]);
         Vec3 w = laneThroughput(m_b, i);
         Vec3 o{m_b.ox[i], m_b.oy[i], m_b.oz[i]}, d = laneDirection(m_b, i);
         bool fromDelta = m_b.prevPdf[i] == 0.0f;
@@ -137,7 +132,7 @@ public:
         SurfaceHit h = m_rc.accel.surface(m_b.instId[i], m_b.geomId[i], m_b.primId[i], m_b.u[i],
                                           m_b.v[i], o, d, m_b.t[i]);
         Vec3 wo = -d;
-        w = w * interiorTransmittance(h, o, d, m_rc.spectral, &m_lane);
+        w = w * interiorTransmittance(h, o, d, m_rc.spectral, &m_wl.lane());
         addEmission(i, h, w, o, wo, fromDelta);
         if (m_b.flags[i] & kFlagEmissionOnly) return; // the last vertex's BSDF sample
         scatter(i, h, w, wo);
@@ -149,12 +144,12 @@ private:
     // Filed for --stats and the noise breakdown: reached through delta lobes after a
     // non-delta bounce is a caustic. Then added to the film (in spectral mode its RGB).
     void addToFilm(int i, std::size_t category, Vec3 c) {
-        if (m_rc.spectral) c = m_rc.spectral->toFilm(c, m_lane);
+        if (m_rc.spectral) c = m_rc.spectral->toFilm(c, m_wl.lane());
         fileContribution(m_stats, m_rc.noise, m_lights.lights.size(), m_b.pixel[i], category,
                          luminance(c), m_b.depth[i] > m_b.specularDepth[i]);
         m_rc.film.add(m_b.pixel[i], c, m_stats);
     }
-    const SpectralShading* spectral() const { return m_rc.spectral ? &*m_shading : nullptr; }
+    const SpectralShading* spectral() const { return m_wl.shading(); }
 
     // An escaped ray's sky, MIS-weighted against the sky's light samples.
     void addSky(int i, const Vec3& w, const Vec3& o, const Vec3& d, bool fromDelta) {
@@ -167,7 +162,7 @@ private:
         float pick = m_lights.sampler.pmf(o, m_lights.lights.size()); // the sky's fixed share
         float mis = fromDelta ? 1.0f : kernels::powerHeuristic(m_b.prevPdf[i], pick * envPdf);
         Vec3 radiance = m_lights.environment.radiance(d);
-        if (m_rc.spectral) radiance = m_rc.spectral->illuminant(radiance, m_lane);
+        if (m_rc.spectral) radiance = m_rc.spectral->illuminant(radiance, m_wl.lane());
         addToFilm(i, fromDelta ? 0 : contributionOfBsdfHit(m_lights.lights.size()),
                   w * radiance * mis);
     }
@@ -180,8 +175,8 @@ private:
         float mis = 1.0f;
         int li = m_lights.indexOf(h.shape, h.instance);
         if (m_rc.spectral)
-            le = li >= 0 ? m_rc.spectral->lightValue(std::size_t(li), le, m_lane)
-                         : m_rc.spectral->illuminant(le, m_lane);
+            le = li >= 0 ? m_rc.spectral->lightValue(std::size_t(li), le, m_wl.lane())
+                         : m_rc.spectral->illuminant(le, m_wl.lane());
         if (!fromDelta) {
             // The probability that the light sample at the ray's origin had come here.
             float pl = li >= 0 ? m_lights.sampler.pmf(o, std::size_t(li)) *
@@ -235,8 +230,7 @@ private:
     const bool m_sobol;
     const std::uint64_t m_seedKey;
     // Spectral mode: the current lane's wavelengths.
-    LaneSpectrum m_lane{};
-    std::optional<SpectralShading> m_shading;
+    LaneShading m_wl{m_rc.spectral}; // spectral mode: the current lane's wavelengths
 };
 
 } // namespace

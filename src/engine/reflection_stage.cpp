@@ -6,8 +6,6 @@
 #include "kernels/bsdf.h"
 #include "kernels/sampling.h"
 
-#include <optional>
-
 namespace rayproc {
 
 namespace {
@@ -46,10 +44,7 @@ public:
         // samples' at this hit (the same sequence key, other pairs of dimensions).
         const SampleNumbers numbers(m_b, i, m_policy.stratify, m_seedKey,
                                     1 + std::uint32_t(m_b.kind));
-        if (m_rc.spectral) {
-            m_lane = m_rc.spectral->lane(m_b.lambdaU[i]);
-            m_shading.emplace(SpectralShading{*m_rc.spectral, m_lane});
-        }
+        m_wl.select(m_b.lambdaU[i]);
         if (mat.type == MaterialType::Mirror) {
             r.wi = kernels::reflect(wo, ns);
             if (dot(r.wi, ng) <= 0) r.wi = kernels::reflect(wo, ng);
@@ -90,7 +85,7 @@ private:
         const int i = m_hits.lane[k];
         kernels::BsdfParams bsdf =
             bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(m_b.rngKey[i], kDimReflect),
-                   m_rc.spectral ? &*m_shading : nullptr);
+                   m_wl.shading());
         Vec2 u = numbers.get2D(kDimDirection);
         // A coated surface: its coat's reflection alone, mirror or rough; the shadow
         // stage and gi's gather light its base.
@@ -164,7 +159,7 @@ private:
 
     // A material's constant colour, in spectral mode at the current lane's wavelengths.
     Vec3 colorOf(int material, const Material& mat) const {
-        return m_rc.spectral ? m_rc.spectral->materialColor(material, mat.color, m_lane)
+        return m_rc.spectral ? m_rc.spectral->materialColor(material, mat.color, m_wl.lane())
                              : mat.color;
     }
 
@@ -176,8 +171,7 @@ private:
     const std::uint64_t m_seedKey;
     std::uint64_t m_spawned = 0;
     // Spectral mode: the current hit's lane's wavelengths.
-    LaneSpectrum m_lane{};
-    std::optional<SpectralShading> m_shading;
+    LaneShading m_wl{m_rc.spectral};
 };
 
 } // namespace

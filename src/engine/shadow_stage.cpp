@@ -9,8 +9,6 @@
 #include "kernels/bsdf_sampling.h"
 #include "kernels/sampling.h"
 
-#include <optional>
-
 namespace rayproc {
 
 namespace {
@@ -91,10 +89,7 @@ public:
           m_choose(choosesLights(rc.policy, rc.lights)), m_seedKey(sampleSeedKey(rc.seed)) {}
 
     void spawnAt(int i, const SurfaceHit& h) {
-        if (m_rc.spectral) {
-            m_lane = m_rc.spectral->lane(m_b.lambdaU[i]);
-            m_shading.emplace(SpectralShading{*m_rc.spectral, m_lane});
-        }
+        m_wl.select(m_b.lambdaU[i]);
         const ShadedHit s = shadedHit(i, h);
         // Sobol points over the pixel's samples, a hit's n samples of a kind an aligned block
         // of n of them (SampleNumbers::get2D(dim, s, n)).
@@ -114,7 +109,7 @@ private:
                     .mat = m_rc.scene.materials[h.material],
                     .bsdf = bsdfAt(m_rc.scene, h.material, h,
                                    kernels::hashCombine(m_b.rngKey[i], kDimLightBase - 2),
-                                   m_rc.spectral ? &*m_shading : nullptr),
+                                   m_wl.shading()),
                     .wo = -laneDirection(m_b, i)};
         facingNormals(h, s.wo, s.ng, s.ns);
         s.w = laneThroughput(m_b, i);
@@ -168,7 +163,7 @@ private:
         float lightPdf = light.delta() ? kInfinity : expected * ls.pdf;
         if (m_rc.spectral)
             ls.weight = m_rc.spectral->lightValue(std::size_t(&light - m_lights.lights.data()),
-                                                  ls.weight, m_lane);
+                                                  ls.weight, m_wl.lane());
         Vec3 c = s.w * s.shaded(ls.wi, lightPdf, !light.delta()) * ls.weight / expected;
         if (isBlack(c)) return;
         emitShadow(i, s.h, s.side(ls.wi), ls.wi, &ls, c);
@@ -211,8 +206,8 @@ private:
                 m_rc.film.add(m_b.pixel[i], s.w * s.bsdf.color * sky, *m_ctx.stats);
                 return;
             }
-            sky = m_rc.spectral->illuminant(sky, m_lane);
-            m_rc.film.add(m_b.pixel[i], m_rc.spectral->toFilm(s.w * s.bsdf.color * sky, m_lane),
+            sky = m_rc.spectral->illuminant(sky, m_wl.lane());
+            m_rc.film.add(m_b.pixel[i], m_rc.spectral->toFilm(s.w * s.bsdf.color * sky, m_wl.lane()),
                           *m_ctx.stats);
             return;
         }
@@ -222,7 +217,7 @@ private:
             EnvironmentSample es = m_lights.environment.sample(u, s.ns);
             Vec3 wi = es.wi;
             if (!es.valid || dot(wi, s.ng) <= 0) continue;
-            if (m_rc.spectral) es.weight = m_rc.spectral->illuminant(es.weight, m_lane);
+            if (m_rc.spectral) es.weight = m_rc.spectral->illuminant(es.weight, m_wl.lane());
             Vec3 c = s.w * s.shaded(wi, float(n) * es.pdf) * es.weight / float(n);
             if (isBlack(c)) continue;
             emitShadow(i, s.h, s.ng, wi, nullptr, c);
@@ -238,8 +233,7 @@ private:
     const std::uint64_t m_seedKey;
     std::uint64_t m_spawned = 0;
     // Spectral mode: the current hit's lane's wavelengths.
-    LaneSpectrum m_lane{};
-    std::optional<SpectralShading> m_shading;
+    LaneShading m_wl{m_rc.spectral};
 };
 
 } // namespace

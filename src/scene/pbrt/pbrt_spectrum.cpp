@@ -24,6 +24,13 @@ Vec3 emissionRgb(const std::function<double(double)>& f) {
     return lum > 0 ? rgb / lum : Vec3(1.0f);
 }
 
+// A reflectance spectrum's colour: its XYZ under D65, sRGB's illuminant (luminance 1), in sRGB
+// (not clamped).
+Vec3 reflectanceRgb(const std::function<double(double)>& f) {
+    const spectral::DenseSpectrum& d65 = *srgb().illuminant;
+    return toSrgb(spectral::toXyz([&](double nm) { return f(nm) * d65.at(float(nm)); }));
+}
+
 } // namespace
 
 void cieColorMatch(double nm, double& x, double& y, double& z) {
@@ -62,9 +69,7 @@ Vec3 sampledEmissionRgb(const std::vector<double>& pairs) {
 }
 
 Vec3 sampledReflectanceRgb(const std::vector<double>& pairs) {
-    const spectral::DenseSpectrum& d65 = *srgb().illuminant; // luminance 1
-    Vec3 rgb = toSrgb(spectral::toXyz(
-        [&](double nm) { return spectral::piecewiseLinear(pairs, nm) * d65.at(float(nm)); }));
+    Vec3 rgb = reflectanceRgb([&](double nm) { return spectral::piecewiseLinear(pairs, nm); });
     return vmin(vmax(rgb, Vec3(0.0f)), Vec3(1.0f));
 }
 
@@ -90,8 +95,7 @@ namespace {
 
 // A reflectance-like spectrum's colour under D65, sRGB's illuminant (luminance 1).
 template <class S> Vec3 underD65(const S& s) {
-    const spectral::DenseSpectrum& d65 = *srgb().illuminant;
-    return toSrgb(spectral::toXyz([&](double nm) { return double(s(float(nm))) * d65.at(float(nm)); }));
+    return reflectanceRgb([&](double nm) { return double(s(float(nm))); });
 }
 
 bool isSrgb(const spectral::ColorSpace& cs) { return cs.id == spectral::ColorSpaceId::Srgb; }
