@@ -3,6 +3,9 @@
 #include "gi/photon_heap.h"
 #include "gi/photon_kdtree.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <limits>
 
@@ -36,9 +39,10 @@ RecordNeighbours::RecordNeighbours(const std::vector<IrradianceRecord>& records)
         nodes[i].split = axis[i];
     }
     // The k nearest of the same facing, by (squared distance, record index): the photon map's
-    // k-nearest collector, handed record indices instead of tree positions.
-    std::uint64_t nearest[kMaxSmoothing];
-    for (std::size_t i = 0; i < n; ++i) {
+    // k-nearest collector, handed record indices instead of tree positions. Each record's list
+    // is its own: the records are shared among the threads.
+    auto findNeighbours = [&](std::size_t i) {
+        std::uint64_t nearest[kMaxSmoothing];
         const Vec3& normal = records[i].normal;
         float maxDist2 = std::numeric_limits<float>::infinity();
         photon_heap::KnnCollector collect{nearest, kMaxSmoothing, 0, maxDist2};
@@ -58,7 +62,11 @@ RecordNeighbours::RecordNeighbours(const std::vector<IrradianceRecord>& records)
             if (j != i && count < kMaxSmoothing) out[count++] = j;
         }
         m_counts[i] = count;
-    }
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) findNeighbours(i);
+                      });
 }
 
 void RecordNeighbours::smooth(const std::vector<double>& values, int channels, int s,

@@ -5,6 +5,8 @@
 
 #include "core/error.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
@@ -72,9 +74,18 @@ void buildRange(BuildKey* keys, std::uint8_t* axis, std::size_t n, StopCheck& st
 bool build(std::vector<BuildKey>& keys, std::vector<std::uint8_t>& axis,
            const std::function<bool()>& stop) {
     RAYPROC_CHECK(keys.size() < (std::size_t(1) << 32));
-    for (const BuildKey& k : keys) {
-        RAYPROC_CHECK(std::isfinite(k.p[0]) && std::isfinite(k.p[1]) && std::isfinite(k.p[2]));
-    }
+    std::atomic<bool> finite{true};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 16384),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          bool ok = true;
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                              const BuildKey& k = keys[i];
+                              ok &= std::isfinite(k.p[0]) && std::isfinite(k.p[1]) &&
+                                    std::isfinite(k.p[2]);
+                          }
+                          if (!ok) finite = false;
+                      });
+    RAYPROC_CHECK(finite.load()); // every position
     axis.assign(keys.size(), 0);
     StopCheck check{stop};
     buildRange(keys.data(), axis.data(), keys.size(), check);

@@ -28,11 +28,19 @@ bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<boo
     RAYPROC_CHECK(photons.size() < (std::size_t(1) << 32));
 
     std::vector<kdtree::BuildKey> keys(photons.size());
-    for (std::size_t i = 0; i < photons.size(); ++i) {
-        const PhotonRecord& ph = photons[i];
-        RAYPROC_CHECK(isFinite(ph.power)); // positions: kdtree::build checks them
-        keys[i] = {{ph.position.x, ph.position.y, ph.position.z}, std::uint32_t(i)};
-    }
+    std::atomic<bool> finite{true};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, photons.size(), 16384),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          bool ok = true;
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                              const PhotonRecord& ph = photons[i];
+                              ok &= isFinite(ph.power);
+                              keys[i] = {{ph.position.x, ph.position.y, ph.position.z},
+                                         std::uint32_t(i)};
+                          }
+                          if (!ok) finite = false;
+                      });
+    RAYPROC_CHECK(finite.load()); // the powers; kdtree::build checks the positions
     std::vector<std::uint8_t> axis;
     if (!kdtree::build(keys, axis, stop)) return false;
 

@@ -8,7 +8,10 @@
 #include "engine/progress.h"
 #include "gi/gi_pipeline.h"
 #include "gi/photon_emitter.h"
+#include "gi/photon_lists.h"
 #include "kernels/random.h"
+
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <cstring>
@@ -100,7 +103,7 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
         if (indirect && p.sampledDirect) return false;
         return !focus.active || focus.bounds.contains(p.position);
     };
-    std::vector<PhotonRecord> photons;
+    std::vector<std::vector<PhotonRecord>> traced;
     std::size_t& landed = done.inView;
     int& rounds = done.rounds;
     while (rounds < std::max(1, pass.maxRounds)) {
@@ -109,32 +112,33 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
             round.tag = kernels::hashCombine(pass.tag, std::uint64_t(rounds));
             round.label = "gi photons, another round";
         }
-        std::vector<PhotonStage::KeyedPhoton> traced =
+        std::vector<PhotonStage::KeyedPhoton> keyed =
             tracePhotons(scene, accel, lights, s, engine, cluster, round, focus, stats);
         PhaseTimer mergePhase(engine.phases, "photon_sort", PhaseKind::Parallel);
-        std::vector<PhotonRecord> more = mergePhotonShares(cluster, std::move(traced));
+        traced.push_back(mergePhotonShares(cluster, std::move(keyed)));
         mergePhase.stop();
         if (stopped(cluster)) return done;
         ++rounds;
-        landed += std::size_t(std::count_if(more.begin(), more.end(), inView));
-        if (photons.empty()) photons = std::move(more);
-        else photons.insert(photons.end(), more.begin(), more.end());
+        landed += std::size_t(std::count_if(traced.back().begin(), traced.back().end(), inView));
         if (landed >= pass.inViewTarget) break;
     }
     // Each round alone carries the lights' whole power.
-    if (rounds > 1)
-        for (PhotonRecord& p : photons) p.power = p.power / float(rounds);
-    auto stop = [] { return interruptRequested(); };
-    if (indirect) {
-        std::vector<PhotonRecord> scattered;
-        std::copy_if(photons.begin(), photons.end(), std::back_inserter(scattered),
-                     [](const PhotonRecord& p) { return p.sampledDirect == 0; });
-        if (!indirect->build(std::move(scattered), stop)) return done;
-    }
+    std::vector<PhotonRecord> photons = joinRounds(traced, rounds > 1 ? float(rounds) : 1.0f);
     double unit = PhotonEmitter::powerUnit(lights, scene.worldBounds());
     if (indirect) indirect->setPowerUnit(unit);
     map.setPowerUnit(unit);
-    map.build(std::move(photons), stop);
+    auto stop = [] { return interruptRequested(); };
+    if (!indirect) {
+        map.build(std::move(photons), stop);
+        return done;
+    }
+    // The two kd-trees at once: each one's top levels run on one thread.
+    std::vector<PhotonRecord> scattered = scatteredPhotons(photons);
+    bool indirectBuilt = true;
+    tbb::parallel_invoke(
+        [&] { indirectBuilt = indirect->build(std::move(scattered), stop); },
+        [&] { map.build(std::move(photons), stop); });
+    if (!indirectBuilt) map.build({}); // as before: nothing once the indirect map was cut short
     return done;
 }
 

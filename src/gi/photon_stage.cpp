@@ -3,6 +3,7 @@
 #include "engine/path_state.h"
 #include "engine/material_bsdf.h"
 #include "gi/gi_pipeline.h"
+#include "gi/photon_lists.h"
 #include "kernels/bsdf_sampling.h"
 
 #include <tbb/blocked_range.h>
@@ -91,19 +92,12 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
 
 std::vector<PhotonStage::KeyedPhoton> PhotonStage::takeKeyedPhotons(
     const std::function<bool()>& stop) {
-    std::size_t total = 0;
-    for (auto& v : m_stored) total += v.size();
-    std::vector<KeyedPhoton> all;
-    all.reserve(total);
-    for (auto& v : m_stored) {
-        all.insert(all.end(), v.begin(), v.end());
-        v.clear();
-        v.shrink_to_fit();
-    }
     if (stop && stop()) return {};
-    // Keys (photon index, depth) are unique, so the parallel sort's order is the only order.
-    tbb::parallel_sort(all.begin(), all.end(),
-                       [](const auto& a, const auto& b) { return a.first < b.first; });
+    // Keys (photon index, depth) are unique, so key order is the only order, whatever thread
+    // stored which photon.
+    std::vector<std::vector<KeyedPhoton>*> runs;
+    for (auto& v : m_stored) runs.push_back(&v);
+    std::vector<KeyedPhoton> all = keyedInOrder(std::move(runs));
     if (stop && stop()) return {};
     return all;
 }

@@ -8,6 +8,7 @@
 
 #include "engine/render_context.h"
 #include "engine/stage.h"
+#include "gi/photon_lists.h"
 #include "gi/photon_map.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -40,7 +41,7 @@ public:
           m_maxDepth(maxDepth) {}
     void retrace(RayBatch& batch, StageContext& ctx) override;
     // A photon's key: its index and bounce, (index << 8) | depth, unique in a pass.
-    using KeyedPhoton = std::pair<std::uint64_t, PhotonRecord>;
+    using KeyedPhoton = rayproc::KeyedPhoton;
     // The stored photons in key order (photon index, then bounce), whatever the threads;
     // nothing when `stop` turns true.
     std::vector<KeyedPhoton> takeKeyedPhotons(const std::function<bool()>& stop = {});
@@ -55,7 +56,7 @@ private:
     bool m_causticPass;
     bool m_roughCaustics;
     int m_maxDepth;
-    tbb::enumerable_thread_specific<std::vector<std::pair<std::uint64_t, PhotonRecord>>> m_stored;
+    tbb::enumerable_thread_specific<std::vector<KeyedPhoton>> m_stored;
 };
 
 } // namespace rayproc

@@ -361,8 +361,11 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     Stats refineStats;
     std::optional<CacheRefinement> refinement;
     if (s.irradianceCache && (s.icRefineRays > 0 || s.icCorrectionRays > 0) && plan.globalMap &&
-        cache.size() > 0 && s.debugView == GiDebugView::None)
+        cache.size() > 0 && s.debugView == GiDebugView::None) {
+        // The records' sums and each record's neighbours (a k-nearest search per record).
+        PhaseTimer setupPhase(engine.phases, "refinement_setup", PhaseKind::Parallel);
         refinement.emplace(scene, accel, lights, gi, cache, engine, cluster, refineStats);
+    }
     // Without diffuse surfaces the gather stage would never get work: not registered.
     std::function<void(int, int)> beforePass;
     if ((maps.progressive || refinement) && plan.globalMap)
