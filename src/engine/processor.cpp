@@ -14,7 +14,17 @@ namespace rayproc {
 // Every batch must have been flushed, except when an exception (out of memory in a stage)
 // unwinds the processor: then the partial batches are simply dropped with the render.
 StageContext::~StageContext() {
-    if (std::uncaught_exceptions() == 0) RAYPROC_CHECK(!flush());
+    if (std::uncaught_exceptions() == 0) RAYPROC_CHECK(noneReady() && !flush());
+}
+
+void StageContext::discard() {
+    for (RayBatch*& b : m_open)
+        if (b) {
+            m_pool.release(b);
+            b = nullptr;
+        }
+    while (m_readyCount > 0) m_pool.release(m_ready[--m_readyCount]);
+    returnSpent();
 }
 
 bool StageContext::flush() {
@@ -51,11 +61,11 @@ void RayProcessor::process(RayBatch* batch, StageContext& ctx) {
     }
     m_intersector.trace(*batch, stats, m_queries[int(batch->kind)]);
     stage->retrace(*batch, ctx);
-    m_pool.release(batch);
+    ctx.release(batch);
 }
 
-// One worker: pop and process queued batches first (finish work in flight), emit new work
-// only when the queue is empty, and flush its own partial batches before it leaves. It leaves
+// One worker: pop and process its own kept batches, then queued ones, first (finish work in
+// flight), emit new work only when there are none, and flush its own partial batches before it leaves. It leaves
 // when nothing is queued, nothing can be emitted and no other worker is busy, or when any worker
 // failed: an exception (out of memory in a stage) is kept for run() to rethrow, and the others
 // must not wait for the busy count the failed worker can no longer lower.
@@ -63,6 +73,7 @@ void RayProcessor::worker(Emitter& emitter, const std::function<bool()>& stopEmi
     auto& slot = m_contexts.local();
     if (!slot) slot = std::make_unique<StageContext>(m_queue, m_pool);
     StageContext& ctx = *slot;
+    ctx.keepLocal(&m_emitterDone);
     ctx.stats = &m_stats.local();
     for (;;) {
         if (m_failed.load(std::memory_order_acquire)) return;
@@ -70,7 +81,7 @@ void RayProcessor::worker(Emitter& emitter, const std::function<bool()>& stopEmi
         bool worked = false;
         try {
             RayBatch* b = nullptr;
-            if (m_queue.tryPop(b)) {
+            if (ctx.popLocal(b) || m_queue.tryPop(b)) {
                 process(b, ctx);
                 worked = true;
             } else if (!m_emitterDone.load(std::memory_order_acquire)) {
@@ -113,7 +124,7 @@ void RayProcessor::run(Emitter& emitter, const std::function<bool()>& stopEmitti
     }
     // Workers flush their own staging before leaving; nothing may remain.
     RAYPROC_CHECK(m_queue.empty());
-    for (auto& c : m_contexts) RAYPROC_CHECK(!c->flush());
+    for (auto& c : m_contexts) RAYPROC_CHECK(c->noneReady() && !c->flush());
 }
 
 } // namespace rayproc

@@ -24,10 +24,14 @@ RayBatch* BatchPool::acquire(RayKind kind) {
         m_owned.push_back(std::move(owned));
         ++m_allocated;
     }
+    reuse(b, kind);
+    return b;
+}
+
+void BatchPool::reuse(RayBatch* b, RayKind kind) {
     b->kind = kind;
     b->count = 0;
     b->fresh = kind == RayKind::Camera;
-    return b;
 }
 
 void BatchPool::release(RayBatch* b) { m_free.push(b); }

@@ -17,6 +17,8 @@ class BatchPool {
 public:
     RayBatch* acquire(RayKind kind);
     void release(RayBatch* b);
+    // An empty batch of `kind` made of a spent one.
+    static void reuse(RayBatch* b, RayKind kind);
     std::size_t allocated() const { return m_allocated.load(); }
     ~BatchPool();
 

@@ -8,25 +8,40 @@
 #include "engine/stats.h"
 
 #include <array>
+#include <atomic>
 
 namespace rayproc {
 
 // Per-thread staging: one open batch per ray kind. Full batches go to the central queue; the
 // partial ones are flushed when the thread runs out of work.
+//
+// Under a processor (keepLocal) a thread also keeps what stays hot in its own caches: up to
+// kLocalReady full batches of secondary rays, which it traces next itself (last in, first out)
+// instead of handing them through the central queue to another core, and up to kLocalFree
+// spent batches, which it fills again before taking one from the shared pool. Camera batches,
+// what overflows and everything once the emitter is done (`tail`) go to the central queue, so
+// other threads find work whenever there is any to share.
 class StageContext {
 public:
+    static constexpr int kLocalReady = 4;
+    static constexpr int kLocalFree = 8;
+
     StageContext(RayQueue& queue, BatchPool& pool) : m_queue(queue), m_pool(pool) {}
     StageContext(const StageContext&) = delete;
     ~StageContext();
+
+    // Keep full secondary batches on this thread while *tail is false (the processor's "the
+    // emitter is done" flag).
+    void keepLocal(const std::atomic<bool>* tail) { m_tail = tail; }
 
     // A batch of `kind` with room for at least one more ray.
     RayBatch& out(RayKind kind) {
         RayBatch*& b = m_open[int(kind)];
         if (b && b->full()) {
-            m_queue.push(b);
+            push(b);
             b = nullptr;
         }
-        if (!b) b = m_pool.acquire(kind);
+        if (!b) b = acquire(kind);
         return *b;
     }
     // Pushes every non-empty open batch to the queue; returns whether any was pushed.
@@ -35,26 +50,56 @@ public:
     void flush(RayKind kind) {
         RayBatch*& b = m_open[int(kind)];
         if (b && b->count > 0) {
-            m_queue.push(b);
+            push(b);
             b = nullptr;
         }
     }
+    // Whether this thread holds no full batch of its own.
+    bool noneReady() const { return m_readyCount == 0; }
+    // The batch this thread queued last for itself, if any.
+    bool popLocal(RayBatch*& b) {
+        if (m_readyCount == 0) return false;
+        b = m_ready[--m_readyCount];
+        return true;
+    }
+    // A traced batch back to this thread's spent batches (the pool's when they are full).
+    void release(RayBatch* b) {
+        if (m_tail && m_freeCount < kLocalFree) m_free[m_freeCount++] = b;
+        else m_pool.release(b);
+    }
 
-    // Returns every open batch to the pool unsent (a run that failed drops its work).
-    void discard() {
-        for (RayBatch*& b : m_open)
-            if (b) {
-                m_pool.release(b);
-                b = nullptr;
-            }
+    // Returns every open, ready and spent batch to the pool unsent (a run that failed drops
+    // its work; a run that ends gives its spent batches back).
+    void discard();
+    void returnSpent() {
+        while (m_freeCount > 0) m_pool.release(m_free[--m_freeCount]);
     }
 
     ThreadStats* stats = nullptr; // set by the processor for the running thread
 
 private:
+    void push(RayBatch* b) {
+        if (m_tail && !b->fresh && m_readyCount < kLocalReady &&
+            !m_tail->load(std::memory_order_relaxed))
+            m_ready[m_readyCount++] = b;
+        else
+            m_queue.push(b);
+    }
+    RayBatch* acquire(RayKind kind) {
+        if (m_freeCount == 0) return m_pool.acquire(kind);
+        RayBatch* b = m_free[--m_freeCount];
+        BatchPool::reuse(b, kind);
+        return b;
+    }
+
     RayQueue& m_queue;
     BatchPool& m_pool;
     std::array<RayBatch*, kRayKindCount> m_open{};
+    const std::atomic<bool>* m_tail = nullptr;
+    std::array<RayBatch*, kLocalReady> m_ready{};
+    int m_readyCount = 0;
+    std::array<RayBatch*, kLocalFree> m_free{};
+    int m_freeCount = 0;
 };
 
 class Emitter {
