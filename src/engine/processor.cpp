@@ -65,21 +65,31 @@ void RayProcessor::process(RayBatch* batch, StageContext& ctx) {
 }
 
 // One worker: pop and process its own kept batches, then queued ones, first (finish work in
-// flight), emit new work only when there are none, and flush its own partial batches before it leaves. It leaves
-// when nothing is queued, nothing can be emitted and no other worker is busy, or when any worker
-// failed: an exception (out of memory in a stage) is kept for run() to rethrow, and the others
-// must not wait for the busy count the failed worker can no longer lower.
+// flight), emit new work only when there are none, and flush its own partial batches before it
+// leaves. A worker that keeps batches counts as busy until it has traced them, and hands them
+// to the queue once the emitter is done, so no other worker leaves while work remains that it
+// could share. It leaves when nothing is queued, nothing can be emitted and no other worker is
+// busy, or when any worker failed: an exception (out of memory in a stage) is kept for run()
+// to rethrow, and the others must not wait for the busy count the failed worker can no longer
+// lower.
 void RayProcessor::worker(Emitter& emitter, const std::function<bool()>& stopEmitting) {
     auto& slot = m_contexts.local();
     if (!slot) slot = std::make_unique<StageContext>(m_queue, m_pool);
     StageContext& ctx = *slot;
     ctx.keepLocal(&m_emitterDone);
     ctx.stats = &m_stats.local();
+    bool counted = false; // this worker is in m_busy
     for (;;) {
-        if (m_failed.load(std::memory_order_acquire)) return;
-        m_busy.fetch_add(1, std::memory_order_acq_rel);
+        if (m_failed.load(std::memory_order_acquire)) {
+            if (counted) m_busy.fetch_sub(1, std::memory_order_acq_rel);
+            return;
+        }
+        if (!counted) m_busy.fetch_add(1, std::memory_order_acq_rel);
+        counted = true;
         bool worked = false;
         try {
+            if (!ctx.noneReady() && m_emitterDone.load(std::memory_order_acquire))
+                ctx.shareKept();
             RayBatch* b = nullptr;
             if (ctx.popLocal(b) || m_queue.tryPop(b)) {
                 process(b, ctx);
@@ -98,7 +108,10 @@ void RayProcessor::worker(Emitter& emitter, const std::function<bool()>& stopEmi
             m_busy.fetch_sub(1, std::memory_order_acq_rel);
             return;
         }
-        m_busy.fetch_sub(1, std::memory_order_acq_rel);
+        if (ctx.noneReady()) {
+            m_busy.fetch_sub(1, std::memory_order_acq_rel);
+            counted = false;
+        }
         if (worked) continue;
         if (m_busy.load(std::memory_order_acquire) == 0 && m_queue.empty() &&
             m_emitterDone.load(std::memory_order_acquire))

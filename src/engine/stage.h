@@ -56,6 +56,11 @@ public:
     }
     // Whether this thread holds no full batch of its own.
     bool noneReady() const { return m_readyCount == 0; }
+    // Hands the batches this thread kept to the central queue (once the emitter is done, so
+    // that the last of a run's work is shared).
+    void shareKept() {
+        while (m_readyCount > 0) m_queue.push(m_ready[--m_readyCount]);
+    }
     // The batch this thread queued last for itself, if any.
     bool popLocal(RayBatch*& b) {
         if (m_readyCount == 0) return false;
