@@ -59,6 +59,7 @@ std::string RenderConfig::settingsString() const {
     if (!engine.diffuseMis && (mode == "gi" || mode == "raytrace")) o << " no-diffuse-mis";
     if (engine.packetWidth != 16) o << " packets=" << engine.packetWidth;
     if (engine.seed != 1) o << " seed=" << engine.seed;
+    if (engine.spectral) o << " spectral";
     return o.str();
 }
 

@@ -27,7 +27,8 @@ struct RenderConfig : ModeSettings {
     int spp() const;
     // The results.csv settings column: "spp=N" plus, for gi, the swept settings
     // ("gather=64 ic=0.25 photons=200000"), plus every switch that is off ("packets=1",
-    // "no-irradiance-cache", ...). Enough to reproduce the render with `rayproc render`.
+    // "no-irradiance-cache", ...), plus "spectral" for a spectral render. Enough to reproduce
+    // the render with `rayproc render`.
     std::string settingsString() const;
 };
 

@@ -12,7 +12,7 @@ std::string sceneJobName(const SceneJob& job) {
 }
 
 BenchScene prepareBenchScene(const SceneJob& job, const std::string& refsDir, int cacheSpp,
-                             int threads) {
+                             int threads, bool spectral) {
     const int width = job.width, height = job.height;
     BenchScene b;
     b.file = job.file;
@@ -40,8 +40,9 @@ BenchScene prepareBenchScene(const SceneJob& job, const std::string& refsDir, in
     }
     b.source = ReferenceSource::Cache;
     b.referenceSpp = cacheSpp;
-    b.reference =
-        loadOrRenderReference(*b.scene, *b.accel, job.file, refsDir, cacheSpp, threads, b.name);
+    b.referenceSpectral = spectral;
+    b.reference = loadOrRenderReference(*b.scene, *b.accel, job.file, refsDir, cacheSpp, threads,
+                                        b.name, spectral);
     return b;
 }
 

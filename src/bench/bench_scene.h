@@ -38,6 +38,7 @@ struct BenchScene {
     Reference reference;
     ReferenceSource source = ReferenceSource::Cache;
     int referenceSpp = 0; // 0: unknown (a given image)
+    bool referenceSpectral = false; // a cached reference rendered spectrally (bench --spectral)
 };
 
 // The results' name of the job's scene: its name, else its file's stem.
@@ -45,9 +46,9 @@ std::string sceneJobName(const SceneJob& job);
 
 // Loads the job's scene at the job's width x height and its reference: a given image must have
 // that size (InputError otherwise); a shipped one of another size is passed over for the cache,
-// which renders path mode at `cacheSpp` if it has no such image yet. A cancelled reference
-// render leaves reference.cancelled set.
+// which renders path mode at `cacheSpp` (spectrally when `spectral`) if it has no such image
+// yet. A cancelled reference render leaves reference.cancelled set.
 BenchScene prepareBenchScene(const SceneJob& job, const std::string& refsDir, int cacheSpp,
-                             int threads);
+                             int threads, bool spectral = false);
 
 } // namespace rayproc::bench

@@ -25,22 +25,23 @@ std::uint64_t hashFile(const std::string& path) {
 }
 
 std::string referencePath(const std::string& refsDir, const std::string& sceneFile, int width,
-                          int height, int spp, const std::string& name) {
+                          int height, int spp, const std::string& name, bool spectral) {
     char hash[20];
     std::snprintf(hash, sizeof hash, "%016llx", (unsigned long long)hashFile(sceneFile));
     std::string stem = name.empty() ? std::filesystem::path(sceneFile).stem().string() : name;
     return (std::filesystem::path(refsDir) /
-            (stem + "-" + std::to_string(width) + "x" + std::to_string(height) + "-path-" +
+            (stem + "-" + std::to_string(width) + "x" + std::to_string(height) +
+             (spectral ? "-path-spectral-" : "-path-") +
              std::to_string(spp) + "-" + hash + ".exr"))
         .string();
 }
 
 Reference loadOrRenderReference(const Scene& scene, const EmbreeScene& accel,
                                 const std::string& sceneFile, const std::string& refsDir, int spp,
-                                int threads, const std::string& name) {
+                                int threads, const std::string& name, bool spectral) {
     Reference ref;
-    ref.path =
-        referencePath(refsDir, sceneFile, scene.camera.width, scene.camera.height, spp, name);
+    ref.path = referencePath(refsDir, sceneFile, scene.camera.width, scene.camera.height, spp,
+                             name, spectral);
     if (std::filesystem::exists(ref.path)) {
         ref.image = readImage(ref.path);
         if (ref.image.width == scene.camera.width && ref.image.height == scene.camera.height)
@@ -50,6 +51,7 @@ Reference loadOrRenderReference(const Scene& scene, const EmbreeScene& accel,
     RenderConfig c = RenderConfig::forMode(scene, "path", spp);
     c.engine.seed = kReferenceSeed;
     c.engine.threads = threads;
+    c.engine.spectral = spectral;
     TimedRender t = renderTimed(scene, accel, c);
     ref.rendered = true;
     ref.seconds = t.seconds;

@@ -27,12 +27,18 @@ std::string formatSeconds(double s) {
     return buf;
 }
 
+bool rendersSpectrally(const std::string& mode) {
+    const ModeEntry* entry = findMode(mode);
+    return entry && entry->spectral;
+}
+
 // The configurations a mode's ladder runs: one, or one per swept gi setting.
 std::vector<RenderConfig> ladderConfigs(const BenchScene& b, const BenchSuite& suite,
-                                        const ModeLadder& ladder, int threads) {
+                                        const ModeLadder& ladder, const BenchOptions& options) {
     std::vector<RenderConfig> configs;
     RenderConfig base = RenderConfig::forMode(*b.scene, ladder.mode, ladder.spp.front());
-    base.engine.threads = threads;
+    base.engine.threads = options.threads;
+    base.engine.spectral = options.spectral;
     if (ladder.mode != "gi") return {base};
     for (const GiVariant& v : suite.giVariants) {
         RenderConfig c = base;
@@ -40,6 +46,51 @@ std::vector<RenderConfig> ladderConfigs(const BenchScene& b, const BenchSuite& s
         configs.push_back(c);
     }
     return configs;
+}
+
+// --reference SPEC (FILE, or NAME=FILE) onto its job: the image read once, the job's size set
+// to the image's.
+void giveReference(std::vector<SceneJob>& jobs, const std::string& spec) {
+    namespace fs = std::filesystem;
+    // NAME=FILE, unless the whole argument is a file (a file name may hold '=').
+    std::string name, file = spec;
+    std::size_t eq = spec.find('=');
+    if (eq != std::string::npos && !fs::is_regular_file(spec)) {
+        name = spec.substr(0, eq);
+        file = spec.substr(eq + 1);
+    }
+    SceneJob* job = nullptr;
+    if (name.empty()) {
+        if (jobs.size() != 1)
+            throw InputError("--reference " + spec + " is the reference of one scene, but "
+                             "the run has " + std::to_string(jobs.size()) +
+                             " scenes; pick one with --scene FILE or name it: "
+                             "--reference NAME=FILE");
+        job = &jobs[0];
+    } else {
+        std::string names;
+        for (SceneJob& j : jobs) {
+            if (sceneJobName(j) == name) job = &j;
+            names += (names.empty() ? "" : ", ") + sceneJobName(j);
+        }
+        if (!job)
+            throw InputError("--reference " + spec + ": the run has no scene called '" +
+                             name + "' (its scenes: " + names + ")");
+    }
+    if (job->source == ReferenceSource::Given)
+        throw InputError("--reference " + spec + ": " + sceneJobName(*job) +
+                         " already has a reference (" + job->reference + ")");
+    if (!fs::is_regular_file(file))
+        throw InputError("--reference " + spec + ": " + file + ": no such file");
+    // The scene renders at its reference's size.
+    auto image = std::make_shared<const Image>(readImage(file));
+    nonFiniteReferencePixels(*image, file); // some left out of the error; none is an error
+    job->width = image->width;
+    job->height = image->height;
+    job->givenImage = image;
+    job->reference = file;
+    job->referenceSpp = 0;
+    job->source = ReferenceSource::Given;
 }
 
 } // namespace
@@ -69,7 +120,8 @@ std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions
             RenderSize size = renderSize(suite, s);
             job.width = size.width;
             job.height = size.height;
-            if (!s.shippedReference.empty()) {
+            // The shipped golden images are RGB renders: a spectral run renders its own.
+            if (!s.shippedReference.empty() && !options.spectral) {
                 fs::path ref = fs::path(options.scenesDir) / s.shippedReference;
                 if (fs::is_regular_file(ref)) {
                     job.reference = ref.lexically_normal().string();
@@ -87,47 +139,7 @@ std::vector<SceneJob> benchSceneJobs(const BenchSuite& suite, const BenchOptions
                                   ? " (" + fs::absolute(j.file).lexically_normal().string() +
                                         "; the suite's scenes are looked up in --scenes-dir)"
                                   : std::string()));
-    for (const std::string& spec : options.referenceImages) {
-        // NAME=FILE, unless the whole argument is a file (a file name may hold '=').
-        std::string name, file = spec;
-        std::size_t eq = spec.find('=');
-        if (eq != std::string::npos && !fs::is_regular_file(spec)) {
-            name = spec.substr(0, eq);
-            file = spec.substr(eq + 1);
-        }
-        SceneJob* job = nullptr;
-        if (name.empty()) {
-            if (jobs.size() != 1)
-                throw InputError("--reference " + spec + " is the reference of one scene, but "
-                                 "the run has " + std::to_string(jobs.size()) +
-                                 " scenes; pick one with --scene FILE or name it: "
-                                 "--reference NAME=FILE");
-            job = &jobs[0];
-        } else {
-            std::string names;
-            for (SceneJob& j : jobs) {
-                if (sceneJobName(j) == name) job = &j;
-                names += (names.empty() ? "" : ", ") + sceneJobName(j);
-            }
-            if (!job)
-                throw InputError("--reference " + spec + ": the run has no scene called '" +
-                                 name + "' (its scenes: " + names + ")");
-        }
-        if (job->source == ReferenceSource::Given)
-            throw InputError("--reference " + spec + ": " + sceneJobName(*job) +
-                             " already has a reference (" + job->reference + ")");
-        if (!fs::is_regular_file(file))
-            throw InputError("--reference " + spec + ": " + file + ": no such file");
-        // The scene renders at its reference's size.
-        auto image = std::make_shared<const Image>(readImage(file));
-        nonFiniteReferencePixels(*image, file); // some left out of the error; none is an error
-        job->width = image->width;
-        job->height = image->height;
-        job->givenImage = image;
-        job->reference = file;
-        job->referenceSpp = 0;
-        job->source = ReferenceSource::Given;
-    }
+    for (const std::string& spec : options.referenceImages) giveReference(jobs, spec);
     return jobs;
 }
 
@@ -143,8 +155,8 @@ bool forEachBenchScene(const std::vector<SceneJob>& jobs, const BenchSuite& suit
     return true;
 }
 
-std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOptions& options) {
-    if (options.modes.empty()) return suite.ladders;
+// The ladders of the modes --modes names, in its order.
+std::vector<ModeLadder> namedLadders(const BenchSuite& suite, const BenchOptions& options) {
     std::vector<ModeLadder> ladders;
     std::string known;
     for (const ModeLadder& l : suite.ladders) known += (known.empty() ? "" : ", ") + l.mode;
@@ -161,19 +173,50 @@ std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOpti
     return ladders;
 }
 
+std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOptions& options) {
+    std::vector<ModeLadder> ladders =
+        options.modes.empty() ? suite.ladders : namedLadders(suite, options);
+    if (!options.spectral) return ladders;
+    // A mode the user named is refused rather than silently dropped; the suite's own are
+    // skipped (spectralSkippedModes says which).
+    for (const ModeLadder& l : ladders)
+        if (!rendersSpectrally(l.mode) && !options.modes.empty())
+            throw InputError("--modes " + l.mode + " with --spectral: " + l.mode +
+                             " cannot render spectrally yet (docs/spectral.md); leave it out of "
+                             "--modes, or bench it without --spectral");
+    ladders.erase(std::remove_if(ladders.begin(), ladders.end(),
+                                 [](const ModeLadder& l) { return !rendersSpectrally(l.mode); }),
+                  ladders.end());
+    if (ladders.empty())
+        throw InputError("--spectral: no mode of suite '" + suite.name +
+                         "' renders spectrally (docs/spectral.md)");
+    return ladders;
+}
+
+std::vector<std::string> spectralSkippedModes(const BenchSuite& suite,
+                                              const BenchOptions& options) {
+    std::vector<std::string> skipped;
+    if (!options.spectral || !options.modes.empty()) return skipped;
+    for (const ModeLadder& l : suite.ladders)
+        if (!rendersSpectrally(l.mode)) skipped.push_back(l.mode);
+    return skipped;
+}
+
 BenchScene prepareForSuite(const SceneJob& job, const BenchSuite& suite,
                            const BenchOptions& options, const BenchLog& log) {
     std::string refsDir = options.refsDir.empty()
                               ? (std::filesystem::path(options.outDir) / "refs").string()
                               : options.refsDir;
     if (job.reference.empty() &&
-        !std::filesystem::exists(
-            referencePath(refsDir, job.file, job.width, job.height, suite.referenceSpp,
-                          sceneJobName(job))))
-        log("rendering the reference of " + job.file + " (path mode, " +
+        !std::filesystem::exists(referencePath(refsDir, job.file, job.width, job.height,
+                                               suite.referenceSpp, sceneJobName(job),
+                                               options.spectral)))
+        log("rendering the reference of " + job.file + " (path mode" +
+            (options.spectral ? ", spectral, " : ", ") +
             std::to_string(suite.referenceSpp) + " spp, " + std::to_string(job.width) + "x" +
             std::to_string(job.height) + "); it is cached in " + refsDir);
-    BenchScene b = prepareBenchScene(job, refsDir, suite.referenceSpp, options.threads);
+    BenchScene b =
+        prepareBenchScene(job, refsDir, suite.referenceSpp, options.threads, options.spectral);
     if (b.reference.rendered && !b.reference.cancelled)
         log("  done in " + formatSeconds(b.reference.seconds) + ": " + b.reference.path);
     return b;
@@ -190,6 +233,7 @@ SceneInfo sceneInfo(const BenchScene& b) {
     i.referencePath = b.reference.path;
     i.referenceSource = b.source;
     i.referenceSpp = b.referenceSpp;
+    i.referenceSpectral = b.referenceSpectral;
     i.referenceRendered = b.reference.rendered;
     i.referenceSeconds = b.reference.seconds;
     return i;
@@ -212,9 +256,10 @@ SceneInfo describeSceneJob(const SceneJob& job, const BenchSuite& suite,
         std::string refsDir = options.refsDir.empty()
                                   ? (std::filesystem::path(options.outDir) / "refs").string()
                                   : options.refsDir;
-        i.referencePath =
-            referencePath(refsDir, job.file, job.width, job.height, suite.referenceSpp, i.name);
+        i.referencePath = referencePath(refsDir, job.file, job.width, job.height,
+                                        suite.referenceSpp, i.name, options.spectral);
         i.referenceSpp = suite.referenceSpp;
+        i.referenceSpectral = options.spectral;
     }
     return i;
 }
@@ -234,7 +279,7 @@ LadderRun runLadders(const std::vector<SceneJob>& jobs, const BenchSuite& suite,
     run.interrupted = !forEachBenchScene(jobs, suite, options, log, run.scenes,
                                          [&](const BenchScene& b) {
         for (const ModeLadder& ladder : selectedLadders(suite, options)) {
-            for (RenderConfig c : ladderConfigs(b, suite, ladder, options.threads)) {
+            for (RenderConfig c : ladderConfigs(b, suite, ladder, options)) {
                 double prevSeconds = 0;
                 for (std::size_t k = 0; k < ladder.spp.size(); ++k) {
                     int spp = ladder.spp[k];
@@ -273,7 +318,7 @@ LadderRun runProgressive(const std::vector<SceneJob>& jobs, const BenchSuite& su
     run.interrupted = !forEachBenchScene(jobs, suite, options, log, run.scenes,
                                          [&](const BenchScene& b) {
         for (const ModeLadder& ladder : selectedLadders(suite, options)) {
-            RenderConfig c = ladderConfigs(b, suite, ladder, options.threads).front();
+            RenderConfig c = ladderConfigs(b, suite, ladder, options).front();
             // As many samples as the time allows: the limit ends the render.
             c.setSpp(kProgressiveSpp);
             c.engine.timeLimitSeconds = timeLimit;

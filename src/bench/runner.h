@@ -26,6 +26,10 @@ struct BenchOptions {
     std::vector<std::string> peerCsvs;   // --peer-csv
     int threads = 0;                     // engine threads, 0 = all cores
     double timeCapSeconds = 0;           // > 0: instead of the suite's
+    // --spectral: every render spectral (docs/spectral.md), the cached references too (the
+    // shipped golden images, RGB renders, are passed over); modes that cannot render
+    // spectrally (gi) are skipped, or refused when --modes names them.
+    bool spectral = false;
     bool quiet = false;
 };
 
@@ -37,6 +41,7 @@ struct SceneInfo {
     std::string referencePath;
     ReferenceSource referenceSource = ReferenceSource::Cache;
     int referenceSpp = 0; // 0: unknown (given with --reference)
+    bool referenceSpectral = false;
     bool referenceRendered = false;
     double referenceSeconds = 0;
 };
@@ -81,9 +86,14 @@ bool forEachBenchScene(const std::vector<SceneJob>& jobs, const BenchSuite& suit
                        std::vector<SceneInfo>& scenes,
                        const std::function<bool(const BenchScene&)>& body);
 
-// The suite's ladders, only those of options.modes when it names some. Throws InputError
-// naming a mode the suite does not have.
+// The suite's ladders, only those of options.modes when it names some; with --spectral, only
+// the modes that render spectrally. Throws InputError naming a mode the suite does not have,
+// or one --modes names that cannot render spectrally under --spectral.
 std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOptions& options);
+// The suite's modes that --spectral skips (those that cannot render spectrally), for the run
+// to say so; empty without --spectral or with --modes (which refuses them instead).
+std::vector<std::string> spectralSkippedModes(const BenchSuite& suite,
+                                              const BenchOptions& options);
 
 // Renders every ladder of the suite; stops early (interrupted = true) on Ctrl-C, keeping the
 // rows of the renders that completed.

@@ -164,7 +164,8 @@ void writeSceneTable(std::ostringstream& o, const SummaryContext& ctx, const std
         if (size.empty()) o << s.width << "x" << s.height << " | ";
         switch (s.referenceSource) {
         case ReferenceSource::Cache:
-            o << "path, " << s.referenceSpp << " spp, its own seed ("
+            o << (s.referenceSpectral ? "path (spectral), " : "path, ") << s.referenceSpp
+              << " spp, its own seed ("
               << (s.referenceRendered ? "rendered in this run, " + secs(s.referenceSeconds)
                                       : std::string("cached"))
               << ")";

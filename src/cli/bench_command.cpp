@@ -78,6 +78,7 @@ std::string commandLine(const BenchArgs& a, const std::string& suite) {
             s += (i ? "," : "") + a.options.modes[i];
     }
     if (a.options.progressive) s += " --progressive";
+    if (a.options.spectral) s += " --spectral";
     for (const std::string& f : a.options.peerCsvs) s += " --peer-csv " + f;
     if (a.options.threads > 0) s += " --threads " + std::to_string(a.options.threads);
     if (a.options.timeCapSeconds > 0) {
@@ -121,6 +122,10 @@ const BenchSuite& selectSuite(BenchArgs& a, const std::string& suiteName) {
     if (a.ablation && o.progressive)
         throw InputError("--progressive renders the curves; --ablation renders each "
                          "optimisation on and off at one budget: pick one");
+    if (a.ablation && o.spectral)
+        throw InputError("--spectral renders the curves spectrally; --ablation measures the "
+                         "optimisations in RGB (most are gi's, which cannot render spectrally "
+                         "yet): pick one");
     if (a.ablation && !o.modes.empty())
         throw InputError("--modes selects the curves' modes; --ablation renders its own fixed "
                          "list of optimisations in path and gi mode");
@@ -205,6 +210,12 @@ int runBench(BenchArgs& a) {
     // (given references already read).
     std::vector<SceneJob> jobs = benchSceneJobs(suite, o);
     selectedLadders(suite, o);
+    // Said even with --quiet: the run's results lack these modes.
+    for (const std::string& mode : spectralSkippedModes(suite, o))
+        std::fprintf(stderr,
+                     "rayproc bench: --spectral: skipping %s, which cannot render spectrally yet "
+                     "(docs/spectral.md)\n",
+                     mode.c_str());
     std::string resultsPath = (fs::path(o.outDir) / "results.csv").string();
     checkBenchFiles(a, jobs, resultsPath);
 
@@ -270,6 +281,11 @@ std::function<int()> addBenchCommand(CLI::App& app) {
                   "Instead of the ladders: each mode renders once with its defaults, passes of "
                   "1 spp until the time cap, its error measured after every pass (one "
                   "results.csv row per pass): the curve of a user's time-limited render");
+    cmd->add_flag("--spectral", args->options.spectral,
+                  "Render spectrally (docs/spectral.md): every mode's renders and the cached "
+                  "path references (refs/<scene>-<w>x<h>-path-spectral-...; the shipped golden "
+                  "images are RGB, so they are not used). gi cannot render spectrally yet: it is "
+                  "skipped (refused if --modes names it); --ablation refuses --spectral");
     cmd->add_option("--peer-csv", args->options.peerCsvs,
                     "Results of another renderer, columns as results.csv (repeatable): added to "
                     "the plots and tables as their own modes")

@@ -224,3 +224,81 @@ TEST_CASE("rayproc bench names what is wrong with --reference, --modes and --pro
         CHECK(!std::filesystem::exists(dir.file("out/results.csv")));
     }
 }
+
+TEST_CASE("rayproc bench --spectral renders spectrally, its references too, and skips gi",
+          "[cli][bench]") {
+    test::TempDir dir;
+    const std::string scenes = (test::sourceDir() / "scenes").string();
+    std::string out = dir.file("bench");
+    // The quick suite with a short time cap: each ladder stops after a render or two. Without
+    // --modes the suite's gi is skipped, and said so.
+    test::RunResult r = test::runRayproc({"bench", "--quick", "--spectral", "--time-cap", "0.3",
+                                          "-o", out, "--scenes-dir", scenes},
+                                         dir, 120);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.find("--spectral: skipping gi, which cannot render spectrally yet") !=
+          std::string::npos);
+    CHECK(r.err.find("(path mode, spectral, 1024 spp") != std::string::npos);
+    std::vector<bench::BenchRow> rows = bench::readResultsCsv(out + "/results.csv");
+    std::set<std::string> modes;
+    for (const bench::BenchRow& row : rows) {
+        INFO(bench::formatCsvRow(row));
+        CHECK(row.settings.find(" spectral") != std::string::npos);
+        CHECK(std::isfinite(row.relmse));
+        modes.insert(row.mode);
+    }
+    CHECK(modes == std::set<std::string>{"preview", "raytrace", "path"});
+    // The reference is a spectral path render, cached under a name of its own (an RGB run's
+    // cached reference is never taken for it, nor it for an RGB run's).
+    std::vector<std::string> refs;
+    for (const auto& e : std::filesystem::directory_iterator(out + "/refs"))
+        refs.push_back(e.path().filename().string());
+    REQUIRE(refs.size() == 1);
+    CHECK(refs[0].rfind("cornell-box-64x64-path-spectral-1024-", 0) == 0);
+    std::string md = test::readText(out + "/summary.md");
+    CHECK(md.find("--spectral") != std::string::npos);
+    CHECK(md.find("path (spectral), 1024 spp") != std::string::npos);
+
+    // The flag reaches the renders: against the same given reference, with the same seed, the
+    // spectral preview renders' errors differ from the RGB ones (an RGB render is
+    // deterministic, so a flag that changed nothing would give the same numbers).
+    auto previewErrors = [&](bool spectral) {
+        std::vector<std::string> args = {
+            "bench", "--quick", "-q", "--modes", "preview", "-o", dir.file(spectral ? "s" : "rgb"),
+            "--scenes-dir", scenes, "--reference",
+            "cornell-box=" + test::goldenPath("cornell-box-path.exr")};
+        if (spectral) args.push_back("--spectral");
+        test::RunResult run = test::runRayproc(args, dir, 60);
+        INFO(run.err);
+        REQUIRE(run.status == 0);
+        std::vector<double> errors;
+        for (const bench::BenchRow& row : bench::readResultsCsv(dir.file(spectral ? "s" : "rgb") +
+                                                                "/results.csv"))
+            errors.push_back(row.relmse);
+        return errors;
+    };
+    std::vector<double> rgb = previewErrors(false), spectral = previewErrors(true);
+    REQUIRE(rgb.size() == 2); // preview's ladder: 1 and 4 spp
+    REQUIRE(spectral.size() == rgb.size());
+    for (std::size_t i = 0; i < rgb.size(); ++i) CHECK(spectral[i] != rgb[i]);
+}
+
+TEST_CASE("rayproc bench --spectral refuses gi by name and --ablation", "[cli][bench]") {
+    test::TempDir dir;
+    const std::string scenes = (test::sourceDir() / "scenes").string();
+    test::RunResult r = test::runRayproc({"bench", "--quick", "--spectral", "--modes", "path,gi",
+                                          "-o", dir.file("a"), "--scenes-dir", scenes},
+                                         dir, 30);
+    CHECK(r.status == 1);
+    CHECK(r.err.find("--modes gi with --spectral: gi cannot render spectrally yet") !=
+          std::string::npos);
+    CHECK(!std::filesystem::exists(dir.file("a/results.csv")));
+    r = test::runRayproc({"bench", "--quick", "--spectral", "--ablation", "-o", dir.file("b"),
+                          "--scenes-dir", scenes},
+                         dir, 30);
+    CHECK(r.status == 1);
+    CHECK(r.err.find("--spectral renders the curves spectrally; --ablation") !=
+          std::string::npos);
+    CHECK(!std::filesystem::exists(dir.file("b/ablation.csv")));
+}
