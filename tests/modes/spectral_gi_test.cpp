@@ -72,3 +72,36 @@ TEST_CASE("Spectral gi images do not depend on the thread count", "[spectral-mod
     CHECK(sameBits(one.image, two.image));
     CHECK_FALSE(sameBits(one.image, rgb.image)); // it did render spectrally
 }
+
+TEST_CASE("Spectral gi lights a floor through a glossy silver ceiling as spectral path does",
+          "[spectral-mode][gi][glossy]") {
+    // tests/gi/glossy_gather_test.cpp's scene: the floor's light comes only through the
+    // ceiling's glossy lobe (L G D), which the gathers read with the map's luminance-weighted
+    // radiance estimate and silver's eta and k at the lane's wavelengths
+    // (PhotonMap::luminanceRadiance).
+    auto scene = sceneFromJson(R"({
+      "camera": {"position": [0, 1.2, 6], "look_at": [0, 0, 0], "fov": 50, "resolution": [32, 32]},
+      "materials": {
+        "floor": {"type": "diffuse", "color": [0.7, 0.7, 0.7]},
+        "metal": {"type": "conductor", "metal": "Ag", "roughness": 0.1, "remap_roughness": false}},
+      "lights": [],
+      "nodes": [
+        {"type": "quad", "material": "floor", "corners": [[-4, 0, -4], [-4, 0, 4], [4, 0, 4], [4, 0, -4]]},
+        {"type": "quad", "material": "metal", "corners": [[-4, 3, -4], [4, 3, -4], [4, 3, 4], [-4, 3, 4]]},
+        {"type": "quad", "emission": [20, 20, 20],
+         "corners": [[-0.5, 1, -0.5], [-0.5, 1, 0.5], [0.5, 1, 0.5], [0.5, 1, -0.5]]}]})");
+    EmbreeScene accel(*scene);
+    EngineSettings engine;
+    engine.threads = 2;
+    engine.seed = 1;
+    engine.quiet = true;
+    engine.spectral = true;
+    const Vec3 path = imageMean(
+        renderPath(*scene, accel, pathSettings(scene->render, ModeOverrides{1024, 0, 0}), engine)
+            .image);
+    const Vec3 gi = imageMean(renderGiWith(*scene, accel, 16, true).image);
+    for (int c = 0; c < 3; ++c) {
+        INFO("channel " << c << ": gi " << gi[c] << " path " << path[c]);
+        CHECK(gi[c] == Approx(path[c]).epsilon(0.05)); // gi RGB's bar against RGB path
+    }
+}
