@@ -40,7 +40,7 @@ TEST_CASE("Spectral gi furnace: white emission and albedo 0.8 give Le / (1 - a)"
     // of the 5, from the cache's gathers reading the map of the photons' XYZ, taken back to
     // the wavelengths as the illuminant's spectrum: a flat-spectrum reflectance under the
     // illuminant's light, which the film turns into white. (An unbounded RGB spectrum without
-    // the illuminant would be flat, whose colour is not white: red 4% high.)
+    // the illuminant would be flat: the equal-energy white's colour, not the illuminant's.)
     auto scene = greyFurnace();
     EmbreeScene accel(*scene);
     RenderResult r = renderGiWith(*scene, accel, 16, true);
