@@ -347,10 +347,6 @@ RenderResult renderWithMode(const RenderArgs& a, const Scene& scene, const Embre
     ModeOverrides overrides{sppCap, a.maxDepth, a.lightSamples};
     installInterruptHandler();
     const ModeEntry& entry = *findMode(mode);
-    if (engine.spectral && !entry.spectral)
-        throw InputError("spectral rendering (--spectral or the scene's render.spectral) is not "
-                         "supported in " + mode + " mode yet; path, raytrace and preview "
-                         "render spectrally (docs/spectral.md)");
     ModeSettings settings = ModeSettings::forScene(scene, overrides);
     applyGiOptions(a, settings.gi);
     settings.raytrace.roulette = settings.path.roulette = !a.noRoulette;
@@ -496,7 +492,7 @@ void addSceneOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_flag("--spectral", args->spectral,
                   "Render spectrally: three hero wavelengths per path, the scene's RGB colours "
                   "upsampled as pbrt-v4 does, XYZ to linear sRGB at the film (docs/spectral.md; "
-                  "path, raytrace and preview; gi fails; default: the scene's render.spectral)");
+                  "every mode; default: the scene's render.spectral)");
     cmd->add_flag("--no-spectral", args->noSpectral,
                   "Render in RGB even where the scene's render.spectral asks for spectra")
         ->excludes("--spectral");

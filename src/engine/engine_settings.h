@@ -37,7 +37,7 @@ struct EngineSettings {
     // BSDF samples (ShadingPolicy::skyCompensation).
     bool skyCompensation = true;
     // Spectral rendering (engine/spectral_render.h, docs/spectral.md): three hero wavelengths
-    // per path; path, raytrace and preview (ModeEntry::spectral), not gi yet.
+    // per path, in every mode (gi's photons carry wavelengths of their own).
     bool spectral = false;
     // Called with the image so far after each pass when set (progressive output); the job
     // calls it at most once per `progressiveSeconds`.

@@ -79,6 +79,7 @@ void SpectralRender::buildWavelengthTables() {
         float y = spectral::cieY().values[std::size_t(i)] * norm;
         float z = spectral::cieZ().values[std::size_t(i)] * norm;
         const float(&m)[3][3] = m_xyzToRgb;
+        m_xyzNm.push_back({x, y, z});
         m_filmNm.push_back({m[0][0] * x + m[0][1] * y + m[0][2] * z,
                             m[1][0] * x + m[1][1] * y + m[1][2] * z,
                             m[2][0] * x + m[2][1] * y + m[2][2] * z});
@@ -144,6 +145,23 @@ Vec3 SpectralRender::lightValue(std::size_t light, const Vec3& value, const Lane
 // linear: the lane's film vectors hold the product per wavelength.
 Vec3 SpectralRender::toFilm(const Vec3& values, const LaneSpectrum& l) const {
     return l.film[0] * values.x + l.film[1] * values.y + l.film[2] * values.z;
+}
+
+Vec3 SpectralRender::toXyz(const Vec3& values, const LaneSpectrum& l) const {
+    Vec3 xyz(0.0f);
+    for (int i = 0; i < 3; ++i) {
+        // The nearest nanometre's sample, as lane() takes the film's.
+        int nm = std::min(int(l.w.lambda[i] - ks::kLambdaMin + 0.5f), ks::kDenseCount - 1);
+        xyz += m_xyzNm[std::size_t(nm)] * (values[i] / l.w.pdf[i]);
+    }
+    return xyz;
+}
+
+Vec3 SpectralRender::xyzToRgb(const Vec3& v) const {
+    const float(&m)[3][3] = m_xyzToRgb;
+    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
+            m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+            m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
 }
 
 } // namespace rayproc

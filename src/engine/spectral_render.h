@@ -84,6 +84,12 @@ public:
     // The film's linear sRGB of a path's values at its wavelengths: XYZ as pbrt-v4's "cie1931"
     // sensor (imaging ratio 1, no white balance), then the colour space's XYZ -> RGB.
     Vec3 toFilm(const Vec3& values, const LaneSpectrum& l) const;
+    // The same values' CIE XYZ (toFilm is xyzToRgb of it): non-negative for non-negative values,
+    // which gi's photon maps store (their RGBE power cannot hold the negative sRGB channels of a
+    // photon's three wavelengths).
+    Vec3 toXyz(const Vec3& values, const LaneSpectrum& l) const;
+    // The colour space's linear RGB of an XYZ value.
+    Vec3 xyzToRgb(const Vec3& xyz) const;
 
     const spectral::ColorSpace& colorSpace() const { return m_cs; }
 
@@ -106,6 +112,7 @@ private:
     // linear sRGB of the matching functions over 3 y-bar integrals.
     std::vector<float> m_illuminantNm;
     std::vector<Vec3> m_filmNm;
+    std::vector<Vec3> m_xyzNm; // the matching functions over 3 y-bar integrals
 };
 
 } // namespace rayproc

@@ -129,6 +129,7 @@ void traceLevel(const Scene& scene, const EmbreeScene& accel, const LightSet& li
     policy.stratify = engine.stratification;
     policy.rouletteEnabled = gi.settings.roulette;
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
+    rc.spectral = gi.spectral;
     ShadowStage shadow(rc);
     ReflectionStage reflection(rc);
     RefractionStage refraction(rc);

@@ -130,6 +130,7 @@ CacheRefinement::PassSums CacheRefinement::tracePass(int pass, bool correcting) 
     policy.stratify = m_engine.stratification;
     policy.rouletteEnabled = s.roulette;
     RenderContext rc{m_scene, m_accel, m_lights, policy, film, m_engine.seed};
+    rc.spectral = m_gi.spectral;
     GatherStage gather(rc, m_gi, &requests); // the records' gathers add to their slots
     CorrectionStage correction(rc, m_gi, gather);
     ShadowStage shadow(rc);

@@ -31,7 +31,8 @@ Vec2 uniform2(const RayBatch& b, int i, std::uint32_t dim) {
 
 CorrectionStage::CorrectionStage(const RenderContext& rc, const GiData& gi,
                                  const GatherStage& gather)
-    : m_policy(rc.policy), m_rc{rc.scene, rc.accel, rc.lights, m_policy, rc.film, rc.seed},
+    : m_policy(rc.policy),
+      m_rc{rc.scene, rc.accel, rc.lights, m_policy, rc.film, rc.seed, nullptr, rc.spectral},
       m_gi(gi), m_gather(gather), m_paths(m_rc, kPathOutputs) {
     m_policy.maxDepth = std::max(1, gi.settings.maxPhotonDepth - 1);
 }
@@ -44,9 +45,11 @@ void CorrectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, kCorrectionStageId);
     std::uint64_t spawned = 0;
+    LaneShading wl(m_rc.spectral);
     for (int k = 0; k < hits.count; ++k) {
         int i = hits.lane[k];
         const SurfaceHit& h = hits.hit[k];
+        wl.select(b.lambdaU[i]);
         if (!visiblePoint(b.flags[i])) {
             // Past a glossy bounce: the gather stage adds the map's estimate of all the light
             // reflected here (GatherStage::spawn, its BSDF stream 0).
@@ -61,8 +64,8 @@ void CorrectionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         facingNormals(h, wo, ng, ns);
         Vec3 wi = kernels::toWorld(kernels::cosineHemisphere(uniform2(b, i, kDimRay)), ns);
         if (dot(wi, ng) <= 0) continue; // below the surface: dark, as in the gathers
-        Vec3 albedo =
-            kernels::lambertianAlbedo(bsdfAt(m_rc.scene, h.material, h, 0), wo, h.ng, h.ns);
+        Vec3 albedo = kernels::lambertianAlbedo(
+            bsdfAt(m_rc.scene, h.material, h, 0, wl.shading()), wo, h.ng, h.ns);
         Vec3 weight = laneThroughput(b, i) * albedo; // cosine sampling: f cos / pdf = albedo
         if (isBlack(weight)) continue;
         spawnRay(ctx.out(kCorrectionRay), b, i, offsetRayOrigin(h, ng, wi), wi, weight,
@@ -97,7 +100,9 @@ std::uint64_t CorrectionStage::replaceMap(const RayBatch& b, int i, const Surfac
     ThreadStats& stats = *ctx.stats;
     const MaterialType type = m_rc.scene.materials[h.material].type;
     const MaterialClass cls = materialClass(m_rc.scene.materials, h.material);
-    kernels::BsdfParams bsdf = bsdfAt(m_rc.scene, h.material, h, bsdfKey);
+    LaneShading wl(m_rc.spectral); // spectral mode: the path's wavelengths
+    wl.select(b.lambdaU[i]);
+    kernels::BsdfParams bsdf = bsdfAt(m_rc.scene, h.material, h, bsdfKey, wl.shading());
     const Vec3 wo = -laneDirection(b, i), w = laneThroughput(b, i);
     Vec3 ng, ns;
     facingNormals(h, wo, ng, ns);
@@ -115,19 +120,22 @@ std::uint64_t CorrectionStage::replaceMap(const RayBatch& b, int i, const Surfac
     if (diffuse) {
         Vec3 albedo = kernels::lambertianAlbedo(bsdf, wo, h.ng, h.ns);
         const PhotonMap* map = leaveDirect ? gi.globalIndirect : gi.global;
-        mapRadiance = albedo * kInvPi * m_gather.mapIrradiance(map, h.p, ns);
+        mapRadiance = albedo * kInvPi * m_gather.lightAt(m_gather.mapIrradiance(map, h.p, ns),
+                                                         wl.lane());
         bsdf = kernels::BsdfParams{};
         bsdf.kind = kernels::BsdfKind::Diffuse;
         bsdf.color = albedo;
     } else {
-        mapRadiance = m_gather.glossyRadiance(bsdf, h, wo, ns);
+        mapRadiance = m_gather.glossyRadiance(bsdf, h, wo, ns, &wl.lane());
     }
-    m_rc.film.add(b.pixel[i], -(w * mapRadiance), stats);
+    const Vec3 removed = -(w * mapRadiance);
+    m_rc.film.add(b.pixel[i], m_rc.spectral ? m_rc.spectral->toFilm(removed, wl.lane()) : removed,
+                  stats);
 
     std::uint64_t spawned = 0;
     if (sampleOneLight(m_rc.lights, b, i, h, bsdf, wo, w, uniform2(b, i, kDimLight),
                        kernels::uniform(b.rngKey[i], kDimLight + 2), leaveDirect,
-                       policy.skyCompensation, ctx.out(RayKind::Shadow)))
+                       policy.skyCompensation, ctx.out(RayKind::Shadow), wl.shading()))
         ++spawned;
     // The bounce, as path mode takes it (its depth limit and Russian roulette).
     const std::uint8_t flags = leaveDirect ? kFlagSkipEnvironment : 0;

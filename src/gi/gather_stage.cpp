@@ -26,9 +26,33 @@ constexpr std::uint8_t kFlagPastGlossy = kFlagCountEmission;
 Vec3 GatherStage::mapIrradiance(const PhotonMap* map, const Vec3& p, const Vec3& n) const {
     const GiData& gi = m_gi;
     if (!map || map->size() == 0) return Vec3(0.0f);
-    if (gi.settings.precomputedIrradiance && map->hasPrecomputedIrradiance())
-        return map->irradianceFast(p, n, gi.settings.globalK, gi.globalRadius);
-    return map->irradiance(p, n, gi.settings.globalK, gi.globalRadius);
+    return rgbOf(gi.settings.precomputedIrradiance && map->hasPrecomputedIrradiance()
+                     ? map->irradianceFast(p, n, gi.settings.globalK, gi.globalRadius)
+                     : map->irradiance(p, n, gi.settings.globalK, gi.globalRadius));
+}
+
+Vec3 GatherStage::rgbOf(const Vec3& mapValue) const {
+    return m_rc.spectral ? m_rc.spectral->xyzToRgb(mapValue) : mapValue;
+}
+
+Vec3 GatherStage::lightAt(const Vec3& rgb, const LaneSpectrum& lane) const {
+    return m_rc.spectral ? m_rc.spectral->illuminant(rgb, lane) : rgb;
+}
+
+void GatherStage::addReflected(const RayBatch& b, int i, const Vec3& reflect, const Vec3& e,
+                               const LaneSpectrum& lane, ThreadStats& stats) const {
+    if (!m_rc.spectral) {
+        m_rc.film.add(b.pixel[i], reflect * e, stats);
+        return;
+    }
+    m_rc.film.add(b.pixel[i], m_rc.spectral->toFilm(reflect * lightAt(e, lane), lane), stats);
+}
+
+Vec3 GatherStage::emissionAt(const Vec3& rgb, int light, const RayBatch& b, int i) const {
+    if (!m_rc.spectral || isBlack(rgb)) return rgb;
+    const LaneSpectrum lane = m_rc.spectral->lane(b.lambdaU[i]);
+    return light >= 0 ? m_rc.spectral->lightValue(std::size_t(light), rgb, lane)
+                      : m_rc.spectral->illuminant(rgb, lane);
 }
 
 std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceHit& h,
@@ -48,10 +72,10 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
         ++spawned;
     };
     // One sample per delta light (no random numbers), one of the sky.
-    for (const LightSource& light : lights.lights) {
-        if (!light.delta()) continue;
-        LightSample ls = light.sample(h.p, {0.5f, 0.5f});
-        if (ls.valid) emit(ls.wi, &ls, ls.weight);
+    for (std::size_t l = 0; l < lights.lights.size(); ++l) {
+        if (!lights.lights[l].delta()) continue;
+        LightSample ls = lights.lights[l].sample(h.p, {0.5f, 0.5f});
+        if (ls.valid) emit(ls.wi, &ls, emissionAt(ls.weight, int(l), b, i));
     }
     if (lights.hasEnvironment()) {
         // A film gather of one ray per pixel sample (the default past a few samples) lands
@@ -66,13 +90,15 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
                                    .get2D(0)
                              : Vec2{kernels::uniform(key, 0), kernels::uniform(key, 1)};
         EnvironmentSample es = lights.environment.sample(u, ns);
-        if (es.valid) emit(es.wi, nullptr, es.weight);
+        if (es.valid) emit(es.wi, nullptr, emissionAt(es.weight, -1, b, i));
     }
     return spawned;
 }
 
-void GatherStage::deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const {
-    if (isBlack(l)) return;
+void GatherStage::deposit(const RayBatch& b, int i, const Vec3& lane, ThreadStats& stats) const {
+    if (isBlack(lane)) return;
+    const Vec3 l = m_rc.spectral ? m_rc.spectral->toFilm(lane, m_rc.spectral->lane(b.lambdaU[i]))
+                                 : lane;
     if (b.flags[i] & kFlagGatherRecord) {
         IcRequests& requests = *m_requests;
         requests[b.pixel[i]].add(b.sample[i], l, requests.radianceScale());
@@ -90,14 +116,23 @@ void GatherStage::retraceShadow(RayBatch& b, StageContext& ctx) {
 }
 
 Vec3 GatherStage::glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceHit& h,
-                                 const Vec3& wo, const Vec3& n) const {
+                                 const Vec3& wo, const Vec3& n, const LaneSpectrum* lane) const {
     const GiData& gi = m_gi;
     if (!gi.global || gi.global->size() == 0) return Vec3(0.0f);
-    return gi.global->radiance(h.p, n, gi.settings.globalK, gi.globalRadius, [&](const Vec3& wi) {
+    auto f = [&](const Vec3& wi) {
         float pdf, c = std::abs(dot(wi, n));
         Vec3 f = kernels::evalBsdf(bsdf, wo, wi, h.ng, h.ns, pdf);
         return c > 1e-4f ? f / c : Vec3(0.0f);
-    });
+    };
+    if (!m_rc.spectral)
+        return gi.global->radiance(h.p, n, gi.settings.globalK, gi.globalRadius, f);
+    // sum f(wi_i, lambda) Y_i over the photons, times the spectrum of their irradiance E over
+    // its luminance Y(E): exact where the photons share one spectrum.
+    Vec3 xyz;
+    const Vec3 byLuminance = gi.global->luminanceRadiance(h.p, n, gi.settings.globalK,
+                                                          gi.globalRadius, 1, f, xyz);
+    if (!(xyz.y > 0)) return Vec3(0.0f);
+    return byLuminance * lightAt(m_rc.spectral->xyzToRgb(xyz), *lane) / xyz.y;
 }
 
 Vec3 GatherStage::causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t pixel) const {
@@ -160,6 +195,9 @@ std::uint64_t GatherStage::spawnFinalGather(const RayBatch& b, int i, const Surf
     }
     std::uint64_t key = kernels::hashCombine(b.rngKey[i], 0x6a7e);
     Vec3 origin = offsetRayOrigin(h, ng, ns);
+    // Spectral mode: a film gather's rays carry the path's wavelengths (their weight is at
+    // them); a record's, which carry no path's, each their own (recordLambdaU).
+    const float recordU = kernels::uniform(kernels::hashCombine(key, 0x1a3b), 0);
     // A film gather's M N rays are the block sample x M N ... of a Sobol sequence per
     // (pixel, depth) over the whole cosine-weighted hemisphere (engine/sample_numbers.h):
     // stratified within the gather as the strata are when M N is a power of two, and
@@ -193,7 +231,8 @@ std::uint64_t GatherStage::spawnFinalGather(const RayBatch& b, int i, const Surf
         // In the prepass the sample is the stratum (the gradients' layout).
         pushGatherRay(ctx.out(kGatherRay), origin, wi, target,
                       prepass ? std::uint32_t(r) : b.sample[i], weight,
-                      kernels::hashCombine(key, std::uint64_t(r)), b.depth[i], flags);
+                      kernels::hashCombine(key, std::uint64_t(r)), b.depth[i], flags,
+                      prepass ? recordLambdaU(recordU, r, strata) : b.lambdaU[i]);
         ++spawned;
     }
     return spawned;
@@ -209,23 +248,28 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
     const int thetaCount = prepass ? gi.gatherTheta : gi.filmGatherTheta;
     const int phiCount = prepass ? gi.gatherPhi : gi.filmGatherPhi;
     std::uint64_t spawned = 0;
+    LaneShading wl(m_rc.spectral);
     for (int k = 0; k < hits.count; ++k) {
         int i = hits.lane[k];
         const SurfaceHit& h = hits.hit[k];
         Vec3 wo = -laneDirection(b, i);
-        // The diffuse albedo (textured); pbrt-v4's diffuse-like materials count as Lambertian
-        // here, a coated one with its diffuse lobe's albedo seen from wo.
-        const Vec3 albedo =
-            kernels::lambertianAlbedo(bsdfAt(m_rc.scene, h.material, h, 0), wo, h.ng, h.ns);
-        Vec3 ng, ns;
-        facingNormals(h, wo, ng, ns);
+        wl.select(b.lambdaU[i]);
+        // The diffuse albedo (textured; in spectral mode at the lane's wavelengths, which the
+        // estimates below are expressed at: the reflectance is applied per wavelength);
+        // pbrt-v4's diffuse-like materials count as Lambertian here, a coated one with its
+        // diffuse lobe's albedo seen from wo.
+        const Vec3 albedo = kernels::lambertianAlbedo(
+            bsdfAt(m_rc.scene, h.material, h, 0, wl.shading()), wo, h.ng, h.ns);
         Vec3 w = laneThroughput(b, i);
         Vec3 reflect = w * albedo * kInvPi; // Lambertian: L = albedo / pi * E
+        auto add = [&](const Vec3& e) { addReflected(b, i, reflect, e, wl.lane(), stats); };
+        Vec3 ng, ns;
+        facingNormals(h, wo, ng, ns);
         bool firstDiffuse = visiblePoint(b.flags[i]);
 
         if (!firstDiffuse) {
             ++giCounter(stats, kGiGlobalLookups);
-            m_rc.film.add(b.pixel[i], reflect * mapIrradiance(gi.global, h.p, ns), stats);
+            add(mapIrradiance(gi.global, h.p, ns));
             continue;
         }
         if (s.debugView == GiDebugView::Photons) {
@@ -236,15 +280,14 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
                          ? gi.global->irradiance(h.p, ns, s.globalK, gi.globalRadius)
                          : Vec3(0.0f);
             e += causticIrradiance(h.p, ns, b.pixel[i]);
-            m_rc.film.add(b.pixel[i], reflect * e, stats);
+            add(rgbOf(e));
             continue;
         }
         if (!prepass && s.caustics && gi.caustic && gi.caustic->size() > 0 &&
             (s.debugView == GiDebugView::None || s.debugView == GiDebugView::Caustics ||
              s.debugView == GiDebugView::IcRecords)) {
             ++giCounter(stats, kGiCausticLookups);
-            Vec3 e = causticIrradiance(h.p, ns, b.pixel[i]);
-            m_rc.film.add(b.pixel[i], reflect * e, stats);
+            add(rgbOf(causticIrradiance(h.p, ns, b.pixel[i])));
         }
         if (s.debugView == GiDebugView::Caustics) continue;
         if (gi.cache) {
@@ -252,7 +295,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             IrradianceCache::LookupResult r;
             if (gi.cache->lookup(h.p, ns, r)) {
                 ++giCounter(stats, kGiCacheHits);
-                if (!prepass) m_rc.film.add(b.pixel[i], reflect * r.irradiance, stats);
+                if (!prepass) add(r.irradiance);
                 continue;
             }
         }
@@ -277,8 +320,13 @@ bool GatherStage::shadeHit(const RayBatch& b, int i, Vec3& radiance, float& dist
     // From the hit point, not Embree's t: t of a sphere differs by an ulp between
     // packet widths, and the cache's record radii must not (determinism).
     distance = length(h.p - o);
-    if (pastGlossy && !gi.roughCaustics) radiance += emittedRadiance(*h.shape, h.ng, -d);
+    if (pastGlossy && !gi.roughCaustics)
+        radiance += emissionAt(emittedRadiance(*h.shape, h.ng, -d),
+                               m_rc.spectral ? m_rc.lights.indexOf(h.shape, h.instance) : -1,
+                               b, i);
     resolveShading(m_rc.scene, h, -d);
+    LaneShading wl(m_rc.spectral); // spectral mode: the ray's wavelengths
+    wl.select(b.lambdaU[i]);
     // Emitters are light sampled at the gather's origin, and light reaching it through
     // specular surfaces (a coat's reflection included) straight from an emitter is the
     // caustic map's: neither is added here. At a diffuse surface the global map gives
@@ -291,7 +339,7 @@ bool GatherStage::shadeHit(const RayBatch& b, int i, Vec3& radiance, float& dist
     const MaterialClass cls = materialClass(m_rc.scene.materials, h.material);
     const bool coated = m_rc.scene.materials[h.material].type == MaterialType::CoatedDiffuse;
     kernels::BsdfParams bsdf =
-        bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], 43));
+        bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], 43), wl.shading());
     const bool transmits = kernels::hasTransmission(bsdf);
     Vec3 ng, ns;
     facingNormals(h, -d, ng, ns);
@@ -299,13 +347,14 @@ bool GatherStage::shadeHit(const RayBatch& b, int i, Vec3& radiance, float& dist
         ++giCounter(stats, kGiGlobalLookups);
         // The Lambertian BSDF value albedo / pi, times irradiance.
         const Vec3 f = kernels::lambertianAlbedo(bsdf, -d, h.ng, h.ns) * kInvPi;
-        radiance +=
-            f * mapIrradiance(sampleLights ? gi.globalIndirect : gi.global, h.p, ns);
+        radiance += f * lightAt(mapIrradiance(sampleLights ? gi.globalIndirect : gi.global,
+                                              h.p, ns),
+                                wl.lane());
         if (sampleLights)
             spawned += sampleDirect(b, i, h, ng, ns, laneThroughput(b, i) * f, ctx);
     } else if (cls == MaterialClass::Glossy && !transmits) {
         ++giCounter(stats, kGiGlobalLookups);
-        radiance += glossyRadiance(bsdf, h, -d, ns);
+        radiance += glossyRadiance(bsdf, h, -d, ns, &wl.lane());
     }
     const bool continues = cls == MaterialClass::Specular || coated ||
                            (cls == MaterialClass::Glossy && transmits);
@@ -371,7 +420,7 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
         if (b.hit(i)) {
             done = !shadeHit(b, i, radiance, distance, spawned, ctx);
         } else if (pastGlossy && !m_gi.roughCaustics && m_rc.lights.hasEnvironment()) {
-            radiance = m_rc.lights.environment.radiance(laneDirection(b, i));
+            radiance = emissionAt(m_rc.lights.environment.radiance(laneDirection(b, i)), -1, b, i);
         }
         deposit(b, i, laneThroughput(b, i) * radiance, stats);
         if (b.flags[i] & kFlagGatherRecord) recordGatherEnd(b, i, distance, done);

@@ -26,6 +26,7 @@
 
 #include "engine/hit_list.h"
 #include "engine/render_context.h"
+#include "engine/spectral_render.h"
 #include "engine/stage.h"
 #include "engine/surface_stage.h"
 #include "gi/gi_pipeline.h"
@@ -44,10 +45,12 @@ struct GiData;
 // refinement's (gi/record_emitter.h), which also pushes its correction rays with it
 // (kCorrectionRay, `out` being that kind's batch). `target` is the pixel, or the request slot with
 // kFlagGatherRecord; `sample` the camera sample, or the record's stratum.
+// `lambdaU`: the ray's wavelength number in spectral mode (a film gather's is its path's).
 inline void pushGatherRay(RayBatch& out, const Vec3& origin, const Vec3& wi, std::uint32_t target,
                           std::uint32_t sample, const Vec3& weight, std::uint64_t rngKey,
-                          std::uint8_t depth, std::uint8_t flags) {
+                          std::uint8_t depth, std::uint8_t flags, float lambdaU) {
     int j = out.push(origin.x, origin.y, origin.z, wi.x, wi.y, wi.z, 0.0f, kInfinity);
+    out.lambdaU[j] = lambdaU;
     out.pixel[j] = target;
     out.sample[j] = sample;
     out.wr[j] = weight.x;
@@ -61,6 +64,15 @@ inline void pushGatherRay(RayBatch& out, const Vec3& origin, const Vec3& wi, std
     out.prevCos[j] = 0;
 }
 
+// Spectral mode: the wavelength number of ray r of a record's `rays` gather rays, `u` the
+// record's own number: u + r / rays (mod 1), so the record's rays spread their wavelengths
+// evenly (each ray's number is still uniform and independent of its direction).
+inline float recordLambdaU(float u, int r, int rays) {
+    float v = u + float(r) / float(rays);
+    v = v >= 1.0f ? v - 1.0f : v;
+    return v < 1.0f ? v : 0x1.fffffep-1f;
+}
+
 class GatherStage : public RetraceStage, public DiffuseHitHandler {
 public:
     // `requests`: the cache's prepass (new records' gathers go there) or its refinement (the
@@ -71,20 +83,37 @@ public:
     void retrace(RayBatch& batch, StageContext& ctx) override;
 
     // What the global map gives where gi reads it; the correction stage takes it away again.
-    // Irradiance from `map` (the global map or its scattered photons): precomputed or full.
+    // Irradiance from `map` (the global map or its scattered photons): precomputed or full;
+    // RGB in either mode (a spectral render's maps hold XYZ: converted here).
     Vec3 mapIrradiance(const PhotonMap* map, const Vec3& p, const Vec3& n) const;
     // Radiance an opaque glossy surface at h sends towards wo: the global map's estimate with
-    // the BSDF (PhotonMap::radiance), n its facing shading normal.
+    // the BSDF (PhotonMap::radiance), n its facing shading normal. In spectral mode (`lane`)
+    // at the lane's wavelengths, with the BSDF at them: each photon weighted by its luminance,
+    // times the spectrum of the photons' irradiance over its luminance (lightAt).
     Vec3 glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceHit& h, const Vec3& wo,
-                        const Vec3& n) const;
+                        const Vec3& n, const LaneSpectrum* lane = nullptr) const;
+    // An RGB estimate of light (irradiance, a record's) as the path's radiance carries it: in
+    // spectral mode at the lane's wavelengths as an RGB illuminant spectrum (the unbounded
+    // sigmoid spectrum of its colour times the colour space's illuminant, as path mode takes
+    // emission and skies: so white irradiance is the illuminant's light, which the film turns
+    // back into white). A metamer of the true irradiance spectrum (docs/spectral.md).
+    Vec3 lightAt(const Vec3& rgb, const LaneSpectrum& lane) const;
 
 private:
     // The light samples at a gather ray's diffuse hit h (lane i of b), for a Lambertian
     // reflection of factor `reflect` (throughput x albedo / pi): GatherShadow rays.
     std::uint64_t sampleDirect(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& ng,
                                const Vec3& ns, const Vec3& reflect, StageContext& ctx) const;
-    // Adds a light sample's, or a gather ray's, radiance l to lane i's pixel or cache record.
+    // Adds a light sample's, or a gather ray's, radiance l to lane i's pixel or cache record
+    // (in spectral mode l is at the lane's wavelengths: converted to RGB as the film does).
     void deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const;
+    // Adds reflect x E to lane i's pixel: `reflect` the throughput times the BSDF, E an RGB
+    // estimate of irradiance (spectral mode: lightAt the lane's wavelengths, then the film's RGB).
+    void addReflected(const RayBatch& b, int i, const Vec3& reflect, const Vec3& e,
+                      const LaneSpectrum& lane, ThreadStats& stats) const;
+    // Light reaching a gather ray straight from an emitter (light set index `light`, or -1) or
+    // the sky, at the lane's wavelengths in spectral mode.
+    Vec3 emissionAt(const Vec3& rgb, int light, const RayBatch& b, int i) const;
     void retraceShadow(RayBatch& batch, StageContext& ctx);
     bool shadeHit(const RayBatch& b, int i, Vec3& radiance, float& distance,
                   std::uint64_t& spawned, StageContext& ctx) const;
@@ -92,8 +121,10 @@ private:
     std::uint64_t spawnFinalGather(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& ng,
                                    const Vec3& ns, const Vec3& reflectance, bool prepass,
                                    int thetaCount, int phiCount, StageContext& ctx) const;
-    // The caustic map's irradiance: k-nearest, or within the pass's radius when progressive
-    // (the pixel's own with GiSettings::causticPixelRadius).
+    // A photon map's estimate in RGB (a spectral render's maps hold XYZ).
+    Vec3 rgbOf(const Vec3& mapValue) const;
+    // The caustic map's irradiance (as the map holds it): k-nearest, or within the pass's
+    // radius when progressive (the pixel's own with GiSettings::causticPixelRadius).
     Vec3 causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t pixel) const;
     const RenderContext& m_rc;
     const GiData& m_gi;

@@ -18,6 +18,7 @@ namespace rayproc {
 
 class PhotonMap;
 class IrradianceCache;
+class SpectralRender;
 
 // Diagnostic images (the paper: "output can often be misleading").
 //  photons:    at the first diffuse hit, the global (plus caustic) map's radiance estimate
@@ -266,6 +267,9 @@ struct GiData {
     int gatherTheta = 1, gatherPhi = 1;
     int filmGatherTheta = 1, filmGatherPhi = 1; // the same for film gathers (filmGatherRays)
     bool strataWanted = false; // the prepass records per-stratum results (for gradients)
+    // Spectral mode (engine/spectral_render.h): the passes' paths and photons carry
+    // wavelengths; the photon maps then hold CIE XYZ, the cache and the film RGB. Null: RGB.
+    const SpectralRender* spectral = nullptr;
 };
 
 // M and N for a requested number of gather rays: M = round(sqrt(rays / pi)), N = round(rays / M),

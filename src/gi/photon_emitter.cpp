@@ -1,6 +1,7 @@
 #include "gi/photon_emitter.h"
 
 #include "engine/path_state.h"
+#include "engine/spectral_render.h"
 #include "gi/gi_pipeline.h"
 #include "kernels/random.h"
 #include "kernels/ray_offset.h"
@@ -143,7 +144,25 @@ PhotonEmitter::Emission PhotonEmitter::emitOne(std::uint32_t index) const {
     const bool sky = c == m_lights.lights.size();
     Emission e = sky ? emitFromSky(ch) : emitFromLight(m_lights.lights[c], ch);
     e.deltaOrSky = sky || m_lights.lights[c].delta();
+    e.light = c;
     return e;
+}
+
+float PhotonEmitter::lambdaU(std::uint32_t index) const {
+    // One stratum of [0, 1) per photon of the pass, in an order of its own (a fifth stream).
+    const std::uint64_t key = kernels::hashCombine(m_key, 5);
+    float u = (float(kernels::permute(index, m_count, key)) + kernels::uniform(key, index)) /
+              float(m_count);
+    return std::min(u, 0x1.fffffep-1f);
+}
+
+// The RGB power is the light's radiance (or intensity, or the sky's radiance) times a scalar:
+// the light's illuminant spectrum takes the same scalar (SpectralRender::lightValue); the sky,
+// whose value varies with direction, goes through the table as path mode's sky does.
+Vec3 PhotonEmitter::spectralPower(const Emission& e, float u) const {
+    const LaneSpectrum lane = m_spectral->lane(u);
+    if (e.light < m_lights.lights.size()) return m_spectral->lightValue(e.light, e.power, lane);
+    return m_spectral->illuminant(e.power, lane);
 }
 
 // Directional and sky photons start on a disk (uPick.y, unused by them otherwise, picks the
@@ -266,6 +285,8 @@ bool PhotonEmitter::emit(StageContext& ctx) {
     for (std::uint64_t k = first; k < last; ++k) {
         Emission e = emitOne(std::uint32_t(k));
         if (!e.valid || isBlack(e.power)) continue;
+        const float u = m_spectral ? lambdaU(std::uint32_t(k)) : 0.0f;
+        if (m_spectral) e.power = spectralPower(e, u);
         int j = b.push(e.origin.x, e.origin.y, e.origin.z, e.direction.x, e.direction.y,
                        e.direction.z, 0.0f, kInfinity);
         b.pixel[j] = 0;
@@ -277,6 +298,7 @@ bool PhotonEmitter::emit(StageContext& ctx) {
         b.flags[j] = e.deltaOrSky ? kPhotonDeltaOrSky : 0;
         b.prevPdf[j] = 0;
         b.prevCos[j] = 0;
+        b.lambdaU[j] = u;
     }
     stats.stages[int(kPhotonStageId)].raysOut += std::uint64_t(b.count);
     if (b.count == 0) b.fresh = false; // stays open for bounces

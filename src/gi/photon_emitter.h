@@ -16,6 +16,8 @@
 
 namespace rayproc {
 
+class SpectralRender;
+
 class PhotonEmitter : public Emitter {
 public:
     // sceneBounds: where directional and environment photons start (a disk covering the
@@ -29,6 +31,11 @@ public:
     // A distributed render's share (cluster/cluster.h): only photons [first, last) of the
     // `count` are emitted here; each photon is the same whichever process emits it.
     void setRange(std::uint64_t first, std::uint64_t last);
+    // Spectral mode (engine/spectral_render.h): each photon carries three wavelengths of its
+    // own, from a number u stratified over the pass's photons (a stream keyed by the seed, the
+    // pass's tag and the photon's index, so the same whichever thread or rank emits it), and
+    // its power is its light's spectrum at them, set up as spectral path mode evaluates lights.
+    void setSpectral(const SpectralRender* spectral) { m_spectral = spectral; }
     bool emit(StageContext& ctx) override;
     // Photons of the range handed to the processor so far, and the range's size (progress).
     std::uint64_t photonsEmitted() const;
@@ -49,7 +56,11 @@ private:
         Vec3 origin, direction, power;
         bool valid = false;
         bool deltaOrSky = false; // from a delta light or the sky (kPhotonDeltaOrSky)
+        std::size_t light = 0;   // LightSet::lights' index; the sky is lights.size()
     };
+    // Photon `index`'s wavelength number, and its power at those wavelengths.
+    float lambdaU(std::uint32_t index) const;
+    Vec3 spectralPower(const Emission& e, float u) const;
     // A photon's light (index `light`; the sky is lights.size()), the probability it was
     // chosen, its flux, and its stratified numbers for the choice, the position and the
     // direction.
@@ -82,6 +93,7 @@ private:
     Vec3 m_totalPower{0, 0, 0};
     std::uint64_t m_first = 0, m_last = 0; // the range emitted: all photons by default
     std::atomic<std::uint64_t> m_next{0};
+    const SpectralRender* m_spectral = nullptr;
 };
 
 } // namespace rayproc

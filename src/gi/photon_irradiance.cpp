@@ -41,10 +41,17 @@ public:
           m_slab(PhotonMap::kDiscThickness * radius) {}
     // `weight`: a factor of the photon's power (the BSDF value of a radiance estimate).
     void add(const PhotonMap::StoredPhoton& s, float dist2, const Vec3& weight = Vec3(1.0f)) {
-        if (!withinCone(decodeNormalRaw(s.normalAxis), m_n, PhotonMap::kNormalCos)) return;
-        if (std::abs(dot(Vec3(s.pos[0], s.pos[1], s.pos[2]) - m_p, m_n)) > m_slab) return;
-        if (dot(decodeDirectionRaw(s.direction), m_n) <= 0) return;
-        m_sum += decodeRgbe(s.power) * weight * (1.0f - std::sqrt(dist2) * m_invConeRadius);
+        if (counts(s)) addCounted(decodeRgbe(s.power) * weight, dist2);
+    }
+    // Whether photon s lies on the query's surface and arrives from above.
+    bool counts(const PhotonMap::StoredPhoton& s) const {
+        if (!withinCone(decodeNormalRaw(s.normalAxis), m_n, PhotonMap::kNormalCos)) return false;
+        if (std::abs(dot(Vec3(s.pos[0], s.pos[1], s.pos[2]) - m_p, m_n)) > m_slab) return false;
+        return dot(decodeDirectionRaw(s.direction), m_n) > 0;
+    }
+    // A counted photon's weighted power.
+    void addCounted(const Vec3& power, float dist2) {
+        m_sum += power * (1.0f - std::sqrt(dist2) * m_invConeRadius);
         ++m_count;
     }
     std::uint32_t count() const { return m_count; }
@@ -88,6 +95,28 @@ Vec3 PhotonMap::radiance(const Vec3& p, const Vec3& n, int k, float maxDistance,
                          const std::function<Vec3(const Vec3& wi)>& f) const {
     return inWatts(coneEstimate(
         p, n, k, maxDistance, [&](const StoredPhoton& s) { return f(decodeDirection(s.direction)); }));
+}
+
+Vec3 PhotonMap::luminanceRadiance(const Vec3& p, const Vec3& n, int k, float maxDistance,
+                                  int channel, const std::function<Vec3(const Vec3& wi)>& f,
+                                  Vec3& irradiance) const {
+    irradiance = Vec3(0.0f);
+    KeyBuffer buffer(k, m_photons.size());
+    std::uint64_t* keys = buffer.data();
+    float radius2 = 0;
+    int count = gather(p, k, maxDistance, keys, radius2);
+    if (count == 0 || !(radius2 > 0)) return Vec3(0);
+    ConeSum radiance(p, n, std::sqrt(radius2), radius2), all(p, n, std::sqrt(radius2), radius2);
+    for (int j = 0; j < count; ++j) {
+        const StoredPhoton& s = m_photons[photon_heap::keyIndex(keys[j])];
+        if (!radiance.counts(s)) continue;
+        const Vec3 power = decodeRgbe(s.power);
+        const float d2 = photon_heap::keyDist2(keys[j]);
+        radiance.addCounted(f(decodeDirection(s.direction)) * power[channel], d2);
+        all.addCounted(power, d2);
+    }
+    irradiance = inWatts(all.irradiance());
+    return inWatts(radiance.irradiance());
 }
 
 Vec3 PhotonMap::irradianceWithin(const Vec3& p, const Vec3& n, float radius,

@@ -117,6 +117,13 @@ public:
     Vec3 radiance(const Vec3& p, const Vec3& n, int k, float maxDistance,
                   const std::function<Vec3(const Vec3& wi)>& f) const;
 
+    // radiance() with every photon's power taken as its channel `channel` alone, in all
+    // three results (spectral gi: the maps hold CIE XYZ and f is the BSDF at a path's three
+    // wavelengths, so this is sum f(wi_i) Y_i w_i / (...)); `irradiance` receives irradiance()
+    // of the same photons. gi scales the first by the irradiance's spectrum over its luminance.
+    Vec3 luminanceRadiance(const Vec3& p, const Vec3& n, int k, float maxDistance, int channel,
+                           const std::function<Vec3(const Vec3& wi)>& f, Vec3& irradiance) const;
+
     // Irradiance at p from every photon within `radius` that irradiance() would count, with
     // the same cone filter over that radius: the fixed-radius estimate of progressive photon
     // mapping, whose radius the caller shrinks from pass to pass (gi/progressive_caustics.h).

@@ -29,6 +29,7 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     ShadingPolicy policy;
     policy.rouletteEnabled = s.roulette;
     RenderContext rc{scene, accel, lights, policy, film, engine.seed};
+    rc.spectral = pass.spectral;
     // The caustic map is read at a visible point, the global map one bounce from it (a final
     // gather, or a camera chain through a glossy reflection): its photons stop one intersection
     // short of maxPhotonDepth D, so that a path through either has at most D scattering events
@@ -48,6 +49,7 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     std::uint64_t first = 0, last = 0;
     shareOf(pass.count, cluster.rank(), cluster.size(), first, last);
     emitter.setRange(first, last);
+    emitter.setSpectral(pass.spectral);
     Progress progress(
         pass.label, engine.quiet,
         [&] {

@@ -19,6 +19,7 @@
 namespace rayproc {
 
 class Cluster;
+class SpectralRender;
 struct EngineSettings;
 
 // What to trace: which map, how many photons are emitted (over all ranks), and the random
@@ -34,6 +35,9 @@ struct PhotonPassSpec {
     // stream hashCombine(tag, r); the powers are divided by the rounds traced.
     int maxRounds = 1;
     std::size_t inViewTarget = 0;
+    // Spectral mode: photons carry wavelengths and the map stores their XYZ
+    // (gi/photon_stage.h); null: RGB.
+    const SpectralRender* spectral = nullptr;
 };
 
 // Traces this rank's share of the pass and returns what the photon stage stored, keyed;

@@ -31,7 +31,12 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         SurfaceHit h = m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
         Vec3 wo = -d;
         resolveShading(m_rc.scene, h, wo);
-        Vec3 power = laneThroughput(b, i) * interiorTransmittance(h, o, d);
+        // Spectral mode: the photon's power is at its wavelengths, and so is everything it
+        // meets (absorption, the BSDF).
+        LaneShading wl(m_rc.spectral);
+        wl.select(b.lambdaU[i]);
+        Vec3 power =
+            laneThroughput(b, i) * interiorTransmittance(h, o, d, m_rc.spectral, &wl.lane());
         // Photons are stored where a lookup may read them: at diffuse and glossy surfaces. A
         // caustic photon goes on through a rough dielectric interface as through a smooth one
         // (GiSettings::roughCaustics): the camera's visible points past such interfaces and
@@ -49,7 +54,10 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
                 // Where a photon from a delta light or the sky first lands it is that light's
                 // direct light, which gi's gather samples instead (GiSettings::gatherDirect).
                 std::uint32_t sampled = b.depth[i] == 0 && (flags & kPhotonDeltaOrSky) ? 1u : 0u;
-                stored.push_back({key, PhotonRecord{h.p, power, wo, fg, sampled}});
+                // Spectral mode stores the CIE XYZ of its three values (the film's estimate of
+                // its colour, before the film's matrix to RGB; non-negative, as RGBE needs).
+                const Vec3 stored3 = m_rc.spectral ? m_rc.spectral->toXyz(power, wl.lane()) : power;
+                stored.push_back({key, PhotonRecord{h.p, stored3, wo, fg, sampled}});
                 ++giCounter(stats, kGiPhotonsStored);
             }
             // A caustic path ends at its first diffuse surface, unless a coat over it
@@ -60,7 +68,8 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         int depth = b.depth[i] + 1;
         if (depth >= m_maxDepth) continue;
         kernels::BsdfParams bsdf =
-            bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], kDimLobe + 1));
+            bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(b.rngKey[i], kDimLobe + 1),
+                   wl.shading());
         Vec2 u{kernels::uniform(b.rngKey[i], kDimScatter), kernels::uniform(b.rngKey[i], kDimScatter + 1)};
         kernels::BsdfSample s = kernels::sampleBsdf(bsdf, wo, h.ng, h.ns, u,
                                                     kernels::uniform(b.rngKey[i], kDimLobe));

@@ -25,6 +25,7 @@ ProgressiveCaustics::ProgressiveCaustics(const Scene& scene, const EmbreeScene& 
       m_radius(double(gi.settings.causticAlpha)) {
     const GiSettings& s = gi.settings;
     PhotonPassSpec spec{true, std::uint32_t(s.causticPhotons), passTag(0), "gi caustic photons"};
+    spec.spectral = m_gi.spectral;
     buildPhotonMap(m_map, scene, accel, lights, s, m_engine, cluster, spec, focus, stats);
     m_passesTraced = 1;
     m_mapPhotons = std::uint64_t(s.causticPhotons);
@@ -48,6 +49,7 @@ void ProgressiveCaustics::beginPass(int pass, int samples) {
     const std::uint64_t photons = progressivePassPhotons(std::uint64_t(s.causticPhotons), samples);
     if (pass != m_mapPass || photons != m_mapPhotons) {
         PhotonPassSpec spec{true, std::uint32_t(photons), passTag(pass), "gi caustic photons"};
+        spec.spectral = m_gi.spectral;
         buildPhotonMap(m_map, m_scene, m_accel, m_lights, s, m_engine, m_cluster, spec, m_focus,
                        m_stats);
         m_mapPass = pass;

@@ -36,6 +36,8 @@ bool RecordEmitter::emit(StageContext& ctx) {
             return dot(wi, rec.geometricNormal) > 0;
         };
         const std::uint64_t key = kernels::hashCombine(m_key, std::uint64_t(i));
+        // Spectral mode: the record's rays' wavelengths, spread as its prepass gather's.
+        const float gatherU = kernels::uniform(kernels::hashCombine(key, 0x1a3b), 0);
         for (int r = 0; r < m_gather.count(); ++r) {
             Vec3 wi;
             if (!direction(m_gather, key, r, wi)) {
@@ -46,18 +48,20 @@ bool RecordEmitter::emit(StageContext& ctx) {
             // Sample ~0: no stratum of the record's gradients.
             pushGatherRay(ctx.out(kGatherRay), rec.gatherOrigin, wi, local, ~0u, Vec3(1.0f),
                           kernels::hashCombine(key, 0x100000u + std::uint64_t(r)), 0,
-                          kFlagGatherRecord);
+                          kFlagGatherRecord, recordLambdaU(gatherU, r, m_gather.count()));
         }
         // Correction rays: the far end's map estimate replaced by a path (a ray below the
         // surface corrects nothing; the caller counts it all the same).
         const std::uint64_t correctionKey = kernels::hashCombine(key, 0xc0ec7);
+        const float correctionU = kernels::uniform(kernels::hashCombine(correctionKey, 0x1a3b), 0);
         for (int r = 0; r < m_correction.count(); ++r) {
             Vec3 wi;
             if (!direction(m_correction, correctionKey, r, wi)) continue;
             const std::uint64_t rayKey =
                 kernels::hashCombine(correctionKey, 0x100000u + std::uint64_t(r));
             pushGatherRay(ctx.out(kCorrectionRay), rec.gatherOrigin, wi, local, ~0u,
-                          Vec3(1.0f), rayKey, 1, 0);
+                          Vec3(1.0f), rayKey, 1, 0,
+                          recordLambdaU(correctionU, r, m_correction.count()));
         }
     }
     return true;

@@ -21,6 +21,7 @@
 #include "engine/cancel.h"
 #include "engine/phases.h"
 #include "engine/progress.h"
+#include "engine/spectral_render.h"
 #include "gi/cache_prepass.h"
 #include "gi/cache_refinement.h"
 #include "gi/focus_region.h"
@@ -159,7 +160,7 @@ void tracePhotonMaps(GiPhotonMaps& maps, GiData& gi, const Scene& scene,
     if (s.photons > 0 && plan.globalMap)
         maps.rounds = buildPhotonMap(maps.global, scene, accel, lights, s, engine, cluster,
                                      {false, std::uint32_t(s.photons), 1, "gi photons",
-                                      s.photonRounds, std::size_t(s.photons) / 4},
+                                      s.photonRounds, std::size_t(s.photons) / 4, gi.spectral},
                                      focus, photonStats, gatherDirect ? &maps.gatherMap : nullptr);
     const bool causticPass = s.caustics && s.causticPhotons > 0 && plan.causticMap;
     gi.roughCaustics = causticPass && s.roughCaustics;
@@ -168,7 +169,9 @@ void tracePhotonMaps(GiPhotonMaps& maps, GiData& gi, const Scene& scene,
         gi.causticFixedRadius = true;
     } else if (causticPass) {
         buildPhotonMap(maps.caustic, scene, accel, lights, s, engine, cluster,
-                       {true, std::uint32_t(s.causticPhotons), 2, "gi caustic photons"}, focus,
+                       {true, std::uint32_t(s.causticPhotons), 2, "gi caustic photons", 1, 0,
+                        gi.spectral},
+                       focus,
                        photonStats);
     }
     maps.photonSeconds = secondsSince(t0);
@@ -320,9 +323,6 @@ ThreadStats prepassCache(IrradianceCache& cache, GiData& gi, const Scene& scene,
 
 RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSettings& s,
                       const EngineSettings& engineIn) {
-    if (engineIn.spectral) // photons carry no wavelengths yet: refuse before tracing any
-        throw std::runtime_error("spectral rendering is not supported in gi mode yet "
-                                 "(docs/spectral.md)");
     // The mode's clock starts here: the error log's seconds and --time-limit count the
     // photon passes, the precomputation and the cache's prepass too.
     EngineSettings engine = engineIn;
@@ -341,6 +341,10 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     focusPhase.stop();
     Extras extras;
     GiData gi = giDataFor(s, scene, focus, engine, extras);
+    // Spectral mode: the pre-passes' conversions; the render pass's job sets up its own from
+    // the same scene and lights (the same values).
+    std::optional<SpectralRender> spectral;
+    if (engine.spectral) gi.spectral = &spectral.emplace(scene, lights);
 
     Stats photonStats;
     GiPhotonMaps maps;

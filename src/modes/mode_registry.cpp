@@ -39,8 +39,9 @@ const std::vector<ModeEntry>& modeRegistry() {
          [](const ModeSettings& m) { return m.preview.spp; },
          [](const ModeSettings& m) { return m.preview.toString(); }, noPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
-            const EngineSettings& engine) { return renderPreview(scene, accel, m.preview, engine); },
-         /*spectral=*/true},
+            const EngineSettings& engine) {
+             return renderPreview(scene, accel, m.preview, engine);
+         }},
         {"raytrace",
          "direct light with soft shadows, mirror reflection, Fresnel refraction",
          [](const ModeSettings& m) { return m.raytrace.spp; },
@@ -48,8 +49,7 @@ const std::vector<ModeEntry>& modeRegistry() {
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
             const EngineSettings& engine) {
              return renderRaytrace(scene, accel, m.raytrace, engine);
-         },
-         /*spectral=*/true},
+         }},
         {"gi",
          "photon mapping with final gathering and an irradiance cache",
          [](const ModeSettings& m) { return m.gi.spp; },
@@ -61,8 +61,7 @@ const std::vector<ModeEntry>& modeRegistry() {
          [](const ModeSettings& m) { return m.path.spp; },
          [](const ModeSettings& m) { return m.path.toString(); }, noPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
-            const EngineSettings& engine) { return renderPath(scene, accel, m.path, engine); },
-         /*spectral=*/true},
+            const EngineSettings& engine) { return renderPath(scene, accel, m.path, engine); }},
     };
     return modes;
 }

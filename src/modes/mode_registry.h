@@ -37,9 +37,6 @@ struct ModeEntry {
     std::pair<std::uint64_t, std::uint64_t> (*photons)(const ModeSettings& s);
     RenderResult (*render)(const Scene& scene, const EmbreeScene& accel, const ModeSettings& s,
                            const EngineSettings& engine);
-    // Whether it renders spectrally with EngineSettings::spectral (docs/spectral.md); the
-    // others refuse it rather than render RGB.
-    bool spectral = false;
 };
 
 // The modes in the order --help lists them.

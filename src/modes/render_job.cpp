@@ -212,12 +212,8 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
         m_rc.noise = &*m_noise;
     }
     if (engine.spectral) {
-        // The engine's stages carry wavelengths; a mode's own (gi's photons, gathers and
-        // corrections) do not yet (ModeEntry::spectral): it would render RGB under a spectral
-        // label.
-        if (modeStages)
-            throw std::runtime_error("spectral rendering is not supported in " + label +
-                                     " mode yet (docs/spectral.md)");
+        // Every stage reads the lane's wavelengths from its rays (a mode's own too: gi's
+        // gathers and corrections).
         m_spectral.emplace(scene, lights);
         m_rc.spectral = &*m_spectral;
     }

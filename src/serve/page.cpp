@@ -73,7 +73,7 @@ const char* const kPage = R"PAGE(<!doctype html>
   <div class="row">
     <button id="mode-raytrace">raytrace</button><button id="mode-gi">gi</button><button id="mode-path">path</button>
     spp <input id="spp" type="number" min="1" max="65536" placeholder="default">
-    <label title="three hero wavelengths per path, as pbrt-v4 renders (raytrace, path; not gi)"><input id="spectral" type="checkbox"> spectral</label>
+    <label title="three hero wavelengths per path, as pbrt-v4 renders (every mode)"><input id="spectral" type="checkbox"> spectral</label>
   </div>
   <div id="spp-defaults" class="help"></div>
   <div class="row"><button id="cancel" disabled>Cancel</button>

@@ -206,9 +206,6 @@ Json Session::replyRender(const Json& m, int client) {
                           m["spectral"].get<bool>();
     if (m.contains("spectral") && !m["spectral"].is_boolean())
         refuse("render.spectral: expected true or false");
-    if (spectral && !findMode(mode.get<std::string>())->spectral)
-        refuse("render.spectral: " + mode.get<std::string>() +
-               " mode cannot render spectrally yet (path, raytrace and preview can)");
     int spp = 0;
     if (m.contains("spp")) {
         if (!m["spp"].is_number_integer() || m["spp"].get<long long>() < 1 ||

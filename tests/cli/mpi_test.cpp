@@ -86,6 +86,10 @@ TEST_CASE("A render over 1, 2 and 4 MPI ranks is bit-identical to one process, i
         // Spectral: each path's wavelengths are a pure function of its pixel and sample.
         {"path", {"--spp", "8", "--spectral"}},
         {"raytrace", {"--spp", "4", "--spectral"}},
+        // Spectral gi: each photon's wavelengths are a pure function of the pass and its
+        // index, a record's gather rays' of the record; the corrections sum in record order.
+        {"gi", {"--spp", "3", "--photons", "20000", "--caustic-photons", "20000",
+                "--ic-correction-rays", "2", "--spectral"}},
     }));
     INFO("mode " << mode);
     TempDir dir;

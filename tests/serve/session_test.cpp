@@ -277,11 +277,9 @@ TEST_CASE("serve: a render streams progress and frames - cancel returns to the p
     CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "path"}, {"spp", 0}})), Catch::Contains("render.spp"));
 }
 
-TEST_CASE("serve: a render may be spectral, except in gi", "[serve][spectral-mode]") {
+TEST_CASE("serve: a render may be spectral, in gi too", "[serve][spectral-mode]") {
     Harness h(scenePath("cornell-box"));
     h.session.waitIdle();
-    CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "gi"}, {"spectral", true}})),
-               Catch::Contains("render.spectral: gi mode cannot render spectrally"));
     CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "path"}, {"spectral", 1}})),
                Catch::Contains("render.spectral: expected true or false"));
     Image rgb, spectral;
@@ -298,6 +296,17 @@ TEST_CASE("serve: a render may be spectral, except in gi", "[serve][spectral-mod
     // The same view, spectrally: near RGB's mean, not its bits.
     CHECK(meanValue(spectral) == Approx(meanValue(rgb)).epsilon(0.05));
     CHECK(spectral.pixels != rgb.pixels);
+    // gi renders it too (it was refused before its photons had wavelengths): indirect light
+    // on top of raytrace's direct light.
+    Image gi;
+    REQUIRE(h.send({{"type", "render"}, {"mode", "gi"}, {"spp", 1}, {"spectral", true}})[
+                "type"] == "render_started");
+    h.session.waitIdle();
+    CHECK(h.sawText("render_begin", [](const Json& t) {
+        return t["mode"] == "gi" && t["spectral"] == true;
+    }));
+    REQUIRE(h.session.lastRender(gi));
+    CHECK(meanValue(gi) > meanValue(spectral));
 }
 
 TEST_CASE("serve: a closed page cancels its own render, not another page's", "[serve]") {
