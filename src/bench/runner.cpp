@@ -27,11 +27,6 @@ std::string formatSeconds(double s) {
     return buf;
 }
 
-bool rendersSpectrally(const std::string& mode) {
-    const ModeEntry* entry = findMode(mode);
-    return entry && entry->spectral;
-}
-
 // The configurations a mode's ladder runs: one, or one per swept gi setting.
 std::vector<RenderConfig> ladderConfigs(const BenchScene& b, const BenchSuite& suite,
                                         const ModeLadder& ladder, const BenchOptions& options) {
@@ -174,32 +169,7 @@ std::vector<ModeLadder> namedLadders(const BenchSuite& suite, const BenchOptions
 }
 
 std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOptions& options) {
-    std::vector<ModeLadder> ladders =
-        options.modes.empty() ? suite.ladders : namedLadders(suite, options);
-    if (!options.spectral) return ladders;
-    // A mode the user named is refused rather than silently dropped; the suite's own are
-    // skipped (spectralSkippedModes says which).
-    for (const ModeLadder& l : ladders)
-        if (!rendersSpectrally(l.mode) && !options.modes.empty())
-            throw InputError("--modes " + l.mode + " with --spectral: " + l.mode +
-                             " cannot render spectrally yet (docs/spectral.md); leave it out of "
-                             "--modes, or bench it without --spectral");
-    ladders.erase(std::remove_if(ladders.begin(), ladders.end(),
-                                 [](const ModeLadder& l) { return !rendersSpectrally(l.mode); }),
-                  ladders.end());
-    if (ladders.empty())
-        throw InputError("--spectral: no mode of suite '" + suite.name +
-                         "' renders spectrally (docs/spectral.md)");
-    return ladders;
-}
-
-std::vector<std::string> spectralSkippedModes(const BenchSuite& suite,
-                                              const BenchOptions& options) {
-    std::vector<std::string> skipped;
-    if (!options.spectral || !options.modes.empty()) return skipped;
-    for (const ModeLadder& l : suite.ladders)
-        if (!rendersSpectrally(l.mode)) skipped.push_back(l.mode);
-    return skipped;
+    return options.modes.empty() ? suite.ladders : namedLadders(suite, options);
 }
 
 BenchScene prepareForSuite(const SceneJob& job, const BenchSuite& suite,

@@ -86,14 +86,9 @@ bool forEachBenchScene(const std::vector<SceneJob>& jobs, const BenchSuite& suit
                        std::vector<SceneInfo>& scenes,
                        const std::function<bool(const BenchScene&)>& body);
 
-// The suite's ladders, only those of options.modes when it names some; with --spectral, only
-// the modes that render spectrally. Throws InputError naming a mode the suite does not have,
-// or one --modes names that cannot render spectrally under --spectral.
+// The suite's ladders, only those of options.modes when it names some. Throws InputError
+// naming a mode the suite does not have.
 std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOptions& options);
-// The suite's modes that --spectral skips (those that cannot render spectrally), for the run
-// to say so; empty without --spectral or with --modes (which refuses them instead).
-std::vector<std::string> spectralSkippedModes(const BenchSuite& suite,
-                                              const BenchOptions& options);
 
 // Renders every ladder of the suite; stops early (interrupted = true) on Ctrl-C, keeping the
 // rows of the renders that completed.

@@ -124,8 +124,7 @@ const BenchSuite& selectSuite(BenchArgs& a, const std::string& suiteName) {
                          "optimisation on and off at one budget: pick one");
     if (a.ablation && o.spectral)
         throw InputError("--spectral renders the curves spectrally; --ablation measures the "
-                         "optimisations in RGB (most are gi's, which cannot render spectrally "
-                         "yet): pick one");
+                         "optimisations in RGB: pick one");
     if (a.ablation && !o.modes.empty())
         throw InputError("--modes selects the curves' modes; --ablation renders its own fixed "
                          "list of optimisations in path and gi mode");
@@ -210,12 +209,6 @@ int runBench(BenchArgs& a) {
     // (given references already read).
     std::vector<SceneJob> jobs = benchSceneJobs(suite, o);
     selectedLadders(suite, o);
-    // Said even with --quiet: the run's results lack these modes.
-    for (const std::string& mode : spectralSkippedModes(suite, o))
-        std::fprintf(stderr,
-                     "rayproc bench: --spectral: skipping %s, which cannot render spectrally yet "
-                     "(docs/spectral.md)\n",
-                     mode.c_str());
     std::string resultsPath = (fs::path(o.outDir) / "results.csv").string();
     checkBenchFiles(a, jobs, resultsPath);
 
@@ -284,8 +277,7 @@ std::function<int()> addBenchCommand(CLI::App& app) {
     cmd->add_flag("--spectral", args->options.spectral,
                   "Render spectrally (docs/spectral.md): every mode's renders and the cached "
                   "path references (refs/<scene>-<w>x<h>-path-spectral-...; the shipped golden "
-                  "images are RGB, so they are not used). gi cannot render spectrally yet: it is "
-                  "skipped (refused if --modes names it); --ablation refuses --spectral");
+                  "images are RGB, so they are not used); --ablation refuses --spectral");
     cmd->add_option("--peer-csv", args->options.peerCsvs,
                     "Results of another renderer, columns as results.csv (repeatable): added to "
                     "the plots and tables as their own modes")

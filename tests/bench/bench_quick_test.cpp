@@ -225,20 +225,17 @@ TEST_CASE("rayproc bench names what is wrong with --reference, --modes and --pro
     }
 }
 
-TEST_CASE("rayproc bench --spectral renders spectrally, its references too, and skips gi",
+TEST_CASE("rayproc bench --spectral renders every mode spectrally, its references too",
           "[cli][bench]") {
     test::TempDir dir;
     const std::string scenes = (test::sourceDir() / "scenes").string();
     std::string out = dir.file("bench");
-    // The quick suite with a short time cap: each ladder stops after a render or two. Without
-    // --modes the suite's gi is skipped, and said so.
+    // The quick suite with a short time cap: each ladder stops after a render or two.
     test::RunResult r = test::runRayproc({"bench", "--quick", "--spectral", "--time-cap", "0.3",
                                           "-o", out, "--scenes-dir", scenes},
                                          dir, 120);
     INFO(r.err);
     REQUIRE(r.status == 0);
-    CHECK(r.err.find("--spectral: skipping gi, which cannot render spectrally yet") !=
-          std::string::npos);
     CHECK(r.err.find("(path mode, spectral, 1024 spp") != std::string::npos);
     std::vector<bench::BenchRow> rows = bench::readResultsCsv(out + "/results.csv");
     std::set<std::string> modes;
@@ -248,7 +245,7 @@ TEST_CASE("rayproc bench --spectral renders spectrally, its references too, and 
         CHECK(std::isfinite(row.relmse));
         modes.insert(row.mode);
     }
-    CHECK(modes == std::set<std::string>{"preview", "raytrace", "path"});
+    CHECK(modes == std::set<std::string>{"preview", "raytrace", "path", "gi"});
     // The reference is a spectral path render, cached under a name of its own (an RGB run's
     // cached reference is never taken for it, nor it for an RGB run's).
     std::vector<std::string> refs;
@@ -284,16 +281,10 @@ TEST_CASE("rayproc bench --spectral renders spectrally, its references too, and 
     for (std::size_t i = 0; i < rgb.size(); ++i) CHECK(spectral[i] != rgb[i]);
 }
 
-TEST_CASE("rayproc bench --spectral refuses gi by name and --ablation", "[cli][bench]") {
+TEST_CASE("rayproc bench --spectral refuses --ablation", "[cli][bench]") {
     test::TempDir dir;
     const std::string scenes = (test::sourceDir() / "scenes").string();
-    test::RunResult r = test::runRayproc({"bench", "--quick", "--spectral", "--modes", "path,gi",
-                                          "-o", dir.file("a"), "--scenes-dir", scenes},
-                                         dir, 30);
-    CHECK(r.status == 1);
-    CHECK(r.err.find("--modes gi with --spectral: gi cannot render spectrally yet") !=
-          std::string::npos);
-    CHECK(!std::filesystem::exists(dir.file("a/results.csv")));
+    test::RunResult r;
     r = test::runRayproc({"bench", "--quick", "--spectral", "--ablation", "-o", dir.file("b"),
                           "--scenes-dir", scenes},
                          dir, 30);
