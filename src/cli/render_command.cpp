@@ -79,6 +79,7 @@ struct RenderArgs {
     bool noGlossyMis = false, noDiffuseMis = false, noSkyCompensation = false;
     bool spectral = false, noSpectral = false;
     bool noLightChoice = false;
+    std::string coatModel; // --coat-model: every coateddiffuse's model; empty: the scene's
 };
 
 std::string joinModes() {
@@ -180,6 +181,13 @@ std::unique_ptr<Scene> loadRenderScene(const RenderArgs& a, std::vector<NamedPat
     checkDistinctFiles(files);
     if (a.width > 0) scene->camera.width = a.width;
     if (a.height > 0) scene->camera.height = a.height;
+    if (!a.coatModel.empty()) {
+        const Material::CoatModel model = a.coatModel == "analytic" ? Material::CoatModel::Analytic
+                                          : a.coatModel == "random-walk"
+                                              ? Material::CoatModel::RandomWalk
+                                              : Material::CoatModel::Auto;
+        for (Material& m : scene->materials) m.coatModel = model;
+    }
     // Each side is range-checked by CLI11; the product must also stay within the scene limit.
     long long pixels = (long long)scene->camera.width * scene->camera.height;
     if (pixels > kMaxImagePixels)
@@ -496,6 +504,13 @@ void addSceneOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_flag("--no-spectral", args->noSpectral,
                   "Render in RGB even where the scene's render.spectral asks for spectra")
         ->excludes("--spectral");
+    cmd->add_option("--coat-model", args->coatModel,
+                    "How every coateddiffuse material is evaluated: auto (the closed form unless "
+                    "its medium scatters), analytic, or random-walk (pbrt-v4's stochastic layered "
+                    "evaluation, its maxdepth and nsamples; slower and noisier, as pbrt-v4 "
+                    "defines it: docs/spectral.md, \"Coffee's orange\"). Default: each "
+                    "material's own (a JSON scene's \"model\", else auto)")
+        ->check(CLI::IsMember({"auto", "analytic", "random-walk"}));
     cmd->add_option("--spp", args->spp, "Samples per pixel (default: the mode's, or the scene's)")
         ->check(CLI::Range(1, 1000000));
     cmd->add_option("--threads", args->threads, "Worker threads, for every phase (default: all cores; under mpirun: per rank)")

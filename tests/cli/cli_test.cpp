@@ -395,3 +395,37 @@ TEST_CASE("rayproc info --json gives the exact figures of the Cornell box", "[cl
     CHECK(hi[1].get<double>() == Approx(2).margin(1e-6));
     CHECK(hi[2].get<double>() == Approx(1).margin(1e-6));
 }
+
+TEST_CASE("render --coat-model sets how every coateddiffuse is evaluated", "[cli]") {
+    TempDir dir;
+    // The Cornell box with its tall box an orange coated plastic (no medium: auto is the
+    // closed form).
+    std::string scene = readText((sourceDir() / "scenes" / "cornell-box.json").string());
+    const std::string tall = R"("TallBox":   {"type": "diffuse", "color": [0.725, 0.71, 0.68]})";
+    REQUIRE(scene.find(tall) != std::string::npos);
+    scene.replace(scene.find(tall), tall.size(),
+                  R"("TallBox": {"type": "coateddiffuse", "color": [1, 0.38, 0.013], "roughness": 0.1})");
+    writeText(dir.file("coated.json"), scene);
+    auto render = [&](const std::string& model) {
+        std::vector<std::string> args = {"render", dir.file("coated.json"), "--mode", "path",
+                                         "--spp", "4", "--width", "32", "--height", "32",
+                                         "--threads", "2", "-q", "-o",
+                                         dir.file("img-" + model + ".pfm")};
+        if (!model.empty()) args.insert(args.end(), {"--coat-model", model});
+        RunResult r = runRayproc(args, dir);
+        INFO(r.err);
+        REQUIRE(r.status == 0);
+        return readText(dir.file("img-" + model + ".pfm"));
+    };
+    const std::string own = render(""), automatic = render("auto");
+    const std::string analytic = render("analytic"), walk = render("random-walk");
+    CHECK(automatic == own);
+    CHECK(analytic == own);
+    CHECK(walk != own);
+    RunResult bad = runRayproc({"render", dir.file("coated.json"), "--coat-model", "walk", "-o",
+                                dir.file("bad.pfm")},
+                               dir);
+    CHECK(bad.status != 0);
+    CHECK(bad.err.find("random-walk") != std::string::npos);
+    CHECK(!std::filesystem::exists(dir.file("bad.pfm")));
+}
