@@ -2,6 +2,7 @@
 // maps of their XYZ, gathers and the cache's estimates taken at a path's wavelengths. Where the
 // answer is known it must come out: the inside-out furnace lit by white emission, a grey
 // Cornell box as gi renders it in RGB; and images stay bit-identical across thread counts.
+#include "gi/glossy_ceiling_scene.h"
 #include "spectral_checks.h"
 
 using namespace rayproc;
@@ -79,17 +80,7 @@ TEST_CASE("Spectral gi lights a floor through a glossy silver ceiling as spectra
     // ceiling's glossy lobe (L G D), which the gathers read with the map's luminance-weighted
     // radiance estimate and silver's eta and k at the lane's wavelengths
     // (PhotonMap::luminanceRadiance).
-    auto scene = sceneFromJson(R"({
-      "camera": {"position": [0, 1.2, 6], "look_at": [0, 0, 0], "fov": 50, "resolution": [32, 32]},
-      "materials": {
-        "floor": {"type": "diffuse", "color": [0.7, 0.7, 0.7]},
-        "metal": {"type": "conductor", "metal": "Ag", "roughness": 0.1, "remap_roughness": false}},
-      "lights": [],
-      "nodes": [
-        {"type": "quad", "material": "floor", "corners": [[-4, 0, -4], [-4, 0, 4], [4, 0, 4], [4, 0, -4]]},
-        {"type": "quad", "material": "metal", "corners": [[-4, 3, -4], [4, 3, -4], [4, 3, 4], [-4, 3, 4]]},
-        {"type": "quad", "emission": [20, 20, 20],
-         "corners": [[-0.5, 1, -0.5], [-0.5, 1, 0.5], [0.5, 1, 0.5], [0.5, 1, -0.5]]}]})");
+    auto scene = glossyCeilingScene();
     EmbreeScene accel(*scene);
     EngineSettings engine;
     engine.threads = 2;
