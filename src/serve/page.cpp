@@ -73,7 +73,7 @@ const char* const kPage = R"PAGE(<!doctype html>
   <div class="row">
     <button id="mode-raytrace">raytrace</button><button id="mode-gi">gi</button><button id="mode-path">path</button>
     spp <input id="spp" type="number" min="1" max="65536" placeholder="default">
-    <label title="three hero wavelengths per path, as pbrt-v4 renders (every mode)"><input id="spectral" type="checkbox"> spectral</label>
+    <label title="three hero wavelengths per path, as pbrt-v4 renders: the live view, its refinement and the renders (every mode)"><input id="spectral" type="checkbox"> spectral</label>
   </div>
   <div id="spp-defaults" class="help"></div>
   <div class="row"><button id="cancel" disabled>Cancel</button>
@@ -375,6 +375,7 @@ function previewHeight() { return Math.max(1, Math.round(state.camera.resolution
 let shownLights = null, shownWarnings = null;
 function showState(s) {
   state = s;
+  $("spectral").checked = !!s.spectral_view;
   // The canvas has a full frame's size (drawFrame): the preview's until a frame says otherwise,
   // so the coarse frames before it have the scene's aspect.
   const r = s.camera.resolution;
@@ -420,6 +421,7 @@ function updateControls() {
   for (const id of ["mode-raytrace", "mode-gi", "mode-path", "home", "view-apply", "undo", "redo", "undo-view",
                     "redo-view", "exposure", "tone-map"]) setProp(id, "disabled", !online);
   setProp("cancel", "disabled", !online || !rendering);
+  setProp("spectral", "disabled", !online || rendering); // the view's mode: not during a render
 }
 
 // The scene's lights: a JSON scene's are editable (one field per channel, so a coloured light
@@ -700,6 +702,8 @@ for (const mode of ["raytrace", "gi", "path"])
     send(m);
   };
 $("cancel").onclick = () => send({type: "cancel"});
+// The live view, its refinement and the renders all follow the checkbox.
+$("spectral").onchange = () => send({type: "view", spectral: $("spectral").checked});
 layout();
 connect();
 </script>

@@ -184,6 +184,7 @@ Session::Session(const std::string& scenePath, const Options& options)
         m_loaded = loaded;
     }
     m_home = m_camera;
+    m_spectralView = m_loaded->scene->render.spectral;
     m_version = 1;
 }
 
@@ -460,6 +461,7 @@ Json Session::state() const {
     // The page scales its fly, zoom and orbit pivot to the scene's extent.
     if (!m_loaded->bounds.empty()) s["bounds"] = m_loaded->bounds;
     s["rendering"] = m_rendering || m_request.has_value();
+    s["spectral_view"] = m_spectralView;
     s["refine"] = m_options.refine;
     {
         std::lock_guard<std::mutex> frames(m_frameMutex);
@@ -610,6 +612,7 @@ void Session::refinePreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     EngineSettings engine;
     engine.threads = m_options.threads;
     engine.quiet = true;
+    engine.spectral = spectralView();
     engine.stop = staleStop(version);
     engine.progressiveSeconds = 0; // every pass
     const RaytraceSettings settings = raytraceSettings(scene.render, {});
@@ -649,6 +652,7 @@ bool Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     EngineSettings engine;
     engine.threads = m_options.threads;
     engine.quiet = true;
+    engine.spectral = spectralView();
     PreviewSettings settings = previewSettings(scene.render, {});
     // A newer change (a camera drag sends one per mouse move) makes this preview stale: it
     // stops emitting at once, through the engine's own stop rather than the interrupt, which

@@ -130,6 +130,8 @@ private:
     Json replyRender(const Json& m, int client);
     Json replyCancel(const Json& m, int client);
     Json replyDisplay(const Json& m, int client);
+    Json replyView(const Json& m, int client);
+    bool spectralView() const; // takes m_mutex
     // The document's node `index` moved by `translate` after `about` (rotation and scale
     // about its centre); m_mutex held.
     void transformNode(Json& doc, long long index, const Vec3& translate,
@@ -195,6 +197,9 @@ private:
     std::optional<RenderRequest> m_request;
     std::atomic<bool> m_requestPending{false}; // m_request is set (read by staleStop)
     std::vector<std::string> m_warnings;       // the pbrt loader's, for the page
+    // The live view and its refinement render spectrally (m_mutex): the scene's
+    // render.spectral at first, then the page's "view" message.
+    bool m_spectralView = false;
     bool m_rendering = false;
     int m_renderClient = -1;
     std::atomic<bool> m_quit{false};

@@ -16,7 +16,7 @@ namespace rayproc::serve::session_detail {
 
 inline const std::vector<std::string> kMessageTypes = {
     "state", "camera", "pick", "transform", "material", "emission", "light",
-    "undo", "redo", "save", "render", "cancel", "display"};
+    "undo", "redo", "save", "render", "cancel", "display", "view"};
 [[noreturn]] inline void refuse(const std::string& what) { throw InputError(what); }
 
 inline const Json& field(const Json& m, const char* key, const char* type) {

@@ -26,7 +26,7 @@ Json Session::reply(const Json& m, int client) {
         {"light", &Session::replyLight},       {"undo", &Session::replyUndoRedo},
         {"redo", &Session::replyUndoRedo},     {"save", &Session::replySave},
         {"render", &Session::replyRender},     {"cancel", &Session::replyCancel},
-        {"display", &Session::replyDisplay}};
+        {"display", &Session::replyDisplay},   {"view", &Session::replyView}};
     const std::string type = m["type"].get<std::string>();
     for (const auto& [name, handler] : handlers)
         if (name == type) return (this->*handler)(m, client);
@@ -245,6 +245,27 @@ Json Session::replyDisplay(const Json& m, int) {
     Json out = displayJson(tm);
     out["type"] = "display";
     return out;
+}
+
+// How the live view renders: spectrally or in RGB (docs/spectral.md). A change is a new view:
+// the preview and its refinement start again.
+Json Session::replyView(const Json& m, int) {
+    expectKeys(m, {"spectral"});
+    if (!m.contains("spectral") || !m["spectral"].is_boolean())
+        refuse("view.spectral: expected true or false");
+    const bool spectral = m["spectral"].get<bool>();
+    std::lock_guard<std::mutex> lk(m_mutex);
+    if (m_rendering || m_request) refuse("view: a render is running; cancel it first");
+    if (m_spectralView != spectral) {
+        m_spectralView = spectral;
+        changed();
+    }
+    return {{"type", "view"}, {"spectral", spectral}};
+}
+
+bool Session::spectralView() const {
+    std::lock_guard<std::mutex> lk(m_mutex);
+    return m_spectralView;
 }
 
 ToneMapSettings Session::display() const {

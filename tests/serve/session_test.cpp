@@ -739,3 +739,63 @@ Shape "sphere" "float radius" [0.5]
     REQUIRE(s["warnings"].size() >= 1);
     CHECK_THAT(s["warnings"][0].get<std::string>(), Catch::Contains("missing-wood.png"));
 }
+
+TEST_CASE("serve: the live view renders spectrally on request - its refinement ends at spectral "
+          "raytrace's image",
+          "[serve][spectral-mode]") {
+    Harness h(scenePath("cornell-box"));
+    CHECK(h.send({{"type", "state"}})["spectral_view"] == false);
+    auto doneFrame = [&](std::uint32_t version) {
+        for (int i = 0; i < 120000; ++i) {
+            if (h.sawText("refine", [&](const Json& t) {
+                    return t["version"] == version && t["done"] == true;
+                }))
+                return true;
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        return false;
+    };
+    Json reply = h.send({{"type", "view"}, {"spectral", true}});
+    CHECK(reply["type"] == "view");
+    CHECK(reply["spectral"] == true);
+    Json state = h.send({{"type", "state"}});
+    CHECK(state["spectral_view"] == true);
+    REQUIRE(doneFrame(state["version"].get<std::uint32_t>()));
+    Image shown;
+    REQUIRE(h.session.lastFrame(shown));
+    // The last frame is spectral raytrace's image of the view at the preview's size, to the bit.
+    auto scene = loadScene(scenePath("cornell-box"));
+    scene->camera.width = shown.width;
+    scene->camera.height = shown.height;
+    EmbreeScene accel(*scene);
+    EngineSettings engine;
+    engine.threads = 2;
+    engine.quiet = true;
+    engine.spectral = true;
+    RenderResult ref = renderRaytrace(*scene, accel, raytraceSettings(scene->render, {}), engine);
+    CHECK(shown.pixels == ref.image.pixels);
+    engine.spectral = false;
+    RenderResult rgb = renderRaytrace(*scene, accel, raytraceSettings(scene->render, {}), engine);
+    CHECK(shown.pixels != rgb.image.pixels);
+
+    CHECK_THAT(messageOf(h.send({{"type", "view"}, {"spectral", 1}})),
+               Catch::Contains("view.spectral: expected true or false"));
+    CHECK_THAT(messageOf(h.send({{"type", "view"}})),
+               Catch::Contains("view.spectral: expected true or false"));
+    CHECK_THAT(messageOf(h.send({{"type", "view"}, {"spectral", true}, {"rgb", false}})),
+               Catch::Contains("unknown key \"rgb\""));
+    CHECK(h.send({{"type", "state"}})["spectral_view"] == true);
+    // Back to RGB.
+    CHECK(h.send({{"type", "view"}, {"spectral", false}})["spectral"] == false);
+    CHECK(h.send({{"type", "state"}})["spectral_view"] == false);
+}
+
+TEST_CASE("serve: a scene that asks for spectra starts with a spectral view", "[serve][spectral-mode]") {
+    TempDir dir;
+    std::string text = readText(scenePath("cornell-box"));
+    REQUIRE(text.front() == '{');
+    text.insert(1, R"("render": {"spectral": true},)");
+    writeText(dir.file("spectral.json"), text);
+    Harness h(dir.file("spectral.json"));
+    CHECK(h.send({{"type", "state"}})["spectral_view"] == true);
+}
