@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""scripts/scaling at a tiny size: 1 and 2 threads, one repetition each, of a path render of the
+"""scripts/scaling at a tiny size: 1 and 2 threads (--threads-max 2, and --threads 2, which
+adds the base of 1), one repetition each, of a path render of the
 Cornell box at 32x32 and a gi render at 24x24 (photon passes, cache prepass). Its table and JSON
 are well formed: every phase rayproc reports appears once with a time per thread count, the
 render's own phases are there, the speed-ups are the 1-thread time over each, and the serial
@@ -22,12 +23,12 @@ def check(cond, what):
         sys.exit("scaling_script: " + what)
 
 
-def run_case(rayproc, mode, size, expected, extra=()):
+def run_case(rayproc, mode, size, expected, extra=(), counts=("--threads-max", "2")):
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "scaling.json")
         p = subprocess.run([sys.executable, TOOL, os.path.join(ROOT, "scenes", "cornell-box.json"),
                             "--rayproc", rayproc, "--mode", mode, "--spp", "1", "--width",
-                            str(size), "--height", str(size), "--threads-max", "2",
+                            str(size), "--height", str(size), *counts,
                             "--repetitions", "1", "--json", out] + (["--", *extra] if extra else []),
                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         check(p.returncode == 0, "%s: exit %d: %s" % (mode, p.returncode, p.stderr))
@@ -67,6 +68,8 @@ def main():
               "between_passes", "film_resolve",
               "image_write", "other"]
     run_case(rayproc, "path", 32, common)
+    # --threads: the counts given, 1 (the base) added.
+    run_case(rayproc, "path", 32, common, counts=("--threads", "2"))
     run_case(rayproc, "gi", 24, common + ["photon_tracing", "photon_map_build", "cache_prepass"],
              ["--photons", "20000", "--caustic-photons", "5000"])
     print("scaling_script: ok")
