@@ -73,6 +73,10 @@ void RayProcessor::process(RayBatch* batch, StageContext& ctx) {
 // to rethrow, and the others must not wait for the busy count the failed worker can no longer
 // lower.
 void RayProcessor::worker(Emitter& emitter, const std::function<bool()>& stopEmitting) {
+    struct Leaving {
+        std::atomic<int>& left;
+        ~Leaving() { left.fetch_add(1, std::memory_order_release); }
+    } leaving{m_left};
     auto& slot = m_contexts.local();
     if (!slot) slot = std::make_unique<StageContext>(m_queue, m_pool);
     StageContext& ctx = *slot;
@@ -124,10 +128,12 @@ void RayProcessor::run(Emitter& emitter, const std::function<bool()>& stopEmitti
     m_emitterDone.store(false);
     m_failed.store(false);
     m_failure = nullptr;
+    m_left.store(0);
     m_arena.execute([&] {
         tbb::parallel_for(0, m_threads, [&](int) { worker(emitter, stopEmitting); },
                           tbb::simple_partitioner());
     });
+    RAYPROC_CHECK(m_left.load(std::memory_order_acquire) == m_threads);
     if (m_failed.load()) {
         // The run's work is dropped with it: queued and staged batches go back to the pool.
         RayBatch* b = nullptr;

@@ -65,6 +65,10 @@ private:
     tbb::enumerable_thread_specific<std::unique_ptr<StageContext>> m_contexts;
     std::atomic<int> m_busy{0};
     std::atomic<bool> m_emitterDone{false};
+    // Workers that have left run()'s loop: each adds one (release) as it leaves, and run()
+    // reads it (acquire) after the join, so what a worker last did is seen to happen before
+    // what follows (the join inside TBB is invisible to ThreadSanitizer).
+    std::atomic<int> m_left{0};
     // A worker's exception: the others stop, run() rethrows it.
     std::atomic<bool> m_failed{false};
     std::mutex m_failureMutex;
