@@ -1,5 +1,6 @@
 #include "gi/correction_smoothing.h"
 
+#include "core/ordered_parallel.h"
 #include "gi/photon_heap.h"
 #include "gi/photon_kdtree.h"
 
@@ -63,7 +64,7 @@ RecordNeighbours::RecordNeighbours(const std::vector<IrradianceRecord>& records)
         }
         m_counts[i] = count;
     };
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64),
+    orderedParallelFor(0, n, 64,
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i != r.end(); ++i) findNeighbours(i);
                       });

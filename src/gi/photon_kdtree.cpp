@@ -4,6 +4,7 @@
 #include "gi/photon_kdtree.h"
 
 #include "core/error.h"
+#include "core/ordered_parallel.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -62,7 +63,8 @@ void buildRange(BuildKey* keys, std::uint8_t* axis, std::size_t n, StopCheck& st
     auto left = [&] { buildRange(keys, axis, half, stop); };
     auto right = [&] { buildRange(keys + half + 1, axis + half + 1, n - half - 1, stop); };
     if (n >= kParallelGrain) {
-        tbb::parallel_invoke(left, right);
+        // The halves' keys were just moved by this thread (ordered where TSan sees it).
+        orderedParallelInvoke(left, right);
     } else {
         left();
         right();
@@ -75,7 +77,7 @@ bool build(std::vector<BuildKey>& keys, std::vector<std::uint8_t>& axis,
            const std::function<bool()>& stop) {
     RAYPROC_CHECK(keys.size() < (std::size_t(1) << 32));
     std::atomic<bool> finite{true};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 16384),
+    orderedParallelFor(0, keys.size(), 16384,
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           bool ok = true;
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {

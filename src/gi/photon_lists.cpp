@@ -1,5 +1,7 @@
 #include "gi/photon_lists.h"
 
+#include "core/ordered_parallel.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -22,7 +24,7 @@ std::vector<KeyedPhoton> keyedInOrder(std::vector<std::vector<KeyedPhoton>*> run
     // Each run's key range, on its own thread.
     std::vector<std::pair<std::uint64_t, std::uint64_t>> ranges(
         runs.size(), {std::numeric_limits<std::uint64_t>::max(), 0});
-    tbb::parallel_for(std::size_t(0), runs.size(), [&](std::size_t r) {
+    orderedParallelForEach(0, runs.size(), [&](std::size_t r) {
         for (const KeyedPhoton& k : *runs[r]) {
             ranges[r].first = std::min(ranges[r].first, k.first);
             ranges[r].second = std::max(ranges[r].second, k.first);
@@ -45,7 +47,7 @@ std::vector<KeyedPhoton> keyedInOrder(std::vector<std::vector<KeyedPhoton>*> run
 
     // counts[r][b]: run r's photons in bucket b; then where run r starts writing bucket b.
     std::vector<std::vector<std::size_t>> at(runs.size(), std::vector<std::size_t>(buckets, 0));
-    tbb::parallel_for(std::size_t(0), runs.size(), [&](std::size_t r) {
+    orderedParallelForEach(0, runs.size(), [&](std::size_t r) {
         for (const KeyedPhoton& k : *runs[r]) ++at[r][bucketOf(k.first)];
     });
     std::vector<std::size_t> bucketStart(buckets + 1, 0);
@@ -59,11 +61,11 @@ std::vector<KeyedPhoton> keyedInOrder(std::vector<std::vector<KeyedPhoton>*> run
         }
     }
     bucketStart[buckets] = offset;
-    tbb::parallel_for(std::size_t(0), runs.size(), [&](std::size_t r) {
+    orderedParallelForEach(0, runs.size(), [&](std::size_t r) {
         for (KeyedPhoton& k : *runs[r]) all[at[r][bucketOf(k.first)]++] = std::move(k);
         std::vector<KeyedPhoton>().swap(*runs[r]);
     });
-    tbb::parallel_for(std::size_t(0), buckets, [&](std::size_t b) {
+    orderedParallelForEach(0, buckets, [&](std::size_t b) {
         std::sort(all.begin() + std::ptrdiff_t(bucketStart[b]),
                   all.begin() + std::ptrdiff_t(bucketStart[b + 1]),
                   [](const KeyedPhoton& x, const KeyedPhoton& y) { return x.first < y.first; });
@@ -76,9 +78,9 @@ std::vector<PhotonRecord> joinRounds(std::vector<std::vector<PhotonRecord>>& rou
     std::vector<std::size_t> start(rounds.size() + 1, 0);
     for (std::size_t r = 0; r < rounds.size(); ++r) start[r + 1] = start[r] + rounds[r].size();
     std::vector<PhotonRecord> all(start.back());
-    tbb::parallel_for(std::size_t(0), rounds.size(), [&](std::size_t r) {
+    orderedParallelForEach(0, rounds.size(), [&](std::size_t r) {
         const std::vector<PhotonRecord>& round = rounds[r];
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, round.size(), kFilterBlock),
+        orderedParallelFor(0, round.size(), kFilterBlock,
                           [&](const tbb::blocked_range<std::size_t>& range) {
                               for (std::size_t i = range.begin(); i != range.end(); ++i) {
                                   PhotonRecord p = round[i];
@@ -98,7 +100,7 @@ std::vector<PhotonRecord> scatteredPhotons(const std::vector<PhotonRecord>& phot
     auto blockRange = [&](std::size_t b) {
         return std::make_pair(b * kFilterBlock, std::min(photons.size(), (b + 1) * kFilterBlock));
     };
-    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
+    orderedParallelForEach(0, blocks, [&](std::size_t b) {
         const auto [first, last] = blockRange(b);
         start[b + 1] = std::size_t(std::count_if(photons.begin() + std::ptrdiff_t(first),
                                                  photons.begin() + std::ptrdiff_t(last),
@@ -108,7 +110,7 @@ std::vector<PhotonRecord> scatteredPhotons(const std::vector<PhotonRecord>& phot
     });
     for (std::size_t b = 0; b < blocks; ++b) start[b + 1] += start[b];
     std::vector<PhotonRecord> out(start[blocks]);
-    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
+    orderedParallelForEach(0, blocks, [&](std::size_t b) {
         const auto [first, last] = blockRange(b);
         std::size_t to = start[b];
         for (std::size_t i = first; i < last; ++i)

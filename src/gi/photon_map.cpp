@@ -5,6 +5,7 @@
 #include "gi/photon_map.h"
 
 #include "core/error.h"
+#include "core/ordered_parallel.h"
 #include "gi/photon_heap.h"
 #include "gi/photon_kdtree.h"
 
@@ -29,7 +30,7 @@ bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<boo
 
     std::vector<kdtree::BuildKey> keys(photons.size());
     std::atomic<bool> finite{true};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, photons.size(), 16384),
+    orderedParallelFor(0, photons.size(), 16384,
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           bool ok = true;
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
@@ -47,7 +48,7 @@ bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<boo
     // Encode each photon into its node.
     std::atomic<bool> stopped{false};
     std::vector<StoredPhoton> stored(photons.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, photons.size(), 4096),
+    orderedParallelFor(0, photons.size(), 4096,
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           if (stopped.load(std::memory_order_relaxed)) return;
                           if (stop && stop()) {

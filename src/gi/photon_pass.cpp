@@ -1,6 +1,7 @@
 #include "gi/photon_pass.h"
 
 #include "cluster/cluster.h"
+#include "core/ordered_parallel.h"
 #include "engine/cancel.h"
 #include "engine/engine_settings.h"
 #include "engine/phases.h"
@@ -10,8 +11,6 @@
 #include "gi/photon_emitter.h"
 #include "gi/photon_lists.h"
 #include "kernels/random.h"
-
-#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <cstring>
@@ -137,7 +136,7 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
     // The two kd-trees at once: each one's top levels run on one thread.
     std::vector<PhotonRecord> scattered = scatteredPhotons(photons);
     bool indirectBuilt = true;
-    tbb::parallel_invoke(
+    orderedParallelInvoke(
         [&] { indirectBuilt = indirect->build(std::move(scattered), stop); },
         [&] { map.build(std::move(photons), stop); });
     if (!indirectBuilt) map.build({}); // as before: nothing once the indirect map was cut short

@@ -1,7 +1,8 @@
 #include "gi/photon_stage.h"
 
-#include "engine/path_state.h"
+#include "core/ordered_parallel.h"
 #include "engine/material_bsdf.h"
+#include "engine/path_state.h"
 #include "gi/gi_pipeline.h"
 #include "gi/photon_lists.h"
 #include "kernels/bsdf_sampling.h"
@@ -119,7 +120,7 @@ std::vector<PhotonRecord> PhotonStage::photonsInKeyOrder(std::vector<KeyedPhoton
         tbb::parallel_sort(all.begin(), all.end(), byKey);
     if (stop && stop()) return {};
     std::vector<PhotonRecord> out(all.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, all.size(), 65536),
+    orderedParallelFor(0, all.size(), 65536,
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = all[i].second;
                       });
