@@ -69,6 +69,20 @@ std::string sceneWithLight(const TempDir& dir) {
     return path;
 }
 
+// raytrace mode's render of the Cornell box's view at a frame's size (what a still view's
+// refinement ends at).
+RenderResult cornellRaytraceAt(const Image& size, bool spectral) {
+    auto scene = loadScene(scenePath("cornell-box"));
+    scene->camera.width = size.width;
+    scene->camera.height = size.height;
+    EmbreeScene accel(*scene);
+    EngineSettings engine;
+    engine.threads = 2;
+    engine.quiet = true;
+    engine.spectral = spectral;
+    return renderRaytrace(*scene, accel, raytraceSettings(scene->render, {}), engine);
+}
+
 } // namespace
 
 TEST_CASE("serve: the state lists objects, materials, lights, the camera and the analysis", "[serve]") {
@@ -643,14 +657,7 @@ TEST_CASE("serve: a still view refines to the raytrace render of that view, and 
     // The last frame is raytrace mode's image of the view at the preview's size, to the bit.
     Image shown;
     REQUIRE(h.session.lastFrame(shown));
-    auto scene = loadScene(scenePath("cornell-box"));
-    scene->camera.width = shown.width;
-    scene->camera.height = shown.height;
-    EmbreeScene accel(*scene);
-    EngineSettings engine;
-    engine.threads = 2;
-    engine.quiet = true;
-    RenderResult ref = renderRaytrace(*scene, accel, raytraceSettings(scene->render, {}), engine);
+    RenderResult ref = cornellRaytraceAt(shown, false);
     CHECK(ref.samplesDone == spp);
     CHECK(shown.pixels == ref.image.pixels);
     // A camera move restarts it from the first pass.
@@ -764,19 +771,8 @@ TEST_CASE("serve: the live view renders spectrally on request - its refinement e
     Image shown;
     REQUIRE(h.session.lastFrame(shown));
     // The last frame is spectral raytrace's image of the view at the preview's size, to the bit.
-    auto scene = loadScene(scenePath("cornell-box"));
-    scene->camera.width = shown.width;
-    scene->camera.height = shown.height;
-    EmbreeScene accel(*scene);
-    EngineSettings engine;
-    engine.threads = 2;
-    engine.quiet = true;
-    engine.spectral = true;
-    RenderResult ref = renderRaytrace(*scene, accel, raytraceSettings(scene->render, {}), engine);
-    CHECK(shown.pixels == ref.image.pixels);
-    engine.spectral = false;
-    RenderResult rgb = renderRaytrace(*scene, accel, raytraceSettings(scene->render, {}), engine);
-    CHECK(shown.pixels != rgb.image.pixels);
+    CHECK(shown.pixels == cornellRaytraceAt(shown, true).image.pixels);
+    CHECK(shown.pixels != cornellRaytraceAt(shown, false).image.pixels);
 
     CHECK_THAT(messageOf(h.send({{"type", "view"}, {"spectral", 1}})),
                Catch::Contains("view.spectral: expected true or false"));
