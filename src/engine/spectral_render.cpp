@@ -78,11 +78,8 @@ void SpectralRender::buildWavelengthTables() {
         float x = spectral::cieX().values[std::size_t(i)] * norm;
         float y = spectral::cieY().values[std::size_t(i)] * norm;
         float z = spectral::cieZ().values[std::size_t(i)] * norm;
-        const float(&m)[3][3] = m_xyzToRgb;
         m_xyzNm.push_back({x, y, z});
-        m_filmNm.push_back({m[0][0] * x + m[0][1] * y + m[0][2] * z,
-                            m[1][0] * x + m[1][1] * y + m[1][2] * z,
-                            m[2][0] * x + m[2][1] * y + m[2][2] * z});
+        m_filmNm.push_back(xyzToRgb(m_xyzNm.back()));
     }
 }
 
