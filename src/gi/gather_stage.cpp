@@ -48,16 +48,15 @@ void GatherStage::addReflected(const RayBatch& b, int i, const Vec3& reflect, co
     m_rc.film.add(b.pixel[i], m_rc.spectral->toFilm(reflect * lightAt(e, lane), lane), stats);
 }
 
-Vec3 GatherStage::emissionAt(const Vec3& rgb, int light, const RayBatch& b, int i) const {
+Vec3 GatherStage::emissionAt(const Vec3& rgb, int light, const LaneSpectrum& lane) const {
     if (!m_rc.spectral || isBlack(rgb)) return rgb;
-    const LaneSpectrum lane = m_rc.spectral->lane(b.lambdaU[i]);
     return light >= 0 ? m_rc.spectral->lightValue(std::size_t(light), rgb, lane)
                       : m_rc.spectral->illuminant(rgb, lane);
 }
 
 std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceHit& h,
                                         const Vec3& ng, const Vec3& ns, const Vec3& reflect,
-                                        StageContext& ctx) const {
+                                        const LaneSpectrum& lane, StageContext& ctx) const {
     const LightSet& lights = m_rc.lights;
     const std::uint64_t key = kernels::hashCombine(b.rngKey[i], 0x5d17);
     std::uint64_t spawned = 0;
@@ -75,7 +74,7 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
     for (std::size_t l = 0; l < lights.lights.size(); ++l) {
         if (!lights.lights[l].delta()) continue;
         LightSample ls = lights.lights[l].sample(h.p, {0.5f, 0.5f});
-        if (ls.valid) emit(ls.wi, &ls, emissionAt(ls.weight, int(l), b, i));
+        if (ls.valid) emit(ls.wi, &ls, emissionAt(ls.weight, int(l), lane));
     }
     if (lights.hasEnvironment()) {
         // A film gather of one ray per pixel sample (the default past a few samples) lands
@@ -90,15 +89,15 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
                                    .get2D(0)
                              : Vec2{kernels::uniform(key, 0), kernels::uniform(key, 1)};
         EnvironmentSample es = lights.environment.sample(u, ns);
-        if (es.valid) emit(es.wi, nullptr, emissionAt(es.weight, -1, b, i));
+        if (es.valid) emit(es.wi, nullptr, emissionAt(es.weight, -1, lane));
     }
     return spawned;
 }
 
-void GatherStage::deposit(const RayBatch& b, int i, const Vec3& lane, ThreadStats& stats) const {
-    if (isBlack(lane)) return;
-    const Vec3 l = m_rc.spectral ? m_rc.spectral->toFilm(lane, m_rc.spectral->lane(b.lambdaU[i]))
-                                 : lane;
+void GatherStage::deposit(const RayBatch& b, int i, const Vec3& radiance,
+                          const LaneSpectrum& lane, ThreadStats& stats) const {
+    if (isBlack(radiance)) return;
+    const Vec3 l = m_rc.spectral ? m_rc.spectral->toFilm(radiance, lane) : radiance;
     if (b.flags[i] & kFlagGatherRecord) {
         IcRequests& requests = *m_requests;
         requests[b.pixel[i]].add(b.sample[i], l, requests.radianceScale());
@@ -111,8 +110,12 @@ void GatherStage::retraceShadow(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, kGatherStageId);
     stats.stages[int(kGatherStageId)].raysIn += std::uint64_t(b.count);
-    for (int i = 0; i < b.count; ++i)
-        if (!b.occluded(i)) deposit(b, i, laneThroughput(b, i), stats);
+    LaneShading wl(m_rc.spectral); // spectral mode: each ray's wavelengths
+    for (int i = 0; i < b.count; ++i) {
+        if (b.occluded(i)) continue;
+        wl.select(b.lambdaU[i]);
+        deposit(b, i, laneThroughput(b, i), wl.lane(), stats);
+    }
 }
 
 Vec3 GatherStage::glossyRadiance(const kernels::BsdfParams& bsdf, const SurfaceHit& h,
@@ -307,7 +310,8 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
 
 // The radiance gather ray i finds at its hit, added to `radiance` (before its throughput),
 // the hit's distance, and its specular continuation; whether the ray goes on.
-bool GatherStage::shadeHit(const RayBatch& b, int i, Vec3& radiance, float& distance,
+bool GatherStage::shadeHit(const RayBatch& b, int i, const LaneShading& wl, Vec3& radiance,
+                           float& distance,
                            std::uint64_t& spawned, StageContext& ctx) const {
     ThreadStats& stats = *ctx.stats;
     const GiData& gi = m_gi;
@@ -323,10 +327,8 @@ bool GatherStage::shadeHit(const RayBatch& b, int i, Vec3& radiance, float& dist
     if (pastGlossy && !gi.roughCaustics)
         radiance += emissionAt(emittedRadiance(*h.shape, h.ng, -d),
                                m_rc.spectral ? m_rc.lights.indexOf(h.shape, h.instance) : -1,
-                               b, i);
+                               wl.lane());
     resolveShading(m_rc.scene, h, -d);
-    LaneShading wl(m_rc.spectral); // spectral mode: the ray's wavelengths
-    wl.select(b.lambdaU[i]);
     // Emitters are light sampled at the gather's origin, and light reaching it through
     // specular surfaces (a coat's reflection included) straight from an emitter is the
     // caustic map's: neither is added here. At a diffuse surface the global map gives
@@ -351,7 +353,7 @@ bool GatherStage::shadeHit(const RayBatch& b, int i, Vec3& radiance, float& dist
                                               h.p, ns),
                                 wl.lane());
         if (sampleLights)
-            spawned += sampleDirect(b, i, h, ng, ns, laneThroughput(b, i) * f, ctx);
+            spawned += sampleDirect(b, i, h, ng, ns, laneThroughput(b, i) * f, wl.lane(), ctx);
     } else if (cls == MaterialClass::Glossy && !transmits) {
         ++giCounter(stats, kGiGlobalLookups);
         radiance += glossyRadiance(bsdf, h, -d, ns, &wl.lane());
@@ -412,17 +414,20 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
     StageTimer timer(stats, kGatherStageId);
     stats.stages[int(kGatherStageId)].raysIn += std::uint64_t(b.count);
     std::uint64_t spawned = 0;
+    LaneShading wl(m_rc.spectral); // spectral mode: each ray's wavelengths
     for (int i = 0; i < b.count; ++i) {
+        wl.select(b.lambdaU[i]);
         Vec3 radiance(0.0f); // reaching the ray's origin from this hit, before the throughput
         float distance = kInfinity;
         bool done = true;
         const bool pastGlossy = (b.flags[i] & kFlagPastGlossy) != 0;
         if (b.hit(i)) {
-            done = !shadeHit(b, i, radiance, distance, spawned, ctx);
+            done = !shadeHit(b, i, wl, radiance, distance, spawned, ctx);
         } else if (pastGlossy && !m_gi.roughCaustics && m_rc.lights.hasEnvironment()) {
-            radiance = emissionAt(m_rc.lights.environment.radiance(laneDirection(b, i)), -1, b, i);
+            radiance = emissionAt(m_rc.lights.environment.radiance(laneDirection(b, i)), -1,
+                                  wl.lane());
         }
-        deposit(b, i, laneThroughput(b, i) * radiance, stats);
+        deposit(b, i, laneThroughput(b, i) * radiance, wl.lane(), stats);
         if (b.flags[i] & kFlagGatherRecord) recordGatherEnd(b, i, distance, done);
     }
     stats.stages[int(kGatherStageId)].raysOut += spawned;

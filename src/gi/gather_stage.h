@@ -25,6 +25,7 @@
 #pragma once
 
 #include "engine/hit_list.h"
+#include "engine/material_bsdf.h"
 #include "engine/render_context.h"
 #include "engine/spectral_render.h"
 #include "engine/stage.h"
@@ -100,23 +101,27 @@ public:
     Vec3 lightAt(const Vec3& rgb, const LaneSpectrum& lane) const;
 
 private:
-    // The light samples at a gather ray's diffuse hit h (lane i of b), for a Lambertian
-    // reflection of factor `reflect` (throughput x albedo / pi): GatherShadow rays.
+    // The light samples at a gather ray's diffuse hit h (lane i of b, at the wavelengths of
+    // `lane` in spectral mode), for a Lambertian reflection of factor `reflect` (throughput x
+    // albedo / pi): GatherShadow rays.
     std::uint64_t sampleDirect(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& ng,
-                               const Vec3& ns, const Vec3& reflect, StageContext& ctx) const;
-    // Adds a light sample's, or a gather ray's, radiance l to lane i's pixel or cache record
-    // (in spectral mode l is at the lane's wavelengths: converted to RGB as the film does).
-    void deposit(const RayBatch& b, int i, const Vec3& l, ThreadStats& stats) const;
+                               const Vec3& ns, const Vec3& reflect, const LaneSpectrum& lane,
+                               StageContext& ctx) const;
+    // Adds a light sample's, or a gather ray's, radiance to lane i's pixel or cache record (in
+    // spectral mode it is at `lane`'s wavelengths: converted to RGB as the film does).
+    void deposit(const RayBatch& b, int i, const Vec3& radiance, const LaneSpectrum& lane,
+                 ThreadStats& stats) const;
     // Adds reflect x E to lane i's pixel: `reflect` the throughput times the BSDF, E an RGB
     // estimate of irradiance (spectral mode: lightAt the lane's wavelengths, then the film's RGB).
     void addReflected(const RayBatch& b, int i, const Vec3& reflect, const Vec3& e,
                       const LaneSpectrum& lane, ThreadStats& stats) const;
     // Light reaching a gather ray straight from an emitter (light set index `light`, or -1) or
     // the sky, at the lane's wavelengths in spectral mode.
-    Vec3 emissionAt(const Vec3& rgb, int light, const RayBatch& b, int i) const;
+    Vec3 emissionAt(const Vec3& rgb, int light, const LaneSpectrum& lane) const;
     void retraceShadow(RayBatch& batch, StageContext& ctx);
-    bool shadeHit(const RayBatch& b, int i, Vec3& radiance, float& distance,
-                  std::uint64_t& spawned, StageContext& ctx) const;
+    // Lane i's hit, `wl` selected at its wavelengths (spectral mode).
+    bool shadeHit(const RayBatch& b, int i, const LaneShading& wl, Vec3& radiance,
+                  float& distance, std::uint64_t& spawned, StageContext& ctx) const;
     void recordGatherEnd(const RayBatch& b, int i, float distance, bool done) const;
     std::uint64_t spawnFinalGather(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& ng,
                                    const Vec3& ns, const Vec3& reflectance, bool prepass,
