@@ -150,8 +150,8 @@ bool forEachBenchScene(const std::vector<SceneJob>& jobs, const BenchSuite& suit
     return true;
 }
 
-// The ladders of the modes --modes names, in its order.
-std::vector<ModeLadder> namedLadders(const BenchSuite& suite, const BenchOptions& options) {
+std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOptions& options) {
+    if (options.modes.empty()) return suite.ladders;
     std::vector<ModeLadder> ladders;
     std::string known;
     for (const ModeLadder& l : suite.ladders) known += (known.empty() ? "" : ", ") + l.mode;
@@ -166,10 +166,6 @@ std::vector<ModeLadder> namedLadders(const BenchSuite& suite, const BenchOptions
             ladders.push_back(*it);
     }
     return ladders;
-}
-
-std::vector<ModeLadder> selectedLadders(const BenchSuite& suite, const BenchOptions& options) {
-    return options.modes.empty() ? suite.ladders : namedLadders(suite, options);
 }
 
 BenchScene prepareForSuite(const SceneJob& job, const BenchSuite& suite,

@@ -26,9 +26,8 @@ struct BenchOptions {
     std::vector<std::string> peerCsvs;   // --peer-csv
     int threads = 0;                     // engine threads, 0 = all cores
     double timeCapSeconds = 0;           // > 0: instead of the suite's
-    // --spectral: every render spectral (docs/spectral.md), the cached references too (the
-    // shipped golden images, RGB renders, are passed over); modes that cannot render
-    // spectrally (gi) are skipped, or refused when --modes names them.
+    // --spectral: every render spectral, every mode's (docs/spectral.md), the cached
+    // references too (the shipped golden images, RGB renders, are passed over).
     bool spectral = false;
     bool quiet = false;
 };
