@@ -181,13 +181,9 @@ std::unique_ptr<Scene> loadRenderScene(const RenderArgs& a, std::vector<NamedPat
     checkDistinctFiles(files);
     if (a.width > 0) scene->camera.width = a.width;
     if (a.height > 0) scene->camera.height = a.height;
-    if (!a.coatModel.empty()) {
-        const Material::CoatModel model = a.coatModel == "analytic" ? Material::CoatModel::Analytic
-                                          : a.coatModel == "random-walk"
-                                              ? Material::CoatModel::RandomWalk
-                                              : Material::CoatModel::Auto;
+    Material::CoatModel model;
+    if (coatModelNamed(a.coatModel, model)) // CLI11 admits only the known names
         for (Material& m : scene->materials) m.coatModel = model;
-    }
     // Each side is range-checked by CLI11; the product must also stay within the scene limit.
     long long pixels = (long long)scene->camera.width * scene->camera.height;
     if (pixels > kMaxImagePixels)

@@ -24,7 +24,7 @@ void StageContext::discard() {
             b = nullptr;
         }
     while (m_readyCount > 0) m_pool.release(m_ready[--m_readyCount]);
-    returnSpent();
+    while (m_freeCount > 0) m_pool.release(m_free[--m_freeCount]);
 }
 
 bool StageContext::flush() {

@@ -74,11 +74,8 @@ public:
     }
 
     // Returns every open, ready and spent batch to the pool unsent (a run that failed drops
-    // its work; a run that ends gives its spent batches back).
+    // its work).
     void discard();
-    void returnSpent() {
-        while (m_freeCount > 0) m_pool.release(m_free[--m_freeCount]);
-    }
 
     ThreadStats* stats = nullptr; // set by the processor for the running thread
 

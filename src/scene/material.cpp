@@ -22,6 +22,14 @@ const char* materialTypeName(MaterialType t) {
     return "?";
 }
 
+bool coatModelNamed(const std::string& name, Material::CoatModel& model) {
+    if (name == "auto") model = Material::CoatModel::Auto;
+    else if (name == "analytic") model = Material::CoatModel::Analytic;
+    else if (name == "random-walk") model = Material::CoatModel::RandomWalk;
+    else return false;
+    return true;
+}
+
 } // namespace rayproc
 
 namespace rayproc {

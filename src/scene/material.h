@@ -102,6 +102,9 @@ struct Material {
 };
 
 const char* materialTypeName(MaterialType t);
+// A coat model by its name in scenes and on the command line ("auto", "analytic",
+// "random-walk"); false for any other name.
+bool coatModelNamed(const std::string& name, Material::CoatModel& model);
 
 } // namespace rayproc
 

@@ -296,17 +296,8 @@ void parseCoatedDiffuse(const JsonRef& m, Material& mat) {
     if (m.has("ior")) mat.ior = m["ior"].positive();
     parseRoughness(m, mat);
     parseLayer(m, mat);
-    if (m.has("model")) {
-        std::string model = m["model"].nonEmptyString();
-        if (model == "auto")
-            mat.coatModel = Material::CoatModel::Auto;
-        else if (model == "analytic")
-            mat.coatModel = Material::CoatModel::Analytic;
-        else if (model == "random-walk")
-            mat.coatModel = Material::CoatModel::RandomWalk;
-        else
-            m["model"].fail("expected \"auto\", \"analytic\" or \"random-walk\"");
-    }
+    if (m.has("model") && !coatModelNamed(m["model"].nonEmptyString(), mat.coatModel))
+        m["model"].fail("expected \"auto\", \"analytic\" or \"random-walk\"");
 }
 
 // pbrt-v4's coatedconductor: the coat's "ior" and roughness keys (as coateddiffuse's), the
