@@ -46,11 +46,33 @@ Vec3 texel(const TextureImage::Level& l, TextureWrap wrap, int x, int y) {
     return {p[0], p[1], p[2]};
 }
 
+// A texel coordinate and its right (or lower) neighbour in an image of size n, repeated: the
+// same pair wrapTexel gives them, with at most one division (none inside the image).
+void repeatPair(int n, int& c0, int& c1) {
+    if (unsigned(c0) >= unsigned(n)) c0 = ((c0 % n) + n) % n;
+    c1 = c0 + 1 == n ? 0 : c0 + 1;
+}
+
 Vec3 bilinear(const TextureImage::Level& l, TextureWrap wrap, float s, float t) {
     float x = s * float(l.width) - 0.5f, y = t * float(l.height) - 0.5f;
     float fx = std::floor(x), fy = std::floor(y);
     int x0 = int(fx), y0 = int(fy);
     float dx = x - fx, dy = y - fy;
+    if (wrap == TextureWrap::Repeat || wrap == TextureWrap::Clamp) {
+        // The four texels' addresses wrapped once per axis (texel() wraps each of the four on
+        // its own, with two divisions per coordinate); the same texels, so the same sum.
+        int x1 = x0 + 1, y1 = y0 + 1;
+        if (wrap == TextureWrap::Repeat) {
+            repeatPair(l.width, x0, x1);
+            repeatPair(l.height, y0, y1);
+        } else {
+            x0 = std::clamp(x0, 0, l.width - 1), x1 = std::clamp(x1, 0, l.width - 1);
+            y0 = std::clamp(y0, 0, l.height - 1), y1 = std::clamp(y1, 0, l.height - 1);
+        }
+        const float *a = l.at(x0, y0), *b = l.at(x1, y0), *c = l.at(x0, y1), *d = l.at(x1, y1);
+        return Vec3(a[0], a[1], a[2]) * ((1 - dx) * (1 - dy)) + Vec3(b[0], b[1], b[2]) * (dx * (1 - dy)) +
+               Vec3(c[0], c[1], c[2]) * ((1 - dx) * dy) + Vec3(d[0], d[1], d[2]) * (dx * dy);
+    }
     return texel(l, wrap, x0, y0) * ((1 - dx) * (1 - dy)) + texel(l, wrap, x0 + 1, y0) * (dx * (1 - dy)) +
            texel(l, wrap, x0, y0 + 1) * ((1 - dx) * dy) + texel(l, wrap, x0 + 1, y0 + 1) * (dx * dy);
 }
