@@ -1,6 +1,6 @@
 // The one translation unit that compiles the stb_image and stb_image_write implementations
-// (libstb is not linked). Only the PNG and HDR codecs are built. Users include the headers
-// without the *_IMPLEMENTATION macros: png_io.cpp and hdr_io.cpp.
+// (libstb is not linked). Only the PNG, HDR and TGA codecs are built. Users include the headers
+// without the *_IMPLEMENTATION macros: png_io.cpp, hdr_io.cpp and texture/direct_readers.cpp.
 #if defined(__GNUC__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"
@@ -13,6 +13,7 @@
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_ONLY_PNG
 #define STBI_ONLY_HDR
+#define STBI_ONLY_TGA
 #define STBI_FAILURE_USERMSG
 #include <stb_image.h>
 

@@ -1,10 +1,14 @@
 #include "texture/texture_image.h"
 
 #include "image/image.h"
+#include "texture/direct_readers.h"
 #include "texture/oiio_module.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <map>
 #include <mutex>
 
@@ -21,15 +25,11 @@ float decode(float v, const TextureEncoding& e) {
     return v;
 }
 
-std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
-                                               const TextureEncoding& encoding) {
+// The file through OpenImageIO (texture/oiio_module.h), loaded on first use.
+RawPixels readWithOiio(const std::string& path) {
     auto fail = [&](const std::string& why) {
         return ImageIoError("cannot read the texture \"" + path + "\": " + why);
     };
-    // Before OpenImageIO sees the file: it must be a regular file (its fallback reader seeks
-    // through /dev/zero forever), an EXR header must not make OpenEXR allocate more than the
-    // file holds, a PNG must pass its checksums. A missing file is OpenImageIO's to say.
-    checkImageHeader(path);
     const OiioModule* module = nullptr;
     try {
         module = &OiioModule::get();
@@ -46,12 +46,36 @@ std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
     if (w <= 0 || h <= 0 || nch <= 0 || std::int64_t(w) * h > (std::int64_t(1) << 28))
         throw fail("unsupported size " + std::to_string(w) + "x" + std::to_string(h));
     checkImageDimensions(path, w, h);
-    std::vector<float> px(std::size_t(w) * h * nch);
-    if (!oiio.read(in.get(), px.data(), error, sizeof error)) throw fail(error);
+    RawPixels raw;
+    raw.width = w;
+    raw.height = h;
+    raw.channels = nch;
+    raw.alphaChannel = info.alphaChannel;
+    raw.isFloat = info.isFloat != 0;
+    raw.pixels.resize(std::size_t(w) * h * nch);
+    if (!oiio.read(in.get(), raw.pixels.data(), error, sizeof error)) throw fail(error);
+    return raw;
+}
+
+std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
+                                               const TextureEncoding& encoding) {
+    // Before any reader sees the file: it must be a regular file (OpenImageIO's fallback reader
+    // seeks through /dev/zero forever), an EXR header must not make OpenEXR allocate more than
+    // the file holds, a PNG must pass its checksums. A file that cannot be opened is said so
+    // here (without loading OpenImageIO to say it).
+    if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+        std::fclose(f);
+    } else {
+        throw ImageIoError("cannot read the texture \"" + path + "\": " + std::strerror(errno));
+    }
+    checkImageHeader(path);
+    RawPixels raw;
+    if (!readWithoutOiio(path, raw)) raw = readWithOiio(path);
+    const int w = raw.width, h = raw.height, nch = raw.channels;
     // Integer files store encoded values; float files hold linear radiance or reflectance.
-    TextureEncoding e = info.isFloat ? TextureEncoding{TextureEncoding::Kind::Linear} : encoding;
-    const int alphaChannel = info.alphaChannel >= 0 ? info.alphaChannel
-                                                     : (nch == 2 || nch == 4 ? nch - 1 : -1);
+    TextureEncoding e = raw.isFloat ? TextureEncoding{TextureEncoding::Kind::Linear} : encoding;
+    const int alphaChannel = raw.alphaChannel >= 0 ? raw.alphaChannel
+                                                    : (nch == 2 || nch == 4 ? nch - 1 : -1);
     auto img = std::make_shared<TextureImage>();
     TextureImage::Level base;
     base.width = w;
@@ -62,7 +86,7 @@ std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
         img->alpha.resize(std::size_t(w) * h);
     }
     for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
-        const float* p = &px[i * nch];
+        const float* p = &raw.pixels[i * nch];
         for (int c = 0; c < 3; ++c) {
             // Grey (and grey + alpha) files repeat their one colour channel.
             int src = nch >= 3 ? c : 0;
