@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "scene/emission_spectrum.h"
 #include "scene/material.h"
 #include "scene/texture.h"
 
@@ -31,6 +32,9 @@ struct Shape {
     std::string name;
     int material = 0; // index into Scene::materials
     Vec3 emission{0, 0, 0}; // radiance emitted from the front side (and back when twoSided)
+    // The emission's own spectrum (a pbrt-v4 blackbody, ...; scene/emission_spectrum.h), which
+    // the spectral mode renders; nullptr: the colour's RGB illuminant spectrum.
+    EmissionSpectrumRef emissionSpectrum;
     bool twoSided = false;
     // Mesh
     std::shared_ptr<const TriangleMesh> mesh;
@@ -81,6 +85,9 @@ struct Light {
     Vec3 position{0, 0, 0};     // point, spot
     Vec3 direction{0, -1, 0};   // spot: where it points; directional: where light travels
     Vec3 intensity{1, 1, 1};    // point, spot: W/sr; directional: irradiance; environment: radiance
+    // The intensity's own spectrum, as Shape::emissionSpectrum (an environment's only without
+    // an image).
+    EmissionSpectrumRef spectrum;
     float coneAngle = 30.0f;    // spot: full-intensity half angle, degrees
     float falloffAngle = 5.0f;  // spot: smooth falloff beyond the cone, degrees
     // Environment and goniometric lights: an image (linear RGB) multiplying `intensity`, and
