@@ -97,7 +97,8 @@ public:
     Vec3 sky(const Vec3& rgb, const LaneSpectrum& l) const;
 
     // The film's linear sRGB of a path's values at its wavelengths: XYZ as pbrt-v4's "cie1931"
-    // sensor (imaging ratio 1, no white balance), then the colour space's XYZ -> RGB.
+    // sensor (imaging ratio 1, no white balance: a file's sensor is applied to the resolved
+    // image, engine/film_sensor.h), then the colour space's XYZ -> RGB.
     Vec3 toFilm(const Vec3& values, const LaneSpectrum& l) const;
     // The same values' CIE XYZ (toFilm is xyzToRgb of it): non-negative for non-negative values,
     // which gi's photon maps store (their RGBE power cannot hold the negative sRGB channels of a

@@ -123,6 +123,17 @@ struct Camera {
     PixelFilter filter;          // JSON default: box of radius 0.5; pbrt default: gaussian 1.5
 };
 
+// The film's sensor as pbrt-v4's "rgb" film with its default "cie1931" sensor defines it
+// (engine/film_sensor.h): the image is scaled by the imaging ratio exposureTime * iso / 100 and,
+// with whiteBalance > 0 (kelvin), white balanced from the daylight of that temperature to the
+// colour space's white. The defaults change nothing.
+struct FilmSensor {
+    double iso = 100;
+    double exposureTime = 1; // the camera's shutterclose - shutteropen
+    double whiteBalance = 0; // 0: none
+    bool passthrough() const { return iso == 100 && exposureTime == 1 && whiteBalance == 0; }
+};
+
 // Render settings that a scene file may carry; the CLI overrides each one it sets.
 struct SceneRenderSettings {
     std::string mode;  // empty: the CLI default
@@ -141,6 +152,7 @@ struct SceneRenderSettings {
 struct Scene {
     std::string path; // file it came from, for messages
     Camera camera;
+    FilmSensor sensor;
     std::vector<Material> materials;
     std::vector<Texture> textures;
     std::vector<Light> lights;
