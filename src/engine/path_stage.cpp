@@ -52,7 +52,7 @@ bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const Surf
         if (es.valid) {
             wi = es.wi;
             lightPdf = es.pdf;
-            li = spectral ? spectral->render.illuminant(es.weight, spectral->lane) : es.weight;
+            li = spectral ? spectral->render.sky(es.weight, spectral->lane) : es.weight;
         }
     }
     const bool transmissive = kernels::hasTransmission(bsdf);
@@ -162,7 +162,7 @@ private:
         float pick = m_lights.sampler.pmf(o, m_lights.lights.size()); // the sky's fixed share
         float mis = fromDelta ? 1.0f : kernels::powerHeuristic(m_b.prevPdf[i], pick * envPdf);
         Vec3 radiance = m_lights.environment.radiance(d);
-        if (m_rc.spectral) radiance = m_rc.spectral->illuminant(radiance, m_wl.lane());
+        if (m_rc.spectral) radiance = m_rc.spectral->sky(radiance, m_wl.lane());
         addToFilm(i, fromDelta ? 0 : contributionOfBsdfHit(m_lights.lights.size()),
                   w * radiance * mis);
     }
@@ -175,8 +175,7 @@ private:
         float mis = 1.0f;
         int li = m_lights.indexOf(h.shape, h.instance);
         if (m_rc.spectral)
-            le = li >= 0 ? m_rc.spectral->lightValue(std::size_t(li), le, m_wl.lane())
-                         : m_rc.spectral->illuminant(le, m_wl.lane());
+            le = m_rc.spectral->emitted(*h.shape, li, le, m_wl.lane());
         if (!fromDelta) {
             // The probability that the light sample at the ray's origin had come here.
             float pl = li >= 0 ? m_lights.sampler.pmf(o, std::size_t(li)) *

@@ -206,7 +206,7 @@ private:
                 m_rc.film.add(m_b.pixel[i], s.w * s.bsdf.color * sky, *m_ctx.stats);
                 return;
             }
-            sky = m_rc.spectral->illuminant(sky, m_wl.lane());
+            sky = m_rc.spectral->sky(sky, m_wl.lane());
             m_rc.film.add(m_b.pixel[i], m_rc.spectral->toFilm(s.w * s.bsdf.color * sky, m_wl.lane()),
                           *m_ctx.stats);
             return;
@@ -217,7 +217,7 @@ private:
             EnvironmentSample es = m_lights.environment.sample(u, s.ns);
             Vec3 wi = es.wi;
             if (!es.valid || dot(wi, s.ng) <= 0) continue;
-            if (m_rc.spectral) es.weight = m_rc.spectral->illuminant(es.weight, m_wl.lane());
+            if (m_rc.spectral) es.weight = m_rc.spectral->sky(es.weight, m_wl.lane());
             Vec3 c = s.w * s.shaded(wi, float(n) * es.pdf) * es.weight / float(n);
             if (isBlack(c)) continue;
             emitShadow(i, s.h, s.ng, wi, nullptr, c);

@@ -54,11 +54,14 @@ SpectralRender::SpectralRender(const Scene& scene, const LightSet& lights)
     }
     for (const LightSource& l : lights.lights) {
         LightSpectrum s;
-        s.base = l.delta() ? l.intensity : l.radiance;
+        s.own = l.spectrum;
+        s.base = s.own ? s.own->rgb : l.delta() ? l.intensity : l.radiance;
         s.channel = largestChannel(s.base);
-        s.s = refinedUnbounded(m_cs, s.base);
+        if (!s.own) s.s = refinedUnbounded(m_cs, s.base);
         m_lights.push_back(s);
     }
+    if (const EmissionSpectrum* sky = lights.environment.constantSpectrum())
+        m_sky = std::make_shared<const EmissionSpectrum>(*sky);
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) m_xyzToRgb[r][c] = float(m_cs.xyzToRgb.m[r][c]);
     buildWavelengthTables();
@@ -96,6 +99,7 @@ LaneSpectrum SpectralRender::lane(float u) const {
         l.t[i] = (lambda - ks::kLambdaMin) * (1.0f / (ks::kLambdaMax - ks::kLambdaMin));
         // The nearest nanometre's sample, as kernels::spectral::denseAt takes it.
         int nm = std::min(int(lambda - ks::kLambdaMin + 0.5f), ks::kDenseCount - 1);
+        l.nm[i] = nm;
         l.illuminant[i] = m_illuminantNm[std::size_t(nm)];
         l.film[i] = m_filmNm[std::size_t(nm)] * (1.0f / l.w.pdf[i]);
     }
@@ -134,7 +138,24 @@ Vec3 SpectralRender::lightValue(std::size_t light, const Vec3& value, const Lane
     const LightSpectrum& s = m_lights[light];
     float base = s.base[s.channel];
     if (!(base > 0)) return Vec3(0.0f);
+    if (s.own) return ownValue(*s.own, value, l);
     return evaluate(s.s, l, true) * (value[s.channel] / base);
+}
+
+Vec3 SpectralRender::ownValue(const EmissionSpectrum& own, const Vec3& value, const LaneSpectrum& l) {
+    const float k = emissionScale(own, value);
+    const auto& v = own.values.values;
+    return Vec3(v[std::size_t(l.nm[0])], v[std::size_t(l.nm[1])], v[std::size_t(l.nm[2])]) * k;
+}
+
+Vec3 SpectralRender::emitted(const Shape& shape, int light, const Vec3& le,
+                             const LaneSpectrum& l) const {
+    if (light >= 0) return lightValue(std::size_t(light), le, l);
+    return shape.emissionSpectrum ? ownValue(*shape.emissionSpectrum, le, l) : illuminant(le, l);
+}
+
+Vec3 SpectralRender::sky(const Vec3& rgb, const LaneSpectrum& l) const {
+    return m_sky ? ownValue(*m_sky, rgb, l) : illuminant(rgb, l);
 }
 
 // The XYZ of kernels::spectral::sampledToXyz (each value times the matching functions over

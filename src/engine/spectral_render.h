@@ -3,7 +3,9 @@
 // throughput and BSDF triple along it hold the spectrum at those wavelengths instead of RGB, so
 // the engine's arithmetic is unchanged. RGB values enter a path here, upsampled as pbrt-v4 does
 // (Jakob & Hanika 2019, src/spectral/rgb_spectrum.h): reflectances as RGBAlbedoSpectrum, a
-// conductor's eta and k as RGBUnboundedSpectrum, emission and skies as RGBIlluminantSpectrum.
+// conductor's eta and k as RGBUnboundedSpectrum, emission and skies as RGBIlluminantSpectrum,
+// except where an emitter has a spectrum of its own (a pbrt-v4 blackbody, sampled or named
+// illuminant: scene/emission_spectrum.h), which is evaluated itself.
 // At the film a path's three values become CIE XYZ (kernels::spectral::sampledToXyz, pbrt-v4's
 // "cie1931" sensor without white balance) and then linear sRGB, the film's colour space, so the
 // film, its outputs, adaptive sampling and MPI are those of RGB mode.
@@ -14,6 +16,7 @@
 #include "spectral/color_space.h"
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace rayproc {
@@ -21,6 +24,8 @@ namespace rayproc {
 struct Scene;
 struct Material;
 struct LightSet;
+struct Shape;
+struct EmissionSpectrum;
 
 // The wavelengths of one path, from its one number u (RayBatch::lambdaU).
 using PathWavelengths = kernels::spectral::SampledWavelengthsN<3>;
@@ -41,6 +46,7 @@ struct LaneSpectrum {
     float t[3];
     float illuminant[3];
     Vec3 film[3];
+    int nm[3]; // the nearest nanometre's index into a DenseSpectrum (denseAt's sample)
 };
 
 class SpectralRender {
@@ -79,10 +85,20 @@ public:
     // The emission of light i (LightSet::lights) at the lane's wavelengths, for a value that is
     // its radiance (an area light) or intensity (a delta light) times a scalar, as a light
     // sample's weight and an emitter's radiance are.
+    // A light with a spectrum of its own takes that spectrum (the value over the light's RGB
+    // colour is the scalar), the others their RGB illuminant spectrum.
     Vec3 lightValue(std::size_t light, const Vec3& value, const LaneSpectrum& l) const;
+    // The emission `le` of a shape that a ray found, light `light` of the light set (or -1: an
+    // emitter the set does not sample, such as preview's area lights), at the lane's wavelengths.
+    Vec3 emitted(const Shape& shape, int light, const Vec3& le, const LaneSpectrum& l) const;
+    // The sky's radiance `rgb` (LightSet::environment's, in some direction) at the lane's
+    // wavelengths: a constant sky with a spectrum of its own takes it, others the table's
+    // illuminant spectrum.
+    Vec3 sky(const Vec3& rgb, const LaneSpectrum& l) const;
 
     // The film's linear sRGB of a path's values at its wavelengths: XYZ as pbrt-v4's "cie1931"
-    // sensor (imaging ratio 1, no white balance), then the colour space's XYZ -> RGB.
+    // sensor (imaging ratio 1, no white balance: a file's sensor is applied to the resolved
+    // image, engine/film_sensor.h), then the colour space's XYZ -> RGB.
     Vec3 toFilm(const Vec3& values, const LaneSpectrum& l) const;
     // The same values' CIE XYZ (toFilm is xyzToRgb of it): non-negative for non-negative values,
     // which gi's photon maps store (their RGBE power cannot hold the negative sRGB channels of a
@@ -101,10 +117,14 @@ private:
     std::vector<MaterialSpectra> m_materials;
     struct LightSpectrum {
         UpsampledRgb s;
-        Vec3 base;  // the RGB it was set up from
+        Vec3 base;  // the RGB it was set up from (own's colour where it has one)
         int channel; // base's largest channel: value / base in it is the scalar
+        std::shared_ptr<const EmissionSpectrum> own; // the light's own spectrum, or nullptr
     };
+    // A value (base * scalar) of an emitter with spectrum `own` at the lane's wavelengths.
+    static Vec3 ownValue(const EmissionSpectrum& own, const Vec3& value, const LaneSpectrum& l);
     std::vector<LightSpectrum> m_lights;
+    std::shared_ptr<const EmissionSpectrum> m_sky; // the constant sky's own spectrum
     float m_xyzToRgb[3][3];
     // The visible density's inverse CDF at u = k / kInverseCdfCells, and each cell's density.
     std::vector<float> m_lambdaNodes, m_cellPdf;

@@ -70,7 +70,7 @@ void SurfaceStage::addEscaped(const RayBatch& b, int i, ThreadStats& stats) cons
     Vec3 sky = m_rc.lights.environment.radiance(d);
     if (m_rc.spectral) {
         const LaneSpectrum l = m_rc.spectral->lane(b.lambdaU[i]);
-        sky = m_rc.spectral->toFilm(laneThroughput(b, i) * m_rc.spectral->illuminant(sky, l), l);
+        sky = m_rc.spectral->toFilm(laneThroughput(b, i) * m_rc.spectral->sky(sky, l), l);
         m_rc.film.add(b.pixel[i], sky * mis, stats);
         return;
     }
@@ -107,9 +107,7 @@ SurfaceHit SurfaceStage::resolveHit(RayBatch& b, int i, bool addDirect,
             mis = reflectionEmissionWeight(m_rc.policy, m_rc.lights, std::size_t(li), o, h.p,
                                            h.ng, b.prevPdf[i]);
         if (m_rc.spectral) {
-            int light = m_rc.lights.indexOf(h.shape, h.instance);
-            le = light >= 0 ? m_rc.spectral->lightValue(std::size_t(light), le, l)
-                            : m_rc.spectral->illuminant(le, l);
+            le = m_rc.spectral->emitted(*h.shape, m_rc.lights.indexOf(h.shape, h.instance), le, l);
             m_rc.film.add(b.pixel[i], m_rc.spectral->toFilm(w * le, l) * mis, stats);
         } else {
             m_rc.film.add(b.pixel[i], w * le * mis, stats);

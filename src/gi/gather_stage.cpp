@@ -48,10 +48,12 @@ void GatherStage::addReflected(const RayBatch& b, int i, const Vec3& reflect, co
     m_rc.film.add(b.pixel[i], m_rc.spectral->toFilm(reflect * lightAt(e, lane), lane), stats);
 }
 
-Vec3 GatherStage::emissionAt(const Vec3& rgb, int light, const LaneSpectrum& lane) const {
+Vec3 GatherStage::emissionAt(const Vec3& rgb, int light, const Shape* shape,
+                             const LaneSpectrum& lane) const {
     if (!m_rc.spectral || isBlack(rgb)) return rgb;
+    if (shape) return m_rc.spectral->emitted(*shape, light, rgb, lane);
     return light >= 0 ? m_rc.spectral->lightValue(std::size_t(light), rgb, lane)
-                      : m_rc.spectral->illuminant(rgb, lane);
+                      : m_rc.spectral->sky(rgb, lane);
 }
 
 std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceHit& h,
@@ -74,7 +76,7 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
     for (std::size_t l = 0; l < lights.lights.size(); ++l) {
         if (!lights.lights[l].delta()) continue;
         LightSample ls = lights.lights[l].sample(h.p, {0.5f, 0.5f});
-        if (ls.valid) emit(ls.wi, &ls, emissionAt(ls.weight, int(l), lane));
+        if (ls.valid) emit(ls.wi, &ls, emissionAt(ls.weight, int(l), nullptr, lane));
     }
     if (lights.hasEnvironment()) {
         // A film gather of one ray per pixel sample (the default past a few samples) lands
@@ -89,7 +91,7 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
                                    .get2D(0)
                              : Vec2{kernels::uniform(key, 0), kernels::uniform(key, 1)};
         EnvironmentSample es = lights.environment.sample(u, ns);
-        if (es.valid) emit(es.wi, nullptr, emissionAt(es.weight, -1, lane));
+        if (es.valid) emit(es.wi, nullptr, emissionAt(es.weight, -1, nullptr, lane));
     }
     return spawned;
 }
@@ -327,7 +329,7 @@ bool GatherStage::shadeHit(const RayBatch& b, int i, const LaneShading& wl, Vec3
     if (pastGlossy && !gi.roughCaustics)
         radiance += emissionAt(emittedRadiance(*h.shape, h.ng, -d),
                                m_rc.spectral ? m_rc.lights.indexOf(h.shape, h.instance) : -1,
-                               wl.lane());
+                               h.shape, wl.lane());
     resolveShading(m_rc.scene, h, -d);
     // Emitters are light sampled at the gather's origin, and light reaching it through
     // specular surfaces (a coat's reflection included) straight from an emitter is the
@@ -425,7 +427,7 @@ void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
             done = !shadeHit(b, i, wl, radiance, distance, spawned, ctx);
         } else if (pastGlossy && !m_gi.roughCaustics && m_rc.lights.hasEnvironment()) {
             radiance = emissionAt(m_rc.lights.environment.radiance(laneDirection(b, i)), -1,
-                                  wl.lane());
+                                  nullptr, wl.lane());
         }
         deposit(b, i, laneThroughput(b, i) * radiance, wl.lane(), stats);
         if (b.flags[i] & kFlagGatherRecord) recordGatherEnd(b, i, distance, done);

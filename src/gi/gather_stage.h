@@ -115,9 +115,10 @@ private:
     // estimate of irradiance (spectral mode: lightAt the lane's wavelengths, then the film's RGB).
     void addReflected(const RayBatch& b, int i, const Vec3& reflect, const Vec3& e,
                       const LaneSpectrum& lane, ThreadStats& stats) const;
-    // Light reaching a gather ray straight from an emitter (light set index `light`, or -1) or
-    // the sky, at the lane's wavelengths in spectral mode.
-    Vec3 emissionAt(const Vec3& rgb, int light, const LaneSpectrum& lane) const;
+    // Light reaching a gather ray straight from an emitter (light set index `light`, or -1; the
+    // shape it hit, or nullptr for a light sample) or the sky (-1, nullptr), at the lane's
+    // wavelengths in spectral mode.
+    Vec3 emissionAt(const Vec3& rgb, int light, const Shape* shape, const LaneSpectrum& lane) const;
     void retraceShadow(RayBatch& batch, StageContext& ctx);
     // Lane i's hit, `wl` selected at its wavelengths (spectral mode).
     bool shadeHit(const RayBatch& b, int i, const LaneShading& wl, Vec3& radiance,

@@ -158,11 +158,11 @@ float PhotonEmitter::lambdaU(std::uint32_t index) const {
 
 // The RGB power is the light's radiance (or intensity, or the sky's radiance) times a scalar:
 // the light's illuminant spectrum takes the same scalar (SpectralRender::lightValue); the sky,
-// whose value varies with direction, goes through the table as path mode's sky does.
+// whose value varies with direction, takes it as path mode's sky does (SpectralRender::sky).
 Vec3 PhotonEmitter::spectralPower(const Emission& e, float u) const {
     const LaneSpectrum lane = m_spectral->lane(u);
     if (e.light < m_lights.lights.size()) return m_spectral->lightValue(e.light, e.power, lane);
-    return m_spectral->illuminant(e.power, lane);
+    return m_spectral->sky(e.power, lane);
 }
 
 // Directional and sky photons start on a disk (uPick.y, unused by them otherwise, picks the

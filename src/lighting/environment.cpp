@@ -23,6 +23,8 @@ Vec3 uniformSphere(Vec2 u) {
 void EnvironmentLight::add(const Light& light) {
     m_present = true;
     if (!light.image) {
+        m_constantSpectrum =
+            sumOfEmissions(m_constant, m_constantSpectrum, light.intensity, light.spectrum);
         m_constant += light.intensity;
     } else if (light.image->width > 0 && light.image->height > 0) {
         auto map = std::make_shared<const Map>(light);

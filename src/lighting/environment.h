@@ -38,6 +38,12 @@ public:
     bool cosineSampled() const { return m_images.empty(); }
     // Mean radiance over the sphere (preview's unshadowed ambient term, photon power).
     Vec3 average() const;
+    // The constant sky's own spectrum (Light::spectrum; scene/emission_spectrum.h), or nullptr:
+    // only where the sky has no image, so that its radiance is the constant's in every
+    // direction (an image sky's texels are RGB illuminant spectra).
+    const EmissionSpectrum* constantSpectrum() const {
+        return m_images.empty() ? m_constantSpectrum.get() : nullptr;
+    }
     // Samples a direction from the whole sphere by the sky's luminance (photon emission):
     // the direction light arrives from, and its solid-angle pdf.
     EnvironmentSample sampleSphere(Vec2 u) const;
@@ -57,6 +63,7 @@ private:
 
     bool m_present = false;
     Vec3 m_constant{0.0f, 0.0f, 0.0f};
+    EmissionSpectrumRef m_constantSpectrum;
     std::vector<std::shared_ptr<const Map>> m_images;
     std::vector<float> m_pick; // cumulative: constant, then each image; last = 1
 };

@@ -39,6 +39,7 @@ LightSource fromSceneLight(const Light& l) {
     s.position = l.position;
     s.direction = normalize(l.direction);
     s.intensity = l.intensity;
+    s.spectrum = l.spectrum;
     switch (l.type) {
     case LightType::Point: s.kind = LightSource::Kind::Point; break;
     case LightType::Spot:
@@ -64,6 +65,7 @@ LightSource fromEmitter(const EmitterRecord& e) {
     const Shape& sh = *e.shape;
     LightSource s;
     s.radiance = sh.emission;
+    s.spectrum = sh.emissionSpectrum;
     s.twoSided = sh.twoSided;
     switch (sh.type) {
     case ShapeType::Mesh: {
@@ -462,9 +464,11 @@ LightSet LightSet::buildPreview(const Scene& scene, const EmbreeScene& accel) {
         if (l.type == LightType::Environment && !isBlack(l.intensity)) set.environment.add(l);
         else set.lights.push_back(fromSceneLight(l));
     }
+    EmissionSpectrumRef spectrum; // the emitter's whose points addPoint adds
     auto addPoint = [&](const Vec3& pos, const Vec3& n, const Vec3& intensity, bool twoSided,
                         bool lobe) {
         LightSource p;
+        p.spectrum = spectrum;
         p.kind = LightSource::Kind::Point;
         p.position = pos;
         p.intensity = intensity;
@@ -476,6 +480,7 @@ LightSet LightSet::buildPreview(const Scene& scene, const EmbreeScene& accel) {
     for (const EmitterRecord& e : accel.emitters()) {
         LightSource a = fromEmitter(e);
         if (!(a.area > 0) || !std::isfinite(a.area)) continue; // emits nothing
+        spectrum = a.spectrum;
         const Shape& sh = *e.shape;
         // A Lambertian emitter of area A radiates I(theta) = L A cos(theta): split among points.
         if (a.kind == LightSource::Kind::AreaMesh && sh.isQuad) {

@@ -52,6 +52,9 @@ public:
     // The factor by which the intensity varies with the emitted direction (spot falloff,
     // goniometric image; 1 for a plain point light). `wOut` is unit, from the light outwards.
     float directionalFactor(const Vec3& wOut) const;
+    // The emission's own spectrum (Light::spectrum, Shape::emissionSpectrum), which the
+    // spectral mode renders; nullptr: the RGB illuminant spectrum of the intensity or radiance.
+    EmissionSpectrumRef spectrum;
     // Area lights
     Vec3 radiance;
     bool twoSided = false;

@@ -3,6 +3,7 @@
 #include "engine/adaptive_sampler.h"
 #include "engine/camera_emitter.h"
 #include "engine/cancel.h"
+#include "engine/film_sensor.h"
 #include "engine/noise_breakdown.h"
 #include "engine/path_stage.h"
 #include "engine/phases.h"
@@ -160,6 +161,7 @@ private:
     std::atomic<Clock::rep> m_startTicks;
     const Cluster& m_cluster;
     Film m_film;
+    SensorMatrix m_sensor; // the film's sensor, applied to every image the job hands out
     RenderContext m_rc;
     std::optional<NoiseBreakdown> m_noise;
     std::optional<SpectralRender> m_spectral; // spectral mode's conversions
@@ -203,6 +205,7 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
       m_cluster(clusterOf(engine)),
       m_film(scene.camera.width, scene.camera.height,
              Film::exponentFor(lights.radianceScale(scene.worldBounds()))),
+      m_sensor(sensorMatrix(scene.sensor, spectral::colorSpace(spectral::ColorSpaceId::Srgb))),
       m_rc{scene, accel, lights, policy, m_film, engine.seed},
       m_pipeline("render", "camera", accel.root(), engine.packetWidth, m_stats, engine.threads),
       m_camera(m_rc), m_stages(m_rc),
@@ -270,12 +273,18 @@ double RenderJob::fraction() const {
 
 // The image of the whole job (every rank's tiles), on rank 0; a collective.
 Image RenderJob::wholeImage() {
-    if (!m_cluster.distributed()) return m_film.resolve();
-    std::vector<double> sums = m_film.sums();
-    std::vector<std::uint64_t> samples = m_film.sampleCounts();
-    m_cluster.sumToRoot(sums);
-    m_cluster.sumToRoot(samples);
-    return Film::resolve(m_film.width(), m_film.height(), sums, samples);
+    Image img;
+    if (!m_cluster.distributed()) {
+        img = m_film.resolve();
+    } else {
+        std::vector<double> sums = m_film.sums();
+        std::vector<std::uint64_t> samples = m_film.sampleCounts();
+        m_cluster.sumToRoot(sums);
+        m_cluster.sumToRoot(samples);
+        img = Film::resolve(m_film.width(), m_film.height(), sums, samples);
+    }
+    applySensor(m_sensor, img);
+    return img;
 }
 
 RenderResult RenderJob::run() {
@@ -425,6 +434,7 @@ void RenderJob::finish() {
     m_cluster.sumToRoot(sums);
     m_cluster.sumToRoot(samples);
     m_result.image = Film::resolve(m_film.width(), m_film.height(), sums, samples);
+    applySensor(m_sensor, m_result.image);
     if (m_noise) {
         std::vector<std::vector<double>> moments = m_noise->moments();
         for (auto& m : moments) m_cluster.sumToRoot(m);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "scene/emission_spectrum.h"
 #include "scene/material.h"
 #include "scene/texture.h"
 
@@ -31,6 +32,9 @@ struct Shape {
     std::string name;
     int material = 0; // index into Scene::materials
     Vec3 emission{0, 0, 0}; // radiance emitted from the front side (and back when twoSided)
+    // The emission's own spectrum (a pbrt-v4 blackbody, ...; scene/emission_spectrum.h), which
+    // the spectral mode renders; nullptr: the colour's RGB illuminant spectrum.
+    EmissionSpectrumRef emissionSpectrum;
     bool twoSided = false;
     // Mesh
     std::shared_ptr<const TriangleMesh> mesh;
@@ -81,6 +85,9 @@ struct Light {
     Vec3 position{0, 0, 0};     // point, spot
     Vec3 direction{0, -1, 0};   // spot: where it points; directional: where light travels
     Vec3 intensity{1, 1, 1};    // point, spot: W/sr; directional: irradiance; environment: radiance
+    // The intensity's own spectrum, as Shape::emissionSpectrum (an environment's only without
+    // an image).
+    EmissionSpectrumRef spectrum;
     float coneAngle = 30.0f;    // spot: full-intensity half angle, degrees
     float falloffAngle = 5.0f;  // spot: smooth falloff beyond the cone, degrees
     // Environment and goniometric lights: an image (linear RGB) multiplying `intensity`, and
@@ -116,6 +123,17 @@ struct Camera {
     PixelFilter filter;          // JSON default: box of radius 0.5; pbrt default: gaussian 1.5
 };
 
+// The film's sensor as pbrt-v4's "rgb" film with its default "cie1931" sensor defines it
+// (engine/film_sensor.h): the image is scaled by the imaging ratio exposureTime * iso / 100 and,
+// with whiteBalance > 0 (kelvin), white balanced from the daylight of that temperature to the
+// colour space's white. The defaults change nothing.
+struct FilmSensor {
+    double iso = 100;
+    double exposureTime = 1; // the camera's shutterclose - shutteropen
+    double whiteBalance = 0; // 0: none
+    bool passthrough() const { return iso == 100 && exposureTime == 1 && whiteBalance == 0; }
+};
+
 // Render settings that a scene file may carry; the CLI overrides each one it sets.
 struct SceneRenderSettings {
     std::string mode;  // empty: the CLI default
@@ -134,6 +152,7 @@ struct SceneRenderSettings {
 struct Scene {
     std::string path; // file it came from, for messages
     Camera camera;
+    FilmSensor sensor;
     std::vector<Material> materials;
     std::vector<Texture> textures;
     std::vector<Light> lights;

@@ -10,6 +10,8 @@
 #include "scene/pbrt/pbrt_lights.h"
 #include "scene/pbrt/pbrt_spectrum.h"
 #include "skip.h"
+#include "spectral/color_space.h"
+#include "spectral/rgb_spectrum.h"
 
 #include <filesystem>
 
@@ -192,4 +194,114 @@ TEST_CASE("The classroom's skydome loads as an equal-area image sky without warn
         CHECK(l.mapping == EnvironmentMapping::EqualArea);
     }
     CHECK(skies == 1);
+}
+
+namespace {
+
+// The light's own spectrum: present, luminance 1, its colour the light's RGB colour over k.
+const EmissionSpectrum& keptSpectrum(const EmissionSpectrumRef& s, const Vec3& rgbValue) {
+    REQUIRE(s);
+    CHECK(spectral::toXyz(s->values).y == Approx(1.0).epsilon(1e-5));
+    const float k = emissionScale(*s, rgbValue);
+    CHECK(rgbValue.x == Approx(s->rgb.x * k).epsilon(1e-5));
+    CHECK(rgbValue.y == Approx(s->rgb.y * k).epsilon(1e-5));
+    CHECK(rgbValue.z == Approx(s->rgb.z * k).epsilon(1e-5));
+    return *s;
+}
+
+// A blackbody's spectrum has Planck's law's shape.
+void checkPlanckShape(const EmissionSpectrum& s, double kelvin) {
+    for (double nm : {400.0, 500.0, 700.0, 800.0})
+        CHECK(s.values.at(float(nm)) / s.values.at(555) ==
+              Approx(kernels::spectral::planck(nm, kelvin) / kernels::spectral::planck(555, kelvin))
+                  .epsilon(1e-5));
+}
+
+} // namespace
+
+TEST_CASE("pbrt lights keep a blackbody's spectrum beside its colour", "[lights][spectral]") {
+    for (const char* light :
+         {R"(LightSource "point" "blackbody I" 2700 "float scale" 3)",
+          R"(LightSource "spot" "blackbody I" 2700 "float power" 40)",
+          R"(LightSource "distant" "blackbody L" 2700 "float illuminance" 5)",
+          R"(LightSource "goniometric" "blackbody I" 2700 "float scale" 2)",
+          R"(LightSource "infinite" "blackbody L" 2700 "float scale" 0.5)"}) {
+        INFO(light);
+        auto r = loadLights(light);
+        const Light& l = onlyLight(r);
+        const EmissionSpectrum& s = keptSpectrum(l.spectrum, l.intensity);
+        CHECK(s.label == "blackbody 2700");
+        checkPlanckShape(s, 2700);
+        // RGB mode's colour is unchanged: the blackbody's at luminance 1, times the scalar.
+        Vec3 bb = pbrt::blackbodyRgb(2700);
+        CHECK(s.rgb.x == bb.x);
+        CHECK(s.rgb.z == bb.z);
+    }
+    // The scalar is the one pbrt-v4 applies after dividing by the photometric integral.
+    auto p = loadLights(R"(LightSource "point" "blackbody I" 2700 "float scale" 3)");
+    CHECK(emissionScale(*onlyLight(p).spectrum, onlyLight(p).intensity) == Approx(3.0f));
+}
+
+TEST_CASE("pbrt area lights keep their spectrum through power", "[lights][spectral]") {
+    auto r = loadWorld(R"(AttributeBegin
+        AreaLightSource "diffuse" "blackbody L" 4000 "float power" 10
+        Shape "bilinearmesh" "point3 P" [0 0 0 1 0 0 0 1 0 1 1 0]
+        AttributeEnd)");
+    std::vector<PlacedShape> shapes = rootShapes(*r.scene);
+    REQUIRE(shapes.size() == 1);
+    const Shape& sh = *shapes[0].shape;
+    const EmissionSpectrum& s = keptSpectrum(sh.emissionSpectrum, sh.emission);
+    checkPlanckShape(s, 4000);
+    // power = pi A L_v: luminance 10 / pi over the unit square.
+    CHECK(emissionScale(s, sh.emission) == Approx(10.0 / kPi).epsilon(1e-5));
+}
+
+TEST_CASE("pbrt lights keep sampled and named illuminant spectra, not RGB ones",
+          "[lights][spectral]") {
+    auto sampled = loadLights(R"(LightSource "point" "spectrum I" [450 1 500 3 600 2])");
+    const EmissionSpectrum& s = keptSpectrum(onlyLight(sampled).spectrum, onlyLight(sampled).intensity);
+    CHECK(s.values.at(440) == 0.0f); // zero outside the pairs, as pbrt-v4's
+    CHECK(s.values.at(610) == 0.0f);
+    CHECK(s.values.at(500) / s.values.at(450) == Approx(3.0).epsilon(1e-5));
+    CHECK(s.values.at(550) / s.values.at(450) == Approx(2.5).epsilon(1e-5));
+
+    auto named = loadLights(R"(LightSource "distant" "spectrum L" "stdillum-F11")");
+    const EmissionSpectrum& f11 = keptSpectrum(onlyLight(named).spectrum, onlyLight(named).intensity);
+    CHECK(f11.label == "stdillum-F11");
+    for (float nm : {435.0f, 546.0f, 611.0f}) // its mercury and europium lines
+        CHECK(f11.values.at(nm) == Approx(spectral::cieIlluminant("F11")->at(nm)).epsilon(1e-5));
+
+    // RGB under sRGB, a constant spectrum and an image sky have no spectrum of their own.
+    CHECK_FALSE(onlyLight(loadLights(R"(LightSource "point" "rgb I" [1 0.5 0.2])")).spectrum);
+    CHECK_FALSE(onlyLight(loadLights(R"(LightSource "point" "spectrum I" [2])")).spectrum);
+    writeImageFile("sky.pfm", 8, 8, 0.5f);
+    CHECK_FALSE(
+        onlyLight(loadLights(R"(LightSource "infinite" "string filename" "sky.pfm")")).spectrum);
+    // An "rgb" under another colour space is that space's RGB illuminant spectrum.
+    auto rec = loadLights(R"(ColorSpace "rec2020"
+        LightSource "point" "rgb I" [0.2 0.9 0.1])");
+    const Light& l = onlyLight(rec);
+    REQUIRE(l.spectrum);
+    const spectral::ColorSpace& cs = *spectral::colorSpaceByName("rec2020");
+    spectral::RgbIlluminantSpectrum want(cs, 0.2f, 0.9f, 0.1f);
+    CHECK(l.spectrum->values.at(530) == Approx(want(530)).epsilon(1e-5));
+    CHECK(emissionScale(*l.spectrum, l.intensity) == Approx(1.0f));
+}
+
+TEST_CASE("pbrt constant skies add up with their spectra", "[lights][spectral]") {
+    auto r = loadLights(R"(LightSource "infinite" "blackbody L" 3000
+                          LightSource "infinite" "rgb L" [0.2 0.3 0.4])");
+    const Light& sky = onlyLight(r);
+    const Vec3 bb = pbrt::blackbodyRgb(3000);
+    CHECK(sky.intensity.x == Approx(bb.x + 0.2f));
+    REQUIRE(sky.spectrum);
+    EmissionSpectrumRef alone = pbrt::blackbodyEmission(3000);
+    spectral::RgbIlluminantSpectrum rgb(spectral::colorSpace(spectral::ColorSpaceId::Srgb), 0.2f,
+                                        0.3f, 0.4f);
+    CHECK(sky.spectrum->values.at(600) == Approx(alone->values.at(600) + rgb(600)).epsilon(1e-5));
+    // The light set's sky takes it while the sky has no image.
+    EmbreeScene accel(*r.scene);
+    LightSet set = LightSet::build(*r.scene, accel);
+    REQUIRE(set.environment.constantSpectrum());
+    CHECK(set.environment.constantSpectrum()->values.at(600) == sky.spectrum->values.at(600));
 }

@@ -156,6 +156,7 @@ void SceneBuilder::shape(const std::string& type, const ParamList& params, const
         if (s.type == ShapeType::Mesh) s.alpha = alpha;
         if (emissive) {
             s.emission = radiance;
+            s.emissionSpectrum = m_state.area->spectrum;
             s.twoSided = m_state.area->twoSided;
         }
     }

@@ -14,6 +14,38 @@ constexpr double kPiD = 3.14159265358979323846;
 constexpr long long kMaxResolution = kMaxImageSide; // scene_loader.h: one limit for all
 constexpr long long kMaxPixels = kMaxImagePixels;
 
+// The "rgb" film's sensor (pbrt-v4's PixelSensor::Create): "iso", "whitebalance" and "sensor";
+// only the CIE 1931 observer is available (no measured camera curves on the build machine), so
+// another sensor warns and renders with it, white balanced at 6500 K unless told otherwise as
+// pbrt-v4 defaults that sensor.
+void readSensor(const FilmDirective& film, Warnings& warnings, FilmSensor& sensor) {
+    const SourceLoc& loc = film.loc;
+    sensor.iso = film.params.getFloat("iso", 100.0);
+    sensor.whiteBalance = film.params.getFloat("whitebalance", 0.0);
+    const std::string name = film.params.getString("sensor", "cie1931");
+    if (!(sensor.iso > 0) || !std::isfinite(sensor.iso))
+        failAt(loc, "film \"iso\" must be positive");
+    if (!(sensor.whiteBalance >= 0) || !std::isfinite(sensor.whiteBalance))
+        failAt(loc, "film \"whitebalance\" must be a temperature in kelvin, or 0 for none");
+    if (name != "cie1931") {
+        if (sensor.whiteBalance == 0) sensor.whiteBalance = 6500;
+        warnings.add(loc, "film sensor " + quote(name) +
+                              ": no measured sensor curves are available; rendered with the "
+                              "\"cie1931\" sensor, white balanced at " +
+                              std::to_string(int(std::lround(sensor.whiteBalance))) + " K");
+    }
+}
+
+// The exposure time, the camera's shutterclose - shutteropen (pbrt-v4's film reads it there).
+void readExposure(const CameraDirective& cam, const SourceLoc& loc, FilmSensor& sensor) {
+    double open = cam.params.getFloat("shutteropen", 0.0);
+    double close = cam.params.getFloat("shutterclose", 1.0);
+    sensor.exposureTime = close - open;
+    if (!(sensor.exposureTime > 0) || !std::isfinite(sensor.exposureTime))
+        failAt(loc, "the camera's shutter does not open (\"shutterclose\" " + std::to_string(close) +
+                        " is not after \"shutteropen\" " + std::to_string(open) + ")");
+}
+
 void readFilm(const FilmDirective& film, Scene& scene) {
     const SourceLoc& loc = film.loc;
     long long w = film.params.getInt("xresolution", 1280);
@@ -79,6 +111,7 @@ Mat4 convertCamera(const CameraDirective& cam, const FilmDirective& film, Scene&
     scene.camera.width = 1280; // pbrt's default film
     scene.camera.height = 720;
     if (film.given) readFilm(film, scene);
+    if (film.given) readSensor(film, warnings, scene.sensor);
 
     if (cam.type != "perspective")
         warnings.add(loc, "Camera " + quote(cam.type) +
@@ -117,7 +150,7 @@ Mat4 convertCamera(const CameraDirective& cam, const FilmDirective& film, Scene&
     c.focusDistance = lens > 0 ? float(focus) : 0.0f;
     // The limits a JSON scene and serve's camera message meet (scene/camera_check.h).
     if (auto problem = cameraProblem(c)) failAt(loc, pbrtCameraProblem(*problem));
-    cam.params.ignore({"shutteropen", "shutterclose"}); // no motion blur: nothing moves
+    readExposure(cam, loc, scene.sensor); // no motion blur: nothing moves
     if (cam.type != "perspective") // the camera itself was reported, not its parameters
         for (const Param& p : cam.params.all()) p.used = true;
 

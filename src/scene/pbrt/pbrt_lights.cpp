@@ -86,13 +86,15 @@ void convertInfinite(const ParamList& params, const Mat4& toWorld, const ValueRe
         params.ignore({"portal"});
     }
     bool hasL = params.has("L");
-    Vec3 L = values.color(params, "L", SpectrumUse::Illuminant, Vec3(1.0f));
+    EmissionSpectrumRef spectrum;
+    Vec3 L = values.emission(params, "L", Vec3(1.0f), spectrum);
     double scale = params.getFloat("scale", 1.0);
     double illuminance = params.getFloat("illuminance", -1.0);
     readLightImage(params, loc, l);
     if (!l.image) {
         if (illuminance > 0) scale *= illuminance / kPiD; // a uniform sky gives E = pi L
         l.intensity = L * float(scale);
+        l.spectrum = spectrum;
         return;
     }
     if (hasL) failAt(loc, "an infinite light takes \"L\" or \"filename\", not both");
@@ -118,7 +120,7 @@ void convertInfinite(const ParamList& params, const Mat4& toWorld, const ValueRe
 void convertGoniometric(const ParamList& params, const Mat4& toWorld, const ValueReader& values,
                         Warnings& warnings, const SourceLoc& loc, Light& l) {
     l.type = LightType::Goniometric;
-    Vec3 I = values.color(params, "I", SpectrumUse::Illuminant, Vec3(1.0f));
+    Vec3 I = values.emission(params, "I", Vec3(1.0f), l.spectrum);
     readLightImage(params, loc, l);
     double scale = params.getFloat("scale", 1.0), power = params.getFloat("power", -1.0);
     double mean = 1;
@@ -153,7 +155,7 @@ void convertLight(const std::string& type, const ParamList& params, const Mat4& 
     Light l;
     if (type == "point") {
         l.type = LightType::Point;
-        Vec3 I = values.color(params, "I", SpectrumUse::Illuminant, Vec3(1.0f));
+        Vec3 I = values.emission(params, "I", Vec3(1.0f), l.spectrum);
         l.intensity = I * float(intensityScale(params, 4 * kPiD));
         l.position = toWorld.point(Vec3d(params.getPoint3("from", {0, 0, 0}))).toFloat();
     } else if (type == "spot") {
@@ -167,7 +169,7 @@ void convertLight(const std::string& type, const ParamList& params, const Mat4& 
         // pbrt: full intensity inside coneangle - conedeltaangle, smooth falloff to coneangle.
         double cosStart = std::cos(radians(cone - delta)), cosEnd = std::cos(radians(cone));
         double kE = 2 * kPiD * ((1 - cosStart) + (cosStart - cosEnd) / 2);
-        Vec3 I = values.color(params, "I", SpectrumUse::Illuminant, Vec3(1.0f));
+        Vec3 I = values.emission(params, "I", Vec3(1.0f), l.spectrum);
         l.intensity = I * float(intensityScale(params, kE));
         l.position = toWorld.point(Vec3d(from)).toFloat();
         l.direction = direction(toWorld, from, to, loc).toFloat();
@@ -176,7 +178,7 @@ void convertLight(const std::string& type, const ParamList& params, const Mat4& 
     } else if (type == "distant") {
         l.type = LightType::Directional;
         Vec3 from = params.getPoint3("from", {0, 0, 0}), to = params.getPoint3("to", {0, 0, 1});
-        Vec3 L = values.color(params, "L", SpectrumUse::Illuminant, Vec3(1.0f));
+        Vec3 L = values.emission(params, "L", Vec3(1.0f), l.spectrum);
         double scale = params.getFloat("scale", 1.0);
         double illuminance = params.getFloat("illuminance", -1.0);
         if (illuminance > 0) scale *= illuminance; // the irradiance of a spectrum of 1 nit
@@ -186,7 +188,10 @@ void convertLight(const std::string& type, const ParamList& params, const Mat4& 
         convertInfinite(params, toWorld, values, warnings, loc, l);
         for (Light& other : scene.lights) {
             if (!l.image && other.type == LightType::Environment && !other.image) {
-                other.intensity += l.intensity; // constant skies add up into one
+                // Constant skies add up into one, and so do their spectra.
+                other.spectrum = sumOfEmissions(other.intensity, other.spectrum, l.intensity,
+                                                l.spectrum);
+                other.intensity += l.intensity;
                 return;
             }
         }
@@ -212,7 +217,7 @@ std::optional<AreaEmission> convertAreaLight(const std::string& type, const Para
         return std::nullopt;
     }
     AreaEmission e;
-    Vec3 L = values.color(params, "L", SpectrumUse::Illuminant, Vec3(1.0f));
+    Vec3 L = values.emission(params, "L", Vec3(1.0f), e.spectrum);
     if (params.get("filename", {"string"}))
         warnings.add(loc, "image-textured area lights are not supported; \"L\" is used");
     e.radiance = L * float(params.getFloat("scale", 1.0));

@@ -1,7 +1,8 @@
 // pbrt light sources as rayproc lights: point, spot, goniometric, distant -> directional,
 // infinite (constant or image) -> environment; AreaLightSource "diffuse" as the emission of the
 // shapes that follow. Colours follow pbrt-v4's photometric convention (pbrt_values.h): RGB
-// values are taken as they are, other spectra are normalised to luminance 1; then "scale"
+// values are taken as they are, other spectra are normalised to luminance 1 and kept whole
+// beside the colour for the spectral mode (Light::spectrum, Shape::emissionSpectrum); "scale"
 // multiplies, "power" (point, spot, goniometric) sets the emitted power and "illuminance"
 // (distant, infinite) the illuminance, as pbrt-v4 computes them (docs/pbrt-import.md).
 #pragma once
@@ -24,6 +25,7 @@ struct AreaEmission {
     Vec3 radiance{0, 0, 0}; // L * scale (before any "power")
     bool twoSided = false;
     double power = -1; // "power" (W); > 0: the radiance is set from the shapes' area
+    EmissionSpectrumRef spectrum; // L's own spectrum (ValueReader::emission), or nullptr
 };
 
 // The radiance the shapes of one Shape directive emit: e.radiance, or, when "power" is given,

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rayproc::pbrt {
 
@@ -91,6 +92,28 @@ bool namedIlluminantRgb(const std::string& name, Vec3& rgb) {
     return true;
 }
 
+EmissionSpectrumRef blackbodyEmission(double kelvin) {
+    auto f = [kelvin](double nm) { return kernels::spectral::blackbodyNormalized(nm, kelvin); };
+    char label[64];
+    std::snprintf(label, sizeof label, "blackbody %g", kelvin);
+    return emissionAtLuminance1(spectral::DenseSpectrum::sample(f), blackbodyRgb(kelvin), label);
+}
+
+EmissionSpectrumRef sampledEmission(const std::vector<double>& pairs) {
+    auto f = [&pairs](double nm) { return spectral::piecewiseLinear(pairs, nm); };
+    return emissionAtLuminance1(spectral::DenseSpectrum::sample(f), sampledEmissionRgb(pairs),
+                                "sampled spectrum");
+}
+
+EmissionSpectrumRef namedIlluminantEmission(const std::string& name) {
+    Vec3 rgb;
+    if (!namedIlluminantRgb(name, rgb)) return nullptr;
+    const spectral::DenseSpectrum* s = name == "illum-acesD60"
+                                           ? &spectral::acesD60Illuminant()
+                                           : spectral::cieIlluminant(name.substr(9));
+    return s ? emissionAtLuminance1(*s, rgb, name) : nullptr;
+}
+
 namespace {
 
 // A reflectance-like spectrum's colour under D65, sRGB's illuminant (luminance 1).
@@ -118,6 +141,16 @@ Vec3 rgbIlluminantToSrgb(const Vec3& rgb, const spectral::ColorSpace& cs) {
     spectral::RgbIlluminantSpectrum s(cs, rgb.x, rgb.y, rgb.z);
     return vmax(toSrgb(spectral::toXyz([&](double nm) { return double(s(float(nm))); })),
                 Vec3(0.0f));
+}
+
+EmissionSpectrumRef rgbIlluminantEmission(const Vec3& rgb, const spectral::ColorSpace& cs) {
+    if (isSrgb(cs) || !(maxComponent(rgb) > 0)) return nullptr;
+    spectral::RgbIlluminantSpectrum s(cs, rgb.x, rgb.y, rgb.z);
+    auto e = std::make_shared<EmissionSpectrum>();
+    e->values = spectral::DenseSpectrum::sample([&](double nm) { return double(s(float(nm))); });
+    e->rgb = rgbIlluminantToSrgb(rgb, cs);
+    e->label = std::string("rgb in ") + cs.name;
+    return e;
 }
 
 bool namedGlassIor(const std::string& name, double& ior) {

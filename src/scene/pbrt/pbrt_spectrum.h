@@ -12,6 +12,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "scene/emission_spectrum.h"
 
 #include <string>
 #include <vector>
@@ -43,6 +44,18 @@ double sampledValueAt(const std::vector<double>& pairs, double nm);
 // The colour of pbrt-v4's named illuminant "stdillum-A", "-D50", "-D65", "-F1".."-F12" or
 // "illum-acesD60", luminance 1; false for other names.
 bool namedIlluminantRgb(const std::string& name, Vec3& rgb);
+
+// The same emission spectra kept whole for the spectral mode (scene/emission_spectrum.h): the
+// spectrum at every nanometre at luminance 1 with the colour above (a blackbody: Planck's law,
+// whose peak normalisation pbrt-v4's BlackbodySpectrum applies cancels in the luminance's);
+// nullptr where the colour functions above give none (an unknown name, no luminance).
+EmissionSpectrumRef blackbodyEmission(double kelvin);
+EmissionSpectrumRef sampledEmission(const std::vector<double>& pairs);
+EmissionSpectrumRef namedIlluminantEmission(const std::string& name);
+// An emission "rgb" under another colour space than sRGB: its RGB illuminant spectrum in that
+// space (pbrt-v4's RGBIlluminantSpectrum, whose photometric scale counts the illuminant alone,
+// so it is not renormalised) with its sRGB colour rgbIlluminantToSrgb; nullptr under sRGB.
+EmissionSpectrumRef rgbIlluminantEmission(const Vec3& rgb, const spectral::ColorSpace& cs);
 
 // An "rgb" value written under another ColorSpace than sRGB, as sRGB (docs/pbrt-import.md,
 // "Colour spaces"): pbrt-v4 upsamples it with that colour space's table (Jakob & Hanika), so

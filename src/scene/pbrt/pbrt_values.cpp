@@ -312,6 +312,34 @@ Vec3 ValueReader::color(const ParamList& params, std::string_view name, Spectrum
     return convertConstant(*t, use, def);
 }
 
+Vec3 ValueReader::emission(const ParamList& params, std::string_view name, Vec3 def,
+                           EmissionSpectrumRef& spectrum) const {
+    spectrum = nullptr;
+    Vec3 c = color(params, name, SpectrumUse::Illuminant, def);
+    const Param* p = params.get(name, {"rgb", "spectrum", "blackbody", "texture"});
+    if (!p) return c;
+    if (p->type != "texture") {
+        spectrum = emissionSpectrum(*p, *m_colorSpace);
+    } else {
+        const Texture* t = texture(*p, false);
+        if (t->constant && t->hasValue) spectrum = emissionSpectrum(t->value, *t->colorSpace);
+    }
+    return c;
+}
+
+// Called after convert() accepted the parameter: its values are valid.
+EmissionSpectrumRef ValueReader::emissionSpectrum(const Param& p, const spectral::ColorSpace& cs) {
+    if (p.type == "blackbody") return blackbodyEmission(p.numbers[0]);
+    if (p.type == "rgb") {
+        Vec3 rgb;
+        return plainColor(p, rgb) ? rgbIlluminantEmission(rgb, cs) : nullptr;
+    }
+    if (p.type != "spectrum") return nullptr;
+    if (p.numbers.size() >= 2) return sampledEmission(p.numbers);
+    if (p.numbers.empty() && p.strings.size() == 1) return namedIlluminantEmission(p.strings[0]);
+    return nullptr; // a constant: taken as grey RGB, as before
+}
+
 float ValueReader::scalar(const ParamList& params, std::string_view name, float def) const {
     const Param* p = params.get(name, {"float", "texture"});
     if (!p) return def;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "scene/emission_spectrum.h"
 #include "scene/material.h"
 #include "scene/texture.h"
 #include "scene/pbrt/pbrt_params.h"
@@ -38,6 +39,11 @@ public:
     // A colour parameter, or `def` if absent. A texture of a class other than "constant"
     // gives `def` with a warning.
     Vec3 color(const ParamList& params, std::string_view name, SpectrumUse use, Vec3 def) const;
+    // An emission colour parameter (SpectrumUse::Illuminant), as color(), and the spectrum the
+    // file gave it (a blackbody, pairs, a named illuminant, an "rgb" under another colour space
+    // than sRGB) kept whole for the spectral mode; nullptr where the colour is all there is.
+    Vec3 emission(const ParamList& params, std::string_view name, Vec3 def,
+                  EmissionSpectrumRef& spectrum) const;
     // A float parameter or float texture, or `def`.
     float scalar(const ParamList& params, std::string_view name, float def) const;
     // The same as parameters that may refer to a texture of any class. A texture whose image
@@ -83,6 +89,7 @@ private:
         return t.hasValue ? convert(t.value, use, def, *t.colorSpace) : Vec3(1.0f);
     }
     const Texture* texture(const Param& ref, bool wantFloat) const;
+    static EmissionSpectrumRef emissionSpectrum(const Param& p, const spectral::ColorSpace& cs);
 
     Warnings& m_warnings;
     std::unordered_map<std::string, Texture> m_floatTextures;
