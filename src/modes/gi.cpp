@@ -64,6 +64,14 @@ const char* debugViewName(GiDebugView v) {
     return "?";
 }
 
+// --debug-view's name of one of gi's views; none for any other (path's noise view).
+GiDebugView debugViewNamed(const std::string& name) {
+    for (GiDebugView v : {GiDebugView::Photons, GiDebugView::IcRecords, GiDebugView::Caustics,
+                          GiDebugView::Indirect})
+        if (name == debugViewName(v)) return v;
+    return GiDebugView::None;
+}
+
 // Christensen's precomputed irradiance at every fourth photon of a map: by default each
 // estimate made when a lookup first needs it (GiSettings::lazyIrradiance); eagerly, each rank
 // estimates a share and every rank gets all, skipped when interrupted.
@@ -409,6 +417,8 @@ GiSettings giSettings(const Scene& scene, const ModeOverrides& cli) {
     if (scene.render.photonsPerPass > 0) s.causticPhotons = scene.render.photonsPerPass;
     if (scene.render.photonRadius > 0) s.causticRadius = scene.render.photonRadius;
     if (scene.render.maxPhotonDepth > 0) s.maxPhotonDepth = scene.render.maxPhotonDepth;
+    s.roulette = cli.roulette;
+    s.debugView = debugViewNamed(cli.debugView);
     return s;
 }
 

@@ -18,6 +18,7 @@ PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides&
     PathSettings s;
     applySetting(s.spp, scene.spp, cli.spp);
     applySetting(s.maxDepth, scene.maxDepth, cli.maxDepth);
+    s.roulette = cli.roulette;
     return s;
 }
 

@@ -20,6 +20,7 @@ RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOv
     applySetting(s.spp, scene.spp, cli.spp);
     applySetting(s.maxDepth, scene.maxDepth, cli.maxDepth);
     applySetting(s.lightSamples, scene.lightSamples, cli.lightSamples);
+    s.roulette = cli.roulette;
     return s;
 }
 
