@@ -175,7 +175,7 @@ EngineSettings engineSettingsOf(const RenderArgs& a, const Scene& scene, int thr
                   : scene.render.seed >= 0 ? std::uint64_t(scene.render.seed)
                                            : 1;
     engine.quiet = a.quiet || !cluster.root();
-    engine.cluster = &cluster;
+    engine.control.cluster = &cluster;
     engine.sceneAnalysis = !a.noSceneAnalysis;
     engine.stratification = !a.noStratification;
     engine.glossyMis = !a.noGlossyMis;
@@ -183,12 +183,12 @@ EngineSettings engineSettingsOf(const RenderArgs& a, const Scene& scene, int thr
     engine.skyCompensation = !a.noSkyCompensation;
     engine.spectral = a.noSpectral ? false : a.spectral || scene.render.spectral;
     engine.lightChoice = !a.noLightChoice;
-    engine.timeLimitSeconds = a.timeLimit;
-    engine.targetRelMse = a.targetRelMse;
+    engine.control.timeLimitSeconds = a.timeLimit;
+    engine.control.targetRelMse = a.targetRelMse;
     engine.adaptiveSampling = !a.noAdaptive && (a.adaptive || a.targetRelMse > 0);
     engine.adaptiveMinSpp = a.adaptiveMinSpp;
-    engine.noiseBreakdown = a.debugView == "noise";
-    engine.phases = &phases;
+    engine.control.noiseBreakdown = a.debugView == "noise";
+    engine.control.phases = &phases;
     return engine;
 }
 
@@ -205,8 +205,8 @@ ToneMapSettings toneMapOf(const RenderArgs& a) {
 // the render: warn once, keep rendering; the final write reports its own failure.
 void writeProgressively(const RenderArgs& a, const std::string& output, const ToneMapSettings& tm,
                         EngineSettings& engine) {
-    engine.progressiveSeconds = a.progressiveSeconds;
-    engine.onProgress = [output, tm, warned = false](const Image& img) mutable {
+    engine.control.progressiveSeconds = a.progressiveSeconds;
+    engine.control.onProgress = [output, tm, warned = false](const Image& img) mutable {
         try {
             writeImage(output, img, tm);
         } catch (const ImageIoError& e) {
@@ -232,8 +232,8 @@ void loadReference(const RenderArgs& a, const Scene& scene, Image& reference,
                      "rayproc: warning: --reference: %zu pixels are NaN or infinite; the "
                      "error log leaves them out\n",
                      bad);
-    engine.reference = &reference;
-    engine.errorLogPath = a.errorLog;
+    engine.control.reference = &reference;
+    engine.control.errorLogPath = a.errorLog;
 }
 
 std::unique_ptr<EmbreeScene> buildAccel(const RenderArgs& a, const Scene& scene,
@@ -272,7 +272,7 @@ struct TevDisplay {
             1.0, [shown](const Film& film, const PeriodicReport::Progress&) {
                 shown->show(film.resolveInProgress());
             });
-        engine.watcher = report->watcher();
+        engine.control.watcher = report->watcher();
     }
     void showFinal(const Image& image) {
         if (!client) return;
@@ -308,7 +308,7 @@ RenderResult renderWithMode(const RenderArgs& a, const Scene& scene, const Embre
     const ModeEntry& entry = *findMode(mode);
     ModeSettings settings = ModeSettings::forScene(scene, overrides);
     for (const std::unique_ptr<ModeOptions>& options : a.modeOptions) options->apply(settings);
-    const Cluster& cluster = *engine.cluster;
+    const Cluster& cluster = *engine.control.cluster;
     if (!engine.quiet)
         std::fprintf(stderr, "rayproc render %s: %s %s%s %dx%d\n", a.scene.c_str(),
                      entry.describe(settings).c_str(), engine.toString().c_str(),

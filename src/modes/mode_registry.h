@@ -14,8 +14,8 @@
 //    group, and these have one meaning across the modes that read them.
 //  - Options of the engine, which every mode's stages read (the profiling switches such as
 //    --no-stratification or --no-sky-compensation, --spectral, --threads, the stops and the
-//    watchers), stay with the render command, which sets them on EngineSettings: engine/ knows
-//    nothing of the modes.
+//    watchers), stay with the render command, which sets them on EngineSettings (the stops and
+//    watchers on its RenderControl): engine/ knows nothing of the modes.
 #pragma once
 
 #include "modes/mode_options.h"

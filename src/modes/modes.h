@@ -53,7 +53,7 @@ struct ModeOverrides {
     int spp = 0, maxDepth = 0, lightSamples = 0;
     bool roulette = true; // off: --no-russian-roulette (raytrace, path, gi)
     // --debug-view's name; gi takes its own views (photons, ic-records, caustics, indirect),
-    // path's noise view is the engine's (EngineSettings::noiseBreakdown).
+    // path's noise view is the engine's (RenderControl::noiseBreakdown).
     std::string debugView = "none";
 };
 

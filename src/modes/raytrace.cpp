@@ -26,7 +26,7 @@ RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOv
 
 RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
                             const RaytraceSettings& s, const EngineSettings& engine) {
-    PhaseTimer lightPhase(engine.phases, "light_set"); // and the scene analysis
+    PhaseTimer lightPhase(engine.control.phases, "light_set"); // and the scene analysis
     LightSet all = LightSet::build(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanRaytrace);
     if (!plan.render) return blackRender(scene);
