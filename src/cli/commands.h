@@ -1,11 +1,11 @@
 // The rayproc command line: one function per subcommand, each returning the process status.
 #pragma once
 
+#include "core/option_checks.h"
+
 #include <CLI/CLI.hpp>
 
-#include <cmath>
 #include <functional>
-#include <limits>
 #include <memory>
 #include <string>
 
@@ -28,30 +28,7 @@ std::function<int()> addDiffCommand(CLI::App& app);
 std::function<int()> addBenchCommand(CLI::App& app);
 std::function<int()> addServeCommand(CLI::App& app);
 
-// Refuses NaN and infinities in a floating-point option: CLI11 reads "nan" and "inf" as
-// numbers, and its Range and PositiveNumber checks let NaN through (every comparison with NaN
-// is false). Attached to every float option of every command. With `floatRange`, also
-// magnitudes beyond float's range (3.4e38), finite as text and in double but infinite once
-// stored in a float.
-inline CLI::Validator finiteNumber(bool floatRange = false) {
-    return CLI::Validator(
-        [floatRange](std::string& text) -> std::string {
-            try {
-                std::size_t used = 0;
-                double v = std::stod(text, &used);
-                if (!std::isfinite(v)) return "must be a finite number, got " + text;
-                if (floatRange && std::abs(v) > double(std::numeric_limits<float>::max()))
-                    return "must be at most 3.4e38 in magnitude (a float), got " + text;
-            } catch (const std::exception&) {
-                return {}; // not a number at all: the option's own conversion says so
-            }
-            return {};
-        },
-        "");
-}
-
-// finiteNumber for an option stored as a float.
-inline CLI::Validator finiteFloat() { return finiteNumber(true); }
+// finiteNumber and finiteFloat, the float options' checks: core/option_checks.h.
 
 // Prints "rayproc: <message>" to stderr.
 void printError(const std::string& message);

@@ -9,10 +9,10 @@
 #include "engine/memory_budget.h"
 #include "engine/phases.h"
 #include "engine/thread_budget.h"
-#include "gi/progressive_caustics.h"
 #include "image/display_client.h"
 #include "image/image.h"
 #include "image/metrics.h"
+#include "modes/mode_options.h"
 #include "modes/mode_registry.h"
 #include "modes/modes.h"
 #include "modes/render_watch.h"
@@ -27,6 +27,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace rayproc::cli {
 
@@ -58,16 +59,6 @@ struct RenderArgs {
     std::string tonemap = "clamp";
     std::string reference, errorLog;
     std::string displayServer;
-    // gi
-    int photons = -1, causticPhotons = -1, gatherRays = 0, photonRounds = 0, globalK = 0;
-    int filmGatherRays = 0, icRefineRays = -1, icCorrectionRays = -1;
-    float icAccuracy = 0;
-    bool noCache = false, noCaustics = false, noPrecomputed = false, noIcGradients = false;
-    bool noIcSmoothing = false;
-    bool noProgressiveCaustics = false, noCausticPixelRadius = false, noGatherDirect = false,
-         noLazyIrradiance = false, mapCorrection = false, noRoughCaustics = false;
-    float causticAlpha = 0;
-    float causticRadius = 0;
     double timeLimit = 0;
     double targetRelMse = 0;
     // Adaptive sampling: on with --target-relmse unless --no-adaptive, on with --adaptive.
@@ -80,13 +71,10 @@ struct RenderArgs {
     bool spectral = false, noSpectral = false;
     bool noLightChoice = false;
     std::string coatModel; // --coat-model: every coateddiffuse's model; empty: the scene's
+    // Each mode's own options (modes/mode_options.h), in the registry's order; the options
+    // above are every mode's, or several modes' (modes/mode_registry.h says which go where).
+    std::vector<std::unique_ptr<ModeOptions>> modeOptions;
 };
-
-std::string joinModes() {
-    std::string s;
-    for (auto& m : knownModes()) s += (s.empty() ? "" : ", ") + m;
-    return s;
-}
 
 // --mode's help: every registered mode with its description.
 std::string modeHelp() {
@@ -106,38 +94,6 @@ std::vector<NamedPath> renderFiles(const RenderArgs& a, const std::string& outpu
             {a.output.empty() ? "the output (default)" : "-o", output, true},
             {"--stats-json", a.statsJson, true},
             {"--error-log", a.errorLog, true}};
-}
-
-// gi's options from the command line on its settings.
-void applyGiOptions(const RenderArgs& a, GiSettings& s) {
-    if (a.photons >= 0) s.photons = a.photons;
-    if (a.photonRounds > 0) s.photonRounds = a.photonRounds;
-    if (a.globalK > 0) s.globalK = a.globalK;
-    if (a.causticPhotons >= 0) s.causticPhotons = a.causticPhotons;
-    if (a.gatherRays > 0) s.gatherRays = a.gatherRays;
-    if (a.filmGatherRays > 0) s.filmGatherRays = a.filmGatherRays;
-    if (a.icAccuracy > 0) s.icAccuracy = a.icAccuracy;
-    if (a.icRefineRays >= 0) s.icRefineRays = a.icRefineRays;
-    if (a.icCorrectionRays >= 0) s.icCorrectionRays = a.icCorrectionRays;
-    s.irradianceCache = !a.noCache;
-    s.caustics = !a.noCaustics;
-    s.progressiveCaustics = !a.noProgressiveCaustics;
-    s.causticPixelRadius = !a.noCausticPixelRadius;
-    s.roughCaustics = !a.noRoughCaustics;
-    if (a.causticAlpha > 0) s.causticAlpha = a.causticAlpha;
-    if (a.causticRadius > 0) s.causticRadius = a.causticRadius;
-    s.precomputedIrradiance = !a.noPrecomputed;
-    s.lazyIrradiance = !a.noLazyIrradiance;
-    s.gatherDirect = !a.noGatherDirect;
-    s.mapCorrection = a.mapCorrection;
-    s.roulette = !a.noRoulette;
-    s.icGradients = !a.noIcGradients;
-    s.icSmoothing = !a.noIcSmoothing;
-    s.debugView = a.debugView == "photons"      ? GiDebugView::Photons
-                  : a.debugView == "ic-records" ? GiDebugView::IcRecords
-                  : a.debugView == "caustics"   ? GiDebugView::Caustics
-                  : a.debugView == "indirect"   ? GiDebugView::Indirect
-                                                : GiDebugView::None;
 }
 
 // Every file the render will write is checked before the scene loads: an output that cannot
@@ -200,9 +156,8 @@ std::string renderModeOf(const RenderArgs& a, const Scene& scene) {
     std::string mode = !a.mode.empty() ? a.mode
                        : !scene.render.mode.empty() ? scene.render.mode
                                                     : defaultMode();
-    bool known = false;
-    for (auto& m : knownModes()) known |= m == mode;
-    if (!known) throw InputError("unknown mode '" + mode + "'; known modes: " + joinModes());
+    if (!findMode(mode))
+        throw InputError("unknown mode '" + mode + "'; known modes: " + modeNameList(", "));
     if (a.debugView == "noise" && mode != "path")
         throw InputError("--debug-view noise is path mode's (the render's mode is " + mode + ")");
     if (a.debugView != "none" && a.debugView != "noise" && mode != "gi")
@@ -220,7 +175,7 @@ EngineSettings engineSettingsOf(const RenderArgs& a, const Scene& scene, int thr
                   : scene.render.seed >= 0 ? std::uint64_t(scene.render.seed)
                                            : 1;
     engine.quiet = a.quiet || !cluster.root();
-    engine.cluster = &cluster;
+    engine.control.cluster = &cluster;
     engine.sceneAnalysis = !a.noSceneAnalysis;
     engine.stratification = !a.noStratification;
     engine.glossyMis = !a.noGlossyMis;
@@ -228,12 +183,12 @@ EngineSettings engineSettingsOf(const RenderArgs& a, const Scene& scene, int thr
     engine.skyCompensation = !a.noSkyCompensation;
     engine.spectral = a.noSpectral ? false : a.spectral || scene.render.spectral;
     engine.lightChoice = !a.noLightChoice;
-    engine.timeLimitSeconds = a.timeLimit;
-    engine.targetRelMse = a.targetRelMse;
+    engine.control.timeLimitSeconds = a.timeLimit;
+    engine.control.targetRelMse = a.targetRelMse;
     engine.adaptiveSampling = !a.noAdaptive && (a.adaptive || a.targetRelMse > 0);
     engine.adaptiveMinSpp = a.adaptiveMinSpp;
-    engine.noiseBreakdown = a.debugView == "noise";
-    engine.phases = &phases;
+    engine.control.noiseBreakdown = a.debugView == "noise";
+    engine.control.phases = &phases;
     return engine;
 }
 
@@ -250,8 +205,8 @@ ToneMapSettings toneMapOf(const RenderArgs& a) {
 // the render: warn once, keep rendering; the final write reports its own failure.
 void writeProgressively(const RenderArgs& a, const std::string& output, const ToneMapSettings& tm,
                         EngineSettings& engine) {
-    engine.progressiveSeconds = a.progressiveSeconds;
-    engine.onProgress = [output, tm, warned = false](const Image& img) mutable {
+    engine.control.progressiveSeconds = a.progressiveSeconds;
+    engine.control.onProgress = [output, tm, warned = false](const Image& img) mutable {
         try {
             writeImage(output, img, tm);
         } catch (const ImageIoError& e) {
@@ -277,8 +232,8 @@ void loadReference(const RenderArgs& a, const Scene& scene, Image& reference,
                      "rayproc: warning: --reference: %zu pixels are NaN or infinite; the "
                      "error log leaves them out\n",
                      bad);
-    engine.reference = &reference;
-    engine.errorLogPath = a.errorLog;
+    engine.control.reference = &reference;
+    engine.control.errorLogPath = a.errorLog;
 }
 
 std::unique_ptr<EmbreeScene> buildAccel(const RenderArgs& a, const Scene& scene,
@@ -317,7 +272,7 @@ struct TevDisplay {
             1.0, [shown](const Film& film, const PeriodicReport::Progress&) {
                 shown->show(film.resolveInProgress());
             });
-        engine.watcher = report->watcher();
+        engine.control.watcher = report->watcher();
     }
     void showFinal(const Image& image) {
         if (!client) return;
@@ -348,13 +303,12 @@ RenderResult renderWithMode(const RenderArgs& a, const Scene& scene, const Embre
     // With an error target and no --spp, samples go on until the target (or the time limit,
     // or Ctrl-C) stops them.
     int sppCap = a.spp > 0 ? a.spp : a.targetRelMse > 0 ? kTargetSppCap : 0;
-    ModeOverrides overrides{sppCap, a.maxDepth, a.lightSamples};
+    ModeOverrides overrides{sppCap, a.maxDepth, a.lightSamples, !a.noRoulette, a.debugView};
     installInterruptHandler();
     const ModeEntry& entry = *findMode(mode);
     ModeSettings settings = ModeSettings::forScene(scene, overrides);
-    applyGiOptions(a, settings.gi);
-    settings.raytrace.roulette = settings.path.roulette = !a.noRoulette;
-    const Cluster& cluster = *engine.cluster;
+    for (const std::unique_ptr<ModeOptions>& options : a.modeOptions) options->apply(settings);
+    const Cluster& cluster = *engine.control.cluster;
     if (!engine.quiet)
         std::fprintf(stderr, "rayproc render %s: %s %s%s %dx%d\n", a.scene.c_str(),
                      entry.describe(settings).c_str(), engine.toString().c_str(),
@@ -537,108 +491,6 @@ void addSceneOptions(CLI::App* cmd, RenderArgs* args) {
         ->check(CLI::IsMember({"clamp", "reinhard", "aces"}));
 }
 
-// gi's photon, gather and cache counts.
-void addGiCountOptions(CLI::App* cmd, RenderArgs* args) {
-    cmd->add_option("--photons", args->photons,
-                    "gi: photons emitted for the global map per round (default 200000); rounds "
-                    "repeat until a quarter of this many of the photons the final gather reads "
-                    "have landed in view (see --photon-rounds)")
-        ->check(CLI::Range(0, 100000000));
-    cmd->add_option("--photon-rounds", args->photonRounds,
-                    "gi: at most this many rounds of --photons for the global map (default 8; "
-                    "1 = exactly --photons). A room lit through its windows keeps few of the "
-                    "photons aimed at it (the classroom: 4% in view)")
-        ->check(CLI::Range(1, 64));
-    cmd->add_option("--global-k", args->globalK,
-                    "gi: photons per density estimate of the global map (default 64; Jensen's k). "
-                    "Fewer: smaller discs, less of the darkening where a disc reaches past a "
-                    "surface's edge, more noise; more: the reverse")
-        ->check(CLI::Range(1, 1024));
-    cmd->add_option("--caustic-photons", args->causticPhotons,
-                    "gi: photons emitted for the caustic map, each pass's with progressive "
-                    "caustics (default: one per pixel, at least 50000 and at most 1000000; only "
-                    "light -> specular+ -> diffuse paths are stored)")
-        ->check(CLI::Range(0, 100000000));
-    cmd->add_option("--gather-rays", args->gatherRays,
-                    "gi: stratified cosine-weighted rays per final gather of an irradiance-cache "
-                    "record (default 64)")
-        ->check(CLI::Range(1, 65536));
-    cmd->add_option("--film-gather-rays", args->filmGatherRays,
-                    "gi: rays of a final gather made for the image where a render pass finds no "
-                    "usable cache record (or without the cache); default --gather-rays / --spp, "
-                    "at least 1: about a record's rays per pixel over the render, one per pass "
-                    "under --time-limit with a large --spp")
-        ->check(CLI::Range(1, 65536));
-    cmd->add_option("--ic-accuracy", args->icAccuracy,
-                    "gi: Ward's accuracy a of the irradiance cache; smaller = more records "
-                    "(default 0.25)")
-        ->check(finiteFloat())
-        ->check(CLI::Range(0.001, 10.0));
-    cmd->add_option("--ic-refine-rays", args->icRefineRays,
-                    "gi: gather rays every cache record adds before each render pass, so the "
-                    "records' noise falls as passes accumulate instead of staying in the image "
-                    "(default 1; 0: off)")
-        ->check(CLI::Range(0, 65536));
-    cmd->add_option("--ic-correction-rays", args->icCorrectionRays,
-                    "gi: path-traced correction rays every cache record adds before each render "
-                    "pass: the global photon map's bias leaves the records as passes accumulate "
-                    "(a control variate: the records converge to the exact final gather's "
-                    "irradiance, not the map's; default 4; 0: off, the records keep the map's "
-                    "bias)")
-        ->check(CLI::Range(0, 65536));
-}
-
-// gi's switches and the caustic estimate's radius.
-void addGiSwitches(CLI::App* cmd, RenderArgs* args) {
-    cmd->add_flag("--no-irradiance-cache", args->noCache,
-                  "gi: final gather at every diffuse hit instead of interpolating cached records");
-    cmd->add_flag("--no-caustics", args->noCaustics, "gi: no caustic photon map");
-    cmd->add_flag("--no-progressive-caustics", args->noProgressiveCaustics,
-                  "gi: one caustic map for the whole render with k-nearest estimates, instead of "
-                  "a new map of --caustic-photons every pass with a shrinking radius (progressive "
-                  "photon mapping: caustics converge as passes accumulate)");
-    cmd->add_flag("--no-caustic-pixel-radius", args->noCausticPixelRadius,
-                  "gi: progressive caustics with one radius sequence for the whole image instead "
-                  "of a radius per pixel shrunk by the photons the pixel receives (SPPM's "
-                  "statistics; docs/photon-map.md)");
-    cmd->add_flag("--no-rough-caustics", args->noRoughCaustics,
-                  "gi: caustic photons end at rough glass and rough water instead of going on "
-                  "through them as through smooth glass; the light through such surfaces then "
-                  "reaches the image through final gathers and the global map (blurred, not "
-                  "progressive; docs/caustics.md)");
-    cmd->add_option("--caustic-alpha", args->causticAlpha,
-                    "gi: progressive caustics' radius reduction alpha: each pass's squared radius "
-                    "is the last one's times (i + alpha) / (i + 1) (default 0.667; smaller "
-                    "shrinks faster: less bias, more noise)")
-        ->check(finiteFloat())
-        ->check(CLI::Range(0.01, 1.0));
-    cmd->add_option("--caustic-radius", args->causticRadius,
-                    "gi: the caustic estimate's largest radius, in scene units: progressive "
-                    "caustics start from the first map's 64th-neighbour distance or this, "
-                    "whichever is smaller (default: 2% of the diagonal of what the camera sees; "
-                    "a pbrt file's sppm \"radius\" sets it)")
-        ->check(finiteFloat())
-        ->check(CLI::PositiveNumber);
-    cmd->add_flag("--no-precomputed-irradiance", args->noPrecomputed,
-                  "gi: gather rays estimate the global map's irradiance from scratch instead of "
-                  "Christensen's precomputed values");
-    cmd->add_flag("--no-lazy-irradiance", args->noLazyIrradiance,
-                  "gi: precompute the irradiance at every fourth photon before rendering instead "
-                  "of each the first time a lookup needs it (the same image; the lazy way skips "
-                  "photons no lookup reaches)");
-    cmd->add_flag("--map-correction", args->mapCorrection,
-                  "gi: every pass, take the global photon map's estimate away again wherever it "
-                  "went into the image and add a traced path in its place (one ray from each "
-                  "first diffuse hit for its final gather): the map's bias fades as passes add "
-                  "up and gi converges to path mode's image, at path tracing's noise (off by "
-                  "default)");
-    cmd->add_flag("--no-gather-direct", args->noGatherDirect,
-                  "gi: where a final-gather ray lands on a diffuse surface, take the global map's "
-                  "estimate of all the light there instead of sampling the sun (delta lights) "
-                  "and the sky there with one shadow ray each and taking the rest from the map "
-                  "(the map blurs sharp shadows and sunlit patches: biased, but no shadow rays)");
-}
-
 // The profiling switches (each an ablation) and the debug views.
 void addProfilingOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_flag("--no-scene-analysis", args->noSceneAnalysis,
@@ -670,13 +522,6 @@ void addProfilingOptions(CLI::App* cmd, RenderArgs* args) {
     cmd->add_flag("--no-russian-roulette", args->noRoulette,
                   "raytrace, path, gi: paths (and gi's photons) end only at the maximum depth "
                   "or at zero throughput");
-    cmd->add_flag("--no-ic-smoothing", args->noIcSmoothing,
-                  "gi: apply each cache record's own corrections (--ic-correction-rays) instead "
-                  "of their average over its nearest records of the same facing, whose number "
-                  "Stein's unbiased risk estimate chooses before each pass");
-    cmd->add_flag("--no-ic-gradients", args->noIcGradients,
-                  "gi: interpolate cached irradiance without Ward & Heckbert's rotational and "
-                  "translational gradients");
     cmd->add_option("--debug-view", args->debugView,
                     "gi: a diagnostic image instead of the render: photons (the global + caustic "
                     "maps' radiance estimate at first diffuse hits, nothing else), ic-records "
@@ -757,6 +602,17 @@ void addRunOptions(CLI::App* cmd, RenderArgs* args) {
                 "sample; a second signal exits at once).");
 }
 
+// Each mode's own options in a group of its own, after the options every mode has.
+void addModeOptions(CLI::App* cmd, RenderArgs* args) {
+    for (const ModeEntry& mode : modeRegistry()) {
+        if (!mode.options) continue;
+        std::unique_ptr<ModeOptions> options = mode.options();
+        options->add(*cmd->add_option_group(std::string(mode.name) + " options",
+                                             std::string(mode.name) + " mode's own options"));
+        args->modeOptions.push_back(std::move(options));
+    }
+}
+
 } // namespace
 
 std::function<int()> addRenderCommand(CLI::App& app) {
@@ -764,10 +620,9 @@ std::function<int()> addRenderCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("render", "Render a scene to an image");
     // In this order in --help.
     addSceneOptions(cmd, args.get());
-    addGiCountOptions(cmd, args.get());
-    addGiSwitches(cmd, args.get());
     addProfilingOptions(cmd, args.get());
     addRunOptions(cmd, args.get());
+    addModeOptions(cmd, args.get());
     return [args] { return runRender(*args); };
 }
 

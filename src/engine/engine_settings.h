@@ -1,20 +1,15 @@
-// Settings of the engine itself, common to every mode: threads, packet width, seed, the
-// profiling switches, the render loop's stops and logs, and the hooks of its callers (serve's
-// watcher, bench's error rows, the MPI cluster, the phase log).
+// Settings of the engine itself, common to every mode and printed in the render log: threads,
+// packet width, seed, the profiling switches, spectral rendering and adaptive sampling. The
+// hooks and stops of its callers are a RenderControl of their own (engine/render_control.h),
+// carried along as `control`.
 #pragma once
 
-#include <chrono>
+#include "engine/render_control.h"
+
 #include <cstdint>
-#include <functional>
-#include <optional>
 #include <string>
 
 namespace rayproc {
-
-class Cluster;
-class Film;
-class PhaseLog;
-struct Image;
 
 struct EngineSettings {
     int threads = 0;      // 0: all cores
@@ -39,66 +34,13 @@ struct EngineSettings {
     // Spectral rendering (engine/spectral_render.h, docs/spectral.md): three hero wavelengths
     // per path, in every mode (gi's photons carry wavelengths of their own).
     bool spectral = false;
-    // Called with the image so far after each pass when set (progressive output); the job
-    // calls it at most once per `progressiveSeconds`.
-    std::function<void(const Image&)> onProgress;
-    double progressiveSeconds = 5.0;
-    // A watcher of the render while it runs (rayproc serve): `begin` gets the film (its
-    // resolveInProgress() may be called from another thread), the fraction of the work done
-    // and the rays traced so far, both callable at any time; `end` is called before the film
-    // goes away.
-    struct Watcher {
-        std::function<void(const Film& film, std::function<double()> fraction,
-                           std::function<std::uint64_t()> rays)> begin;
-        std::function<void()> end;
-    };
-    const Watcher* watcher = nullptr;
-    // A stop besides the interrupt, when set: polled with it before each emission (from the
-    // render's threads at once) and after each pass, and true stops the render as a cancel
-    // does (the result is cancelled), without the process-wide interrupt that Ctrl-C sets.
-    // rayproc serve stops a preview that a newer edit has made stale. Only the camera passes
-    // poll it (not gi's photon passes). The ranks of a distributed render stop together.
-    std::function<bool()> stop;
-    // Convergence log: after each pass, the samples, seconds, error against `reference` and
-    // the reference-free estimate (Film::relMseEstimate) are appended to `errorLogPath` as CSV
-    // (spp,seconds,relmse,rmse,relmse_estimate; the estimate is nan after the first pass).
-    const Image* reference = nullptr;
-    std::string errorLogPath;
-    // The same row handed to a caller (rayproc bench --progressive), on rank 0, when set with
-    // `reference`; `rays` counts the render passes' rays so far (not gi's photon passes).
-    struct PassError {
-        int spp = 0;
-        double seconds = 0, relmse = 0, rmse = 0, relmseEstimate = 0;
-        std::uint64_t rays = 0;
-    };
-    std::function<void(const PassError&)> onPassError;
-    // When the mode's work started (gi sets it before its photon pass): the error log's
-    // seconds, the time limit and the reported wall time count from here. Unset: from the
-    // start of the render passes.
-    std::optional<std::chrono::steady_clock::time_point> workStart;
-    // > 0: stop after the first pass that ends past this many seconds (from workStart, the
-    // error log's measuring excluded). Passes are then 1 spp, so the budget is kept closely.
-    double timeLimitSeconds = 0;
-    // > 0: passes of 1 spp alternate between two half buffers, and the render stops once the
-    // relMSE estimated from their difference (Film::relMseEstimate) is at most this, or at
-    // the mode's spp, the time limit or an interrupt, whichever comes first.
-    double targetRelMse = 0;
     // Adaptive sampling (engine/adaptive_sampler.h): after adaptiveMinSpp samples everywhere,
     // pairs of passes go to the pixels whose noise needs them; the mode's spp is then the mean
     // over the image (the cap per pixel under targetRelMse).
     bool adaptiveSampling = false;
     int adaptiveMinSpp = 16;
-    // Path mode's --debug-view noise: RenderResult::layers gets each pixel's noise and mean by
-    // the strategy that sampled it (engine/noise_breakdown.h).
-    bool noiseBreakdown = false;
-    // The processes sharing the render (cluster/cluster.h); null: this process alone. Each
-    // takes a share of the tiles (and of gi's photons and cache prepass); the image, the
-    // statistics and the stop decisions are combined so the result is one process's, to the
-    // bit. Only rank 0's result holds the whole image.
-    const Cluster* cluster = nullptr;
-    // When set, every phase of the render (light set, photon passes, cache prepass, render
-    // passes, film resolve...) adds its wall time here (engine/phases.h; --stats).
-    PhaseLog* phases = nullptr;
+    // The caller's hooks and stops (engine/render_control.h).
+    RenderControl control;
     std::string toString() const;
 };
 

@@ -145,7 +145,7 @@ void traceLevel(const Scene& scene, const EmbreeScene& accel, const LightSet& li
                surface)
         .stage("shadow", {engineRoute(RayKind::Shadow)}, shadow)
         .stage("gather", {kGatherQueue, kGatherShadowQueue}, gather)
-        .timedAs(engine.phases, "cache_prepass");
+        .timedAs(engine.control.phases, "cache_prepass");
     CameraEmitter camera(rc, &cam);
     camera.setShare(cluster.rank(), cluster.size()); // each rank gathers for its tiles
     camera.beginPass(0, 1);
@@ -237,7 +237,7 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
     for (int scale : kScales) {
         // The level's own work on this thread: its film and stages, merging, sorting and
         // inserting its records; the gathers are the workers' (cache_prepass).
-        PhaseTimer levelPhase(engine.phases, "cache_insert");
+        PhaseTimer levelPhase(engine.control.phases, "cache_insert");
         if (stopped(cluster)) break;
         const Camera cam = levelCamera(scene.camera, scale);
         requests.beginLevel(std::size_t(cam.width) * cam.height * 2);

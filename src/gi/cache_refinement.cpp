@@ -138,7 +138,7 @@ CacheRefinement::PassSums CacheRefinement::tracePass(int pass, bool correcting) 
     Pipeline pipeline("cache refinement", "record", m_accel.root(), m_engine.packetWidth,
                       m_stats, m_engine.threads);
     pipeline.stage("gather", {kGatherQueue, kGatherShadowQueue}, gather)
-        .timedAs(m_engine.phases, "cache_refinement");
+        .timedAs(m_engine.control.phases, "cache_refinement");
     if (correcting) addCorrectionStages(pipeline, correction, shadow);
     const std::uint64_t key =
         kernels::hashCombine(kernels::hashCombine(m_engine.seed, 0x1c7e), std::uint64_t(pass));

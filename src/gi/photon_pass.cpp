@@ -39,7 +39,8 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     // photon emitter -> queue -> intersect -> photon stage (stores at diffuse hits, scatters)
     Pipeline pipeline("photons", "photon", accel.root(), engine.packetWidth, stats,
                       engine.threads);
-    pipeline.stage("photon", {kPhotonQueue}, stage).timedAs(engine.phases, "photon_tracing");
+    pipeline.stage("photon", {kPhotonQueue}, stage)
+        .timedAs(engine.control.phases, "photon_tracing");
     PhotonEmitter emitter(lights, scene.worldBounds(), pass.count, engine.seed, pass.tag,
                           !focus.active ? Bounds3{}
                           : pass.caustic ? focus.causticEmissionBounds()
@@ -59,7 +60,7 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     pipeline.run(emitter, [] { return interruptRequested(); });
     progress.finish(!interruptRequested());
     if (interruptRequested()) return {};
-    PhaseTimer sortPhase(engine.phases, "photon_sort", PhaseKind::Parallel);
+    PhaseTimer sortPhase(engine.control.phases, "photon_sort", PhaseKind::Parallel);
     return stage.takeKeyedPhotons([] { return interruptRequested(); });
 }
 
@@ -95,7 +96,7 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
                             const PhotonPassSpec& pass, const FocusRegion& focus, Stats& stats,
                             PhotonMap* indirect) {
     // Besides the tracing and sorting: the kd-trees (parallel below their top levels).
-    PhaseTimer buildPhase(engine.phases, "photon_map_build", PhaseKind::Parallel);
+    PhaseTimer buildPhase(engine.control.phases, "photon_map_build", PhaseKind::Parallel);
     map.build({});
     if (indirect) indirect->build({});
     PhotonRounds done;
@@ -115,7 +116,7 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
         }
         std::vector<PhotonStage::KeyedPhoton> keyed =
             tracePhotons(scene, accel, lights, s, engine, cluster, round, focus, stats);
-        PhaseTimer mergePhase(engine.phases, "photon_sort", PhaseKind::Parallel);
+        PhaseTimer mergePhase(engine.control.phases, "photon_sort", PhaseKind::Parallel);
         traced.push_back(mergePhotonShares(cluster, std::move(keyed)));
         mergePhase.stop();
         if (stopped(cluster)) return done;

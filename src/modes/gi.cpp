@@ -64,6 +64,14 @@ const char* debugViewName(GiDebugView v) {
     return "?";
 }
 
+// --debug-view's name of one of gi's views; none for any other (path's noise view).
+GiDebugView debugViewNamed(const std::string& name) {
+    for (GiDebugView v : {GiDebugView::Photons, GiDebugView::IcRecords, GiDebugView::Caustics,
+                          GiDebugView::Indirect})
+        if (name == debugViewName(v)) return v;
+    return GiDebugView::None;
+}
+
 // Christensen's precomputed irradiance at every fourth photon of a map: by default each
 // estimate made when a lookup first needs it (GiSettings::lazyIrradiance); eagerly, each rank
 // estimates a share and every rank gets all, skipped when interrupted.
@@ -176,7 +184,7 @@ void tracePhotonMaps(GiPhotonMaps& maps, GiData& gi, const Scene& scene,
     }
     maps.photonSeconds = secondsSince(t0);
     auto t1 = Clock::now();
-    PhaseTimer precomputePhase(engine.phases, "irradiance_precompute", PhaseKind::Parallel);
+    PhaseTimer precomputePhase(engine.control.phases, "irradiance_precompute", PhaseKind::Parallel);
     if (s.precomputedIrradiance && maps.global.size() > 0 && !stopped(cluster))
         precomputePhotonIrradiance(maps.global, s, gi.globalRadius, engine, cluster);
     if (s.precomputedIrradiance && maps.gatherMap.size() > 0 && !stopped(cluster))
@@ -326,17 +334,17 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     // The mode's clock starts here: the error log's seconds and --time-limit count the
     // photon passes, the precomputation and the cache's prepass too.
     EngineSettings engine = engineIn;
-    if (!engine.workStart) engine.workStart = Clock::now();
+    if (!engine.control.workStart) engine.control.workStart = Clock::now();
     static const Cluster alone;
-    const Cluster& cluster = engine.cluster ? *engine.cluster : alone;
+    const Cluster& cluster = engine.control.cluster ? *engine.control.cluster : alone;
     // Scene analysis: maps, cache and stages the scene cannot use are skipped.
-    PhaseTimer lightPhase(engine.phases, "light_set"); // and the scene analysis
+    PhaseTimer lightPhase(engine.control.phases, "light_set"); // and the scene analysis
     LightSet all = LightSet::build(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanGi);
     if (!plan.render) return blackRender(scene);
     LightSet lights = plan.sampledLights(all);
     lightPhase.stop();
-    PhaseTimer focusPhase(engine.phases, "focus_region"); // rays from this thread
+    PhaseTimer focusPhase(engine.control.phases, "focus_region"); // rays from this thread
     FocusRegion focus = cameraFocusRegion(scene, accel, engine.packetWidth);
     focusPhase.stop();
     Extras extras;
@@ -367,7 +375,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     if (s.irradianceCache && (s.icRefineRays > 0 || s.icCorrectionRays > 0) && plan.globalMap &&
         cache.size() > 0 && s.debugView == GiDebugView::None) {
         // The records' sums and each record's neighbours (a k-nearest search per record).
-        PhaseTimer setupPhase(engine.phases, "refinement_setup", PhaseKind::Parallel);
+        PhaseTimer setupPhase(engine.control.phases, "refinement_setup", PhaseKind::Parallel);
         refinement.emplace(scene, accel, lights, gi, cache, engine, cluster, refineStats);
     }
     // Without diffuse surfaces the gather stage would never get work: not registered.
@@ -385,7 +393,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     addRenderExtras(extras, r, maps, gi, refinement ? &*refinement : nullptr);
     if (s.debugView == GiDebugView::IcRecords)
         extras.push_back({"gi/ic_marked_pixels", double(markIcRecords(r.image, scene.camera, cache))});
-    // runRenderJob measured its wall time from engine.workStart: the pre-passes are in it.
+    // runRenderJob measured its wall time from engine.control.workStart: the pre-passes are in it.
     ThreadStats photonTotals = photonStats.merged();
     sumToRoot(cluster, photonTotals);
     ThreadStats refineTotals = refineStats.merged();
@@ -409,6 +417,8 @@ GiSettings giSettings(const Scene& scene, const ModeOverrides& cli) {
     if (scene.render.photonsPerPass > 0) s.causticPhotons = scene.render.photonsPerPass;
     if (scene.render.photonRadius > 0) s.causticRadius = scene.render.photonRadius;
     if (scene.render.maxPhotonDepth > 0) s.maxPhotonDepth = scene.render.maxPhotonDepth;
+    s.roulette = cli.roulette;
+    s.debugView = debugViewNamed(cli.debugView);
     return s;
 }
 

@@ -36,6 +36,7 @@ const std::vector<ModeEntry>& modeRegistry() {
     static const std::vector<ModeEntry> modes{
         {"preview",
          "real-time approximation: point lights at area-light corners, hard shadows",
+         nullptr,
          [](const ModeSettings& m) { return m.preview.spp; },
          [](const ModeSettings& m) { return m.preview.toString(); }, noPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
@@ -44,6 +45,7 @@ const std::vector<ModeEntry>& modeRegistry() {
          }},
         {"raytrace",
          "direct light with soft shadows, mirror reflection, Fresnel refraction",
+         nullptr,
          [](const ModeSettings& m) { return m.raytrace.spp; },
          [](const ModeSettings& m) { return m.raytrace.toString(); }, noPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
@@ -52,12 +54,14 @@ const std::vector<ModeEntry>& modeRegistry() {
          }},
         {"gi",
          "photon mapping with final gathering and an irradiance cache",
+         giOptions,
          [](const ModeSettings& m) { return m.gi.spp; },
          [](const ModeSettings& m) { return m.gi.toString(); }, giPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
             const EngineSettings& engine) { return renderGi(scene, accel, m.gi, engine); }},
         {"path",
          "unbiased path tracing with next-event estimation and MIS: the reference",
+         nullptr,
          [](const ModeSettings& m) { return m.path.spp; },
          [](const ModeSettings& m) { return m.path.toString(); }, noPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
@@ -70,6 +74,14 @@ const ModeEntry* findMode(const std::string& name) {
     for (const ModeEntry& m : modeRegistry())
         if (name == m.name) return &m;
     return nullptr;
+}
+
+std::string modeNameList(const std::string& last) {
+    std::string s;
+    const std::vector<ModeEntry>& modes = modeRegistry();
+    for (std::size_t i = 0; i < modes.size(); ++i)
+        s += (i == 0 ? "" : i + 1 < modes.size() ? ", " : last) + std::string(modes[i].name);
+    return s;
 }
 
 const std::vector<std::string>& knownModes() {

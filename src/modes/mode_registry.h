@@ -1,13 +1,28 @@
-// Every mode, registered once: its name, a line that says what it does, and its entry points:
-// the samples per pixel of its settings, the render log's text of them, the photons the memory
-// check counts, and its render. The render command, bench and serve read this list instead of
-// naming the modes themselves. The modes' own command-line options are still declared by the
-// render command (cli/render_command.cpp), which sets them on ModeSettings.
+// Every mode, registered once: its name, a line that says what it does, its own command-line
+// options, and its entry points: the samples per pixel of its settings, the render log's text of
+// them, the photons the memory check counts, and its render. The render command, bench and serve
+// read this list instead of naming the modes themselves.
+//
+// Where the command-line options live:
+//  - A mode's own options, those only its settings read, are declared beside its settings
+//    (ModeEntry::options, modes/mode_options.h; gi's in modes/gi_options.cpp) and listed in
+//    render --help under "<mode> options". Only gi has such options today.
+//  - Options several modes read stay with the render command (cli/render_command.cpp), in one
+//    place instead of one copy per mode, and reach the settings through ModeOverrides (--spp,
+//    --max-depth, --light-samples, --no-russian-roulette, --debug-view), which each mode's
+//    settings function applies with the scene's render block. A CLI11 option belongs to one
+//    group, and these have one meaning across the modes that read them.
+//  - Options of the engine, which every mode's stages read (the profiling switches such as
+//    --no-stratification or --no-sky-compensation, --spectral, --threads, the stops and the
+//    watchers), stay with the render command, which sets them on EngineSettings (the stops and
+//    watchers on its RenderControl): engine/ knows nothing of the modes.
 #pragma once
 
+#include "modes/mode_options.h"
 #include "modes/modes.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,6 +43,8 @@ struct ModeSettings {
 struct ModeEntry {
     const char* name;
     const char* description; // for render --help's --mode
+    // The mode's own command-line options, a new set of values per call; null when it has none.
+    std::unique_ptr<ModeOptions> (*options)();
 
     int (*spp)(const ModeSettings& s);
     // The render log's text of the mode's settings (their toString()).
@@ -43,5 +60,8 @@ struct ModeEntry {
 const std::vector<ModeEntry>& modeRegistry();
 // The mode called `name`; null when there is none.
 const ModeEntry* findMode(const std::string& name);
+// The modes' names in the registry's order, ", " between them and `last` before the last one:
+// "preview, raytrace, gi or path" with " or ".
+std::string modeNameList(const std::string& last);
 
 } // namespace rayproc

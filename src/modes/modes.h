@@ -6,10 +6,13 @@
 #include "modes/render_job.h"
 #include "scene/scene.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace rayproc {
+
+class ModeOptions;
 
 // Preview (the paper's real-time mode): ray casting, one sample per pixel, area lights as
 // point lights at their corners with hard shadows, one bounce of mirror reflection, glass as
@@ -44,9 +47,14 @@ struct PathSettings {
     std::string toString() const;
 };
 
-// Values the command line set; unset ones keep the scene's or the mode's default.
+// The command line's options that several modes read (a mode's own are its ModeOptions,
+// modes/mode_options.h). Unset counts (0) keep the scene's or the mode's default.
 struct ModeOverrides {
     int spp = 0, maxDepth = 0, lightSamples = 0;
+    bool roulette = true; // off: --no-russian-roulette (raytrace, path, gi)
+    // --debug-view's name; gi takes its own views (photons, ic-records, caustics, indirect),
+    // path's noise view is the engine's (RenderControl::noiseBreakdown).
+    std::string debugView = "none";
 };
 
 // The light-sampling switches of the command line (--no-stratification, --no-glossy-mis,
@@ -75,6 +83,8 @@ RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOv
 // gi's caustic photon count follows the scene's image size (defaultCausticPhotons), the rest its
 // render settings.
 GiSettings giSettings(const Scene& scene, const ModeOverrides& cli);
+// gi's own command-line options (modes/gi_options.cpp).
+std::unique_ptr<ModeOptions> giOptions();
 PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,

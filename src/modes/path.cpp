@@ -18,6 +18,7 @@ PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides&
     PathSettings s;
     applySetting(s.spp, scene.spp, cli.spp);
     applySetting(s.maxDepth, scene.maxDepth, cli.maxDepth);
+    s.roulette = cli.roulette;
     return s;
 }
 
@@ -72,7 +73,7 @@ RenderResult renderPath(const Scene& scene, const EmbreeScene& accel, const Path
     // The path stage picks one light per vertex among the sampled lights: a light the
     // analysis drops frees its share of the picks (the estimate stays unbiased; only noise
     // changes), and its emission, zero wherever a path can see it, needs no MIS weight.
-    PhaseTimer lightPhase(engine.phases, "light_set"); // and the scene analysis
+    PhaseTimer lightPhase(engine.control.phases, "light_set"); // and the scene analysis
     LightSet all = LightSet::build(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanPath);
     if (!plan.render) return blackRender(scene);

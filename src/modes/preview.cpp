@@ -26,7 +26,7 @@ PreviewSettings previewSettings(const SceneRenderSettings& scene, const ModeOver
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
                            const EngineSettings& engine) {
     // The light set (serve builds it once per scene and passes it to the overload below).
-    PhaseTimer lightPhase(engine.phases, "light_set");
+    PhaseTimer lightPhase(engine.control.phases, "light_set");
     LightSet all = LightSet::buildPreview(scene, accel);
     lightPhase.stop();
     return renderPreview(scene, accel, all, s, engine);
@@ -34,7 +34,7 @@ RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const P
 
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const LightSet& all,
                            const PreviewSettings& s, const EngineSettings& engine) {
-    PhaseTimer lightPhase(engine.phases, "light_set"); // the scene analysis's part
+    PhaseTimer lightPhase(engine.control.phases, "light_set"); // the scene analysis's part
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanPreview);
     if (!plan.render) return blackRender(scene);
     LightSet lights = plan.sampledLights(all);

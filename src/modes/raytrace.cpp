@@ -20,12 +20,13 @@ RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOv
     applySetting(s.spp, scene.spp, cli.spp);
     applySetting(s.maxDepth, scene.maxDepth, cli.maxDepth);
     applySetting(s.lightSamples, scene.lightSamples, cli.lightSamples);
+    s.roulette = cli.roulette;
     return s;
 }
 
 RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
                             const RaytraceSettings& s, const EngineSettings& engine) {
-    PhaseTimer lightPhase(engine.phases, "light_set"); // and the scene analysis
+    PhaseTimer lightPhase(engine.control.phases, "light_set"); // and the scene analysis
     LightSet all = LightSet::build(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanRaytrace);
     if (!plan.render) return blackRender(scene);

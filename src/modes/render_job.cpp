@@ -43,7 +43,7 @@ constexpr int kAdaptiveMaxFactor = 16;
 enum PassDecision : std::uint32_t {
     kDecideTimeUp = 2,      // rank 0's clock passed the time limit
     kDecideProgressive = 4, // rank 0 writes the progressive image now
-    kDecideStopped = 8,     // some rank's EngineSettings::stop said so: all stop
+    kDecideStopped = 8,     // some rank's RenderControl::stop said so: all stop
     // interruptBits() from bit 4 on: some rank was interrupted (all stop), and by which signal.
     kDecideSignalShift = 4,
     kDecideInterrupted = kInterruptBit << kDecideSignalShift,
@@ -53,7 +53,7 @@ using Clock = std::chrono::steady_clock;
 
 const Cluster& clusterOf(const EngineSettings& engine) {
     static const Cluster alone;
-    return engine.cluster ? *engine.cluster : alone;
+    return engine.control.cluster ? *engine.control.cluster : alone;
 }
 
 // The engine's retrace stages of a render.
@@ -86,7 +86,7 @@ struct EngineStageSet {
     }
 };
 
-// The convergence log (EngineSettings::errorLogPath), on rank 0. A write that fails (a full
+// The convergence log (RenderControl::errorLogPath), on rank 0. A write that fails (a full
 // disk) ends the log, not the render: the image is still saved; `failure` says why.
 class ErrorLog {
 public:
@@ -140,7 +140,7 @@ private:
     }
     double fraction() const;
     std::uint64_t raysSoFar() const { return std::uint64_t(m_stats.merged().raysTraced); }
-    bool stopRequested() const { return m_engine.stop && m_engine.stop(); }
+    bool stopRequested() const { return m_engine.control.stop && m_engine.control.stop(); }
     Image wholeImage();
     // One pass; false when the render ends after it.
     bool renderPass(int pass);
@@ -199,9 +199,12 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
                      const EngineSettings& engine, RadianceStage radiance,
                      ModeStages* modeStages,
                      const std::function<void(int pass, int samples)>& beforePass)
-    : m_setupPhase(engine.phases, "render_setup"), m_label(label), m_engine(engine), m_spp(spp),
+    : m_setupPhase(engine.control.phases, "render_setup"), m_label(label), m_engine(engine),
+      m_spp(spp),
       m_beforePass(beforePass),
-      m_startTicks((engine.workStart ? *engine.workStart : Clock::now()).time_since_epoch().count()),
+      m_startTicks((engine.control.workStart ? *engine.control.workStart : Clock::now())
+                       .time_since_epoch()
+                       .count()),
       m_cluster(clusterOf(engine)),
       m_film(scene.camera.width, scene.camera.height,
              Film::exponentFor(lights.radianceScale(scene.worldBounds()))),
@@ -209,8 +212,8 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
       m_rc{scene, accel, lights, policy, m_film, engine.seed},
       m_pipeline("render", "camera", accel.root(), engine.packetWidth, m_stats, engine.threads),
       m_camera(m_rc), m_stages(m_rc),
-      m_errorLog(engine.errorLogPath, m_result.errorLogFailure) {
-    if (engine.noiseBreakdown) {
+      m_errorLog(engine.control.errorLogPath, m_result.errorLogFailure) {
+    if (engine.control.noiseBreakdown) {
         m_noise.emplace(m_film.width(), m_film.height(), m_film.exponent());
         m_rc.noise = &*m_noise;
     }
@@ -222,15 +225,16 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
     }
     m_camera.setShare(m_cluster.rank(), m_cluster.size());
     m_stages.build(m_pipeline, m_rc, radiance, modeStages);
-    m_pipeline.timedAs(engine.phases, "render_passes");
+    m_pipeline.timedAs(engine.control.phases, "render_passes");
     // Every stage for --stats in pipeline order: the engine's, then the mode's.
     m_result.stats.pipeline = enginePipeline();
     if (modeStages)
         for (const StageLabel& stage : modeStages->labels())
             m_result.stats.pipeline.push_back(stage);
     // Every rank takes part in the log's image merge; rank 0 writes it.
-    m_logging = engine.reference && (!engine.errorLogPath.empty() || engine.onPassError);
-    if (m_logging && m_cluster.root() && !engine.errorLogPath.empty()) m_errorLog.open();
+    m_logging = engine.control.reference &&
+                (!engine.control.errorLogPath.empty() || engine.control.onPassError);
+    if (m_logging && m_cluster.root() && !engine.control.errorLogPath.empty()) m_errorLog.open();
     planPasses();
 }
 
@@ -239,19 +243,19 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
 void RenderJob::planPasses() {
     const EngineSettings& engine = m_engine;
     const int spp = m_spp;
-    const bool stopEarly = engine.timeLimitSeconds > 0 || engine.targetRelMse > 0;
+    const bool stopEarly = engine.control.timeLimitSeconds > 0 || engine.control.targetRelMse > 0;
     m_passSpp = stopEarly || m_noise ? 1 : std::clamp(spp / 32, 1, 16);
     // Half buffers (alternate passes) give the relMSE estimate the target, the log and adaptive
     // sampling use.
-    if (engine.targetRelMse > 0 || m_logging || engine.adaptiveSampling)
+    if (engine.control.targetRelMse > 0 || m_logging || engine.adaptiveSampling)
         m_film.enableHalfBuffers();
     // Adaptive sampling: `spp` is the mean over the pixels (or the cap under a target).
     if (engine.adaptiveSampling) {
         AdaptiveSampler::Settings as;
         as.minSpp = std::min(engine.adaptiveMinSpp, spp);
-        as.targetRelMse = engine.targetRelMse;
+        as.targetRelMse = engine.control.targetRelMse;
         as.meanSpp = spp;
-        as.maxSpp = engine.targetRelMse > 0 ? spp : kAdaptiveMaxFactor * spp;
+        as.maxSpp = engine.control.targetRelMse > 0 ? spp : kAdaptiveMaxFactor * spp;
         as.passSpp = m_passSpp;
         as.maxPassSpp = m_noise ? 1 : 16 * m_passSpp;
         m_adaptive.emplace(m_film.width(), m_film.height(), as);
@@ -266,9 +270,9 @@ void RenderJob::planPasses() {
 double RenderJob::fraction() const {
     const std::uint64_t current = m_passInFlight.load() ? m_camera.unitsEmitted() : 0;
     double f = double(m_unitsBefore.load() + current) / double(m_totalUnits);
-    if (m_engine.timeLimitSeconds > 0)
-        f = std::max(f, std::min(1.0, secondsAt(Clock::now()) / m_engine.timeLimitSeconds));
-    return m_engine.targetRelMse > 0 ? std::max(f, m_targetFraction.load()) : f;
+    if (m_engine.control.timeLimitSeconds > 0)
+        f = std::max(f, std::min(1.0, secondsAt(Clock::now()) / m_engine.control.timeLimitSeconds));
+    return m_engine.control.targetRelMse > 0 ? std::max(f, m_targetFraction.load()) : f;
 }
 
 // The image of the whole job (every rank's tiles), on rank 0; a collective.
@@ -292,13 +296,13 @@ RenderResult RenderJob::run() {
                       [this] { return raysSoFar(); });
     // The watcher stops watching before the film goes away, whatever ends the render.
     struct WatchScope {
-        const EngineSettings::Watcher* w;
+        const RenderControl::Watcher* w;
         ~WatchScope() {
             if (w && w->end) w->end();
         }
-    } watch{m_engine.watcher};
-    if (m_engine.watcher && m_engine.watcher->begin)
-        m_engine.watcher->begin(m_film, [this] { return fraction(); },
+    } watch{m_engine.control.watcher};
+    if (m_engine.control.watcher && m_engine.control.watcher->begin)
+        m_engine.control.watcher->begin(m_film, [this] { return fraction(); },
                                 [this] { return raysSoFar(); });
     m_lastProgressive = Clock::now();
     m_stop = m_cluster.distributed() ? agreeInterrupted(m_cluster) : interruptRequested();
@@ -306,7 +310,7 @@ RenderResult RenderJob::run() {
     m_setupPhase.stop();
     for (int pass = 0; pass < m_passes && !m_stop; ++pass)
         if (!renderPass(pass)) break;
-    PhaseTimer resolvePhase(m_engine.phases, "film_resolve");
+    PhaseTimer resolvePhase(m_engine.control.phases, "film_resolve");
     m_result.cancelled = interruptRequested() || m_stopped;
     progress.finish(!m_result.cancelled);
     m_errorLog.close();
@@ -318,7 +322,7 @@ RenderResult RenderJob::run() {
 void RenderJob::tracePass(int pass, int first, int count) {
     if (m_beforePass) {
         // gi's caustic maps and cache refinement time their own phases; the rest is here.
-        PhaseTimer hookPhase(m_engine.phases, "pass_hooks");
+        PhaseTimer hookPhase(m_engine.control.phases, "pass_hooks");
         m_beforePass(pass, count);
     }
     m_camera.beginPass(first, count);
@@ -327,7 +331,7 @@ void RenderJob::tracePass(int pass, int first, int count) {
     m_unitsBefore += std::min<std::uint64_t>(m_camera.unitsEmitted(), m_camera.unitsPerPass());
     m_passInFlight = false;
     {
-        PhaseTimer commitPhase(m_engine.phases, "film_commit", PhaseKind::Parallel);
+        PhaseTimer commitPhase(m_engine.control.phases, "film_commit", PhaseKind::Parallel);
         m_film.commitPass(pass % 2);
     }
     if (m_noise) m_noise->commitPass();
@@ -356,11 +360,11 @@ bool RenderJob::adaptiveStep(int pass) {
 void RenderJob::logPass(Clock::time_point now) {
     double seconds = secondsAt(now);
     Image whole = wholeImage();
-    if (m_cluster.root() && (m_errorLog.isOpen() || m_engine.onPassError)) {
-        ImageMetrics m = compareImages(whole, *m_engine.reference);
+    if (m_cluster.root() && (m_errorLog.isOpen() || m_engine.control.onPassError)) {
+        ImageMetrics m = compareImages(whole, *m_engine.control.reference);
         m_errorLog.row(m_meanSpp, seconds, m, m_result.relMseEstimate);
-        if (m_engine.onPassError)
-            m_engine.onPassError({m_result.samplesDone, seconds, m.relmse, m.rmse,
+        if (m_engine.control.onPassError)
+            m_engine.control.onPassError({m_result.samplesDone, seconds, m.relmse, m.rmse,
                                   m_result.relMseEstimate, raysSoFar()});
     }
     m_startTicks += (Clock::now() - now).count();
@@ -370,12 +374,12 @@ void RenderJob::logPass(Clock::time_point now) {
 std::uint32_t RenderJob::decide(int pass, Clock::time_point now) {
     std::uint32_t decision = interruptBits() << kDecideSignalShift;
     if (stopRequested()) decision |= kDecideStopped;
-    if (m_cluster.root() && m_engine.timeLimitSeconds > 0 && pass + 1 < m_passes &&
-        secondsAt(Clock::now()) >= m_engine.timeLimitSeconds)
+    if (m_cluster.root() && m_engine.control.timeLimitSeconds > 0 && pass + 1 < m_passes &&
+        secondsAt(Clock::now()) >= m_engine.control.timeLimitSeconds)
         decision |= kDecideTimeUp;
-    if (m_cluster.root() && m_engine.onProgress && pass + 1 < m_passes &&
+    if (m_cluster.root() && m_engine.control.onProgress && pass + 1 < m_passes &&
         std::chrono::duration<double>(now - m_lastProgressive).count() >=
-            m_engine.progressiveSeconds)
+            m_engine.control.progressiveSeconds)
         decision |= kDecideProgressive;
     if (m_cluster.distributed()) decision = m_cluster.orAll(decision);
     return decision;
@@ -384,7 +388,7 @@ std::uint32_t RenderJob::decide(int pass, Clock::time_point now) {
 bool RenderJob::renderPass(int pass) {
     // What a pass does besides its hook, its processor run and the film's commit: the
     // estimates, the log, the decisions; on this thread.
-    PhaseTimer betweenPhase(m_engine.phases, "between_passes");
+    PhaseTimer betweenPhase(m_engine.control.phases, "between_passes");
     int first = m_adaptiveCount > 0 ? 0 : pass * m_passSpp;
     int count = m_adaptiveCount > 0 ? m_adaptiveCount : std::min(m_passSpp, m_spp - first);
     tracePass(pass, first, count);
@@ -399,7 +403,7 @@ bool RenderJob::renderPass(int pass) {
     if (m_film.hasHalfBuffers() && std::isfinite(m_result.relMseEstimate) &&
         m_result.relMseEstimate > 0)
         // The variance part falls as 1/spp: the share of the work done is target/estimate.
-        m_targetFraction = std::min(1.0, m_engine.targetRelMse / m_result.relMseEstimate);
+        m_targetFraction = std::min(1.0, m_engine.control.targetRelMse / m_result.relMseEstimate);
     const std::uint32_t decision = decide(pass, now);
     if (decision & kDecideInterrupted) {
         adoptInterrupt(decision >> kDecideSignalShift); // and the signal some rank received
@@ -408,8 +412,8 @@ bool RenderJob::renderPass(int pass) {
     if (decision & kDecideStopped) m_stop = m_stopped = true;
     // At least kMinTargetPasses passes: with one or two samples per half the estimate is
     // itself too noisy to stop on (a 3-spp render estimated 0.044 measured 0.066).
-    if (m_engine.targetRelMse > 0 && pass + 1 >= kMinTargetPasses &&
-        m_result.relMseEstimate <= m_engine.targetRelMse) {
+    if (m_engine.control.targetRelMse > 0 && pass + 1 >= kMinTargetPasses &&
+        m_result.relMseEstimate <= m_engine.control.targetRelMse) {
         m_result.targetReached = true;
         return false;
     }
@@ -420,7 +424,7 @@ bool RenderJob::renderPass(int pass) {
     if (budgetSpent) return false;
     if (decision & kDecideProgressive) {
         Image whole = wholeImage();
-        if (m_engine.onProgress && m_cluster.root()) m_engine.onProgress(whole);
+        if (m_engine.control.onProgress && m_cluster.root()) m_engine.control.onProgress(whole);
         m_lastProgressive = now;
     }
     return true;

@@ -41,7 +41,7 @@ struct RenderResult {
     // The largest |radiance| one contribution could carry (Film::fixedLimit: it follows the
     // scene's brightness); stats.totals.clampedSamples counts those beyond.
     double filmLimit = 18446744073709551616.0; // Film::kFixedLimit, the default
-    // Extra per-pixel images (EngineSettings::noiseBreakdown), on rank 0.
+    // Extra per-pixel images (RenderControl::noiseBreakdown), on rank 0.
     std::vector<ImageLayer> layers;
 };
 

@@ -1,6 +1,6 @@
 // A report at a fixed interval while a render's passes run, from a thread of its own, and
 // once more when they end: rayproc serve's page and `render --display-server` show the image
-// filling in with it (EngineSettings::Watcher, Film::resolveInProgress).
+// filling in with it (RenderControl::Watcher, Film::resolveInProgress).
 #pragma once
 
 #include "engine/film.h"
@@ -28,8 +28,8 @@ public:
     ~PeriodicReport(); // stops a report still running
     PeriodicReport(const PeriodicReport&) = delete;
     PeriodicReport& operator=(const PeriodicReport&) = delete;
-    // For EngineSettings::watcher; valid while this object lives.
-    const EngineSettings::Watcher* watcher() const { return &m_watcher; }
+    // For RenderControl::watcher; valid while this object lives.
+    const RenderControl::Watcher* watcher() const { return &m_watcher; }
 
 private:
     void begin(const Film& film, std::function<double()> fraction,
@@ -39,7 +39,7 @@ private:
 
     std::chrono::duration<double> m_interval;
     Report m_report;
-    EngineSettings::Watcher m_watcher;
+    RenderControl::Watcher m_watcher;
     std::mutex m_mutex;
     std::condition_variable m_wake;
     bool m_running = false;

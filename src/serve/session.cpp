@@ -613,22 +613,22 @@ void Session::refinePreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     engine.threads = m_options.threads;
     engine.quiet = true;
     engine.spectral = spectralView();
-    engine.stop = staleStop(version);
-    engine.progressiveSeconds = 0; // every pass
+    engine.control.stop = staleStop(version);
+    engine.control.progressiveSeconds = 0; // every pass
     const RaytraceSettings settings = raytraceSettings(scene.render, {});
     std::function<double()> fraction; // of the passes done, while they run
-    EngineSettings::Watcher watcher{
+    RenderControl::Watcher watcher{
         [&](const Film&, std::function<double()> f, std::function<std::uint64_t()>) {
             fraction = std::move(f);
         },
         [&] { fraction = nullptr; }};
-    engine.watcher = &watcher;
+    engine.control.watcher = &watcher;
     auto send = [&](Image image, int spp, bool done) {
         if (!sendFrame(std::move(image), version)) return;
         sendText({{"type", "refine"}, {"version", std::uint32_t(version)}, {"spp", spp},
                   {"of", settings.spp}, {"done", done}});
     };
-    engine.onProgress = [&](const Image& image) {
+    engine.control.onProgress = [&](const Image& image) {
         double f = fraction ? fraction() : 0.0;
         send(image, int(std::lround(f * settings.spp)), false);
     };
@@ -657,7 +657,7 @@ bool Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     // A newer change (a camera drag sends one per mouse move) makes this preview stale: it
     // stops emitting at once, through the engine's own stop rather than the interrupt, which
     // is Ctrl-C's and a render's Cancel.
-    engine.stop = staleStop(version);
+    engine.control.stop = staleStop(version);
     // Coarse first (a quarter of each side; during a drag, coarser while frames take longer
     // than kMotionFrame), then full while nothing changed.
     bool motion;
@@ -756,14 +756,14 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     });
     sendText({{"type", "render_begin"}, {"mode", request.mode}, {"spectral", request.spectral}});
     StartingTicker starting(*this, request.mode);
-    const EngineSettings::Watcher* report = watch.watcher();
-    EngineSettings::Watcher watcher{
+    const RenderControl::Watcher* report = watch.watcher();
+    RenderControl::Watcher watcher{
         [&](const Film& film, std::function<double()> fraction, std::function<std::uint64_t()> rays) {
             starting.stop();
             report->begin(film, std::move(fraction), std::move(rays));
         },
         [&] { report->end(); }};
-    engine.watcher = &watcher;
+    engine.control.watcher = &watcher;
     RenderResult r;
     try {
         r = runMode(scene, *loaded->accel, request, engine);

@@ -201,7 +201,7 @@ Json Session::replyRender(const Json& m, int client) {
     expectKeys(m, {"mode", "spp", "spectral"});
     const Json& mode = field(m, "mode", "render");
     if (!mode.is_string() || !findMode(mode.get<std::string>()))
-        refuse("render.mode: expected preview, raytrace, gi or path");
+        refuse("render.mode: expected " + modeNameList(" or "));
     const bool spectral = m.contains("spectral") && m["spectral"].is_boolean() &&
                           m["spectral"].get<bool>();
     if (m.contains("spectral") && !m["spectral"].is_boolean())

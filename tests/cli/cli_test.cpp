@@ -3,6 +3,9 @@
 // and the figures of `rayproc info`.
 #include "test_util.h"
 
+#include "modes/mode_options.h"
+#include "modes/mode_registry.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -62,6 +65,66 @@ TEST_CASE("Help texts exit 0 and name every command and option", "[cli]") {
     RunResult info = runRayproc({"info", "--help"}, dir);
     CHECK(info.status == 0);
     CHECK(contains(info.out, "--json"));
+}
+
+TEST_CASE("render --help lists each mode's own options in the mode's group", "[cli]") {
+    TempDir dir;
+    RunResult render = runRayproc({"render", "--help"}, dir);
+    REQUIRE(render.status == 0);
+    INFO(render.out);
+    int modesWithOptions = 0;
+    for (const ModeEntry& mode : modeRegistry()) {
+        if (!mode.options) continue;
+        ++modesWithOptions;
+        // The mode's option names, as it declares them.
+        CLI::App probe;
+        CLI::App* declared = probe.add_option_group("probe");
+        std::unique_ptr<ModeOptions> options = mode.options();
+        options->add(*declared);
+        // The group: from its heading to the next line that is not indented.
+        const std::string heading = std::string(mode.name) + " options";
+        const std::size_t start = render.out.find(heading);
+        INFO("group " << heading);
+        REQUIRE(start != std::string::npos);
+        std::size_t end = render.out.find('\n', start);
+        while (end != std::string::npos && end + 1 < render.out.size() &&
+               render.out[end + 1] == ' ')
+            end = render.out.find('\n', end + 1);
+        const std::string group = render.out.substr(start, end - start);
+        const std::string before = render.out.substr(0, start);
+        std::size_t names = 0;
+        for (const CLI::Option* option : declared->get_options()) {
+            // The group's own --help, which CLI11 gives every group and never lists.
+            if (option == declared->get_help_ptr()) continue;
+            const std::string name = option->get_name();
+            ++names;
+            INFO("option " << name);
+            // Declared at a line's start, followed by a space or the line's end: "--no-caustics"
+            // must not count as found inside another name, nor in another option's help.
+            const std::regex declaredHere("(^|\n) +" + name + "( |\n)");
+            CHECK(std::regex_search(group, declaredHere));
+            CHECK_FALSE(std::regex_search(before, declaredHere));
+        }
+        CHECK(names > 0);
+    }
+    CHECK(modesWithOptions > 0);
+}
+
+TEST_CASE("gi's own options and the shared ones reach gi's settings, as the render log shows",
+          "[cli]") {
+    TempDir dir;
+    RunResult r = runRayproc({"render", scenePath("cornell-box"), "--mode", "gi", "--width", "16",
+                              "--height", "16", "--spp", "1", "--ic-accuracy", "0.3", "--photons",
+                              "1000", "--no-caustics", "--no-russian-roulette", "--debug-view",
+                              "indirect", "-o", dir.file("img.pfm")},
+                             dir, 600);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(contains(r.err, " ic_accuracy=0.3 "));
+    CHECK(contains(r.err, " photons=1000 "));
+    CHECK(contains(r.err, " caustics=off "));
+    CHECK(contains(r.err, " roulette=off "));
+    CHECK(contains(r.err, " debug_view=indirect"));
 }
 
 TEST_CASE("An unknown mode fails and lists the known ones", "[cli]") {

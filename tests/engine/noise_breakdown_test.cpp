@@ -26,7 +26,7 @@ RenderResult renderWithBreakdown(const Scene& scene, const EmbreeScene& accel, i
     engine.quiet = true;
     engine.threads = threads;
     engine.seed = seed;
-    engine.noiseBreakdown = true;
+    engine.control.noiseBreakdown = true;
     return renderPath(scene, accel, pathSettings(scene.render, ModeOverrides{spp, 0, 0}), engine);
 }
 

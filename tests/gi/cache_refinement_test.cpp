@@ -20,7 +20,7 @@ RenderResult render(const Scene& scene, const EmbreeScene& accel, int gatherRays
                     int threads, bool halves = false) {
     EngineSettings engine;
     // An error target below reach: half buffers and their estimate, all 32 passes.
-    if (halves) engine.targetRelMse = 1e-12;
+    if (halves) engine.control.targetRelMse = 1e-12;
     engine.threads = threads;
     engine.seed = 5;
     engine.quiet = true;

@@ -100,8 +100,8 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     engine.threads = 2;
     engine.seed = 1;
     engine.quiet = true;
-    engine.reference = &reference;
-    engine.errorLogPath = log;
+    engine.control.reference = &reference;
+    engine.control.errorLogPath = log;
     GiSettings s = giSettings(*scene, ModeOverrides{4, 0, 0});
     RenderResult r = renderGi(*scene, accel, s, engine);
     const double prePasses = extraStat(r, "gi/photon_seconds") + extraStat(r, "gi/precompute_seconds") +
@@ -123,7 +123,7 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     EngineSettings limited;
     limited.threads = 2;
     limited.quiet = true;
-    limited.timeLimitSeconds = 1e-6;
+    limited.control.timeLimitSeconds = 1e-6;
     GiSettings many = giSettings(*scene, ModeOverrides{1000, 0, 0});
     RenderResult cut = renderGi(*scene, accel, many, limited);
     CHECK(cut.timeLimitReached);
@@ -136,7 +136,7 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     EngineSettings pathEngine;
     pathEngine.threads = 2;
     pathEngine.quiet = true;
-    pathEngine.timeLimitSeconds = 0.05;
+    pathEngine.control.timeLimitSeconds = 0.05;
     RenderResult p = renderPath(*scene, accel, pathSettings(scene->render, ModeOverrides{100000, 0, 0}), pathEngine);
     INFO("path: " << p.samplesDone << " spp in " << p.stats.wallSeconds << " s");
     CHECK(p.timeLimitReached);
@@ -145,7 +145,7 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     CHECK(p.stats.wallSeconds >= 0.05);
 }
 
-TEST_CASE("The error-log row is handed to EngineSettings::onPassError, with or without the log "
+TEST_CASE("The error-log row is handed to RenderControl::onPassError, with or without the log "
           "file",
           "[gi][bench]") {
     auto scene = loadSceneAt("cornell-box", 16, 16);
@@ -154,13 +154,13 @@ TEST_CASE("The error-log row is handed to EngineSettings::onPassError, with or w
     Image reference = renderGiMode(*scene, accel, 2, 5).image;
     for (bool withFile : {true, false}) {
         const std::string log = (dir.path / "gi.csv").string();
-        std::vector<EngineSettings::PassError> rows;
+        std::vector<RenderControl::PassError> rows;
         EngineSettings engine;
         engine.threads = 2;
         engine.quiet = true;
-        engine.reference = &reference;
-        if (withFile) engine.errorLogPath = log;
-        engine.onPassError = [&](const EngineSettings::PassError& e) { rows.push_back(e); };
+        engine.control.reference = &reference;
+        if (withFile) engine.control.errorLogPath = log;
+        engine.control.onPassError = [&](const RenderControl::PassError& e) { rows.push_back(e); };
         GiSettings s = giSettings(*scene, ModeOverrides{3, 0, 0});
         RenderResult r = renderGi(*scene, accel, s, engine);
         INFO("with the log file: " << withFile);
@@ -181,7 +181,7 @@ TEST_CASE("The error-log row is handed to EngineSettings::onPassError, with or w
         std::ifstream in(log);
         std::string line;
         std::getline(in, line);
-        for (const EngineSettings::PassError& e : rows) {
+        for (const RenderControl::PassError& e : rows) {
             REQUIRE(std::getline(in, line));
             CHECK(std::stoi(line) == e.spp);
             std::size_t c = line.find(',');

@@ -25,7 +25,7 @@ RenderResult renderStarvedGi(const Scene& scene, const EmbreeScene& accel, Corre
     engine.threads = threads;
     engine.seed = 1;
     engine.quiet = true;
-    if (onePerPass) engine.timeLimitSeconds = 1e6;
+    if (onePerPass) engine.control.timeLimitSeconds = 1e6;
     GiSettings s = giSettings(scene, ModeOverrides{spp, 0, 0});
     // 500 photons for the Cornell box: the 64-nearest discs span a good part of a wall.
     s.photons = 500;

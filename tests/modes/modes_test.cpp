@@ -125,7 +125,7 @@ TEST_CASE("A relMSE target stops when the half-buffer estimate reaches it - the 
         EngineSettings engine;
         engine.quiet = true;
         engine.threads = 2;
-        engine.targetRelMse = target;
+        engine.control.targetRelMse = target;
         PathSettings s;
         s.spp = 100000; // a cap the target stops long before
         RenderResult r = renderPath(*scene, accel, s, engine);
@@ -150,7 +150,7 @@ TEST_CASE("A relMSE target stops when the half-buffer estimate reaches it - the 
     CHECK_FALSE(r.targetReached);
 }
 
-TEST_CASE("EngineSettings::stop cancels a render without the process-wide interrupt", "[modes]") {
+TEST_CASE("RenderControl::stop cancels a render without the process-wide interrupt", "[modes]") {
     auto scene = loadSceneAt("cornell-box", 128, 128); // 64 tiles of 16 x 16
     EmbreeScene accel(*scene);
     EngineSettings engine;
@@ -161,7 +161,7 @@ TEST_CASE("EngineSettings::stop cancels a render without the process-wide interr
 
     // Polled before each emission: after a few tiles, the rest are never emitted.
     std::atomic<int> polls{0};
-    engine.stop = [&] { return ++polls > 4; };
+    engine.control.stop = [&] { return ++polls > 4; };
     RenderResult r = renderPath(*scene, accel, s, engine);
     CHECK(r.cancelled);
     CHECK(r.stats.pixelsWithoutSamples > 0);
@@ -170,14 +170,14 @@ TEST_CASE("EngineSettings::stop cancels a render without the process-wide interr
     CHECK(allFinite(r.image));
 
     // Stopped from the start: nothing is rendered.
-    engine.stop = [] { return true; };
+    engine.control.stop = [] { return true; };
     r = renderPath(*scene, accel, s, engine);
     CHECK(r.cancelled);
     CHECK(r.passesDone == 0);
     CHECK(r.stats.pixelsWithoutSamples == std::size_t(128 * 128));
 
     // Never true: the whole render.
-    engine.stop = [] { return false; };
+    engine.control.stop = [] { return false; };
     r = renderPath(*scene, accel, s, engine);
     CHECK_FALSE(r.cancelled);
     CHECK(r.samplesDone == 2);
@@ -192,7 +192,7 @@ TEST_CASE("Under a time limit the progress fraction is the share of the budget s
     EmbreeScene accel(*scene);
     std::function<double()> fraction;
     double atEnd = -1;
-    EngineSettings::Watcher watcher;
+    RenderControl::Watcher watcher;
     watcher.begin = [&](const Film&, std::function<double()> f, std::function<std::uint64_t()>) {
         fraction = std::move(f);
     };
@@ -200,8 +200,8 @@ TEST_CASE("Under a time limit the progress fraction is the share of the budget s
     EngineSettings engine;
     engine.quiet = true;
     engine.threads = 2;
-    engine.timeLimitSeconds = 0.3;
-    engine.watcher = &watcher;
+    engine.control.timeLimitSeconds = 0.3;
+    engine.control.watcher = &watcher;
     PathSettings s;
     s.spp = 10000000;
     RenderResult r = renderPath(*scene, accel, s, engine);
@@ -211,13 +211,14 @@ TEST_CASE("Under a time limit the progress fraction is the share of the budget s
     CHECK(atEnd == 1.0);
 
     // Without a limit it is the samples' share.
-    engine.timeLimitSeconds = 0;
+    engine.control.timeLimitSeconds = 0;
     s.spp = 4;
     r = renderPath(*scene, accel, s, engine);
     CHECK(atEnd == 1.0); // the last pass counted once (it was twice until stop 30)
     s.spp = 1000000;
     int passesSeen = 0;
-    engine.stop = [&] { return ++passesSeen > 20; }; // cancel early: the fraction stays small
+    // Cancel early: the fraction stays small.
+    engine.control.stop = [&] { return ++passesSeen > 20; };
     r = renderPath(*scene, accel, s, engine);
     REQUIRE(r.cancelled);
     INFO("fraction of a cancelled 1,000,000-spp render " << atEnd);

@@ -291,6 +291,13 @@ TEST_CASE("serve: a render streams progress and frames - cancel returns to the p
     CHECK_THAT(messageOf(h.send({{"type", "render"}, {"mode", "path"}, {"spp", 0}})), Catch::Contains("render.spp"));
 }
 
+TEST_CASE("serve: an unknown render mode is refused with the registered modes' names", "[serve]") {
+    Harness h(scenePath("cornell-box"));
+    h.session.waitIdle();
+    CHECK(messageOf(h.send({{"type", "render"}, {"mode", "fast"}})) ==
+          "render.mode: expected preview, raytrace, gi or path");
+}
+
 TEST_CASE("serve: a render may be spectral, in gi too", "[serve][spectral-mode]") {
     Harness h(scenePath("cornell-box"));
     h.session.waitIdle();
