@@ -22,16 +22,22 @@ bool endsWith(const std::string& s, const char* suffix) {
     return true;
 }
 
-// A TGA's 18-byte header: no colour map, true colour or grey (raw or RLE), 24 or 8 bits.
+// A TGA's 18-byte header: no colour map, raw true colour or grey, 24 or 8 bits, and the file
+// long enough for its pixels (stb_image fills a short file's missing pixels with zeros without
+// a word; run-length encoded files, whose length says nothing, go to OpenImageIO).
 bool plainTga(const std::string& path) {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), std::fclose);
     unsigned char h[18];
     if (!f || std::fread(h, 1, sizeof h, f.get()) != sizeof h) return false;
     const int colourMap = h[1], type = h[2], depth = h[16], alphaBits = h[17] & 0x0f;
     if (colourMap != 0 || alphaBits != 0) return false;
-    if (type == 2 || type == 10) return depth == 24;
-    if (type == 3 || type == 11) return depth == 8;
-    return false;
+    if (!((type == 2 && depth == 24) || (type == 3 && depth == 8))) return false;
+    const std::uint64_t width = std::uint64_t(h[12] | (h[13] << 8)),
+                        height = std::uint64_t(h[14] | (h[15] << 8));
+    const std::uint64_t need = 18 + std::uint64_t(h[0]) + width * height * std::uint64_t(depth / 8);
+    if (std::fseek(f.get(), 0, SEEK_END) != 0) return false;
+    long size = std::ftell(f.get());
+    return size >= 0 && std::uint64_t(size) >= need;
 }
 
 // 8-bit samples as OpenImageIO converts them to float: v times the reciprocal of 255.

@@ -2,8 +2,9 @@
 // ~260 libraries OpenImageIO brings (0.2 s of a textured scene's serial load, docs/performance.md).
 // Each gives exactly the floats OpenImageIO's reader gives for the same file (texture tests hold
 // them to it), so images do not depend on which reader read a texture:
-// - TGA without a colour map, 8-bit grey or 24-bit colour, raw or run-length encoded
-//   (stb_image; a stored alpha channel goes to OpenImageIO, which premultiplies it);
+// - TGA without a colour map, 8-bit grey or 24-bit colour, not run-length encoded (stb_image;
+//   a stored alpha channel goes to OpenImageIO, which premultiplies it, and so do run-length
+//   encoded files, whose truncation stb_image would not notice);
 // - PFM, colour or grey (rayproc's own reader).
 // Anything else, or a file these readers refuse, goes to OpenImageIO as before.
 #pragma once

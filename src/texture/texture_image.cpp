@@ -7,10 +7,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <map>
 #include <mutex>
+
+#include <sys/stat.h>
 
 namespace rayproc {
 
@@ -63,11 +64,9 @@ std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
     // seeks through /dev/zero forever), an EXR header must not make OpenEXR allocate more than
     // the file holds, a PNG must pass its checksums. A file that cannot be opened is said so
     // here (without loading OpenImageIO to say it).
-    if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
-        std::fclose(f);
-    } else {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0)
         throw ImageIoError("cannot read the texture \"" + path + "\": " + std::strerror(errno));
-    }
     checkImageHeader(path);
     RawPixels raw;
     if (!readWithoutOiio(path, raw)) raw = readWithOiio(path);

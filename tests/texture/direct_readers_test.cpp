@@ -1,7 +1,8 @@
 // Texture files read without OpenImageIO (texture/direct_readers.h) must give exactly the floats
 // OpenImageIO's readers give for the same file, so that which reader read a texture never shows
-// in an image: every byte value of raw and run-length encoded, top-down and bottom-up TGAs, grey
-// and colour, and PFMs; formats left to OpenImageIO (an alpha channel, 16-bit colour) are left.
+// in an image: every byte value of top-down and bottom-up TGAs, grey and colour, and PFMs; what
+// is left to OpenImageIO (an alpha channel, run-length encoding, a short file, other formats) is
+// left to it.
 #include "test_util.h"
 
 #include "image/image.h"
@@ -91,7 +92,7 @@ int byteRamp(int x, int y, int c) { return (x + 16 * y + 85 * c) & 0xff; }
 
 } // namespace
 
-TEST_CASE("direct texture readers: TGAs read as OpenImageIO reads them, every byte value",
+TEST_CASE("direct texture readers: raw TGAs read as OpenImageIO reads them to every byte value",
           "[texture][oiio]") {
     TempDir dir;
     int k = 0;
@@ -101,11 +102,18 @@ TEST_CASE("direct texture readers: TGAs read as OpenImageIO reads them, every by
                 std::string path = (dir.path / ("t" + std::to_string(k++) + ".tga")).string();
                 writeTga(path, 16, 16, depth, rle, topDown, byteRamp);
                 INFO(depth << " bits, rle " << rle << ", top-down " << topDown);
-                requireSameAsOiio(path);
+                if (!rle) {
+                    requireSameAsOiio(path);
+                    continue;
+                }
+                RawPixels raw;
+                CHECK_FALSE(readWithoutOiio(path, raw));
+                RawPixels oiio = throughOiio(path); // which reads it
+                CHECK(oiio.width == 16);
             }
 }
 
-TEST_CASE("direct texture readers: PFMs read as OpenImageIO reads them, other formats are left "
+TEST_CASE("direct texture readers: PFMs read as OpenImageIO reads them and other files are left "
           "to it", "[texture][oiio]") {
     TempDir dir;
     Image img(5, 3);
