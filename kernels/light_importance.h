@@ -14,35 +14,30 @@ namespace rayproc::kernels {
 
 // The cases, in order of the selects: p inside the bound or the cone (a full-sphere cone has
 // cosO = -1), or the bound reaching into the cone: theta' = 0; else cos(theta') from the angle
-// differences' cosines and sines (no inverse trigonometry), and 0 at or past thetaE. The bound's
-// half-angle from p by its sine r / d (one reciprocal square root serves it and cos thetaW).
-// Never negative (a cone past pi/2 could give cos(theta') < 0 above cos(thetaE)).
+// differences' cosines and sines (no inverse trigonometry), and 0 at or past thetaE.
 inline float boundsImportance(float px, float py, float pz, float cx, float cy, float cz,
-                              float r, float phi, float ax, float ay, float az, float cosO,
+                              float r2, float phi, float ax, float ay, float az, float cosO,
                               float sinO, float cosE, float twoSided) {
     float dx = px - cx, dy = py - cy, dz = pz - cz;
     float dist2 = dx * dx + dy * dy + dz * dz;
-    float r2 = r * r;
     float clamped = std::max(std::max(dist2, r2), 1e-30f);
     float safe = std::max(dist2, 1e-30f);
-    float inv = 1.0f / std::sqrt(safe);
-    float cosW = (ax * dx + ay * dy + az * dz) * inv;
+    float cosW = (ax * dx + ay * dy + az * dz) * (1.0f / std::sqrt(safe));
     if (twoSided > 0) cosW = std::abs(cosW);
     cosW = std::min(std::max(cosW, -1.0f), 1.0f);
     float sinW = std::sqrt(std::max(0.0f, 1 - cosW * cosW));
     float cosWO = cosW * cosO + sinW * sinO, sinWO = sinW * cosO - cosW * sinO;
-    float sinB = std::min(r * inv, 1.0f);
-    float cosB = std::sqrt(1 - sinB * sinB);
+    float sinB2 = std::min(r2 / safe, 1.0f);
+    float cosB = std::sqrt(1 - sinB2), sinB = std::sqrt(sinB2);
     bool inside = dist2 <= r2 || cosW >= cosO || cosWO >= cosB;
     float cosT = inside ? 1.0f : cosWO * cosB + sinWO * sinB;
     float weight = phi * cosT / clamped;
-    weight = weight > 0.0f ? weight : 0.0f; // as _mm256_max_ps(weight, 0)
     return (inside || cosT > cosE) && phi > 0 ? weight : 0.0f;
 }
 
 // Bounds by component, eight lanes at index k of each array.
 struct BoundsLanes {
-    const float *cx, *cy, *cz, *r, *phi, *ax, *ay, *az, *cosO, *sinO, *cosE, *twoSided;
+    const float *cx, *cy, *cz, *r2, *phi, *ax, *ay, *az, *cosO, *sinO, *cosE, *twoSided;
 };
 
 inline void boundsImportance8(float px, float py, float pz, const BoundsLanes& b, int k,
@@ -54,16 +49,14 @@ inline void boundsImportance8(float px, float py, float pz, const BoundsLanes& b
     __m256 dz = _mm256_sub_ps(_mm256_set1_ps(pz), _mm256_loadu_ps(b.cz + k));
     __m256 dist2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
                                  _mm256_mul_ps(dz, dz));
-    __m256 r = _mm256_loadu_ps(b.r + k);
-    __m256 r2 = _mm256_mul_ps(r, r);
+    __m256 r2 = _mm256_loadu_ps(b.r2 + k);
     __m256 clamped = _mm256_max_ps(_mm256_max_ps(dist2, r2), tiny);
     __m256 safe = _mm256_max_ps(dist2, tiny);
-    __m256 inv = _mm256_div_ps(one, _mm256_sqrt_ps(safe));
     __m256 dot = _mm256_add_ps(
         _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(b.ax + k), dx),
                       _mm256_mul_ps(_mm256_loadu_ps(b.ay + k), dy)),
         _mm256_mul_ps(_mm256_loadu_ps(b.az + k), dz));
-    __m256 cosW = _mm256_mul_ps(dot, inv);
+    __m256 cosW = _mm256_mul_ps(dot, _mm256_div_ps(one, _mm256_sqrt_ps(safe)));
     __m256 absW = _mm256_andnot_ps(_mm256_set1_ps(-0.0f), cosW);
     __m256 two = _mm256_cmp_ps(_mm256_loadu_ps(b.twoSided + k), zero, _CMP_GT_OQ);
     cosW = _mm256_blendv_ps(cosW, absW, two);
@@ -72,51 +65,19 @@ inline void boundsImportance8(float px, float py, float pz, const BoundsLanes& b
     __m256 cosO = _mm256_loadu_ps(b.cosO + k), sinO = _mm256_loadu_ps(b.sinO + k);
     __m256 cosWO = _mm256_add_ps(_mm256_mul_ps(cosW, cosO), _mm256_mul_ps(sinW, sinO));
     __m256 sinWO = _mm256_sub_ps(_mm256_mul_ps(sinW, cosO), _mm256_mul_ps(cosW, sinO));
-    __m256 sinB = _mm256_min_ps(_mm256_mul_ps(r, inv), one);
-    __m256 cosB = _mm256_sqrt_ps(_mm256_sub_ps(one, _mm256_mul_ps(sinB, sinB)));
+    __m256 sinB2 = _mm256_min_ps(_mm256_div_ps(r2, safe), one);
+    __m256 cosB = _mm256_sqrt_ps(_mm256_sub_ps(one, sinB2)), sinB = _mm256_sqrt_ps(sinB2);
     __m256 inside = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(dist2, r2, _CMP_LE_OQ),
                                               _mm256_cmp_ps(cosW, cosO, _CMP_GE_OQ)),
                                  _mm256_cmp_ps(cosWO, cosB, _CMP_GE_OQ));
     __m256 cosT = _mm256_blendv_ps(
         _mm256_add_ps(_mm256_mul_ps(cosWO, cosB), _mm256_mul_ps(sinWO, sinB)), one, inside);
     __m256 phi = _mm256_loadu_ps(b.phi + k);
-    __m256 weight = _mm256_max_ps(_mm256_div_ps(_mm256_mul_ps(phi, cosT), clamped), zero);
+    __m256 weight = _mm256_div_ps(_mm256_mul_ps(phi, cosT), clamped);
     __m256 keep = _mm256_and_ps(
         _mm256_or_ps(inside, _mm256_cmp_ps(cosT, _mm256_loadu_ps(b.cosE + k), _CMP_GT_OQ)),
         _mm256_cmp_ps(phi, zero, _CMP_GT_OQ));
     _mm256_storeu_ps(out, _mm256_and_ps(weight, keep));
-}
-
-// Running sums of weights, eight at a time (the arrays padded to a multiple of 8): sums[k] =
-// weights[0] + ... + weights[k] by an in-register scan (shifts within each half, then the low
-// half's last sum into the high half) and the carry of the blocks before; the total returned.
-// The scan adds in another order than one by one, so a sum may round one unit below the one
-// before it.
-inline float runningSums(const float* weights, int n, float* sums) {
-    __m256 carry = _mm256_setzero_ps();
-    for (int k = 0; k < n; k += 8) {
-        __m256 x = _mm256_loadu_ps(weights + k);
-        x = _mm256_add_ps(x, _mm256_castsi256_ps(_mm256_slli_si256(_mm256_castps_si256(x), 4)));
-        x = _mm256_add_ps(x, _mm256_castsi256_ps(_mm256_slli_si256(_mm256_castps_si256(x), 8)));
-        __m256 low = _mm256_permute_ps(x, _MM_SHUFFLE(3, 3, 3, 3));
-        x = _mm256_add_ps(x, _mm256_permute2f128_ps(low, low, 0x08));
-        x = _mm256_add_ps(x, carry);
-        _mm256_storeu_ps(sums + k, x);
-        carry = _mm256_permute_ps(_mm256_permute2f128_ps(x, x, 0x11), _MM_SHUFFLE(3, 3, 3, 3));
-    }
-    return n > 0 ? sums[n - 1] : 0.0f;
-}
-
-// The index of the first of sums[0 .. n) above target, n if none (n: any count; the array
-// padded to a multiple of 8).
-inline int firstAbove(const float* sums, int n, float target) {
-    const __m256 t = _mm256_set1_ps(target);
-    for (int k = 0; k < n; k += 8) {
-        int mask = _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(sums + k), t, _CMP_GT_OQ));
-        if (n - k < 8) mask &= (1 << (n - k)) - 1;
-        if (mask) return k + __builtin_ctz(unsigned(mask));
-    }
-    return n;
 }
 
 } // namespace rayproc::kernels

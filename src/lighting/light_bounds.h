@@ -46,7 +46,7 @@ struct LightBounds {
 };
 
 inline float LightBounds::importance(const Vec3& p) const {
-    return kernels::boundsImportance(p.x, p.y, p.z, center.x, center.y, center.z, radius, phi,
+    return kernels::boundsImportance(p.x, p.y, p.z, center.x, center.y, center.z, radius * radius, phi,
                             axis.x, axis.y, axis.z, cosO, sinO, cosE, twoSided ? 1.0f : 0.0f);
 }
 

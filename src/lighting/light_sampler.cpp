@@ -69,7 +69,7 @@ void LightSampler::build(const std::vector<LightBounds>& bounds, const std::vect
         m_soa.cx.push_back(b.center.x);
         m_soa.cy.push_back(b.center.y);
         m_soa.cz.push_back(b.center.z);
-        m_soa.r.push_back(b.radius);
+        m_soa.r2.push_back(b.radius * b.radius);
         m_soa.phi.push_back(b.phi);
         m_soa.ax.push_back(b.axis.x);
         m_soa.ay.push_back(b.axis.y);
@@ -79,7 +79,7 @@ void LightSampler::build(const std::vector<LightBounds>& bounds, const std::vect
         m_soa.cosE.push_back(b.cosE);
         m_soa.twoSided.push_back(b.twoSided ? 1.0f : 0.0f);
     }
-    for (std::vector<float>* v : {&m_soa.cx, &m_soa.cy, &m_soa.cz, &m_soa.r, &m_soa.phi, &m_soa.ax,
+    for (std::vector<float>* v : {&m_soa.cx, &m_soa.cy, &m_soa.cz, &m_soa.r2, &m_soa.phi, &m_soa.ax,
                                   &m_soa.ay, &m_soa.az, &m_soa.cosO, &m_soa.sinO, &m_soa.cosE,
                                   &m_soa.twoSided})
         v->resize((v->size() + 7) / 8 * 8, 0.0f);
@@ -178,13 +178,13 @@ float LightSampler::effectiveChoices(const Vec3& p) const {
     for (std::size_t k = 0; k < m_infiniteList.size(); ++k) add(double(share * infiniteProbability(k)));
     if (!m_boundedList.empty()) {
         static_assert(kExhaustiveLimit <= 16 && (1 << kEffectiveDepth) <= 16);
-        alignas(32) float weights[16], sums[16];
+        alignas(32) float weights[16];
         int count = 0;
         if (m_boundedList.size() == 1) {
             // One light: wherever it can light p it is the choice (sampleBounded).
             weights[count++] = 1.0f;
         } else if (m_nodes.empty()) {
-            boundedImportances(p, weights, sums);
+            boundedImportances(p, weights);
             count = int(m_boundedList.size());
         } else {
             // The clusters kEffectiveDepth levels down (or leaves above), by their importance.
@@ -226,18 +226,21 @@ LightSampler::Pick LightSampler::sampleBounded(const Vec3& p, float u) const {
         return pick;
     }
     if (m_nodes.empty()) {
-        // Few lights: each by its own importance. The light picked is the first whose running
-        // sum passes u total; one of no weight there (a sum rounded up past its neighbour's)
-        // gives way to the positive one before it, and past the last sum (rounding) the last
-        // light of positive weight is picked. Its pmf divided once, for the light picked.
-        alignas(32) float weights[kExhaustiveLimit], sums[kExhaustiveLimit];
-        float total = boundedImportances(p, weights, sums);
+        // Few lights: each by its own importance.
+        alignas(32) float weights[kExhaustiveLimit];
+        float total = boundedImportances(p, weights);
         if (!(total > 0)) return pick;
-        const int n = int(m_boundedList.size());
-        int picked = std::min(kernels::firstAbove(sums, n, u * total), n - 1);
-        while (picked > 0 && !(weights[picked] > 0)) --picked;
-        if (!(weights[picked] > 0)) return pick; // rounding before the first positive light
-        pick.index = m_boundedList[std::size_t(picked)];
+        // The first light whose running sum passes u total, else (rounding) the last one of
+        // positive weight; its pmf divided once, for the light picked.
+        float target = u * total, below = 0;
+        std::size_t picked = 0;
+        for (std::size_t k = 0; k < m_boundedList.size(); ++k) {
+            if (!(weights[k] > 0)) continue;
+            picked = k;
+            if (target < below + weights[k]) break;
+            below += weights[k];
+        }
+        pick.index = m_boundedList[picked];
         pick.pmf = weights[picked] / total;
         return pick;
     }
@@ -266,22 +269,24 @@ LightSampler::Pick LightSampler::sampleBounded(const Vec3& p, float u) const {
 }
 
 // Eight lights at a time (kernels/light_importance.h): the components are padded to a multiple
-// of 8 with lights of no power. The running sums eight at a time too (an in-register scan).
-float LightSampler::boundedImportances(const Vec3& p, float* weights, float* sums) const {
+// of 8 with lights of no power.
+float LightSampler::boundedImportances(const Vec3& p, float* weights) const {
     const Components& c = m_soa;
-    const kernels::BoundsLanes lanes{c.cx.data(),  c.cy.data(),   c.cz.data(),   c.r.data(),
+    const kernels::BoundsLanes lanes{c.cx.data(),  c.cy.data(),   c.cz.data(),   c.r2.data(),
                                      c.phi.data(), c.ax.data(),   c.ay.data(),   c.az.data(),
                                      c.cosO.data(), c.sinO.data(), c.cosE.data(), c.twoSided.data()};
     const std::size_t n = m_boundedList.size();
     for (std::size_t k = 0; k < n; k += 8) kernels::boundsImportance8(p.x, p.y, p.z, lanes, int(k), weights + k);
-    return kernels::runningSums(weights, int(n), sums);
+    float total = 0;
+    for (std::size_t k = 0; k < n; ++k) total += weights[k];
+    return total;
 }
 
 float LightSampler::pmfBounded(const Vec3& p, std::size_t index) const {
     if (m_boundedList.size() == 1) return 1.0f;
     if (m_nodes.empty()) {
-        alignas(32) float weights[kExhaustiveLimit], sums[kExhaustiveLimit];
-        float total = boundedImportances(p, weights, sums);
+        alignas(32) float weights[kExhaustiveLimit];
+        float total = boundedImportances(p, weights);
         if (!(total > 0)) return 0.0f;
         std::size_t k = std::size_t(std::lower_bound(m_boundedList.begin(), m_boundedList.end(), index) -
                                     m_boundedList.begin());

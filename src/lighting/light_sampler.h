@@ -65,13 +65,12 @@ private:
     int buildNode(const std::vector<LightBounds>& bounds, std::vector<std::size_t>& lights,
                   std::size_t begin, std::size_t end, std::uint64_t trail, int depth);
 
-    // The importance of every light with a position at p, into weights (few lights), their
-    // running sums into sums (both padded to a multiple of 8); their sum.
-    float boundedImportances(const Vec3& p, float* weights, float* sums) const;
+    // The importance of every light with a position at p, into weights (few lights); their sum.
+    float boundedImportances(const Vec3& p, float* weights) const;
 
     // The lights with a position, their bounds by component (boundedImportances' loop).
     struct Components {
-        std::vector<float> cx, cy, cz, r, phi, ax, ay, az, cosO, sinO, cosE, twoSided;
+        std::vector<float> cx, cy, cz, r2, phi, ax, ay, az, cosO, sinO, cosE, twoSided;
     } m_soa;
     std::vector<bool> m_infinite;
     std::vector<std::size_t> m_infiniteList, m_boundedList;

@@ -248,8 +248,9 @@ TEST_CASE("Light importance: eight lights at a time agree with one at a time to 
     std::vector<LightBounds> bounds = scatteredLights(16, 17);
     std::vector<float> c[12];
     for (const LightBounds& b : bounds) {
-        float v[12] = {b.center.x, b.center.y, b.center.z, b.radius, b.phi,  b.axis.x,
-                       b.axis.y,   b.axis.z,   b.cosO,     b.sinO,   b.cosE, b.twoSided ? 1.0f : 0.0f};
+        float v[12] = {b.center.x, b.center.y, b.center.z, b.radius * b.radius, b.phi, b.axis.x,
+                       b.axis.y,   b.axis.z,   b.cosO,     b.sinO,              b.cosE,
+                       b.twoSided ? 1.0f : 0.0f};
         for (int k = 0; k < 12; ++k) c[k].push_back(v[k]);
     }
     kernels::BoundsLanes lanes{c[0].data(), c[1].data(), c[2].data(),  c[3].data(),
@@ -270,29 +271,4 @@ TEST_CASE("Light importance: eight lights at a time agree with one at a time to 
         }
     }
     CHECK(zeros > 0); // the one-sided lights' backs were among the points
-}
-
-TEST_CASE("Light importance: running sums eight at a time and the first sum above a target",
-          "[lighting][lights][kernels]") {
-    std::uint64_t state = 11;
-    for (int n = 1; n <= 16; ++n) {
-        for (int trial = 0; trial < 200; ++trial) {
-            alignas(32) float weights[16] = {}, sums[16];
-            for (int k = 0; k < n; ++k) {
-                float u = rand01(state);
-                weights[k] = u < 0.3f ? 0.0f : u * u * 10.0f; // some lights give nothing
-            }
-            float total = kernels::runningSums(weights, n, sums);
-            double running = 0;
-            for (int k = 0; k < n; ++k) {
-                running += double(weights[k]);
-                REQUIRE(double(sums[k]) == Approx(running).epsilon(1e-6).margin(1e-12));
-            }
-            REQUIRE(total == sums[n - 1]);
-            float target = rand01(state) * total;
-            int first = 0;
-            while (first < n && !(sums[first] > target)) ++first;
-            REQUIRE(kernels::firstAbove(sums, n, target) == first);
-        }
-    }
 }
