@@ -127,6 +127,16 @@ struct RenderOptions {
     bool diffuseMis = true; // raytrace: EngineSettings::diffuseMis
 };
 
+// The engine of a quiet two-thread render at seed 1, RGB or spectral.
+inline EngineSettings quietTwoThreads(bool spectral = false) {
+    EngineSettings engine;
+    engine.threads = 2;
+    engine.seed = 1;
+    engine.quiet = true;
+    engine.spectral = spectral;
+    return engine;
+}
+
 // Renders quietly through the library, as `rayproc render` does (without the file output).
 // `mode` is "preview", "path", or anything else for raytrace.
 inline RenderResult render(const Scene& scene, const EmbreeScene& accel, const RenderOptions& o) {

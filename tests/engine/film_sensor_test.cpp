@@ -47,21 +47,12 @@ spectral::DenseSpectrum daylightAt(double kelvin) {
 
 double spread(const Vec3& c) { return (maxComponent(c) - std::min({c.x, c.y, c.z})) / c.y; }
 
-EngineSettings sensorEngine(bool spectral) {
-    EngineSettings engine;
-    engine.threads = 2;
-    engine.seed = 1;
-    engine.quiet = true;
-    engine.spectral = spectral;
-    return engine;
-}
-
 Image renderPbrt(const std::string& text, bool spectral) {
     LoadedPbrt r = loadPbrt(text);
     REQUIRE(r.warnings.empty());
     EmbreeScene accel(*r.scene);
     return renderPath(*r.scene, accel, pathSettings(r.scene->render, ModeOverrides{32, 0, 0}),
-                      sensorEngine(spectral))
+                      quietTwoThreads(spectral))
         .image;
 }
 

@@ -15,27 +15,18 @@ using namespace rayproc::test;
 
 namespace {
 
-EngineSettings spectralEngine(bool spectral) {
-    EngineSettings engine;
-    engine.threads = 2;
-    engine.seed = 1;
-    engine.quiet = true;
-    engine.spectral = spectral;
-    return engine;
-}
-
 Image renderIn(const std::string& mode, const Scene& scene, const EmbreeScene& accel, int spp,
                bool spectral) {
     ModeOverrides o{spp, 0, 0};
     if (mode == "gi") {
         GiSettings gi = giSettings(scene, o);
-        return renderGi(scene, accel, gi, spectralEngine(spectral)).image;
+        return renderGi(scene, accel, gi, quietTwoThreads(spectral)).image;
     }
     if (mode == "raytrace")
         return renderRaytrace(scene, accel, raytraceSettings(scene.render, o),
-                              spectralEngine(spectral))
+                              quietTwoThreads(spectral))
             .image;
-    return renderPath(scene, accel, pathSettings(scene.render, o), spectralEngine(spectral)).image;
+    return renderPath(scene, accel, pathSettings(scene.render, o), quietTwoThreads(spectral)).image;
 }
 
 // Linear sRGB of the radiance rho(l) E(l) / pi a Lambertian surface of reflectance rho sends
