@@ -602,15 +602,20 @@ void addRunOptions(CLI::App* cmd, RenderArgs* args) {
                 "sample; a second signal exits at once).");
 }
 
-// Each mode's own options in a group of its own, after the options every mode has.
+// Each mode's own options under a heading of its own in --help, after the options every mode
+// has. A heading (Option::group through the defaults), not a CLI11 option group: those are
+// nameless subcommands, and CLI11 2.1.2 took an empty argument ("") for one and looped forever
+// (the CLI fuzzer's finding).
 void addModeOptions(CLI::App* cmd, RenderArgs* args) {
+    const std::string common = cmd->option_defaults()->get_group();
     for (const ModeEntry& mode : modeRegistry()) {
         if (!mode.options) continue;
         std::unique_ptr<ModeOptions> options = mode.options();
-        options->add(*cmd->add_option_group(std::string(mode.name) + " options",
-                                             std::string(mode.name) + " mode's own options"));
+        cmd->option_defaults()->group(std::string(mode.name) + " options");
+        options->add(*cmd);
         args->modeOptions.push_back(std::move(options));
     }
+    cmd->option_defaults()->group(common);
 }
 
 } // namespace

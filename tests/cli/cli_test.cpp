@@ -67,6 +67,15 @@ TEST_CASE("Help texts exit 0 and name every command and option", "[cli]") {
     CHECK(contains(info.out, "--json"));
 }
 
+TEST_CASE("An empty argument is refused as an unexpected one, not parsed forever", "[cli]") {
+    // CLI11 2.1.2 took "" for one of the nameless subcommands an option group is and looped
+    // (the CLI fuzzer's finding); the render command's mode options are headings instead.
+    TempDir dir;
+    RunResult render = runRayproc({"render", scenePath("cornell-box"), ""}, dir);
+    CHECK(render.status == 1);
+    CHECK(contains(render.err, "not expected"));
+}
+
 TEST_CASE("render --help lists each mode's own options in the mode's group", "[cli]") {
     TempDir dir;
     RunResult render = runRayproc({"render", "--help"}, dir);
