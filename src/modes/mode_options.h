@@ -1,7 +1,7 @@
 // A mode's own command-line options (issue 35: a mode is one registered thing). A mode whose
 // settings have options no other mode reads declares them here, beside its settings, instead
 // of the render command naming them: the render command asks the registry (ModeEntry::options)
-// for each mode's, gives each its CLI11 option group ("gi options" in render --help), and once
+// for each mode's, adds them under a heading of their own ("gi options" in render --help), and once
 // the command line is parsed lets each set its values on ModeSettings.
 #pragma once
 
