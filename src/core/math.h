@@ -69,6 +69,10 @@ inline Vec3 vmax(const Vec3& a, const Vec3& b) {
     return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
 }
 inline float maxComponent(const Vec3& a) { return std::max(a.x, std::max(a.y, a.z)); }
+// The index of a's largest component (the first of equal ones).
+inline int largestComponent(const Vec3& a) {
+    return a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
+}
 inline float luminance(const Vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 inline bool isFinite(const Vec3& a) {
     return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);

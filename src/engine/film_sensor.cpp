@@ -12,10 +12,8 @@ SensorMatrix sensorMatrix(const FilmSensor& sensor, const spectral::ColorSpace& 
     spectral::Mat3 rgb; // RGB -> RGB: the identity without white balance (exactly: no round trip)
     for (int i = 0; i < 3; ++i) rgb.m[i][i] = 1;
     if (sensor.whiteBalance > 0) {
-        const spectral::Xyz cw = cs.white;
-        const double sum = cw.x + cw.y + cw.z;
         const spectral::Mat3 w = spectral::bradfordAdaptation(
-            spectral::daylightWhite(sensor.whiteBalance), {cw.x / sum, cw.y / sum});
+            spectral::daylightWhite(sensor.whiteBalance), spectral::chromaticityOf(cs.white));
         rgb = cs.xyzToRgb * (w * cs.rgbToXyz);
     }
     for (int i = 0; i < 3; ++i)

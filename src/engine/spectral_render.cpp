@@ -37,8 +37,6 @@ UpsampledRgb constantUnbounded(const spectral::ColorSpace& cs, const ColorParam&
     return p.textured() ? UpsampledRgb{} : refinedUnbounded(cs, p.value);
 }
 
-int largestChannel(const Vec3& v) { return v.x >= v.y ? (v.x >= v.z ? 0 : 2) : (v.y >= v.z ? 1 : 2); }
-
 } // namespace
 
 SpectralRender::SpectralRender(const Scene& scene, const LightSet& lights)
@@ -56,7 +54,7 @@ SpectralRender::SpectralRender(const Scene& scene, const LightSet& lights)
         LightSpectrum s;
         s.own = l.spectrum;
         s.base = s.own ? s.own->rgb : l.delta() ? l.intensity : l.radiance;
-        s.channel = largestChannel(s.base);
+        s.channel = largestComponent(s.base);
         if (!s.own) s.s = refinedUnbounded(m_cs, s.base);
         m_lights.push_back(s);
     }
@@ -138,24 +136,25 @@ Vec3 SpectralRender::lightValue(std::size_t light, const Vec3& value, const Lane
     const LightSpectrum& s = m_lights[light];
     float base = s.base[s.channel];
     if (!(base > 0)) return Vec3(0.0f);
-    if (s.own) return ownValue(*s.own, value, l);
-    return evaluate(s.s, l, true) * (value[s.channel] / base);
+    // base is the own spectrum's colour where there is one: the same scalar emissionScale takes.
+    const float k = value[s.channel] / base;
+    return (s.own ? ownAt(*s.own, l) : evaluate(s.s, l, true)) * k;
 }
 
-Vec3 SpectralRender::ownValue(const EmissionSpectrum& own, const Vec3& value, const LaneSpectrum& l) {
-    const float k = emissionScale(own, value);
+Vec3 SpectralRender::ownAt(const EmissionSpectrum& own, const LaneSpectrum& l) {
     const auto& v = own.values.values;
-    return Vec3(v[std::size_t(l.nm[0])], v[std::size_t(l.nm[1])], v[std::size_t(l.nm[2])]) * k;
+    return Vec3(v[std::size_t(l.nm[0])], v[std::size_t(l.nm[1])], v[std::size_t(l.nm[2])]);
 }
 
 Vec3 SpectralRender::emitted(const Shape& shape, int light, const Vec3& le,
                              const LaneSpectrum& l) const {
     if (light >= 0) return lightValue(std::size_t(light), le, l);
-    return shape.emissionSpectrum ? ownValue(*shape.emissionSpectrum, le, l) : illuminant(le, l);
+    const EmissionSpectrum* own = shape.emissionSpectrum.get();
+    return own ? ownAt(*own, l) * emissionScale(*own, le) : illuminant(le, l);
 }
 
 Vec3 SpectralRender::sky(const Vec3& rgb, const LaneSpectrum& l) const {
-    return m_sky ? ownValue(*m_sky, rgb, l) : illuminant(rgb, l);
+    return m_sky ? ownAt(*m_sky, l) * emissionScale(*m_sky, rgb) : illuminant(rgb, l);
 }
 
 // The XYZ of kernels::spectral::sampledToXyz (each value times the matching functions over

@@ -121,8 +121,8 @@ private:
         int channel; // base's largest channel: value / base in it is the scalar
         std::shared_ptr<const EmissionSpectrum> own; // the light's own spectrum, or nullptr
     };
-    // A value (base * scalar) of an emitter with spectrum `own` at the lane's wavelengths.
-    static Vec3 ownValue(const EmissionSpectrum& own, const Vec3& value, const LaneSpectrum& l);
+    // An emitter's own spectrum at the lane's wavelengths (times the scalar of its value).
+    static Vec3 ownAt(const EmissionSpectrum& own, const LaneSpectrum& l);
     std::vector<LightSpectrum> m_lights;
     std::shared_ptr<const EmissionSpectrum> m_sky; // the constant sky's own spectrum
     float m_xyzToRgb[3][3];

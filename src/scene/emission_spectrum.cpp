@@ -9,10 +9,6 @@ namespace rayproc {
 
 namespace {
 
-int largestChannel(const Vec3& v) {
-    return v.x >= v.y ? (v.x >= v.z ? 0 : 2) : (v.y >= v.z ? 1 : 2);
-}
-
 // The spectral counterpart of an emitter's RGB value `value`: its own spectrum times k, or the
 // RGB illuminant spectrum of the value (sRGB's, refined as the spectral mode sets lights up).
 spectral::DenseSpectrum spectrumOf(const Vec3& value, const EmissionSpectrumRef& own) {
@@ -34,20 +30,18 @@ spectral::DenseSpectrum spectrumOf(const Vec3& value, const EmissionSpectrumRef&
 
 EmissionSpectrumRef emissionAtLuminance1(const spectral::DenseSpectrum& s, const Vec3& rgb,
                                          std::string label) {
-    double y = 0;
-    for (int i = 0; i < spectral::kDenseCount; ++i)
-        y += double(spectral::cieY().values[i]) * s.values[i];
+    // Luminance relative to the 1 nm y-bar sum, as cieIlluminant normalises its spectra.
+    const double y = spectral::toXyz(s).y;
     if (!(y > 0) || !std::isfinite(y)) return nullptr;
     auto e = std::make_shared<EmissionSpectrum>();
-    const double k = spectral::cieYIntegral() / y;
-    for (int i = 0; i < spectral::kDenseCount; ++i) e->values.values[i] = float(s.values[i] * k);
+    for (int i = 0; i < spectral::kDenseCount; ++i) e->values.values[i] = float(s.values[i] / y);
     e->rgb = rgb;
     e->label = std::move(label);
     return e;
 }
 
 float emissionScale(const EmissionSpectrum& e, const Vec3& value) {
-    int c = largestChannel(e.rgb);
+    int c = largestComponent(e.rgb);
     return e.rgb[c] > 0 ? value[c] / e.rgb[c] : 0.0f;
 }
 

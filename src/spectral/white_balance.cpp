@@ -8,17 +8,17 @@ namespace {
 
 Xyz whiteXyz(Chromaticity c) { return {c.x / c.y, 1.0, (1 - c.x - c.y) / c.y}; }
 
-Chromaticity chromaticityOf(const Xyz& c) {
-    double s = c.x + c.y + c.z;
-    return {c.x / s, c.y / s};
-}
-
 // Lam's (Bradford) cone-response matrix, XYZ to "LMS".
 constexpr Mat3 kBradford = {{{0.8951, 0.2664, -0.1614},
                              {-0.7502, 1.7135, 0.0367},
                              {0.0389, -0.0685, 1.0296}}};
 
 } // namespace
+
+Chromaticity chromaticityOf(const Xyz& c) {
+    double s = c.x + c.y + c.z;
+    return {c.x / s, c.y / s};
+}
 
 Chromaticity daylightWhite(double kelvin) {
     const double cct = kelvin * 1.4388 / 1.4380;

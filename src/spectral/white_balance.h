@@ -11,6 +11,8 @@ namespace rayproc::spectral {
 struct Chromaticity {
     double x = 0, y = 0;
 };
+// (x, y) of a colour's XYZ.
+Chromaticity chromaticityOf(const Xyz& c);
 
 // The chromaticity of pbrt-v4's daylight illuminant for a white balance of `kelvin`: the
 // temperature is first corrected to the present second radiation constant (x 1.4388 / 1.4380,
