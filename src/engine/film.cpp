@@ -22,6 +22,30 @@ float toPixel(double v) {
     return float(std::clamp(v, -kLargest, kLargest));
 }
 
+// The fixed-point value of a sample (an integer-valued double, |x| <= 2^96) as the two words
+// of a signed 128-bit integer. Below 2^63 (every ordinary sample) one 64-bit conversion gives
+// the same words as the 128-bit one, which is a library call.
+void splitFixed(double x, std::uint64_t& low, std::int64_t& high) {
+    if (std::abs(x) < 0x1p63) {
+        auto fixed = static_cast<std::int64_t>(x);
+        low = static_cast<std::uint64_t>(fixed);
+        high = fixed < 0 ? -1 : 0;
+        return;
+    }
+    auto fixed = static_cast<__int128>(x);
+    low = static_cast<std::uint64_t>(fixed);
+    high = static_cast<std::int64_t>(fixed >> 64);
+}
+
+// The signed 128-bit integer of two words as a double, rounded to nearest as the 128-bit
+// conversion rounds; a value that fits 64 bits takes the one-instruction conversion (the same
+// rounding, so the same double).
+double joinFixed(std::uint64_t low, std::int64_t high) {
+    if (high == (static_cast<std::int64_t>(low) >> 63)) return double(static_cast<std::int64_t>(low));
+    __int128 v = (static_cast<__int128>(high) << 64) | static_cast<__int128>(low);
+    return double(v);
+}
+
 } // namespace
 
 Film::Film(int width, int height, int exponent)
@@ -52,9 +76,9 @@ void Film::add(std::uint32_t pixel, const Vec3& radiance, ThreadStats& stats) {
         }
         // |v| * 2^exponent <= 2^96 fits a signed 128-bit integer; beyond 2^53 the double is
         // already an integer, below it rounding to nearest is the fixed-point quantisation.
-        auto fixed = static_cast<__int128>(std::nearbyint(v * m_scale));
-        auto low = static_cast<std::uint64_t>(fixed);
-        auto high = static_cast<std::int64_t>(fixed >> 64);
+        std::uint64_t low;
+        std::int64_t high;
+        splitFixed(std::nearbyint(v * m_scale), low, high);
         std::size_t i = std::size_t(pixel) * 3 + c;
         std::uint64_t before = m_passLow[i].fetch_add(low, std::memory_order_relaxed);
         if (before + low < before) ++high; // the low word wrapped: carry into the high word
@@ -133,10 +157,10 @@ void Film::commitPass(int half, std::vector<double>* passSums) {
             for (int c = 0; c < 3; ++c) {
                 std::uint64_t low = m_passLow[p * 3 + c].exchange(0, std::memory_order_relaxed);
                 std::int64_t high = m_passHigh[p * 3 + c].exchange(0, std::memory_order_relaxed);
-                __int128 v = (static_cast<__int128>(high) << 64) | static_cast<__int128>(low);
-                m_sum[p * 3 + c] += double(v) / m_scale;
-                if (passSums) (*passSums)[p * 3 + c] = double(v) / m_scale;
-                if (halves) m_halfSum[half][p * 3 + c] += double(v) / m_scale;
+                double v = joinFixed(low, high) / m_scale;
+                m_sum[p * 3 + c] += v;
+                if (passSums) (*passSums)[p * 3 + c] = v;
+                if (halves) m_halfSum[half][p * 3 + c] += v;
             }
         }
     };
@@ -156,9 +180,9 @@ Image Film::resolveInProgress() const {
         if (n == 0) continue;
         for (int c = 0; c < 3; ++c) {
             std::size_t i = p * 3 + std::size_t(c);
-            __int128 pass = (static_cast<__int128>(m_passHigh[i].load(std::memory_order_relaxed)) << 64) |
-                            static_cast<__int128>(m_passLow[i].load(std::memory_order_relaxed));
-            img.pixels[i] = toPixel((m_sum[i] + double(pass) / m_scale) / double(n));
+            double pass = joinFixed(m_passLow[i].load(std::memory_order_relaxed),
+                                    m_passHigh[i].load(std::memory_order_relaxed));
+            img.pixels[i] = toPixel((m_sum[i] + pass / m_scale) / double(n));
         }
     }
     return img;

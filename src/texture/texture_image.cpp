@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <map>
 #include <mutex>
@@ -25,6 +26,41 @@ float decode(float v, const TextureEncoding& e) {
     }
     return v;
 }
+
+// decode() remembered by the stored value's bits. An integer file holds at most 2^bits distinct
+// values (256 for 8-bit ones), where a 1000x1000 colour image decodes three million samples
+// through pow(); the same function of the same bits, so the same texels. Values past the
+// table's room are decoded each time.
+class DecodeMemo {
+public:
+    explicit DecodeMemo(const TextureEncoding& e) : m_encoding(e) {}
+    float operator()(float v) {
+        if (m_encoding.kind == TextureEncoding::Kind::Linear) return v;
+        std::uint32_t bits;
+        std::memcpy(&bits, &v, sizeof bits);
+        std::size_t slot = std::size_t((bits * 2654435761u) >> (32 - kLogSize));
+        for (int probe = 0; probe < kProbes; ++probe, slot = (slot + 1) & (kSize - 1)) {
+            Entry& e = m_table[slot];
+            if (e.used && e.bits == bits) return e.value;
+            if (!e.used) {
+                e = Entry{bits, decode(v, m_encoding), true};
+                return e.value;
+            }
+        }
+        return decode(v, m_encoding);
+    }
+
+private:
+    static constexpr int kLogSize = 12, kProbes = 8;
+    static constexpr std::size_t kSize = std::size_t(1) << kLogSize;
+    struct Entry {
+        std::uint32_t bits = 0;
+        float value = 0;
+        bool used = false;
+    };
+    TextureEncoding m_encoding;
+    std::vector<Entry> m_table = std::vector<Entry>(kSize);
+};
 
 // The file through OpenImageIO (texture/oiio_module.h), loaded on first use.
 RawPixels readWithOiio(const std::string& path) {
@@ -84,12 +120,13 @@ std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
         img->hasAlpha = true;
         img->alpha.resize(std::size_t(w) * h);
     }
+    DecodeMemo decoded(e);
     for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
         const float* p = &raw.pixels[i * nch];
         for (int c = 0; c < 3; ++c) {
             // Grey (and grey + alpha) files repeat their one colour channel.
             int src = nch >= 3 ? c : 0;
-            base.rgb[3 * i + c] = decode(p[src], e);
+            base.rgb[3 * i + c] = decoded(p[src]);
         }
         if (alphaChannel >= 0) img->alpha[i] = p[alphaChannel]; // alpha is never encoded
     }
