@@ -13,6 +13,7 @@
 
 #include "core/math.h"
 #include "kernels/bsdf.h"
+#include "kernels/bsdf_flags.h"
 #include "kernels/bsdf_params.h"
 #include "kernels/mis.h"
 #include "kernels/pbrt_bsdfs.h"
@@ -163,26 +164,40 @@ inline Vec3 sampledLobeEvalCos(const BsdfParams& b, const Vec3& wo, const Vec3& 
     }
 }
 
-// True when every lobe is a delta (evalBsdf is zero everywhere; light sampling cannot help).
-inline bool isDeltaBsdf(const BsdfParams& b) {
+// The lobes of the BSDF (kernels/bsdf_flags.h). A smooth or index-matched dielectric and a
+// smooth conductor are delta, rough ones glossy; a coated diffuse surface is its diffuse base
+// and its coat's reflection (delta or glossy); a coated conductor is delta only when its coat,
+// its conductor and the medium between them are all clear and smooth (over a rough conductor
+// a smooth coat adds its mirror reflection to the glossy light from below).
+inline LobeFlags bsdfFlags(const BsdfParams& b) {
+    const LobeFlags width = roughAlphas(b) ? kLobeGlossy : kLobeSpecular;
     switch (b.kind) {
-    case BsdfKind::Mirror:
-    case BsdfKind::ThinDielectric: return true;
-    case BsdfKind::Dielectric: return !roughAlphas(b) || b.ior == 1.0f;
-    case BsdfKind::Conductor: return !roughAlphas(b);
-    case BsdfKind::CoatedConductor: return coatedConductorDelta(b);
-    default: return false;
+    case BsdfKind::Diffuse: return kLobeReflection | kLobeDiffuse;
+    case BsdfKind::Mirror: return kLobeReflection | kLobeSpecular;
+    case BsdfKind::Glossy: return kLobeReflection | kLobeGlossy;
+    case BsdfKind::Dielectric:
+        if (b.ior == 1.0f) return kLobeTransmission | kLobeSpecular; // passes straight through
+        return kLobeReflection | kLobeTransmission | width;
+    case BsdfKind::Conductor: return kLobeReflection | width;
+    case BsdfKind::ThinDielectric:
+        return kLobeReflection | kLobeTransmission | kLobeSpecular | kLobeStraight;
+    case BsdfKind::DiffuseTransmission:
+        return kLobeReflection | kLobeDiffuse | (isBlack(b.transmittance) ? 0 : kLobeTransmission);
+    case BsdfKind::CoatedDiffuse: return kLobeReflection | kLobeDiffuse | width;
+    case BsdfKind::CoatedConductor:
+        // A smooth coat reflects as a mirror over whatever the conductor beneath does.
+        if (coatedConductorDelta(b)) return kLobeReflection | kLobeSpecular;
+        return kLobeReflection | kLobeGlossy | (roughAlphas(b) ? 0 : kLobeSpecular);
     }
+    return kLobeReflection | kLobeDiffuse;
 }
+
+// True when every lobe is a delta (evalBsdf is zero everywhere; light sampling cannot help).
+inline bool isDeltaBsdf(const BsdfParams& b) { return onlySpecular(bsdfFlags(b)); }
 
 // True when the BSDF can send light to the other side of the surface.
 inline bool hasTransmission(const BsdfParams& b) {
-    switch (b.kind) {
-    case BsdfKind::Dielectric:
-    case BsdfKind::ThinDielectric: return true;
-    case BsdfKind::DiffuseTransmission: return !isBlack(b.transmittance);
-    default: return false;
-    }
+    return hasLobe(bsdfFlags(b), kLobeTransmission);
 }
 
 } // namespace rayproc::kernels

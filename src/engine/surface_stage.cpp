@@ -13,48 +13,36 @@ struct Routes {
     HitList direct, reflect, refract, indirect;
 };
 
-// Routes hit h of lane i by its material: `addDirect` light sampling, `handled` diffuse hits
-// to the mode's handlers (the light past a glossy bounce theirs), `prepass` the handlers' alone.
-void routeByMaterial(const Scene& scene, int i, const SurfaceHit& h, bool visible,
-                            bool addDirect, bool handled, bool prepass, Routes& r) {
-    const MaterialType type = scene.materials[h.material].type;
-    const MaterialClass cls = materialClass(scene.materials, h.material);
-    switch (type) {
-    case MaterialType::Diffuse:
-    case MaterialType::DiffuseTransmission:
-    case MaterialType::CoatedDiffuse:
+// Routes hit h of lane i by its material's lobes (scene/material.h, materialLobes):
+// `addDirect` light sampling, `handled` diffuse hits to the mode's handlers (the light past a
+// glossy bounce theirs), `prepass` the handlers' alone.
+void routeByLobes(const Scene& scene, int i, const SurfaceHit& h, bool visible, bool addDirect,
+                  bool handled, bool prepass, Routes& r) {
+    using namespace kernels;
+    const LobeFlags lobes = materialLobes(scene.materials, h.material);
+    if (hasLobe(lobes, kLobeDiffuse)) {
         // gi: past a glossy bounce (other than a rough dielectric's on a camera chain, which
         // keeps the hit a visible point) the global map gives all reflected light, direct too.
-        if (addDirect && (!handled || visible)) r.direct.add(i, h);
+        const bool direct = addDirect && (!handled || visible);
+        if (direct) r.direct.add(i, h);
         if (handled) r.indirect.add(i, h);
-        // The coat's reflection of the scene, mirror or rough, traced by the reflection stage
-        // (kernels::sampleCoatReflection).
-        if (type == MaterialType::CoatedDiffuse && !prepass)
-            r.reflect.add(i, h, addDirect && (!handled || visible));
-        break;
-    case MaterialType::Glossy:
-        if (prepass) break;
+        // A coat's reflection of the scene over the diffuse base, mirror or rough, traced by
+        // the reflection stage (kernels::sampleCoatReflection).
+        if (hasLobe(lobes, LobeFlags(kLobeGlossy | kLobeSpecular)) && !prepass)
+            r.reflect.add(i, h, direct);
+        return;
+    }
+    if (hasLobe(lobes, kLobeGlossy)) {
+        // Light sampling and one sampled continuation, which takes its MIS share of the light.
+        if (prepass) return;
         if (addDirect) r.direct.add(i, h);
         r.reflect.add(i, h, addDirect);
-        break;
-    case MaterialType::Dielectric:
-        if (cls == MaterialClass::Specular) {
-            r.refract.add(i, h);
-            break;
-        }
-        [[fallthrough]]; // rough glass: light sampling and one sampled continuation
-    case MaterialType::Conductor:
-    case MaterialType::CoatedConductor: // its whole walk sampled, as a conductor's BSDF
-        if (cls == MaterialClass::Glossy) {
-            if (prepass) break;
-            if (addDirect) r.direct.add(i, h);
-        }
-        r.reflect.add(i, h, cls == MaterialClass::Glossy && addDirect);
-        break;
-    case MaterialType::Mirror:
-    case MaterialType::ThinDielectric: r.reflect.add(i, h); break;
-    case MaterialType::Mix: break; // resolved by the caller
+        return;
     }
+    // Delta lobes only: a refracting interface's two (reflection and the bent transmission)
+    // are both traced by the refraction stage; any other delta BSDF is sampled.
+    if (hasLobe(lobes, kLobeTransmission) && !hasLobe(lobes, kLobeStraight)) r.refract.add(i, h);
+    else r.reflect.add(i, h);
 }
 } // namespace
 
@@ -134,8 +122,8 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             SurfaceHit h = resolveHit(b, i, addDirect, stats);
             if (b.flags[i] & kFlagEmissionOnly) continue; // a last vertex's MIS partner
             resolveShading(m_rc.scene, h, -laneDirection(b, i));
-            routeByMaterial(m_rc.scene, i, h, visiblePoint(b.flags[i]), addDirect, handled,
-                            prepass, r);
+            routeByLobes(m_rc.scene, i, h, visiblePoint(b.flags[i]), addDirect, handled, prepass,
+                         r);
         }
     }
     // A stage the scene analysis skipped getting work means the analysis is wrong.

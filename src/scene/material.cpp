@@ -54,27 +54,37 @@ float roughnessToAlpha(float roughness, bool remap) {
     return remap ? std::sqrt(roughness) : roughness;
 }
 
-MaterialClass materialClass(const std::vector<Material>& materials, int index) {
+kernels::LobeFlags materialLobes(const std::vector<Material>& materials, int index) {
+    using namespace kernels;
     const Material& m = materials[std::size_t(index)];
+    const LobeFlags width = smooth(m) ? kLobeSpecular : kLobeGlossy;
     switch (m.type) {
-    case MaterialType::Diffuse:
-    case MaterialType::DiffuseTransmission:
-    case MaterialType::CoatedDiffuse: return MaterialClass::Diffuse;
-    case MaterialType::Glossy: return MaterialClass::Glossy;
-    case MaterialType::Mirror:
-    case MaterialType::ThinDielectric: return MaterialClass::Specular;
-    case MaterialType::Conductor:
-    case MaterialType::Dielectric: return smooth(m) ? MaterialClass::Specular : MaterialClass::Glossy;
+    case MaterialType::Diffuse: return kLobeReflection | kLobeDiffuse;
+    case MaterialType::DiffuseTransmission: {
+        const bool black = !m.transmittance.textured() && m.transmittance.value == Vec3(0.0f);
+        return kLobeReflection | kLobeDiffuse | (black ? 0 : kLobeTransmission);
+    }
+    case MaterialType::CoatedDiffuse: return kLobeReflection | kLobeDiffuse | width;
+    case MaterialType::Glossy: return kLobeReflection | kLobeGlossy;
+    case MaterialType::Mirror: return kLobeReflection | kLobeSpecular;
+    case MaterialType::ThinDielectric:
+        return kLobeReflection | kLobeTransmission | kLobeSpecular | kLobeStraight;
+    case MaterialType::Conductor: return kLobeReflection | width;
+    case MaterialType::Dielectric: return kLobeReflection | kLobeTransmission | width;
     case MaterialType::CoatedConductor:
-        return coatedConductorDelta(m) ? MaterialClass::Specular : MaterialClass::Glossy;
-    case MaterialType::Mix: {
-        MaterialClass a = materialClass(materials, m.mix[0]), b = materialClass(materials, m.mix[1]);
-        if (a == MaterialClass::Diffuse || b == MaterialClass::Diffuse) return MaterialClass::Diffuse;
-        if (a == MaterialClass::Glossy || b == MaterialClass::Glossy) return MaterialClass::Glossy;
-        return MaterialClass::Specular;
+        if (coatedConductorDelta(m)) return kLobeReflection | kLobeSpecular;
+        return kLobeReflection | kLobeGlossy | (smooth(m) ? kLobeSpecular : 0);
+    case MaterialType::Mix:
+        return materialLobes(materials, m.mix[0]) | materialLobes(materials, m.mix[1]);
     }
-    }
-    return MaterialClass::Diffuse;
+    return kLobeReflection | kLobeDiffuse;
+}
+
+MaterialClass materialClass(const std::vector<Material>& materials, int index) {
+    const kernels::LobeFlags lobes = materialLobes(materials, index);
+    if (kernels::hasLobe(lobes, kernels::kLobeDiffuse)) return MaterialClass::Diffuse;
+    if (kernels::hasLobe(lobes, kernels::kLobeGlossy)) return MaterialClass::Glossy;
+    return MaterialClass::Specular;
 }
 
 bool mixContainsItself(const std::vector<Material>& materials, int index) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "kernels/bsdf_flags.h"
 
 #include <string>
 #include <vector>
@@ -110,8 +111,14 @@ bool coatModelNamed(const std::string& name, Material::CoatModel& model);
 
 namespace rayproc {
 
-// The class of materials[index]; a mix takes the class of its components, Diffuse if either is
-// Diffuse, else Glossy if either is, else Specular.
+// The lobes a hit on materials[index] may have (kernels/bsdf_flags.h), from the material's
+// parameters before textures: roughness counts as delta only where it is constant and below
+// pbrt-v4's smooth limit (a textured one may vary), a transmittance only where it may be
+// non-black; a mix has the lobes of both its components. The engine routes hits by these.
+kernels::LobeFlags materialLobes(const std::vector<Material>& materials, int index);
+
+// The class of materials[index]'s lobes: Diffuse with a diffuse lobe, else Glossy with a glossy
+// one, else Specular (so a mix is Diffuse if either component is, else Glossy if either is).
 MaterialClass materialClass(const std::vector<Material>& materials, int index);
 
 // pbrt-v4's Trowbridge-Reitz alpha of a roughness: sqrt(r) when remapping, else r (negative
