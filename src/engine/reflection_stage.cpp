@@ -45,15 +45,7 @@ public:
         const SampleNumbers numbers(m_b, i, m_policy.stratify, m_seedKey,
                                     1 + std::uint32_t(m_b.kind));
         m_wl.select(m_b.lambdaU[i]);
-        if (mat.type == MaterialType::Mirror) {
-            r.wi = kernels::reflect(wo, ns);
-            if (dot(r.wi, ng) <= 0) r.wi = kernels::reflect(wo, ng);
-            r.w = r.w * colorOf(h.material, mat);
-        } else if (mat.type != MaterialType::Glossy) {
-            if (!sampleMaterial(k, h, mat, wo, numbers, r)) return;
-        } else if (!sampleGlossy(k, h.material, mat, wo, ng, ns, numbers, r)) {
-            return;
-        }
+        if (!sampleMaterial(k, h, mat, wo, numbers, r)) return;
         if (r.transmitted) {
             if (!m_policy.refractionStage || !nextRay(i, r)) return;
             RayBatch& out = m_ctx.out(RayKind::Refraction);
@@ -75,8 +67,8 @@ public:
     std::uint64_t spawned() const { return m_spawned; }
 
 private:
-    // pbrt-v4's materials: one sample of the whole BSDF. A delta lobe continues as a mirror
-    // does; a glossy lobe's ray (a rough coat's too) sees only the sky and the surfaces it meets
+    // One sample of the whole BSDF (kernels::sampleBsdf, as path mode samples it). A delta lobe
+    // continues as a mirror does; a glossy lobe's ray (a rough coat's too) sees only the sky and the surfaces it meets
     // (emitters are light sampled); a diffuse-like sample (a coated base, diffuse transmission)
     // ends here (false): the shadow stage gave its direct light and gi's gather its indirect
     // light.
@@ -103,21 +95,6 @@ private:
         r.wi = s.wi;
         r.w = r.w * s.weight * basicRadianceScale(bsdf, wo, h.ng, s);
         r.transmitted = s.transmitted;
-        return true;
-    }
-
-    // rayproc's glossy material: one GGX-importance-sampled reflection.
-    bool sampleGlossy(int k, int material, const Material& mat, const Vec3& wo, const Vec3& ng,
-                      const Vec3& ns, const SampleNumbers& numbers, Bounce& r) const {
-        float alpha = kernels::ggxAlpha(mat.roughness);
-        Vec2 u = numbers.get2D(kDimDirection);
-        Vec3 hv = kernels::toWorld(kernels::ggxSampleHalf(u, alpha), ns);
-        r.wi = kernels::reflect(wo, hv);
-        float pdf = kernels::glossyPdf(wo, r.wi, ns, alpha);
-        if (pdf <= 0 || dot(r.wi, ng) <= 0) return false;
-        r.w = r.w * kernels::glossyEvalCos(wo, r.wi, ns, colorOf(material, mat), alpha) / pdf;
-        // The shadow stage does not sample the sky for it (see there): the ray sees it.
-        glossyFlags(k, pdf, false, false, false, r);
         return true;
     }
 
@@ -155,12 +132,6 @@ private:
             r.flags |= kFlagEmissionOnly;
         }
         return survivesRoulette(m_policy, m_b.rngKey[i], 0, r.w);
-    }
-
-    // A material's constant colour, in spectral mode at the current lane's wavelengths.
-    Vec3 colorOf(int material, const Material& mat) const {
-        return m_rc.spectral ? m_rc.spectral->materialColor(material, mat.color, m_wl.lane())
-                             : mat.color;
     }
 
     const RenderContext& m_rc;

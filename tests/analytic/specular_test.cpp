@@ -71,6 +71,35 @@ TEST_CASE("Mirror under a constant sky: c * L", "[analytic]") {
         checkMeanRadiance(renderMode(*scene, accel, mode, 4), c * sky, 1e-5, mode);
 }
 
+// The reflection stage samples rayproc's mirror and glossy through the BSDF kernels, as path
+// mode does: their colour textures count there too (it once read the material's constant colour,
+// the default grey under a texture, while light samples read the texture).
+TEST_CASE("Textured mirror and glossy reflect in their texture's colour", "[analytic]") {
+    const Vec3 c(0.9f, 0.5f, 0.25f), sky(0.8f, 0.6f, 1.0f);
+    auto sceneWith = [&](const std::string& type, const std::string& color) {
+        const std::string extra = type == "glossy" ? ", \"roughness\": 0.3" : "";
+        return sceneFromJson(R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0],
+                                            "resolution": [16, 16]},
+            "textures": {"tint": {"type": "constant", "value": )" + jsonVec(c) + R"(}},
+            "materials": {"m": {"type": ")" + type + "\"" + extra + R"(, "color": )" + color + R"(}},
+            "lights": [{"type": "environment", "radiance": )" + jsonVec(sky) + R"(}],
+            "nodes": [{"type": "rectangle", "material": "m", "size": [100, 100],
+                       "normal": [0, 0.2, 1]}]})");
+    };
+    auto mirror = sceneWith("mirror", "\"tint\"");
+    EmbreeScene mirrorAccel(*mirror);
+    for (const std::string mode : {"path", "raytrace", "preview"})
+        checkMeanRadiance(renderMode(*mirror, mirrorAccel, mode, 4), c * sky, 1e-5, mode);
+    auto textured = sceneWith("glossy", "\"tint\""), constant = sceneWith("glossy", jsonVec(c));
+    EmbreeScene texturedAccel(*textured), constantAccel(*constant);
+    const Vec3 a = imageMean(renderMode(*textured, texturedAccel, "raytrace", 4));
+    const Vec3 b = imageMean(renderMode(*constant, constantAccel, "raytrace", 4));
+    for (int ch = 0; ch < 3; ++ch) {
+        INFO("channel " << ch << ": textured " << a[ch] << ", constant " << b[ch]);
+        CHECK(std::abs(a[ch] - b[ch]) <= 1e-6 * b[ch]);
+    }
+}
+
 TEST_CASE("Glass slab: R = 2F / (1 + F), T = (1 - F) / (1 + F)", "[analytic]") {
     // A diamond-like index: F = 0.17 at normal incidence, so the internal bounces matter
     // (F^2 = 3% of T, against 0.2% for n = 1.5) and R is large enough to measure in path mode
