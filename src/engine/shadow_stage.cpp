@@ -19,18 +19,13 @@ namespace {
 enum ShadowDim : std::uint32_t { kDimChoice = 100, kDimSky = 102, kDimMisRay = 104,
                                  kDimLightPosition = 106 };
 
-// BSDF value times the cosine at the receiver, for the materials lit by light sampling:
-// rayproc's diffuse and glossy as they always were, pbrt-v4's through the BSDF kernels.
-Vec3 evalCos(const Material& m, const kernels::BsdfParams& bsdf, const SurfaceHit& h,
-             const Vec3& wo, const Vec3& wi, const Vec3& n) {
-    if (m.type != MaterialType::Diffuse && m.type != MaterialType::Glossy) {
-        float pdf;
-        return kernels::evalBsdf(bsdf, wo, wi, h.ng, h.ns, pdf);
-    }
-    float c = dot(wi, n);
-    if (c <= 0) return Vec3(0.0f);
-    if (m.type == MaterialType::Diffuse) return bsdf.color * (c * kInvPi);
-    return kernels::glossyEvalCos(wo, wi, n, bsdf.color, kernels::ggxAlpha(m.roughness));
+// BSDF value times the cosine at the receiver (kernels::evalBsdf, as path mode evaluates it:
+// nothing on the far side of the geometric surface, so a shading normal cannot let light
+// through it).
+Vec3 evalCos(const kernels::BsdfParams& bsdf, const SurfaceHit& h, const Vec3& wo,
+             const Vec3& wi) {
+    float pdf;
+    return kernels::evalBsdf(bsdf, wo, wi, h.ng, h.ns, pdf);
 }
 
 // One hit as its light samples see it: the BSDF in the facing frame, the path's throughput and
@@ -61,7 +56,7 @@ struct ShadedHit {
     // f |cos| split into the sampled lobe and the rest (each channel non-negative against
     // rounding and the stochastic estimates of random-walk coats).
     Vec3 split(const Vec3& wi, Vec3& lobe, float& lobePdf) const {
-        Vec3 f = evalCos(mat, bsdf, h, wo, wi, ns);
+        Vec3 f = evalCos(bsdf, h, wo, wi);
         lobe = kernels::sampledLobeEvalCos(bsdf, wo, wi, h.ng, h.ns, lobePdf);
         if (!(lobePdf > 0)) lobe = Vec3(0.0f);
         Vec3 r = f - lobe;
@@ -71,7 +66,7 @@ struct ShadedHit {
     // f |cos| for a light sample of density lightPdf, each part weighted by its MIS share.
     Vec3 shaded(const Vec3& wi, float lightPdf, bool areaLight = false) const {
         const bool restMis = diffuseMis && areaLight;
-        if (!mis && !restMis) return evalCos(mat, bsdf, h, wo, wi, ns);
+        if (!mis && !restMis) return evalCos(bsdf, h, wo, wi);
         Vec3 lobe;
         float lobePdf = 0;
         Vec3 rest = split(wi, lobe, lobePdf);
