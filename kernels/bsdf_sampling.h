@@ -21,6 +21,34 @@
 
 namespace rayproc::kernels {
 
+// A smooth dielectric interface's two delta lobes at wo (the front side of a closed dielectric
+// is its outside): the mirror direction, taken about the geometric normal where the shading
+// normal's would leave below the surface, the Fresnel reflectance, and the refracted direction
+// unless the light is totally reflected. sampleBsdf picks one lobe by the reflectance;
+// raytrace's and gi's refraction stage traces both.
+struct SmoothInterface {
+    bool entering = false; // wo on the front (outer) side
+    Vec3 g;                // the geometric normal on wo's side
+    float reflectance = 1.0f;
+    Vec3 reflected;
+    bool transmits = false;
+    Vec3 transmitted;
+};
+
+inline SmoothInterface smoothInterface(const BsdfParams& b, const Vec3& wo, const Vec3& ng,
+                                       const Vec3& ns) {
+    SmoothInterface s;
+    s.entering = dot(wo, ng) > 0;
+    const Vec3 n = s.entering ? ns : -ns;
+    s.g = s.entering ? ng : -ng;
+    const float eta = s.entering ? b.ior : 1.0f / b.ior;
+    s.reflectance = fresnelDielectric(dot(wo, n), eta);
+    s.reflected = reflect(wo, n);
+    if (dot(s.reflected, s.g) <= 0) s.reflected = reflect(wo, s.g);
+    s.transmits = refract(wo, n, eta, s.transmitted) && dot(s.transmitted, s.g) < 0;
+    return s;
+}
+
 // f * |cos| and the solid-angle pdf of sampling wi, for the non-delta lobes (0 for delta).
 inline Vec3 evalBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& wi, const Vec3& ng,
                      const Vec3& ns, float& pdf) {
@@ -102,27 +130,20 @@ inline BsdfSample sampleBsdf(const BsdfParams& b, const Vec3& wo, const Vec3& ng
         return s;
     }
     case BsdfKind::Dielectric: {
-        // The front side of a closed dielectric is its outside. One lobe is chosen with the
-        // Fresnel reflectance as probability, so the weight of either is 1 (times the tint on
-        // entering).
-        bool entering = dot(wo, ng) > 0;
-        Vec3 n = entering ? ns : -ns;
-        Vec3 g = entering ? ng : -ng;
-        float eta = entering ? b.ior : 1.0f / b.ior;
-        float f = fresnelDielectric(dot(wo, n), eta);
+        // One lobe is chosen with the Fresnel reflectance as probability, so the weight of
+        // either is 1 (times the tint on entering).
+        const SmoothInterface i = smoothInterface(b, wo, ng, ns);
         s.delta = true;
-        if (uc < f) {
-            s.wi = reflect(wo, n);
-            if (dot(s.wi, g) <= 0) s.wi = reflect(wo, g);
+        if (uc < i.reflectance) {
+            s.wi = i.reflected;
             s.weight = Vec3(1.0f);
             s.valid = true;
             return s;
         }
-        Vec3 wt;
-        if (!refract(wo, n, eta, wt) || dot(wt, g) >= 0) return s;
-        s.wi = wt;
+        if (!i.transmits) return s;
+        s.wi = i.transmitted;
         s.transmitted = true;
-        s.weight = entering ? b.color : Vec3(1.0f);
+        s.weight = i.entering ? b.color : Vec3(1.0f);
         s.valid = true;
         return s;
     }
