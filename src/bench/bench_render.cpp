@@ -68,7 +68,7 @@ TimedRender renderTimed(const Scene& scene, const EmbreeScene& accel, const Rend
     Clock::time_point start = Clock::now();
     const ModeEntry* entry = findMode(c.mode);
     if (!entry) throw InputError("unknown mode '" + c.mode + "'");
-    RenderResult r = entry->render(scene, accel, c, c.engine);
+    RenderResult r = entry->render(scene, accel, c, c.engine, c.control);
     TimedRender t;
     t.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     t.image = std::move(r.image);

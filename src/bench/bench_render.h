@@ -20,6 +20,9 @@ namespace rayproc::bench {
 struct RenderConfig : ModeSettings {
     std::string mode;
     EngineSettings engine;
+    // The render's stops and error rows (--progressive); none by default. Not in the settings
+    // string: the caller names the stop it sets.
+    RenderControl control;
 
     // The mode's settings from the scene's render block (as `rayproc render` would take them,
     // without CLI overrides) and `spp` samples per pixel.

@@ -2,7 +2,8 @@
 // (EngineSettings): the progressive output, serve's watcher and stop, the error log against a
 // reference and bench's rows of it, the stops (time limit, error target), path mode's noise
 // layers, the MPI cluster and the phase log. None of it is in the render log's settings line:
-// the image depends on it only through the stops, which decide the passes.
+// the image depends on it only through the stops, which decide the passes. Every render takes
+// one beside its EngineSettings; a caller without hooks passes a default-constructed one.
 #pragma once
 
 #include <chrono>

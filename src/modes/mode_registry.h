@@ -15,7 +15,7 @@
 //  - Options of the engine, which every mode's stages read (the profiling switches such as
 //    --no-stratification or --no-sky-compensation, --spectral, --threads, the stops and the
 //    watchers), stay with the render command, which sets them on EngineSettings (the stops and
-//    watchers on its RenderControl): engine/ knows nothing of the modes.
+//    watchers on the RenderControl it passes beside them): engine/ knows nothing of the modes.
 #pragma once
 
 #include "modes/mode_options.h"
@@ -52,8 +52,10 @@ struct ModeEntry {
     // Photons the memory check counts (engine/memory_budget.h): the global map's and the
     // largest caustic map's; none outside gi.
     std::pair<std::uint64_t, std::uint64_t> (*photons)(const ModeSettings& s);
+    // The render: what the image is made with (`s`, `engine`) and how the caller steers and
+    // watches it (`control`: stops, progressive output, error log, cluster, phases).
     RenderResult (*render)(const Scene& scene, const EmbreeScene& accel, const ModeSettings& s,
-                           const EngineSettings& engine);
+                           const EngineSettings& engine, const RenderControl& control);
 };
 
 // The modes in the order --help lists them.

@@ -87,19 +87,23 @@ GiSettings giSettings(const Scene& scene, const ModeOverrides& cli);
 std::unique_ptr<ModeOptions> giOptions();
 PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 
+// Each render takes the caller's hooks and stops beside its settings (engine/render_control.h);
+// none by default.
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
-                           const EngineSettings& engine);
+                           const EngineSettings& engine, const RenderControl& control = {});
 // The same with the scene's LightSet::buildPreview made once: it does not depend on the camera,
 // and rebuilding it for every frame of a live view costs as much as a small frame's rays.
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const LightSet& all,
-                           const PreviewSettings& s, const EngineSettings& engine);
+                           const PreviewSettings& s, const EngineSettings& engine,
+                           const RenderControl& control = {});
 RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
-                            const RaytraceSettings& s, const EngineSettings& engine);
+                            const RaytraceSettings& s, const EngineSettings& engine,
+                            const RenderControl& control = {});
 // gi (Jensen's photon mapping with final gathering and Ward's irradiance cache): GiSettings in
 // gi/gi_context.h.
 RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSettings& s,
-                      const EngineSettings& engine);
+                      const EngineSettings& engine, const RenderControl& control = {});
 RenderResult renderPath(const Scene& scene, const EmbreeScene& accel, const PathSettings& s,
-                        const EngineSettings& engine);
+                        const EngineSettings& engine, const RenderControl& control = {});
 
 } // namespace rayproc
