@@ -316,7 +316,7 @@ RenderResult renderWithMode(const RenderArgs& a, const Scene& scene, const Embre
     const ModeEntry& entry = *findMode(mode);
     ModeSettings settings = ModeSettings::forScene(scene, overrides);
     for (const std::unique_ptr<ModeOptions>& options : a.modeOptions) options->apply(settings);
-    const Cluster& cluster = *control.cluster;
+    const Cluster& cluster = control.clusterOrAlone();
     if (!engine.quiet)
         std::fprintf(stderr, "rayproc render %s: %s %s%s %dx%d\n", a.scene.c_str(),
                      entry.describe(settings).c_str(), engine.toString().c_str(),

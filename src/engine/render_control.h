@@ -6,6 +6,8 @@
 // one beside its EngineSettings; a caller without hooks passes a default-constructed one.
 #pragma once
 
+#include "cluster/cluster.h"
+
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -14,7 +16,6 @@
 
 namespace rayproc {
 
-class Cluster;
 class Film;
 class PhaseLog;
 struct Image;
@@ -72,6 +73,11 @@ struct RenderControl {
     // statistics and the stop decisions are combined so the result is one process's, to the
     // bit. Only rank 0's result holds the whole image.
     const Cluster* cluster = nullptr;
+    // The processes sharing the render: `cluster`, or this process alone when it is null.
+    const Cluster& clusterOrAlone() const {
+        static const Cluster alone;
+        return cluster ? *cluster : alone;
+    }
     // When set, every phase of the render (light set, photon passes, cache prepass, render
     // passes, film resolve...) adds its wall time here (engine/phases.h; --stats).
     PhaseLog* phases = nullptr;

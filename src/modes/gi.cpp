@@ -336,8 +336,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     // photon passes, the precomputation and the cache's prepass too.
     RenderControl control = caller;
     if (!control.workStart) control.workStart = Clock::now();
-    static const Cluster alone;
-    const Cluster& cluster = control.cluster ? *control.cluster : alone;
+    const Cluster& cluster = control.clusterOrAlone();
     // Scene analysis: maps, cache and stages the scene cannot use are skipped.
     PhaseTimer lightPhase(control.phases, "light_set"); // and the scene analysis
     LightSet all = LightSet::build(scene, accel);

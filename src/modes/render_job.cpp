@@ -51,11 +51,6 @@ enum PassDecision : std::uint32_t {
 
 using Clock = std::chrono::steady_clock;
 
-const Cluster& clusterOf(const RenderControl& control) {
-    static const Cluster alone;
-    return control.cluster ? *control.cluster : alone;
-}
-
 // The engine's retrace stages of a render.
 struct EngineStageSet {
     ShadowStage shadow;
@@ -207,7 +202,7 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
       m_startTicks((control.workStart ? *control.workStart : Clock::now())
                        .time_since_epoch()
                        .count()),
-      m_cluster(clusterOf(control)),
+      m_cluster(control.clusterOrAlone()),
       m_film(scene.camera.width, scene.camera.height,
              Film::exponentFor(lights.radianceScale(scene.worldBounds()))),
       m_sensor(sensorMatrix(scene.sensor, spectral::colorSpace(spectral::ColorSpaceId::Srgb))),
