@@ -13,6 +13,7 @@
 namespace rayproc {
 
 class ModeOptions;
+struct ModeSettings;
 
 // Preview (the paper's real-time mode): ray casting, one sample per pixel, area lights as
 // point lights at their corners with hard shadows, one bounce of mirror reflection, glass as
@@ -85,6 +86,10 @@ RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOv
 GiSettings giSettings(const Scene& scene, const ModeOverrides& cli);
 // gi's own command-line options (modes/gi_options.cpp).
 std::unique_ptr<ModeOptions> giOptions();
+// gi's settings in bench's words (ModeEntry::settingWords), beside its options.
+std::string giSettingWords(const ModeSettings& settings);
+// --no-russian-roulette's word when roulette is off (raytrace, path, gi): "no-russian-roulette".
+inline std::string rouletteWord(bool roulette) { return roulette ? "" : "no-russian-roulette"; }
 PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 
 // Each render takes the caller's hooks and stops beside its settings (engine/render_control.h);
