@@ -210,7 +210,7 @@ inline PhotonRounds traceGlobalMap(const Scene& scene, const EmbreeScene& accel,
     engine.quiet = true;
     Cluster alone;
     Stats stats;
-    return buildPhotonMap(map, scene, accel, lights, GiSettings{}, engine, alone, pass,
+    return buildPhotonMap(map, scene, accel, lights, GiSettings{}, engine, alone, nullptr, pass,
                           FocusRegion{}, stats, gatherMap);
 }
 

@@ -21,10 +21,14 @@ struct AblationSwitch {
     std::string name;      // the optimisation: "irradiance cache"
     std::string mode;      // the mode whose render it speeds up or improves
     std::string cliOption; // how `rayproc render` turns it off
-    void (*disable)(RenderConfig&);
+    // Turns it off on a render's settings; null for a mode's own option (ModeEntry::options),
+    // which `cliOption` turns off through the mode's own parser, as on the command line.
+    void (*disable)(RenderConfig&) = nullptr;
 };
 
 const std::vector<AblationSwitch>& ablationSwitches();
+// The switch off on `c` (a mode's settings from the scene, as RenderConfig::forMode makes them).
+void switchOff(const AblationSwitch& sw, RenderConfig& c);
 
 struct AblationRow {
     std::string scene, optimisation, mode, settingsOn, settingsOff;

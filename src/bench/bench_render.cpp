@@ -31,27 +31,11 @@ void applyGiVariant(RenderConfig& c, const GiVariant& variant) {
 std::string RenderConfig::settingsString() const {
     std::ostringstream o;
     o << "spp=" << spp();
-    if (mode == "gi") {
-        o << " gather=" << gi.gatherRays << " ic=" << gi.icAccuracy << " photons=" << gi.photons;
-        if (gi.causticPhotons != gi.photons) o << " caustic-photons=" << gi.causticPhotons;
-        if (!gi.irradianceCache) o << " no-irradiance-cache";
-        if (gi.icRefineRays != GiSettings{}.icRefineRays) o << " ic-refine-rays=" << gi.icRefineRays;
-        if (gi.icCorrectionRays != GiSettings{}.icCorrectionRays)
-            o << " ic-correction-rays=" << gi.icCorrectionRays;
-        if (!gi.icSmoothing) o << " no-ic-smoothing";
-        if (!gi.precomputedIrradiance) o << " no-precomputed-irradiance";
-        if (!gi.lazyIrradiance) o << " no-lazy-irradiance";
-        if (!gi.gatherDirect) o << " no-gather-direct";
-        if (gi.mapCorrection) o << " map-correction";
-        if (gi.photonRounds != kMaxPhotonRounds) o << " photon-rounds=" << gi.photonRounds;
-        if (!gi.caustics) o << " no-caustics";
-        if (!gi.progressiveCaustics) o << " no-progressive-caustics";
-        else if (!gi.causticPixelRadius) o << " no-caustic-pixel-radius";
-        if (!gi.roughCaustics) o << " no-rough-caustics";
-    }
-    if ((mode == "path" && !path.roulette) || (mode == "raytrace" && !raytrace.roulette) ||
-        (mode == "gi" && !gi.roulette))
-        o << " no-russian-roulette";
+    // The mode's own settings in its own words (ModeEntry::settingWords), then the engine's
+    // switches that the mode reads.
+    const ModeEntry* entry = findMode(mode);
+    const std::string words = entry ? entry->settingWords(*this) : std::string();
+    if (!words.empty()) o << " " << words;
     if (!engine.stratification) o << " no-stratification";
     if (!engine.skyCompensation && mode == "path") o << " no-sky-compensation";
     if (!engine.glossyMis && (mode == "gi" || mode == "raytrace")) o << " no-glossy-mis";
@@ -68,7 +52,7 @@ TimedRender renderTimed(const Scene& scene, const EmbreeScene& accel, const Rend
     Clock::time_point start = Clock::now();
     const ModeEntry* entry = findMode(c.mode);
     if (!entry) throw InputError("unknown mode '" + c.mode + "'");
-    RenderResult r = entry->render(scene, accel, c, c.engine);
+    RenderResult r = entry->render(scene, accel, c, c.engine, c.control);
     TimedRender t;
     t.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     t.image = std::move(r.image);

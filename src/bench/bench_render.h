@@ -20,15 +20,19 @@ namespace rayproc::bench {
 struct RenderConfig : ModeSettings {
     std::string mode;
     EngineSettings engine;
+    // The render's stops and error rows (--progressive); none by default. Not in the settings
+    // string: the caller names the stop it sets.
+    RenderControl control;
 
     // The mode's settings from the scene's render block (as `rayproc render` would take them,
     // without CLI overrides) and `spp` samples per pixel.
     static RenderConfig forMode(const Scene& scene, const std::string& mode, int spp);
     int spp() const;
-    // The results.csv settings column: "spp=N" plus, for gi, the swept settings
-    // ("gather=64 ic=0.25 photons=200000"), plus every switch that is off ("packets=1",
-    // "no-irradiance-cache", ...), plus "spectral" for a spectral render. Enough to reproduce
-    // the render with `rayproc render`.
+    // The results.csv settings column: "spp=N", the mode's own words for its settings
+    // (ModeEntry::settingWords: for gi the swept "gather=64 ic=0.25 photons=200000" and every
+    // setting off its default, "no-irradiance-cache", ...), every engine switch that is off
+    // ("packets=1", "no-stratification", ...), and "spectral" for a spectral render. Enough to
+    // reproduce the render with `rayproc render`.
     std::string settingsString() const;
 };
 

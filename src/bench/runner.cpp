@@ -287,14 +287,14 @@ LadderRun runProgressive(const std::vector<SceneJob>& jobs, const BenchSuite& su
             RenderConfig c = ladderConfigs(b, suite, ladder, options).front();
             // As many samples as the time allows: the limit ends the render.
             c.setSpp(kProgressiveSpp);
-            c.engine.control.timeLimitSeconds = timeLimit;
-            c.engine.control.reference = &b.reference.image;
+            c.control.timeLimitSeconds = timeLimit;
+            c.control.reference = &b.reference.image;
             char limit[48];
             std::snprintf(limit, sizeof limit, "time-limit=%g", timeLimit);
             std::string fixed = settingsWithout(c.settingsString(), "spp");
             fixed += (fixed.empty() ? "" : " ") + std::string(limit);
             std::size_t firstRow = run.rows.size();
-            c.engine.control.onPassError = [&](const RenderControl::PassError& e) {
+            c.control.onPassError = [&](const RenderControl::PassError& e) {
                 BenchRow row{b.name, c.mode, "spp=" + std::to_string(e.spp) + " " + fixed,
                              e.seconds, e.rays, e.relmse, e.rmse};
                 results.append(row);

@@ -167,7 +167,7 @@ std::string renderModeOf(const RenderArgs& a, const Scene& scene) {
 }
 
 EngineSettings engineSettingsOf(const RenderArgs& a, const Scene& scene, int threads,
-                                const Cluster& cluster, PhaseLog& phases) {
+                                const Cluster& cluster) {
     EngineSettings engine;
     engine.threads = threads;
     engine.packetWidth = a.packetWidth;
@@ -175,7 +175,6 @@ EngineSettings engineSettingsOf(const RenderArgs& a, const Scene& scene, int thr
                   : scene.render.seed >= 0 ? std::uint64_t(scene.render.seed)
                                            : 1;
     engine.quiet = a.quiet || !cluster.root();
-    engine.control.cluster = &cluster;
     engine.sceneAnalysis = !a.noSceneAnalysis;
     engine.stratification = !a.noStratification;
     engine.glossyMis = !a.noGlossyMis;
@@ -183,13 +182,21 @@ EngineSettings engineSettingsOf(const RenderArgs& a, const Scene& scene, int thr
     engine.skyCompensation = !a.noSkyCompensation;
     engine.spectral = a.noSpectral ? false : a.spectral || scene.render.spectral;
     engine.lightChoice = !a.noLightChoice;
-    engine.control.timeLimitSeconds = a.timeLimit;
-    engine.control.targetRelMse = a.targetRelMse;
     engine.adaptiveSampling = !a.noAdaptive && (a.adaptive || a.targetRelMse > 0);
     engine.adaptiveMinSpp = a.adaptiveMinSpp;
-    engine.control.noiseBreakdown = a.debugView == "noise";
-    engine.control.phases = &phases;
     return engine;
+}
+
+// The render's stops, its noise layers, its processes and its phase log; the watchers and the
+// error log are added below when asked for.
+RenderControl renderControlOf(const RenderArgs& a, const Cluster& cluster, PhaseLog& phases) {
+    RenderControl control;
+    control.cluster = &cluster;
+    control.timeLimitSeconds = a.timeLimit;
+    control.targetRelMse = a.targetRelMse;
+    control.noiseBreakdown = a.debugView == "noise";
+    control.phases = &phases;
+    return control;
 }
 
 ToneMapSettings toneMapOf(const RenderArgs& a) {
@@ -204,9 +211,9 @@ ToneMapSettings toneMapOf(const RenderArgs& a) {
 // --progressive: the image written every few seconds. A failed progressive write must not end
 // the render: warn once, keep rendering; the final write reports its own failure.
 void writeProgressively(const RenderArgs& a, const std::string& output, const ToneMapSettings& tm,
-                        EngineSettings& engine) {
-    engine.control.progressiveSeconds = a.progressiveSeconds;
-    engine.control.onProgress = [output, tm, warned = false](const Image& img) mutable {
+                        RenderControl& control) {
+    control.progressiveSeconds = a.progressiveSeconds;
+    control.onProgress = [output, tm, warned = false](const Image& img) mutable {
         try {
             writeImage(output, img, tm);
         } catch (const ImageIoError& e) {
@@ -218,7 +225,7 @@ void writeProgressively(const RenderArgs& a, const std::string& output, const To
 
 // --reference: read and checked against the render's size; the error log compares with it.
 void loadReference(const RenderArgs& a, const Scene& scene, Image& reference,
-                   EngineSettings& engine) {
+                   RenderControl& control) {
     reference = readImage(a.reference);
     if (reference.width != scene.camera.width || reference.height != scene.camera.height)
         throw InputError(a.reference + ": the reference is " + std::to_string(reference.width) +
@@ -232,8 +239,8 @@ void loadReference(const RenderArgs& a, const Scene& scene, Image& reference,
                      "rayproc: warning: --reference: %zu pixels are NaN or infinite; the "
                      "error log leaves them out\n",
                      bad);
-    engine.control.reference = &reference;
-    engine.control.errorLogPath = a.errorLog;
+    control.reference = &reference;
+    control.errorLogPath = a.errorLog;
 }
 
 std::unique_ptr<EmbreeScene> buildAccel(const RenderArgs& a, const Scene& scene,
@@ -258,7 +265,7 @@ struct TevDisplay {
     std::unique_ptr<DisplayClient> client;
     std::unique_ptr<PeriodicReport> report;
 
-    void connect(const std::string& server, const std::string& output, EngineSettings& engine) {
+    void connect(const std::string& server, const std::string& output, RenderControl& control) {
         client = std::make_unique<DisplayClient>(server,
                                                  std::filesystem::path(output).filename().string());
         if (!client->connected()) {
@@ -272,7 +279,7 @@ struct TevDisplay {
             1.0, [shown](const Film& film, const PeriodicReport::Progress&) {
                 shown->show(film.resolveInProgress());
             });
-        engine.control.watcher = report->watcher();
+        control.watcher = report->watcher();
     }
     void showFinal(const Image& image) {
         if (!client) return;
@@ -299,7 +306,8 @@ void checkMemory(long long pixels, std::uint64_t photons, std::uint64_t caustic,
 // The mode's settings (each mode reads its own) with the command line's options, logged so the
 // image can be reproduced, checked against the memory, then the render.
 RenderResult renderWithMode(const RenderArgs& a, const Scene& scene, const EmbreeScene& accel,
-                            const std::string& mode, const EngineSettings& engine) {
+                            const std::string& mode, const EngineSettings& engine,
+                            const RenderControl& control) {
     // With an error target and no --spp, samples go on until the target (or the time limit,
     // or Ctrl-C) stops them.
     int sppCap = a.spp > 0 ? a.spp : a.targetRelMse > 0 ? kTargetSppCap : 0;
@@ -308,7 +316,7 @@ RenderResult renderWithMode(const RenderArgs& a, const Scene& scene, const Embre
     const ModeEntry& entry = *findMode(mode);
     ModeSettings settings = ModeSettings::forScene(scene, overrides);
     for (const std::unique_ptr<ModeOptions>& options : a.modeOptions) options->apply(settings);
-    const Cluster& cluster = *engine.control.cluster;
+    const Cluster& cluster = control.clusterOrAlone();
     if (!engine.quiet)
         std::fprintf(stderr, "rayproc render %s: %s %s%s %dx%d\n", a.scene.c_str(),
                      entry.describe(settings).c_str(), engine.toString().c_str(),
@@ -319,7 +327,7 @@ RenderResult renderWithMode(const RenderArgs& a, const Scene& scene, const Embre
     const auto [photons, causticPhotons] = entry.photons(settings);
     checkMemory((long long)scene.camera.width * scene.camera.height, photons, causticPhotons,
                 cluster.root());
-    RenderResult result = entry.render(scene, accel, settings, engine);
+    RenderResult result = entry.render(scene, accel, settings, engine, control);
     // The job's communication, summed over the ranks (a collective; zero for one process).
     std::vector<std::uint64_t> sent{cluster.bytesSent()};
     cluster.sumToRoot(sent);
@@ -414,16 +422,17 @@ int runRender(const RenderArgs& a) {
         threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(budget.threads));
     std::unique_ptr<Scene> scene = loadRenderScene(a, files, phases);
     const std::string mode = renderModeOf(a, *scene);
-    EngineSettings engine = engineSettingsOf(a, *scene, budget.threads, cluster, phases);
+    const EngineSettings engine = engineSettingsOf(a, *scene, budget.threads, cluster);
+    RenderControl control = renderControlOf(a, cluster, phases);
     const ToneMapSettings tm = toneMapOf(a);
-    if (a.progressive && writer) writeProgressively(a, output, tm, engine);
+    if (a.progressive && writer) writeProgressively(a, output, tm, control);
     Image reference;
-    if (!a.reference.empty()) loadReference(a, *scene, reference, engine);
+    if (!a.reference.empty()) loadReference(a, *scene, reference, control);
     std::unique_ptr<EmbreeScene> accel = buildAccel(a, *scene, phases, writer);
     TevDisplay display;
-    if (writer && !a.displayServer.empty()) display.connect(a.displayServer, output, engine);
+    if (writer && !a.displayServer.empty()) display.connect(a.displayServer, output, control);
 
-    RenderResult result = renderWithMode(a, *scene, *accel, mode, engine);
+    RenderResult result = renderWithMode(a, *scene, *accel, mode, engine, control);
     if (!writer) return result.cancelled ? interruptExitStatus() : 0;
     reportOutcome(a, result);
     display.showFinal(result.image);

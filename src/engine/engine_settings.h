@@ -1,10 +1,8 @@
 // Settings of the engine itself, common to every mode and printed in the render log: threads,
 // packet width, seed, the profiling switches, spectral rendering and adaptive sampling. The
-// hooks and stops of its callers are a RenderControl of their own (engine/render_control.h),
-// carried along as `control`.
+// hooks and stops of its callers are not here: they are a RenderControl of their own
+// (engine/render_control.h), a parameter of every render beside these settings.
 #pragma once
-
-#include "engine/render_control.h"
 
 #include <cstdint>
 #include <string>
@@ -39,8 +37,6 @@ struct EngineSettings {
     // over the image (the cap per pixel under targetRelMse).
     bool adaptiveSampling = false;
     int adaptiveMinSpp = 16;
-    // The caller's hooks and stops (engine/render_control.h).
-    RenderControl control;
     std::string toString() const;
 };
 

@@ -2,8 +2,11 @@
 // (EngineSettings): the progressive output, serve's watcher and stop, the error log against a
 // reference and bench's rows of it, the stops (time limit, error target), path mode's noise
 // layers, the MPI cluster and the phase log. None of it is in the render log's settings line:
-// the image depends on it only through the stops, which decide the passes.
+// the image depends on it only through the stops, which decide the passes. Every render takes
+// one beside its EngineSettings; a caller without hooks passes a default-constructed one.
 #pragma once
+
+#include "cluster/cluster.h"
 
 #include <chrono>
 #include <cstdint>
@@ -13,7 +16,6 @@
 
 namespace rayproc {
 
-class Cluster;
 class Film;
 class PhaseLog;
 struct Image;
@@ -71,6 +73,11 @@ struct RenderControl {
     // statistics and the stop decisions are combined so the result is one process's, to the
     // bit. Only rank 0's result holds the whole image.
     const Cluster* cluster = nullptr;
+    // The processes sharing the render: `cluster`, or this process alone when it is null.
+    const Cluster& clusterOrAlone() const {
+        static const Cluster alone;
+        return cluster ? *cluster : alone;
+    }
     // When set, every phase of the render (light set, photon passes, cache prepass, render
     // passes, film resolve...) adds its wall time here (engine/phases.h; --stats).
     PhaseLog* phases = nullptr;

@@ -120,7 +120,8 @@ struct PrepassProgress {
 // making a record request wherever the frozen cache has no usable record.
 void traceLevel(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
                 const GiData& gi, IcRequests& requests, const Camera& cam, int filmExponent,
-                const EngineSettings& engine, const Cluster& cluster, Stats& stats,
+                const EngineSettings& engine, const Cluster& cluster, PhaseLog* phases,
+                Stats& stats,
                 PrepassProgress& progress) {
     Film film(cam.width, cam.height, filmExponent);
     ShadingPolicy policy;
@@ -145,7 +146,7 @@ void traceLevel(const Scene& scene, const EmbreeScene& accel, const LightSet& li
                surface)
         .stage("shadow", {engineRoute(RayKind::Shadow)}, shadow)
         .stage("gather", {kGatherQueue, kGatherShadowQueue}, gather)
-        .timedAs(engine.control.phases, "cache_prepass");
+        .timedAs(phases, "cache_prepass");
     CameraEmitter camera(rc, &cam);
     camera.setShare(cluster.rank(), cluster.size()); // each rank gathers for its tiles
     camera.beginPass(0, 1);
@@ -220,7 +221,7 @@ IrradianceRecord recordOf(const MadeGather& r, const GiData& gi, double radiance
 std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
                                 const LightSet& lights, const GiData& gi, IrradianceCache& cache,
                                 const EngineSettings& engine, const Cluster& cluster,
-                                Stats& stats) {
+                                PhaseLog* phases, Stats& stats) {
     RAYPROC_CHECK(gi.cache == &cache);
     IcRequests requests;
     const int filmExponent = Film::exponentFor(lights.radianceScale(scene.worldBounds()));
@@ -237,11 +238,11 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
     for (int scale : kScales) {
         // The level's own work on this thread: its film and stages, merging, sorting and
         // inserting its records; the gathers are the workers' (cache_prepass).
-        PhaseTimer levelPhase(engine.control.phases, "cache_insert");
+        PhaseTimer levelPhase(phases, "cache_insert");
         if (stopped(cluster)) break;
         const Camera cam = levelCamera(scene.camera, scale);
         requests.beginLevel(std::size_t(cam.width) * cam.height * 2);
-        traceLevel(scene, accel, lights, gi, requests, cam, filmExponent, engine, cluster, stats,
+        traceLevel(scene, accel, lights, gi, requests, cam, filmExponent, engine, cluster, phases, stats,
                    levels);
         // New records (every rank's) in a fixed order, then into the cache.
         std::vector<MadeGather> made = mergeGatherShares(cluster, madeGathers(requests));

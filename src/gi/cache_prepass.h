@@ -18,6 +18,7 @@
 namespace rayproc {
 
 class Cluster;
+class PhaseLog;
 class EmbreeScene;
 class IrradianceCache;
 struct GiData;
@@ -29,6 +30,6 @@ struct Scene;
 std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
                                 const LightSet& lights, const GiData& gi, IrradianceCache& cache,
                                 const EngineSettings& engine, const Cluster& cluster,
-                                Stats& stats);
+                                PhaseLog* phases, Stats& stats);
 
 } // namespace rayproc

@@ -19,9 +19,10 @@ namespace rayproc {
 
 CacheRefinement::CacheRefinement(const Scene& scene, const EmbreeScene& accel,
                                  const LightSet& lights, const GiData& gi, IrradianceCache& cache,
-                                 const EngineSettings& engine, const Cluster& cluster, Stats& stats)
+                                 const EngineSettings& engine, const Cluster& cluster,
+                                 PhaseLog* phases, Stats& stats)
     : m_scene(scene), m_accel(accel), m_lights(lights), m_gi(gi), m_cache(cache), m_engine(engine),
-      m_cluster(cluster), m_stats(stats) {
+      m_cluster(cluster), m_phases(phases), m_stats(stats) {
     // The prepass's gathers: S_0 = E_0 n_0 / pi.
     // Both parities start from it.
     const std::vector<IrradianceRecord>& records = cache.records();
@@ -138,7 +139,7 @@ CacheRefinement::PassSums CacheRefinement::tracePass(int pass, bool correcting) 
     Pipeline pipeline("cache refinement", "record", m_accel.root(), m_engine.packetWidth,
                       m_stats, m_engine.threads);
     pipeline.stage("gather", {kGatherQueue, kGatherShadowQueue}, gather)
-        .timedAs(m_engine.control.phases, "cache_refinement");
+        .timedAs(m_phases, "cache_refinement");
     if (correcting) addCorrectionStages(pipeline, correction, shadow);
     const std::uint64_t key =
         kernels::hashCombine(kernels::hashCombine(m_engine.seed, 0x1c7e), std::uint64_t(pass));

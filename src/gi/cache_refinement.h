@@ -60,6 +60,7 @@
 namespace rayproc {
 
 class Cluster;
+class PhaseLog;
 class EmbreeScene;
 class IrradianceCache;
 struct LightSet;
@@ -76,7 +77,7 @@ class CacheRefinement {
 public:
     CacheRefinement(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
                     const GiData& gi, IrradianceCache& cache, const EngineSettings& engine,
-                    const Cluster& cluster, Stats& stats);
+                    const Cluster& cluster, PhaseLog* phases, Stats& stats);
     // Gathers pass `pass`'s rays for every record and updates the cache. A collective under
     // MPI (every rank calls it for every pass).
     void beginPass(int pass);
@@ -99,6 +100,7 @@ private:
     IrradianceCache& m_cache;
     EngineSettings m_engine;
     const Cluster& m_cluster;
+    PhaseLog* m_phases;
     Stats& m_stats;
     // Per pass parity, per record: the radiance sums of its gathers (per channel; the
     // prepass's in both) and their ray count.

@@ -21,7 +21,7 @@ namespace rayproc {
 std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const EmbreeScene& accel,
                                                    const LightSet& lights, const GiSettings& s,
                                                    const EngineSettings& engine,
-                                                   const Cluster& cluster,
+                                                   const Cluster& cluster, PhaseLog* phases,
                                                    const PhotonPassSpec& pass,
                                                    const FocusRegion& focus, Stats& stats) {
     Film film(1, 1);
@@ -40,7 +40,7 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     Pipeline pipeline("photons", "photon", accel.root(), engine.packetWidth, stats,
                       engine.threads);
     pipeline.stage("photon", {kPhotonQueue}, stage)
-        .timedAs(engine.control.phases, "photon_tracing");
+        .timedAs(phases, "photon_tracing");
     PhotonEmitter emitter(lights, scene.worldBounds(), pass.count, engine.seed, pass.tag,
                           !focus.active ? Bounds3{}
                           : pass.caustic ? focus.causticEmissionBounds()
@@ -60,7 +60,7 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     pipeline.run(emitter, [] { return interruptRequested(); });
     progress.finish(!interruptRequested());
     if (interruptRequested()) return {};
-    PhaseTimer sortPhase(engine.control.phases, "photon_sort", PhaseKind::Parallel);
+    PhaseTimer sortPhase(phases, "photon_sort", PhaseKind::Parallel);
     return stage.takeKeyedPhotons([] { return interruptRequested(); });
 }
 
@@ -93,10 +93,10 @@ bool stopped(const Cluster& cluster) {
 PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScene& accel,
                             const LightSet& lights, const GiSettings& s,
                             const EngineSettings& engine, const Cluster& cluster,
-                            const PhotonPassSpec& pass, const FocusRegion& focus, Stats& stats,
-                            PhotonMap* indirect) {
+                            PhaseLog* phases, const PhotonPassSpec& pass,
+                            const FocusRegion& focus, Stats& stats, PhotonMap* indirect) {
     // Besides the tracing and sorting: the kd-trees (parallel below their top levels).
-    PhaseTimer buildPhase(engine.control.phases, "photon_map_build", PhaseKind::Parallel);
+    PhaseTimer buildPhase(phases, "photon_map_build", PhaseKind::Parallel);
     map.build({});
     if (indirect) indirect->build({});
     PhotonRounds done;
@@ -115,8 +115,8 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
             round.label = "gi photons, another round";
         }
         std::vector<PhotonStage::KeyedPhoton> keyed =
-            tracePhotons(scene, accel, lights, s, engine, cluster, round, focus, stats);
-        PhaseTimer mergePhase(engine.control.phases, "photon_sort", PhaseKind::Parallel);
+            tracePhotons(scene, accel, lights, s, engine, cluster, phases, round, focus, stats);
+        PhaseTimer mergePhase(phases, "photon_sort", PhaseKind::Parallel);
         traced.push_back(mergePhotonShares(cluster, std::move(keyed)));
         mergePhase.stop();
         if (stopped(cluster)) return done;

@@ -19,6 +19,7 @@
 namespace rayproc {
 
 class Cluster;
+class PhaseLog;
 class SpectralRender;
 struct EngineSettings;
 
@@ -45,7 +46,7 @@ struct PhotonPassSpec {
 std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const EmbreeScene& accel,
                                                    const LightSet& lights, const GiSettings& s,
                                                    const EngineSettings& engine,
-                                                   const Cluster& cluster,
+                                                   const Cluster& cluster, PhaseLog* phases,
                                                    const PhotonPassSpec& pass,
                                                    const FocusRegion& focus, Stats& stats);
 
@@ -68,7 +69,7 @@ struct PhotonRounds {
 };
 PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScene& accel,
                     const LightSet& lights, const GiSettings& s, const EngineSettings& engine,
-                    const Cluster& cluster, const PhotonPassSpec& pass, const FocusRegion& focus,
-                    Stats& stats, PhotonMap* indirect = nullptr);
+                    const Cluster& cluster, PhaseLog* phases, const PhotonPassSpec& pass,
+                    const FocusRegion& focus, Stats& stats, PhotonMap* indirect = nullptr);
 
 } // namespace rayproc

@@ -19,14 +19,14 @@ constexpr int kRadiusSamples = 1024;
 ProgressiveCaustics::ProgressiveCaustics(const Scene& scene, const EmbreeScene& accel,
                                          const LightSet& lights, GiData& gi,
                                          const EngineSettings& engine, const Cluster& cluster,
-                                         const FocusRegion& focus, Stats& stats)
+                                         PhaseLog* phases, const FocusRegion& focus, Stats& stats)
     : m_scene(scene), m_accel(accel), m_lights(lights), m_gi(gi), m_engine(engine),
-      m_cluster(cluster), m_focus(focus), m_stats(stats),
+      m_cluster(cluster), m_phases(phases), m_focus(focus), m_stats(stats),
       m_radius(double(gi.settings.causticAlpha)) {
     const GiSettings& s = gi.settings;
     PhotonPassSpec spec{true, std::uint32_t(s.causticPhotons), passTag(0), "gi caustic photons"};
     spec.spectral = m_gi.spectral;
-    buildPhotonMap(m_map, scene, accel, lights, s, m_engine, cluster, spec, focus, stats);
+    buildPhotonMap(m_map, scene, accel, lights, s, m_engine, cluster, m_phases, spec, focus, stats);
     m_passesTraced = 1;
     m_mapPhotons = std::uint64_t(s.causticPhotons);
     float median = m_map.medianNeighbourRadius(s.causticK, gi.causticRadius, kRadiusSamples);
@@ -50,8 +50,8 @@ void ProgressiveCaustics::beginPass(int pass, int samples) {
     if (pass != m_mapPass || photons != m_mapPhotons) {
         PhotonPassSpec spec{true, std::uint32_t(photons), passTag(pass), "gi caustic photons"};
         spec.spectral = m_gi.spectral;
-        buildPhotonMap(m_map, m_scene, m_accel, m_lights, s, m_engine, m_cluster, spec, m_focus,
-                       m_stats);
+        buildPhotonMap(m_map, m_scene, m_accel, m_lights, s, m_engine, m_cluster, m_phases, spec,
+                       m_focus, m_stats);
         m_mapPass = pass;
         m_mapPhotons = photons;
         ++m_passesTraced;

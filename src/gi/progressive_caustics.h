@@ -44,6 +44,7 @@
 namespace rayproc {
 
 class Cluster;
+class PhaseLog;
 class EmbreeScene;
 struct LightSet;
 struct Scene;
@@ -97,7 +98,7 @@ public:
     // causticRadius is the largest radius any pass may start from.
     ProgressiveCaustics(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
                         GiData& gi, const EngineSettings& engine, const Cluster& cluster,
-                        const FocusRegion& focus, Stats& stats);
+                        PhaseLog* phases, const FocusRegion& focus, Stats& stats);
     // Points gi at pass `pass`'s map (0-based render pass, taking `samples` samples per
     // pixel) and radius, tracing it first when it is not the one held. Passes come in order.
     // A collective under MPI (every rank calls it for every pass).
@@ -115,6 +116,7 @@ private:
     GiData& m_gi;
     EngineSettings m_engine;
     const Cluster& m_cluster;
+    PhaseLog* m_phases;
     const FocusRegion& m_focus;
     Stats& m_stats;
     PhotonMap m_map;

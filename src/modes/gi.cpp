@@ -159,24 +159,25 @@ struct GiPhotonMaps {
 void tracePhotonMaps(GiPhotonMaps& maps, GiData& gi, const Scene& scene,
                      const EmbreeScene& accel, const LightSet& lights, const RenderPlan& plan,
                      const FocusRegion& focus, const EngineSettings& engine,
-                     const Cluster& cluster, Stats& photonStats) {
+                     const Cluster& cluster, PhaseLog* phases, Stats& photonStats) {
     const GiSettings& s = gi.settings;
     auto t0 = Clock::now();
     // Direct light at gather hits: only delta lights and the sky are sampled there.
     const bool gatherDirect =
         s.gatherDirect && (lights.hasEnvironment() || lights.hasDeltaLights());
     if (s.photons > 0 && plan.globalMap)
-        maps.rounds = buildPhotonMap(maps.global, scene, accel, lights, s, engine, cluster,
+        maps.rounds = buildPhotonMap(maps.global, scene, accel, lights, s, engine, cluster, phases,
                                      {false, std::uint32_t(s.photons), 1, "gi photons",
                                       s.photonRounds, std::size_t(s.photons) / 4, gi.spectral},
                                      focus, photonStats, gatherDirect ? &maps.gatherMap : nullptr);
     const bool causticPass = s.caustics && s.causticPhotons > 0 && plan.causticMap;
     gi.roughCaustics = causticPass && s.roughCaustics;
     if (causticPass && s.progressiveCaustics) {
-        maps.progressive.emplace(scene, accel, lights, gi, engine, cluster, focus, photonStats);
+        maps.progressive.emplace(scene, accel, lights, gi, engine, cluster, phases, focus,
+                                 photonStats);
         gi.causticFixedRadius = true;
     } else if (causticPass) {
-        buildPhotonMap(maps.caustic, scene, accel, lights, s, engine, cluster,
+        buildPhotonMap(maps.caustic, scene, accel, lights, s, engine, cluster, phases,
                        {true, std::uint32_t(s.causticPhotons), 2, "gi caustic photons", 1, 0,
                         gi.spectral},
                        focus,
@@ -184,7 +185,7 @@ void tracePhotonMaps(GiPhotonMaps& maps, GiData& gi, const Scene& scene,
     }
     maps.photonSeconds = secondsSince(t0);
     auto t1 = Clock::now();
-    PhaseTimer precomputePhase(engine.control.phases, "irradiance_precompute", PhaseKind::Parallel);
+    PhaseTimer precomputePhase(phases, "irradiance_precompute", PhaseKind::Parallel);
     if (s.precomputedIrradiance && maps.global.size() > 0 && !stopped(cluster))
         precomputePhotonIrradiance(maps.global, s, gi.globalRadius, engine, cluster);
     if (s.precomputedIrradiance && maps.gatherMap.size() > 0 && !stopped(cluster))
@@ -310,13 +311,13 @@ namespace {
 // every rank's share of its rays summed.
 ThreadStats prepassCache(IrradianceCache& cache, GiData& gi, const Scene& scene,
                          const EmbreeScene& accel, const LightSet& lights, const RenderPlan& plan,
-                         const EngineSettings& engine, const Cluster& cluster, Stats& cacheStats,
-                         Extras& extras) {
+                         const EngineSettings& engine, const Cluster& cluster, PhaseLog* phases,
+                         Stats& cacheStats, Extras& extras) {
     const GiSettings& s = gi.settings;
     auto t0 = Clock::now();
     gi.cache = s.irradianceCache ? &cache : nullptr;
     if (s.irradianceCache && plan.globalMap && !stopped(cluster))
-        fillIrradianceCache(scene, accel, lights, gi, cache, engine, cluster, cacheStats);
+        fillIrradianceCache(scene, accel, lights, gi, cache, engine, cluster, phases, cacheStats);
     double cacheSeconds = secondsSince(t0);
     ThreadStats cacheTotals = cacheStats.merged();
     sumToRoot(cluster, cacheTotals);
@@ -330,21 +331,20 @@ ThreadStats prepassCache(IrradianceCache& cache, GiData& gi, const Scene& scene,
 } // namespace
 
 RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSettings& s,
-                      const EngineSettings& engineIn) {
+                      const EngineSettings& engine, const RenderControl& caller) {
     // The mode's clock starts here: the error log's seconds and --time-limit count the
     // photon passes, the precomputation and the cache's prepass too.
-    EngineSettings engine = engineIn;
-    if (!engine.control.workStart) engine.control.workStart = Clock::now();
-    static const Cluster alone;
-    const Cluster& cluster = engine.control.cluster ? *engine.control.cluster : alone;
+    RenderControl control = caller;
+    if (!control.workStart) control.workStart = Clock::now();
+    const Cluster& cluster = control.clusterOrAlone();
     // Scene analysis: maps, cache and stages the scene cannot use are skipped.
-    PhaseTimer lightPhase(engine.control.phases, "light_set"); // and the scene analysis
+    PhaseTimer lightPhase(control.phases, "light_set"); // and the scene analysis
     LightSet all = LightSet::build(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanGi);
     if (!plan.render) return blackRender(scene);
     LightSet lights = plan.sampledLights(all);
     lightPhase.stop();
-    PhaseTimer focusPhase(engine.control.phases, "focus_region"); // rays from this thread
+    PhaseTimer focusPhase(control.phases, "focus_region"); // rays from this thread
     FocusRegion focus = cameraFocusRegion(scene, accel, engine.packetWidth);
     focusPhase.stop();
     Extras extras;
@@ -356,7 +356,8 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
 
     Stats photonStats;
     GiPhotonMaps maps;
-    tracePhotonMaps(maps, gi, scene, accel, lights, plan, focus, engine, cluster, photonStats);
+    tracePhotonMaps(maps, gi, scene, accel, lights, plan, focus, engine, cluster, control.phases,
+                    photonStats);
     addPhotonExtras(extras, maps, gi);
 
     // Cache prepass (gi/cache_prepass.h).
@@ -366,7 +367,7 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     IrradianceCache cache(scene.worldBounds(), cs);
     Stats cacheStats;
     const ThreadStats cacheTotals = prepassCache(cache, gi, scene, accel, lights, plan, engine,
-                                                 cluster, cacheStats, extras);
+                                                 cluster, control.phases, cacheStats, extras);
 
     // Second pass: the render. Before each render pass: a new caustic map (progressive
     // caustics), the records' new gather rays (cache refinement).
@@ -375,8 +376,9 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
     if (s.irradianceCache && (s.icRefineRays > 0 || s.icCorrectionRays > 0) && plan.globalMap &&
         cache.size() > 0 && s.debugView == GiDebugView::None) {
         // The records' sums and each record's neighbours (a k-nearest search per record).
-        PhaseTimer setupPhase(engine.control.phases, "refinement_setup", PhaseKind::Parallel);
-        refinement.emplace(scene, accel, lights, gi, cache, engine, cluster, refineStats);
+        PhaseTimer setupPhase(control.phases, "refinement_setup", PhaseKind::Parallel);
+        refinement.emplace(scene, accel, lights, gi, cache, engine, cluster, control.phases,
+                           refineStats);
     }
     // Without diffuse surfaces the gather stage would never get work: not registered.
     std::function<void(int, int)> beforePass;
@@ -387,13 +389,13 @@ RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSett
         };
     const ShadingPolicy policy = giRenderPolicy(s, engine, plan);
     GiRenderStages giStages(gi);
-    RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine,
+    RenderResult r = runRenderJob("gi", scene, accel, lights, policy, s.spp, engine, control,
                                   RadianceStage::Surface, plan.globalMap ? &giStages : nullptr,
                                   beforePass);
     addRenderExtras(extras, r, maps, gi, refinement ? &*refinement : nullptr);
     if (s.debugView == GiDebugView::IcRecords)
         extras.push_back({"gi/ic_marked_pixels", double(markIcRecords(r.image, scene.camera, cache))});
-    // runRenderJob measured its wall time from engine.control.workStart: the pre-passes are in it.
+    // runRenderJob measured its wall time from control.workStart: the pre-passes are in it.
     ThreadStats photonTotals = photonStats.merged();
     sumToRoot(cluster, photonTotals);
     ThreadStats refineTotals = refineStats.merged();

@@ -7,6 +7,8 @@
 #include "modes/mode_options.h"
 #include "modes/mode_registry.h"
 
+#include <sstream>
+
 namespace rayproc {
 
 namespace {
@@ -178,5 +180,37 @@ void GiOptions::apply(ModeSettings& settings) const {
 } // namespace
 
 std::unique_ptr<ModeOptions> giOptions() { return std::make_unique<GiOptions>(); }
+
+// The words follow the options above; one added there adds its word here. The counts bench
+// sweeps come first and always; the caustic photons where they differ from the global map's
+// (their default follows the image size).
+std::string giSettingWords(const ModeSettings& settings) {
+    const GiSettings& s = settings.gi;
+    const GiSettings d;
+    std::ostringstream o;
+    o << "gather=" << s.gatherRays << " ic=" << s.icAccuracy << " photons=" << s.photons;
+    if (s.causticPhotons != s.photons) o << " caustic-photons=" << s.causticPhotons;
+    if (!s.irradianceCache) o << " no-irradiance-cache";
+    if (s.icRefineRays != d.icRefineRays) o << " ic-refine-rays=" << s.icRefineRays;
+    if (s.icCorrectionRays != d.icCorrectionRays) o << " ic-correction-rays=" << s.icCorrectionRays;
+    if (!s.icSmoothing) o << " no-ic-smoothing";
+    if (!s.precomputedIrradiance) o << " no-precomputed-irradiance";
+    if (!s.lazyIrradiance) o << " no-lazy-irradiance";
+    if (!s.gatherDirect) o << " no-gather-direct";
+    if (s.mapCorrection) o << " map-correction";
+    if (s.photonRounds != d.photonRounds) o << " photon-rounds=" << s.photonRounds;
+    if (!s.caustics) o << " no-caustics";
+    if (!s.progressiveCaustics) o << " no-progressive-caustics";
+    else if (!s.causticPixelRadius) o << " no-caustic-pixel-radius";
+    if (!s.roughCaustics) o << " no-rough-caustics";
+    if (s.globalK != d.globalK) o << " global-k=" << s.globalK;
+    if (s.filmGatherRays != d.filmGatherRays) o << " film-gather-rays=" << s.filmGatherRays;
+    if (s.causticAlpha != d.causticAlpha) o << " caustic-alpha=" << s.causticAlpha;
+    if (s.causticRadius != d.causticRadius) o << " caustic-radius=" << s.causticRadius;
+    if (!s.icGradients) o << " no-ic-gradients";
+    const std::string roulette = rouletteWord(s.roulette);
+    if (!roulette.empty()) o << " " << roulette;
+    return o.str();
+}
 
 } // namespace rayproc

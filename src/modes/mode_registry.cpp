@@ -38,34 +38,41 @@ const std::vector<ModeEntry>& modeRegistry() {
          "real-time approximation: point lights at area-light corners, hard shadows",
          nullptr,
          [](const ModeSettings& m) { return m.preview.spp; },
-         [](const ModeSettings& m) { return m.preview.toString(); }, noPhotons,
+         [](const ModeSettings& m) { return m.preview.toString(); },
+         [](const ModeSettings&) { return std::string(); }, noPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
-            const EngineSettings& engine) {
-             return renderPreview(scene, accel, m.preview, engine);
+            const EngineSettings& engine, const RenderControl& control) {
+             return renderPreview(scene, accel, m.preview, engine, control);
          }},
         {"raytrace",
          "direct light with soft shadows, mirror reflection, Fresnel refraction",
          nullptr,
          [](const ModeSettings& m) { return m.raytrace.spp; },
-         [](const ModeSettings& m) { return m.raytrace.toString(); }, noPhotons,
+         [](const ModeSettings& m) { return m.raytrace.toString(); },
+         [](const ModeSettings& m) { return rouletteWord(m.raytrace.roulette); }, noPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
-            const EngineSettings& engine) {
-             return renderRaytrace(scene, accel, m.raytrace, engine);
+            const EngineSettings& engine, const RenderControl& control) {
+             return renderRaytrace(scene, accel, m.raytrace, engine, control);
          }},
         {"gi",
          "photon mapping with final gathering and an irradiance cache",
          giOptions,
          [](const ModeSettings& m) { return m.gi.spp; },
-         [](const ModeSettings& m) { return m.gi.toString(); }, giPhotons,
+         [](const ModeSettings& m) { return m.gi.toString(); }, giSettingWords, giPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
-            const EngineSettings& engine) { return renderGi(scene, accel, m.gi, engine); }},
+            const EngineSettings& engine, const RenderControl& control) {
+             return renderGi(scene, accel, m.gi, engine, control);
+         }},
         {"path",
          "unbiased path tracing with next-event estimation and MIS: the reference",
          nullptr,
          [](const ModeSettings& m) { return m.path.spp; },
-         [](const ModeSettings& m) { return m.path.toString(); }, noPhotons,
+         [](const ModeSettings& m) { return m.path.toString(); },
+         [](const ModeSettings& m) { return rouletteWord(m.path.roulette); }, noPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
-            const EngineSettings& engine) { return renderPath(scene, accel, m.path, engine); }},
+            const EngineSettings& engine, const RenderControl& control) {
+             return renderPath(scene, accel, m.path, engine, control);
+         }},
     };
     return modes;
 }

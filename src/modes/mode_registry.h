@@ -1,6 +1,7 @@
 // Every mode, registered once: its name, a line that says what it does, its own command-line
 // options, and its entry points: the samples per pixel of its settings, the render log's text of
-// them, the photons the memory check counts, and its render. The render command, bench and serve
+// them, bench's words for those that are not the defaults, the photons the memory check counts,
+// and its render. The render command, bench and serve
 // read this list instead of naming the modes themselves.
 //
 // Where the command-line options live:
@@ -15,7 +16,7 @@
 //  - Options of the engine, which every mode's stages read (the profiling switches such as
 //    --no-stratification or --no-sky-compensation, --spectral, --threads, the stops and the
 //    watchers), stay with the render command, which sets them on EngineSettings (the stops and
-//    watchers on its RenderControl): engine/ knows nothing of the modes.
+//    watchers on the RenderControl it passes beside them): engine/ knows nothing of the modes.
 #pragma once
 
 #include "modes/mode_options.h"
@@ -49,11 +50,18 @@ struct ModeEntry {
     int (*spp)(const ModeSettings& s);
     // The render log's text of the mode's settings (their toString()).
     std::string (*describe)(const ModeSettings& s);
+    // The mode's own settings as bench's results name them (its settings column, after "spp=N"):
+    // each one that differs from the mode's default, as `name=value` or `no-<switch>` after the
+    // option that sets it; gi's swept counts (gather, ic, photons) always. Empty when there is
+    // nothing to say. A new setting of a mode adds its word here, not in bench/.
+    std::string (*settingWords)(const ModeSettings& s);
     // Photons the memory check counts (engine/memory_budget.h): the global map's and the
     // largest caustic map's; none outside gi.
     std::pair<std::uint64_t, std::uint64_t> (*photons)(const ModeSettings& s);
+    // The render: what the image is made with (`s`, `engine`) and how the caller steers and
+    // watches it (`control`: stops, progressive output, error log, cluster, phases).
     RenderResult (*render)(const Scene& scene, const EmbreeScene& accel, const ModeSettings& s,
-                           const EngineSettings& engine);
+                           const EngineSettings& engine, const RenderControl& control);
 };
 
 // The modes in the order --help lists them.

@@ -13,6 +13,7 @@
 namespace rayproc {
 
 class ModeOptions;
+struct ModeSettings;
 
 // Preview (the paper's real-time mode): ray casting, one sample per pixel, area lights as
 // point lights at their corners with hard shadows, one bounce of mirror reflection, glass as
@@ -85,21 +86,29 @@ RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOv
 GiSettings giSettings(const Scene& scene, const ModeOverrides& cli);
 // gi's own command-line options (modes/gi_options.cpp).
 std::unique_ptr<ModeOptions> giOptions();
+// gi's settings in bench's words (ModeEntry::settingWords), beside its options.
+std::string giSettingWords(const ModeSettings& settings);
+// --no-russian-roulette's word when roulette is off (raytrace, path, gi): "no-russian-roulette".
+inline std::string rouletteWord(bool roulette) { return roulette ? "" : "no-russian-roulette"; }
 PathSettings pathSettings(const SceneRenderSettings& scene, const ModeOverrides& cli);
 
+// Each render takes the caller's hooks and stops beside its settings (engine/render_control.h);
+// none by default.
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
-                           const EngineSettings& engine);
+                           const EngineSettings& engine, const RenderControl& control = {});
 // The same with the scene's LightSet::buildPreview made once: it does not depend on the camera,
 // and rebuilding it for every frame of a live view costs as much as a small frame's rays.
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const LightSet& all,
-                           const PreviewSettings& s, const EngineSettings& engine);
+                           const PreviewSettings& s, const EngineSettings& engine,
+                           const RenderControl& control = {});
 RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
-                            const RaytraceSettings& s, const EngineSettings& engine);
+                            const RaytraceSettings& s, const EngineSettings& engine,
+                            const RenderControl& control = {});
 // gi (Jensen's photon mapping with final gathering and Ward's irradiance cache): GiSettings in
 // gi/gi_context.h.
 RenderResult renderGi(const Scene& scene, const EmbreeScene& accel, const GiSettings& s,
-                      const EngineSettings& engine);
+                      const EngineSettings& engine, const RenderControl& control = {});
 RenderResult renderPath(const Scene& scene, const EmbreeScene& accel, const PathSettings& s,
-                        const EngineSettings& engine);
+                        const EngineSettings& engine, const RenderControl& control = {});
 
 } // namespace rayproc

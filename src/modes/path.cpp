@@ -69,11 +69,11 @@ void addContributionStats(const LightSet& lights, RenderResult& r) {
 } // namespace
 
 RenderResult renderPath(const Scene& scene, const EmbreeScene& accel, const PathSettings& s,
-                        const EngineSettings& engine) {
+                        const EngineSettings& engine, const RenderControl& control) {
     // The path stage picks one light per vertex among the sampled lights: a light the
     // analysis drops frees its share of the picks (the estimate stays unbiased; only noise
     // changes), and its emission, zero wherever a path can see it, needs no MIS weight.
-    PhaseTimer lightPhase(engine.control.phases, "light_set"); // and the scene analysis
+    PhaseTimer lightPhase(control.phases, "light_set"); // and the scene analysis
     LightSet all = LightSet::build(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanPath);
     if (!plan.render) return blackRender(scene);
@@ -88,8 +88,8 @@ RenderResult renderPath(const Scene& scene, const EmbreeScene& accel, const Path
     policy.skyCompensation = engine.skyCompensation;
     plan.apply(policy);
     policy.reflectionStage = true; // path mode's bounces are all reflection-kind rays
-    RenderResult r =
-        runRenderJob("path", scene, accel, lights, policy, s.spp, engine, RadianceStage::Path);
+    RenderResult r = runRenderJob("path", scene, accel, lights, policy, s.spp, engine, control,
+                                  RadianceStage::Path);
     addContributionStats(lights, r);
     return r;
 }

@@ -24,17 +24,18 @@ PreviewSettings previewSettings(const SceneRenderSettings& scene, const ModeOver
 }
 
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const PreviewSettings& s,
-                           const EngineSettings& engine) {
+                           const EngineSettings& engine, const RenderControl& control) {
     // The light set (serve builds it once per scene and passes it to the overload below).
-    PhaseTimer lightPhase(engine.control.phases, "light_set");
+    PhaseTimer lightPhase(control.phases, "light_set");
     LightSet all = LightSet::buildPreview(scene, accel);
     lightPhase.stop();
-    return renderPreview(scene, accel, all, s, engine);
+    return renderPreview(scene, accel, all, s, engine, control);
 }
 
 RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const LightSet& all,
-                           const PreviewSettings& s, const EngineSettings& engine) {
-    PhaseTimer lightPhase(engine.control.phases, "light_set"); // the scene analysis's part
+                           const PreviewSettings& s, const EngineSettings& engine,
+                           const RenderControl& control) {
+    PhaseTimer lightPhase(control.phases, "light_set"); // the scene analysis's part
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanPreview);
     if (!plan.render) return blackRender(scene);
     LightSet lights = plan.sampledLights(all);
@@ -49,7 +50,7 @@ RenderResult renderPreview(const Scene& scene, const EmbreeScene& accel, const L
     policy.minTranslucency = s.minTranslucency;
     policy.maxGlassLayers = s.maxGlassLayers;
     policy.ambientEnvironment = true;
-    return runRenderJob("preview", scene, accel, lights, policy, s.spp, engine);
+    return runRenderJob("preview", scene, accel, lights, policy, s.spp, engine, control);
 }
 
 } // namespace rayproc

@@ -25,8 +25,9 @@ RaytraceSettings raytraceSettings(const SceneRenderSettings& scene, const ModeOv
 }
 
 RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
-                            const RaytraceSettings& s, const EngineSettings& engine) {
-    PhaseTimer lightPhase(engine.control.phases, "light_set"); // and the scene analysis
+                            const RaytraceSettings& s, const EngineSettings& engine,
+                            const RenderControl& control) {
+    PhaseTimer lightPhase(control.phases, "light_set"); // and the scene analysis
     LightSet all = LightSet::build(scene, accel);
     RenderPlan plan = planRender(scene, accel, all, engine, kPlanRaytrace);
     if (!plan.render) return blackRender(scene);
@@ -39,7 +40,7 @@ RenderResult renderRaytrace(const Scene& scene, const EmbreeScene& accel,
     policy.rouletteEnabled = s.roulette;
     applyLightSwitches(engine, policy);
     plan.apply(policy);
-    return runRenderJob("raytrace", scene, accel, lights, policy, s.spp, engine);
+    return runRenderJob("raytrace", scene, accel, lights, policy, s.spp, engine, control);
 }
 
 // The most complete mode implemented: full global illumination.

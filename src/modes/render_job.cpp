@@ -51,11 +51,6 @@ enum PassDecision : std::uint32_t {
 
 using Clock = std::chrono::steady_clock;
 
-const Cluster& clusterOf(const EngineSettings& engine) {
-    static const Cluster alone;
-    return engine.control.cluster ? *engine.control.cluster : alone;
-}
-
 // The engine's retrace stages of a render.
 struct EngineStageSet {
     ShadowStage shadow;
@@ -126,7 +121,8 @@ class RenderJob {
 public:
     RenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
               const LightSet& lights, const ShadingPolicy& policy, int spp,
-              const EngineSettings& engine, RadianceStage radiance, ModeStages* modeStages,
+              const EngineSettings& engine, const RenderControl& control,
+              RadianceStage radiance, ModeStages* modeStages,
               const std::function<void(int pass, int samples)>& beforePass);
     RenderResult run();
 
@@ -140,7 +136,7 @@ private:
     }
     double fraction() const;
     std::uint64_t raysSoFar() const { return std::uint64_t(m_stats.merged().raysTraced); }
-    bool stopRequested() const { return m_engine.control.stop && m_engine.control.stop(); }
+    bool stopRequested() const { return m_control.stop && m_control.stop(); }
     Image wholeImage();
     // One pass; false when the render ends after it.
     bool renderPass(int pass);
@@ -154,6 +150,7 @@ private:
     PhaseTimer m_setupPhase;
     const std::string& m_label;
     const EngineSettings& m_engine;
+    const RenderControl& m_control;
     const int m_spp;
     const std::function<void(int, int)>& m_beforePass;
     // The mode's clock: its start, moved on by the time the error log spends measuring; it
@@ -196,24 +193,24 @@ private:
 
 RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                      const LightSet& lights, const ShadingPolicy& policy, int spp,
-                     const EngineSettings& engine, RadianceStage radiance,
-                     ModeStages* modeStages,
+                     const EngineSettings& engine, const RenderControl& control,
+                     RadianceStage radiance, ModeStages* modeStages,
                      const std::function<void(int pass, int samples)>& beforePass)
-    : m_setupPhase(engine.control.phases, "render_setup"), m_label(label), m_engine(engine),
-      m_spp(spp),
+    : m_setupPhase(control.phases, "render_setup"), m_label(label), m_engine(engine),
+      m_control(control), m_spp(spp),
       m_beforePass(beforePass),
-      m_startTicks((engine.control.workStart ? *engine.control.workStart : Clock::now())
+      m_startTicks((control.workStart ? *control.workStart : Clock::now())
                        .time_since_epoch()
                        .count()),
-      m_cluster(clusterOf(engine)),
+      m_cluster(control.clusterOrAlone()),
       m_film(scene.camera.width, scene.camera.height,
              Film::exponentFor(lights.radianceScale(scene.worldBounds()))),
       m_sensor(sensorMatrix(scene.sensor, spectral::colorSpace(spectral::ColorSpaceId::Srgb))),
       m_rc{scene, accel, lights, policy, m_film, engine.seed},
       m_pipeline("render", "camera", accel.root(), engine.packetWidth, m_stats, engine.threads),
       m_camera(m_rc), m_stages(m_rc),
-      m_errorLog(engine.control.errorLogPath, m_result.errorLogFailure) {
-    if (engine.control.noiseBreakdown) {
+      m_errorLog(control.errorLogPath, m_result.errorLogFailure) {
+    if (control.noiseBreakdown) {
         m_noise.emplace(m_film.width(), m_film.height(), m_film.exponent());
         m_rc.noise = &*m_noise;
     }
@@ -225,16 +222,16 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
     }
     m_camera.setShare(m_cluster.rank(), m_cluster.size());
     m_stages.build(m_pipeline, m_rc, radiance, modeStages);
-    m_pipeline.timedAs(engine.control.phases, "render_passes");
+    m_pipeline.timedAs(control.phases, "render_passes");
     // Every stage for --stats in pipeline order: the engine's, then the mode's.
     m_result.stats.pipeline = enginePipeline();
     if (modeStages)
         for (const StageLabel& stage : modeStages->labels())
             m_result.stats.pipeline.push_back(stage);
     // Every rank takes part in the log's image merge; rank 0 writes it.
-    m_logging = engine.control.reference &&
-                (!engine.control.errorLogPath.empty() || engine.control.onPassError);
-    if (m_logging && m_cluster.root() && !engine.control.errorLogPath.empty()) m_errorLog.open();
+    m_logging = control.reference &&
+                (!control.errorLogPath.empty() || control.onPassError);
+    if (m_logging && m_cluster.root() && !control.errorLogPath.empty()) m_errorLog.open();
     planPasses();
 }
 
@@ -242,20 +239,21 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
 // breakdown takes each pass's sums for one sample's values.
 void RenderJob::planPasses() {
     const EngineSettings& engine = m_engine;
+    const RenderControl& control = m_control;
     const int spp = m_spp;
-    const bool stopEarly = engine.control.timeLimitSeconds > 0 || engine.control.targetRelMse > 0;
+    const bool stopEarly = control.timeLimitSeconds > 0 || control.targetRelMse > 0;
     m_passSpp = stopEarly || m_noise ? 1 : std::clamp(spp / 32, 1, 16);
     // Half buffers (alternate passes) give the relMSE estimate the target, the log and adaptive
     // sampling use.
-    if (engine.control.targetRelMse > 0 || m_logging || engine.adaptiveSampling)
+    if (control.targetRelMse > 0 || m_logging || engine.adaptiveSampling)
         m_film.enableHalfBuffers();
     // Adaptive sampling: `spp` is the mean over the pixels (or the cap under a target).
     if (engine.adaptiveSampling) {
         AdaptiveSampler::Settings as;
         as.minSpp = std::min(engine.adaptiveMinSpp, spp);
-        as.targetRelMse = engine.control.targetRelMse;
+        as.targetRelMse = control.targetRelMse;
         as.meanSpp = spp;
-        as.maxSpp = engine.control.targetRelMse > 0 ? spp : kAdaptiveMaxFactor * spp;
+        as.maxSpp = control.targetRelMse > 0 ? spp : kAdaptiveMaxFactor * spp;
         as.passSpp = m_passSpp;
         as.maxPassSpp = m_noise ? 1 : 16 * m_passSpp;
         m_adaptive.emplace(m_film.width(), m_film.height(), as);
@@ -270,9 +268,9 @@ void RenderJob::planPasses() {
 double RenderJob::fraction() const {
     const std::uint64_t current = m_passInFlight.load() ? m_camera.unitsEmitted() : 0;
     double f = double(m_unitsBefore.load() + current) / double(m_totalUnits);
-    if (m_engine.control.timeLimitSeconds > 0)
-        f = std::max(f, std::min(1.0, secondsAt(Clock::now()) / m_engine.control.timeLimitSeconds));
-    return m_engine.control.targetRelMse > 0 ? std::max(f, m_targetFraction.load()) : f;
+    if (m_control.timeLimitSeconds > 0)
+        f = std::max(f, std::min(1.0, secondsAt(Clock::now()) / m_control.timeLimitSeconds));
+    return m_control.targetRelMse > 0 ? std::max(f, m_targetFraction.load()) : f;
 }
 
 // The image of the whole job (every rank's tiles), on rank 0; a collective.
@@ -300,9 +298,9 @@ RenderResult RenderJob::run() {
         ~WatchScope() {
             if (w && w->end) w->end();
         }
-    } watch{m_engine.control.watcher};
-    if (m_engine.control.watcher && m_engine.control.watcher->begin)
-        m_engine.control.watcher->begin(m_film, [this] { return fraction(); },
+    } watch{m_control.watcher};
+    if (m_control.watcher && m_control.watcher->begin)
+        m_control.watcher->begin(m_film, [this] { return fraction(); },
                                 [this] { return raysSoFar(); });
     m_lastProgressive = Clock::now();
     m_stop = m_cluster.distributed() ? agreeInterrupted(m_cluster) : interruptRequested();
@@ -310,7 +308,7 @@ RenderResult RenderJob::run() {
     m_setupPhase.stop();
     for (int pass = 0; pass < m_passes && !m_stop; ++pass)
         if (!renderPass(pass)) break;
-    PhaseTimer resolvePhase(m_engine.control.phases, "film_resolve");
+    PhaseTimer resolvePhase(m_control.phases, "film_resolve");
     m_result.cancelled = interruptRequested() || m_stopped;
     progress.finish(!m_result.cancelled);
     m_errorLog.close();
@@ -322,7 +320,7 @@ RenderResult RenderJob::run() {
 void RenderJob::tracePass(int pass, int first, int count) {
     if (m_beforePass) {
         // gi's caustic maps and cache refinement time their own phases; the rest is here.
-        PhaseTimer hookPhase(m_engine.control.phases, "pass_hooks");
+        PhaseTimer hookPhase(m_control.phases, "pass_hooks");
         m_beforePass(pass, count);
     }
     m_camera.beginPass(first, count);
@@ -331,7 +329,7 @@ void RenderJob::tracePass(int pass, int first, int count) {
     m_unitsBefore += std::min<std::uint64_t>(m_camera.unitsEmitted(), m_camera.unitsPerPass());
     m_passInFlight = false;
     {
-        PhaseTimer commitPhase(m_engine.control.phases, "film_commit", PhaseKind::Parallel);
+        PhaseTimer commitPhase(m_control.phases, "film_commit", PhaseKind::Parallel);
         m_film.commitPass(pass % 2);
     }
     if (m_noise) m_noise->commitPass();
@@ -360,11 +358,11 @@ bool RenderJob::adaptiveStep(int pass) {
 void RenderJob::logPass(Clock::time_point now) {
     double seconds = secondsAt(now);
     Image whole = wholeImage();
-    if (m_cluster.root() && (m_errorLog.isOpen() || m_engine.control.onPassError)) {
-        ImageMetrics m = compareImages(whole, *m_engine.control.reference);
+    if (m_cluster.root() && (m_errorLog.isOpen() || m_control.onPassError)) {
+        ImageMetrics m = compareImages(whole, *m_control.reference);
         m_errorLog.row(m_meanSpp, seconds, m, m_result.relMseEstimate);
-        if (m_engine.control.onPassError)
-            m_engine.control.onPassError({m_result.samplesDone, seconds, m.relmse, m.rmse,
+        if (m_control.onPassError)
+            m_control.onPassError({m_result.samplesDone, seconds, m.relmse, m.rmse,
                                   m_result.relMseEstimate, raysSoFar()});
     }
     m_startTicks += (Clock::now() - now).count();
@@ -374,12 +372,12 @@ void RenderJob::logPass(Clock::time_point now) {
 std::uint32_t RenderJob::decide(int pass, Clock::time_point now) {
     std::uint32_t decision = interruptBits() << kDecideSignalShift;
     if (stopRequested()) decision |= kDecideStopped;
-    if (m_cluster.root() && m_engine.control.timeLimitSeconds > 0 && pass + 1 < m_passes &&
-        secondsAt(Clock::now()) >= m_engine.control.timeLimitSeconds)
+    if (m_cluster.root() && m_control.timeLimitSeconds > 0 && pass + 1 < m_passes &&
+        secondsAt(Clock::now()) >= m_control.timeLimitSeconds)
         decision |= kDecideTimeUp;
-    if (m_cluster.root() && m_engine.control.onProgress && pass + 1 < m_passes &&
+    if (m_cluster.root() && m_control.onProgress && pass + 1 < m_passes &&
         std::chrono::duration<double>(now - m_lastProgressive).count() >=
-            m_engine.control.progressiveSeconds)
+            m_control.progressiveSeconds)
         decision |= kDecideProgressive;
     if (m_cluster.distributed()) decision = m_cluster.orAll(decision);
     return decision;
@@ -388,7 +386,7 @@ std::uint32_t RenderJob::decide(int pass, Clock::time_point now) {
 bool RenderJob::renderPass(int pass) {
     // What a pass does besides its hook, its processor run and the film's commit: the
     // estimates, the log, the decisions; on this thread.
-    PhaseTimer betweenPhase(m_engine.control.phases, "between_passes");
+    PhaseTimer betweenPhase(m_control.phases, "between_passes");
     int first = m_adaptiveCount > 0 ? 0 : pass * m_passSpp;
     int count = m_adaptiveCount > 0 ? m_adaptiveCount : std::min(m_passSpp, m_spp - first);
     tracePass(pass, first, count);
@@ -403,7 +401,7 @@ bool RenderJob::renderPass(int pass) {
     if (m_film.hasHalfBuffers() && std::isfinite(m_result.relMseEstimate) &&
         m_result.relMseEstimate > 0)
         // The variance part falls as 1/spp: the share of the work done is target/estimate.
-        m_targetFraction = std::min(1.0, m_engine.control.targetRelMse / m_result.relMseEstimate);
+        m_targetFraction = std::min(1.0, m_control.targetRelMse / m_result.relMseEstimate);
     const std::uint32_t decision = decide(pass, now);
     if (decision & kDecideInterrupted) {
         adoptInterrupt(decision >> kDecideSignalShift); // and the signal some rank received
@@ -412,8 +410,8 @@ bool RenderJob::renderPass(int pass) {
     if (decision & kDecideStopped) m_stop = m_stopped = true;
     // At least kMinTargetPasses passes: with one or two samples per half the estimate is
     // itself too noisy to stop on (a 3-spp render estimated 0.044 measured 0.066).
-    if (m_engine.control.targetRelMse > 0 && pass + 1 >= kMinTargetPasses &&
-        m_result.relMseEstimate <= m_engine.control.targetRelMse) {
+    if (m_control.targetRelMse > 0 && pass + 1 >= kMinTargetPasses &&
+        m_result.relMseEstimate <= m_control.targetRelMse) {
         m_result.targetReached = true;
         return false;
     }
@@ -424,7 +422,7 @@ bool RenderJob::renderPass(int pass) {
     if (budgetSpent) return false;
     if (decision & kDecideProgressive) {
         Image whole = wholeImage();
-        if (m_engine.control.onProgress && m_cluster.root()) m_engine.control.onProgress(whole);
+        if (m_control.onProgress && m_cluster.root()) m_control.onProgress(whole);
         m_lastProgressive = now;
     }
     return true;
@@ -459,11 +457,11 @@ void RenderJob::finish() {
 
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
-                          const EngineSettings& engine, RadianceStage radiance,
-                          ModeStages* modeStages,
+                          const EngineSettings& engine, const RenderControl& control,
+                          RadianceStage radiance, ModeStages* modeStages,
                           const std::function<void(int pass, int samples)>& beforePass) {
-    RenderJob job(label, scene, accel, lights, policy, spp, engine, radiance, modeStages,
-                  beforePass);
+    RenderJob job(label, scene, accel, lights, policy, spp, engine, control, radiance,
+                  modeStages, beforePass);
     return job.run();
 }
 

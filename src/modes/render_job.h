@@ -5,6 +5,7 @@
 
 #include "accel/embree_scene.h"
 #include "engine/engine_settings.h"
+#include "engine/render_control.h"
 #include "engine/render_context.h"
 #include "engine/stats.h"
 #include "image/image.h"
@@ -51,7 +52,7 @@ struct RenderResult {
 // pass's photon map there, sized by those samples); its time counts in the render's.
 RenderResult runRenderJob(const std::string& label, const Scene& scene, const EmbreeScene& accel,
                           const LightSet& lights, const ShadingPolicy& policy, int spp,
-                          const EngineSettings& engine,
+                          const EngineSettings& engine, const RenderControl& control,
                           RadianceStage radiance = RadianceStage::Surface,
                           ModeStages* modeStages = nullptr,
                           const std::function<void(int pass, int samples)>& beforePass = {});

@@ -613,8 +613,9 @@ void Session::refinePreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     engine.threads = m_options.threads;
     engine.quiet = true;
     engine.spectral = spectralView();
-    engine.control.stop = staleStop(version);
-    engine.control.progressiveSeconds = 0; // every pass
+    RenderControl control;
+    control.stop = staleStop(version);
+    control.progressiveSeconds = 0; // every pass
     const RaytraceSettings settings = raytraceSettings(scene.render, {});
     std::function<double()> fraction; // of the passes done, while they run
     RenderControl::Watcher watcher{
@@ -622,19 +623,19 @@ void Session::refinePreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
             fraction = std::move(f);
         },
         [&] { fraction = nullptr; }};
-    engine.control.watcher = &watcher;
+    control.watcher = &watcher;
     auto send = [&](Image image, int spp, bool done) {
         if (!sendFrame(std::move(image), version)) return;
         sendText({{"type", "refine"}, {"version", std::uint32_t(version)}, {"spp", spp},
                   {"of", settings.spp}, {"done", done}});
     };
-    engine.control.onProgress = [&](const Image& image) {
+    control.onProgress = [&](const Image& image) {
         double f = fraction ? fraction() : 0.0;
         send(image, int(std::lround(f * settings.spp)), false);
     };
     RenderResult r;
     try {
-        r = renderRaytrace(scene, *loaded->accel, settings, engine);
+        r = renderRaytrace(scene, *loaded->accel, settings, engine, control);
     } catch (const std::exception& e) {
         sendText({{"type", "error"}, {"message", std::string("refining the view: ") + e.what()}});
         r.cancelled = true;
@@ -657,7 +658,8 @@ bool Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     // A newer change (a camera drag sends one per mouse move) makes this preview stale: it
     // stops emitting at once, through the engine's own stop rather than the interrupt, which
     // is Ctrl-C's and a render's Cancel.
-    engine.control.stop = staleStop(version);
+    RenderControl control;
+    control.stop = staleStop(version);
     // Coarse first (a quarter of each side; during a drag, coarser while frames take longer
     // than kMotionFrame), then full while nothing changed.
     bool motion;
@@ -686,7 +688,7 @@ bool Session::renderPreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
         auto start = std::chrono::steady_clock::now();
         ++m_previewsStarted;
         RenderResult r = rayproc::renderPreview(scene, *loaded->accel, *loaded->previewLights,
-                                                settings, engine);
+                                                settings, engine, control);
         if (r.cancelled) ++m_previewsStopped;
         if (step > 1 && motion) {
             // A coarse frame that the next change stopped was too slow for the changes' pace
@@ -763,10 +765,11 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
             report->begin(film, std::move(fraction), std::move(rays));
         },
         [&] { report->end(); }};
-    engine.control.watcher = &watcher;
+    RenderControl control;
+    control.watcher = &watcher;
     RenderResult r;
     try {
-        r = runMode(scene, *loaded->accel, request, engine);
+        r = runMode(scene, *loaded->accel, request, engine, control);
     } catch (const std::exception& e) {
         starting.stop();
         sendText({{"type", "error"}, {"message", std::string("render: ") + e.what()}});
@@ -784,10 +787,11 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
 }
 
 RenderResult Session::runMode(const Scene& scene, const EmbreeScene& accel,
-                              const RenderRequest& request, const EngineSettings& engine) {
+                              const RenderRequest& request, const EngineSettings& engine,
+                              const RenderControl& control) {
     ModeOverrides overrides{request.spp, 0, 0};
     return findMode(request.mode)->render(scene, accel, ModeSettings::forScene(scene, overrides),
-                                          engine);
+                                          engine, control);
 }
 
 } // namespace rayproc::serve

@@ -156,9 +156,11 @@ private:
     void renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequest& request,
                     std::uint64_t version);
     class StartingTicker;
-    // The render the request names (its mode and spp), with the engine settings given.
+    // The render the request names (its mode and spp), with the engine settings and the
+    // watcher and stop given.
     static RenderResult runMode(const Scene& scene, const EmbreeScene& accel,
-                                const RenderRequest& request, const EngineSettings& engine);
+                                const RenderRequest& request, const EngineSettings& engine,
+                                const RenderControl& control);
     void sendText(const Json& json) const;
     // Sends the frame unless a change made it stale (false then).
     bool sendFrame(Image image, std::uint64_t version);

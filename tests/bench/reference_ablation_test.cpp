@@ -59,7 +59,7 @@ TEST_CASE("every ablation switch changes its mode's settings line and names its 
         INFO(sw.name << " (" << sw.mode << ")");
         RenderConfig on = RenderConfig::forMode(*scene, sw.mode, 4);
         RenderConfig off = on;
-        sw.disable(off);
+        switchOff(sw, off);
         CHECK(off.settingsString() != on.settingsString());
         CHECK(off.spp() == on.spp());
         CHECK_FALSE(sw.cliOption.empty());

@@ -26,8 +26,10 @@ RenderResult renderWithBreakdown(const Scene& scene, const EmbreeScene& accel, i
     engine.quiet = true;
     engine.threads = threads;
     engine.seed = seed;
-    engine.control.noiseBreakdown = true;
-    return renderPath(scene, accel, pathSettings(scene.render, ModeOverrides{spp, 0, 0}), engine);
+    RenderControl control;
+    control.noiseBreakdown = true;
+    return renderPath(scene, accel, pathSettings(scene.render, ModeOverrides{spp, 0, 0}), engine,
+                      control);
 }
 
 std::map<std::string, const std::vector<float>*> byName(const RenderResult& r) {

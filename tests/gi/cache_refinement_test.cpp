@@ -20,7 +20,8 @@ RenderResult render(const Scene& scene, const EmbreeScene& accel, int gatherRays
                     int threads, bool halves = false) {
     EngineSettings engine;
     // An error target below reach: half buffers and their estimate, all 32 passes.
-    if (halves) engine.control.targetRelMse = 1e-12;
+    RenderControl control;
+    if (halves) control.targetRelMse = 1e-12;
     engine.threads = threads;
     engine.seed = 5;
     engine.quiet = true;
@@ -30,7 +31,7 @@ RenderResult render(const Scene& scene, const EmbreeScene& accel, int gatherRays
     s.filmGatherRays = 64; // cache misses: the same gathers in every render
     s.icRefineRays = refineRays;
     s.icCorrectionRays = 0; // refinement alone: the same map's exact gather is the target
-    return renderGi(scene, accel, s, engine);
+    return renderGi(scene, accel, s, engine, control);
 }
 
 } // namespace

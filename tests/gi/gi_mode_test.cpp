@@ -100,10 +100,11 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     engine.threads = 2;
     engine.seed = 1;
     engine.quiet = true;
-    engine.control.reference = &reference;
-    engine.control.errorLogPath = log;
+    RenderControl control;
+    control.reference = &reference;
+    control.errorLogPath = log;
     GiSettings s = giSettings(*scene, ModeOverrides{4, 0, 0});
-    RenderResult r = renderGi(*scene, accel, s, engine);
+    RenderResult r = renderGi(*scene, accel, s, engine, control);
     const double prePasses = extraStat(r, "gi/photon_seconds") + extraStat(r, "gi/precompute_seconds") +
                              extraStat(r, "gi/cache_seconds");
     std::ifstream in(log);
@@ -123,9 +124,10 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     EngineSettings limited;
     limited.threads = 2;
     limited.quiet = true;
-    limited.control.timeLimitSeconds = 1e-6;
+    RenderControl budget;
+    budget.timeLimitSeconds = 1e-6;
     GiSettings many = giSettings(*scene, ModeOverrides{1000, 0, 0});
-    RenderResult cut = renderGi(*scene, accel, many, limited);
+    RenderResult cut = renderGi(*scene, accel, many, limited, budget);
     CHECK(cut.timeLimitReached);
     CHECK(cut.samplesDone == 1);
     CHECK(cut.passesDone == 1);
@@ -136,8 +138,10 @@ TEST_CASE("The gi error log counts the pre-passes and --time-limit stops after t
     EngineSettings pathEngine;
     pathEngine.threads = 2;
     pathEngine.quiet = true;
-    pathEngine.control.timeLimitSeconds = 0.05;
-    RenderResult p = renderPath(*scene, accel, pathSettings(scene->render, ModeOverrides{100000, 0, 0}), pathEngine);
+    RenderControl pathBudget;
+    pathBudget.timeLimitSeconds = 0.05;
+    RenderResult p = renderPath(*scene, accel, pathSettings(scene->render, ModeOverrides{100000, 0, 0}),
+                                pathEngine, pathBudget);
     INFO("path: " << p.samplesDone << " spp in " << p.stats.wallSeconds << " s");
     CHECK(p.timeLimitReached);
     CHECK(p.samplesDone >= 1);
@@ -158,11 +162,12 @@ TEST_CASE("The error-log row is handed to RenderControl::onPassError, with or wi
         EngineSettings engine;
         engine.threads = 2;
         engine.quiet = true;
-        engine.control.reference = &reference;
-        if (withFile) engine.control.errorLogPath = log;
-        engine.control.onPassError = [&](const RenderControl::PassError& e) { rows.push_back(e); };
+        RenderControl control;
+        control.reference = &reference;
+        if (withFile) control.errorLogPath = log;
+        control.onPassError = [&](const RenderControl::PassError& e) { rows.push_back(e); };
         GiSettings s = giSettings(*scene, ModeOverrides{3, 0, 0});
-        RenderResult r = renderGi(*scene, accel, s, engine);
+        RenderResult r = renderGi(*scene, accel, s, engine, control);
         INFO("with the log file: " << withFile);
         REQUIRE(rows.size() == std::size_t(r.passesDone));
         REQUIRE(rows.size() >= 2);

@@ -25,14 +25,15 @@ RenderResult renderStarvedGi(const Scene& scene, const EmbreeScene& accel, Corre
     engine.threads = threads;
     engine.seed = 1;
     engine.quiet = true;
-    if (onePerPass) engine.control.timeLimitSeconds = 1e6;
+    RenderControl control;
+    if (onePerPass) control.timeLimitSeconds = 1e6;
     GiSettings s = giSettings(scene, ModeOverrides{spp, 0, 0});
     // 500 photons for the Cornell box: the 64-nearest discs span a good part of a wall.
     s.photons = 500;
     s.photonRounds = 1;
     s.mapCorrection = correct.perPixel;
     s.icCorrectionRays = correct.recordRays;
-    return renderGi(scene, accel, s, engine);
+    return renderGi(scene, accel, s, engine, control);
 }
 
 Image pathReference(const Scene& scene, const EmbreeScene& accel) {

@@ -125,10 +125,11 @@ TEST_CASE("A relMSE target stops when the half-buffer estimate reaches it - the 
         EngineSettings engine;
         engine.quiet = true;
         engine.threads = 2;
-        engine.control.targetRelMse = target;
+        RenderControl control;
+        control.targetRelMse = target;
         PathSettings s;
         s.spp = 100000; // a cap the target stops long before
-        RenderResult r = renderPath(*scene, accel, s, engine);
+        RenderResult r = renderPath(*scene, accel, s, engine, control);
         CHECK(r.targetReached);
         CHECK(r.relMseEstimate <= target);
         CHECK(r.samplesDone >= 8); // never on fewer than 4 samples per half
@@ -158,11 +159,12 @@ TEST_CASE("RenderControl::stop cancels a render without the process-wide interru
     engine.threads = 2;
     PathSettings s;
     s.spp = 2;
+    RenderControl control;
 
     // Polled before each emission: after a few tiles, the rest are never emitted.
     std::atomic<int> polls{0};
-    engine.control.stop = [&] { return ++polls > 4; };
-    RenderResult r = renderPath(*scene, accel, s, engine);
+    control.stop = [&] { return ++polls > 4; };
+    RenderResult r = renderPath(*scene, accel, s, engine, control);
     CHECK(r.cancelled);
     CHECK(r.stats.pixelsWithoutSamples > 0);
     CHECK(r.stats.pixelsWithoutSamples < std::size_t(128 * 128));
@@ -170,15 +172,15 @@ TEST_CASE("RenderControl::stop cancels a render without the process-wide interru
     CHECK(allFinite(r.image));
 
     // Stopped from the start: nothing is rendered.
-    engine.control.stop = [] { return true; };
-    r = renderPath(*scene, accel, s, engine);
+    control.stop = [] { return true; };
+    r = renderPath(*scene, accel, s, engine, control);
     CHECK(r.cancelled);
     CHECK(r.passesDone == 0);
     CHECK(r.stats.pixelsWithoutSamples == std::size_t(128 * 128));
 
     // Never true: the whole render.
-    engine.control.stop = [] { return false; };
-    r = renderPath(*scene, accel, s, engine);
+    control.stop = [] { return false; };
+    r = renderPath(*scene, accel, s, engine, control);
     CHECK_FALSE(r.cancelled);
     CHECK(r.samplesDone == 2);
     CHECK(r.stats.pixelsWithoutSamples == 0);
@@ -200,26 +202,27 @@ TEST_CASE("Under a time limit the progress fraction is the share of the budget s
     EngineSettings engine;
     engine.quiet = true;
     engine.threads = 2;
-    engine.control.timeLimitSeconds = 0.3;
-    engine.control.watcher = &watcher;
+    RenderControl control;
+    control.timeLimitSeconds = 0.3;
+    control.watcher = &watcher;
     PathSettings s;
     s.spp = 10000000;
-    RenderResult r = renderPath(*scene, accel, s, engine);
+    RenderResult r = renderPath(*scene, accel, s, engine, control);
     REQUIRE(r.timeLimitReached);
     INFO("spp done " << r.samplesDone << ", fraction at the end " << atEnd);
     CHECK(double(r.samplesDone) / s.spp < 0.01);
     CHECK(atEnd == 1.0);
 
     // Without a limit it is the samples' share.
-    engine.control.timeLimitSeconds = 0;
+    control.timeLimitSeconds = 0;
     s.spp = 4;
-    r = renderPath(*scene, accel, s, engine);
+    r = renderPath(*scene, accel, s, engine, control);
     CHECK(atEnd == 1.0); // the last pass counted once (it was twice until stop 30)
     s.spp = 1000000;
     int passesSeen = 0;
     // Cancel early: the fraction stays small.
-    engine.control.stop = [&] { return ++passesSeen > 20; };
-    r = renderPath(*scene, accel, s, engine);
+    control.stop = [&] { return ++passesSeen > 20; };
+    r = renderPath(*scene, accel, s, engine, control);
     REQUIRE(r.cancelled);
     INFO("fraction of a cancelled 1,000,000-spp render " << atEnd);
     CHECK(atEnd < 0.01);
