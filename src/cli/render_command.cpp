@@ -269,8 +269,8 @@ struct TevDisplay {
         }
         DisplayClient* shown = client.get();
         report = std::make_unique<PeriodicReport>(
-            1.0, [shown](const Film& film, const PeriodicReport::Progress&) {
-                shown->show(film.resolveInProgress());
+            1.0, [shown](Image image, const PeriodicReport::Progress&) {
+                shown->show(image);
             });
         engine.control.watcher = report->watcher();
     }

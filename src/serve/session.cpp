@@ -618,7 +618,7 @@ void Session::refinePreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     const RaytraceSettings settings = raytraceSettings(scene.render, {});
     std::function<double()> fraction; // of the passes done, while they run
     RenderControl::Watcher watcher{
-        [&](const Film&, std::function<double()> f, std::function<std::uint64_t()>) {
+        [&](std::function<Image()>, std::function<double()> f, std::function<std::uint64_t()>) {
             fraction = std::move(f);
         },
         [&] { fraction = nullptr; }};
@@ -747,8 +747,8 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     engine.spectral = request.spectral;
     // While the passes run, four times a second: the image with the tiles done so far, and
     // the progress. Before them, the StartingTicker's messages.
-    PeriodicReport watch(0.25, [&](const Film& film, const PeriodicReport::Progress& p) {
-        sendFrame(film.resolveInProgress(), version);
+    PeriodicReport watch(0.25, [&](Image image, const PeriodicReport::Progress& p) {
+        sendFrame(std::move(image), version);
         sendText({{"type", "progress"}, {"mode", request.mode}, {"fraction", p.fraction},
                   {"seconds", p.seconds},
                   {"eta_seconds", p.fraction > 0 ? p.seconds * (1 - p.fraction) / p.fraction : -1.0},
@@ -758,9 +758,10 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     StartingTicker starting(*this, request.mode);
     const RenderControl::Watcher* report = watch.watcher();
     RenderControl::Watcher watcher{
-        [&](const Film& film, std::function<double()> fraction, std::function<std::uint64_t()> rays) {
+        [&](std::function<Image()> image, std::function<double()> fraction,
+            std::function<std::uint64_t()> rays) {
             starting.stop();
-            report->begin(film, std::move(fraction), std::move(rays));
+            report->begin(std::move(image), std::move(fraction), std::move(rays));
         },
         [&] { report->end(); }};
     engine.control.watcher = &watcher;
