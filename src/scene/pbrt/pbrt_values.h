@@ -57,8 +57,8 @@ public:
     // `loc`; the material then shades with its own normals).
     int normalMapTexture(const std::string& file, const SourceLoc& loc) const;
 
-    // A colour parameter's value as written (rgb, spectrum constant or blackbody); false if it
-    // is absent, a named or sampled spectrum, or a texture.
+    // A colour parameter's value as written (rgb, or a float as grey); false for any other
+    // type (spectra, blackbody, textures).
     static bool plainColor(const Param& p, Vec3& out);
 
     // The ColorSpace directive's colour space in the graphics state: "rgb" values read from now
