@@ -337,6 +337,30 @@ EmissionSpectrumRef ValueReader::emissionSpectrum(const Param& p, const spectral
     return nullptr;
 }
 
+ColorParam ValueReader::reflectance(const ParamList& params, std::string_view name, Vec3 def,
+                                    ReflectanceSpectrumRef& spectrum) const {
+    spectrum = nullptr;
+    ColorParam c = colorParam(params, name, SpectrumUse::Albedo, def);
+    const Param* p = params.get(name, {"rgb", "spectrum", "blackbody", "texture"});
+    if (!p || c.textured()) return c;
+    if (p->type != "texture") {
+        spectrum = reflectanceSpectrum(*p, *m_colorSpace);
+    } else {
+        const Texture* t = texture(*p, false);
+        if (t->constant && t->hasValue) spectrum = reflectanceSpectrum(t->value, *t->colorSpace);
+    }
+    return c;
+}
+
+// Called after convert() accepted the parameter: its values are valid.
+ReflectanceSpectrumRef ValueReader::reflectanceSpectrum(const Param& p,
+                                                        const spectral::ColorSpace& cs) {
+    Vec3 rgb;
+    if (p.type == "rgb") return plainColor(p, rgb) ? rgbAlbedoReflectance(rgb, cs) : nullptr;
+    if (p.type == "spectrum" && p.numbers.size() >= 2) return sampledReflectance(p.numbers);
+    return nullptr; // a blackbody or a named spectrum: its colour (convert's) is all there is
+}
+
 float ValueReader::scalar(const ParamList& params, std::string_view name, float def) const {
     const Param* p = params.get(name, {"float", "texture"});
     if (!p) return def;

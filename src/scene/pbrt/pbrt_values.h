@@ -44,6 +44,12 @@ public:
     // than sRGB) kept whole for the spectral mode; nullptr where the colour is all there is.
     Vec3 emission(const ParamList& params, std::string_view name, Vec3 def,
                   EmissionSpectrumRef& spectrum) const;
+    // A reflectance-like parameter (SpectrumUse::Albedo), as colorParam(), and the spectrum
+    // the file gave its constant (pairs, an "rgb" under another colour space than sRGB) kept
+    // whole for the spectral mode (scene/reflectance_spectrum.h); nullptr where the colour is
+    // all there is (sRGB rgb, a texture of another class than "constant").
+    ColorParam reflectance(const ParamList& params, std::string_view name, Vec3 def,
+                           ReflectanceSpectrumRef& spectrum) const;
     // A float parameter or float texture, or `def`.
     float scalar(const ParamList& params, std::string_view name, float def) const;
     // The same as parameters that may refer to a texture of any class. A texture whose image
@@ -90,6 +96,8 @@ private:
     }
     const Texture* texture(const Param& ref, bool wantFloat) const;
     static EmissionSpectrumRef emissionSpectrum(const Param& p, const spectral::ColorSpace& cs);
+    static ReflectanceSpectrumRef reflectanceSpectrum(const Param& p,
+                                                      const spectral::ColorSpace& cs);
 
     Warnings& m_warnings;
     std::unordered_map<std::string, Texture> m_floatTextures;
