@@ -14,6 +14,7 @@
 #include "modes/render_plan.h"
 #include "modes/render_watch.h"
 #include "scene/pbrt/pbrt_loader.h"
+#include "scene/pbrt/pbrt_spectrum.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_loader_detail.h"
 
@@ -100,6 +101,27 @@ Json sceneLightsJson(const Scene& scene) {
         if (!l.name.empty()) j["name"] = l.name;
         if (!l.imageFile.empty()) j["image"] = l.imageFile;
         lights.push_back(j);
+    }
+    return lights;
+}
+
+// A JSON scene's lights as written; a blackbody colour ({"blackbody": K, "scale": s}) also as
+// the RGB that RGB mode renders ("<key>_rgb"), which the page's three fields show: setting them
+// replaces the blackbody by that RGB (docs/serve.md).
+Json docLightsJson(const Json& doc) {
+    Json lights = doc.contains("lights") ? doc["lights"] : Json::array();
+    for (Json& l : lights) {
+        if (!l.is_object()) continue;
+        for (const char* key : {"intensity", "radiance", "irradiance"}) {
+            const Json* c = l.contains(key) ? &l[key] : nullptr;
+            if (!c || !c->is_object() || !c->contains("blackbody") || !(*c)["blackbody"].is_number())
+                continue;
+            const double scale = c->contains("scale") && (*c)["scale"].is_number()
+                                     ? (*c)["scale"].get<double>()
+                                     : 1.0;
+            l[std::string(key) + "_rgb"] =
+                vec3Json(pbrt::blackbodyRgb((*c)["blackbody"].get<double>()) * float(scale));
+        }
     }
     return lights;
 }
@@ -446,8 +468,7 @@ Json Session::state() const {
     s["objects"] = objectsJson();
     s["materials"] = m_editable && m_doc.contains("materials") ? m_doc["materials"] : Json::object();
     // A pbrt scene's lights are listed read-only (the sun and the sky among them).
-    s["lights"] = m_editable ? (m_doc.contains("lights") ? m_doc["lights"] : Json::array())
-                             : sceneLightsJson(*m_loaded->scene);
+    s["lights"] = m_editable ? docLightsJson(m_doc) : sceneLightsJson(*m_loaded->scene);
     s["warnings"] = m_warnings;
     s["analysis"] = m_loaded->analysis;
     // The samples per pixel a render takes when the page gives none, per mode.
