@@ -276,8 +276,8 @@ struct TevDisplay {
         }
         DisplayClient* shown = client.get();
         report = std::make_unique<PeriodicReport>(
-            1.0, [shown](const Film& film, const PeriodicReport::Progress&) {
-                shown->show(film.resolveInProgress());
+            1.0, [shown](Image image, const PeriodicReport::Progress&) {
+                shown->show(image);
             });
         control.watcher = report->watcher();
     }

@@ -28,22 +28,26 @@ NoiseBreakdown::Group NoiseBreakdown::groupOf(std::size_t category, std::size_t 
 }
 
 void fileContribution(ThreadStats& stats, NoiseBreakdown* noise, std::size_t lightCount,
-                      std::uint32_t pixel, std::size_t category, double luminance,
+                      std::uint32_t pixel, std::size_t category, const Vec3& c,
                       bool afterBounce) {
-    stats.addContribution(category, luminance);
+    stats.addContribution(category, luminance(c));
     if (noise)
-        noise->add(pixel, NoiseBreakdown::groupOf(category, lightCount, afterBounce), luminance,
-                   stats);
+        noise->add(pixel, NoiseBreakdown::groupOf(category, lightCount, afterBounce), c, stats);
 }
 
-NoiseBreakdown::NoiseBreakdown(int width, int height, int exponent) {
+NoiseBreakdown::NoiseBreakdown(int width, int height, int exponent, const SensorMatrix& sensor)
+    : m_sensorIdentity(sensor.identity) {
+    const Vec3 y(luminance(Vec3(1, 0, 0)), luminance(Vec3(0, 1, 0)), luminance(Vec3(0, 0, 1)));
+    for (int j = 0; j < 3; ++j)
+        m_weights[j] = y.x * sensor.m[0][j] + y.y * sensor.m[1][j] + y.z * sensor.m[2][j];
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     for (int g = 0; g < kGroups; ++g) m_groups.push_back(std::make_unique<Film>(width, height, exponent));
     m_moments.assign(kGroups + 1, std::vector<double>(2 * pixels, 0.0));
 }
 
-void NoiseBreakdown::add(std::uint32_t pixel, Group g, double luminance, ThreadStats& stats) {
-    m_groups[std::size_t(g)]->add(pixel, Vec3(float(luminance), 0.0f, 0.0f), stats);
+void NoiseBreakdown::add(std::uint32_t pixel, Group g, const Vec3& c, ThreadStats& stats) {
+    const float y = m_sensorIdentity ? luminance(c) : dot(m_weights, c);
+    m_groups[std::size_t(g)]->add(pixel, Vec3(y, 0.0f, 0.0f), stats);
 }
 
 void NoiseBreakdown::commitPass() {

@@ -17,10 +17,13 @@
 // to it but for the covariances between groups of one path (a light sample and the BSDF ray
 // that leaves the same vertex share its throughput). Pass sums are kept as the film keeps
 // radiance (engine/film.h: 128-bit fixed point), so the breakdown too is the same whatever the
-// thread count.
+// thread count. A contribution's luminance is that of its colour through the film's sensor
+// (engine/film_sensor.h), so the layers describe the image the render hands out: iso 200
+// doubles the means and leaves the noise (a relative variance) nearly as it was.
 #pragma once
 
 #include "engine/film.h"
+#include "engine/film_sensor.h"
 #include "image/image.h"
 
 #include <memory>
@@ -38,8 +41,9 @@ public:
     // `afterBounce`: a delta-reached contribution whose path had a non-delta bounce.
     static Group groupOf(std::size_t category, std::size_t lightCount, bool afterBounce);
 
-    NoiseBreakdown(int width, int height, int exponent);
-    void add(std::uint32_t pixel, Group g, double luminance, ThreadStats& stats);
+    NoiseBreakdown(int width, int height, int exponent, const SensorMatrix& sensor = {});
+    // Files the luminance of the contribution `c` (the film's RGB) through the sensor.
+    void add(std::uint32_t pixel, Group g, const Vec3& c, ThreadStats& stats);
     // With the film's commitPass; the pass must be of (at most) one sample per pixel.
     void commitPass();
 
@@ -57,12 +61,16 @@ private:
     std::vector<std::unique_ptr<Film>> m_groups; // the current pass's sums (channel 0)
     std::vector<std::vector<double>> m_moments;  // kGroups + 1, each S1, S2 per pixel
     std::vector<double> m_pass;
+    // luminance(M c) = weights . c for the sensor's matrix M; unused for the identity.
+    bool m_sensorIdentity = true;
+    Vec3 m_weights{0, 0, 0};
 };
 
-// Files one of path mode's contributions: under its category for --stats, and, when `noise`
-// is set (--debug-view noise), under its group at its pixel. `afterBounce` as in groupOf.
+// Files one of path mode's contributions `c` (the film's RGB): its luminance under its
+// category for --stats, and, when `noise` is set (--debug-view noise), under its group at its
+// pixel. `afterBounce` as in groupOf.
 void fileContribution(ThreadStats& stats, NoiseBreakdown* noise, std::size_t lightCount,
-                      std::uint32_t pixel, std::size_t category, double luminance,
+                      std::uint32_t pixel, std::size_t category, const Vec3& c,
                       bool afterBounce);
 
 } // namespace rayproc

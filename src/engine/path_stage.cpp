@@ -146,7 +146,7 @@ private:
     void addToFilm(int i, std::size_t category, Vec3 c) {
         if (m_rc.spectral) c = m_rc.spectral->toFilm(c, m_wl.lane());
         fileContribution(m_stats, m_rc.noise, m_lights.lights.size(), m_b.pixel[i], category,
-                         luminance(c), m_b.depth[i] > m_b.specularDepth[i]);
+                         c, m_b.depth[i] > m_b.specularDepth[i]);
         m_rc.film.add(m_b.pixel[i], c, m_stats);
     }
     const SpectralShading* spectral() const { return m_wl.shading(); }

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "cluster/cluster.h"
+#include "image/image.h"
 
 #include <chrono>
 #include <cstdint>
@@ -16,21 +17,20 @@
 
 namespace rayproc {
 
-class Film;
 class PhaseLog;
-struct Image;
 
 struct RenderControl {
     // Called with the image so far after each pass when set (progressive output); the job
     // calls it at most once per `progressiveSeconds`.
     std::function<void(const Image&)> onProgress;
     double progressiveSeconds = 5.0;
-    // A watcher of the render while it runs (rayproc serve): `begin` gets the film (its
-    // resolveInProgress() may be called from another thread), the fraction of the work done
-    // and the rays traced so far, both callable at any time; `end` is called before the film
-    // goes away.
+    // A watcher of the render while it runs (rayproc serve, --display-server): `begin` gets
+    // the image so far (the film's samples up to now, through the film's sensor as every image
+    // the render hands out: callable from another thread), the fraction of the work done and
+    // the rays traced so far, all callable at any time until `end`, which is called before the
+    // film goes away.
     struct Watcher {
-        std::function<void(const Film& film, std::function<double()> fraction,
+        std::function<void(std::function<Image()> image, std::function<double()> fraction,
                            std::function<std::uint64_t()> rays)> begin;
         std::function<void()> end;
     };

@@ -252,7 +252,7 @@ void ShadowStage::retrace(RayBatch& b, StageContext& ctx) {
         // Path mode's light samples carry their category (1 + it) in the key they do not use.
         if (b.rngKey[i] != 0)
             fileContribution(stats, m_rc.noise, m_rc.lights.lights.size(), b.pixel[i],
-                             std::size_t(b.rngKey[i] - 1), luminance(c), false);
+                             std::size_t(b.rngKey[i] - 1), c, false);
         m_rc.film.add(b.pixel[i], c, stats);
     }
 }

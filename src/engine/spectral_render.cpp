@@ -1,6 +1,7 @@
 #include "engine/spectral_render.h"
 
 #include "lighting/light_set.h"
+#include "scene/reflectance_spectrum.h"
 #include "scene/scene.h"
 #include "spectral/rgb_spectrum.h"
 #include "spectral/spectra.h"
@@ -41,12 +42,23 @@ UpsampledRgb constantUnbounded(const spectral::ColorSpace& cs, const ColorParam&
 
 SpectralRender::SpectralRender(const Scene& scene, const LightSet& lights)
     : m_cs(spectral::colorSpace(spectral::ColorSpaceId::Srgb)) {
+    // A constant reflectance with a spectrum of its own takes it (the material keeps it alive,
+    // and so does m_reflectances).
+    auto own = [this](const ReflectanceSpectrumRef& r, UpsampledRgb& u) {
+        if (!r) return;
+        m_reflectances.push_back(r);
+        u = UpsampledRgb{};
+        u.valid = true;
+        u.own = r->values.values.data();
+    };
     for (const Material& m : scene.materials) {
         MaterialSpectra s;
         if (m.colorTexture < 0) s.color = refinedAlbedo(m_cs, m.color);
+        if (m.colorTexture < 0) own(m.colorSpectrum, s.color);
         s.eta = constantUnbounded(m_cs, m.eta);
         s.k = constantUnbounded(m_cs, m.k);
         s.transmittance = constantAlbedo(m_cs, m.transmittance);
+        if (!m.transmittance.textured()) own(m.transmittanceSpectrum, s.transmittance);
         s.albedo = constantAlbedo(m_cs, m.albedo);
         m_materials.push_back(s);
     }
@@ -105,6 +117,8 @@ LaneSpectrum SpectralRender::lane(float u) const {
 }
 
 Vec3 SpectralRender::evaluate(const UpsampledRgb& s, const LaneSpectrum& l, bool illuminant) {
+    if (s.own) // a reflectance's own spectrum (never an illuminant's)
+        return {s.own[l.nm[0]], s.own[l.nm[1]], s.own[l.nm[2]]};
     float v[3];
     for (int i = 0; i < 3; ++i) {
         v[i] = s.scale * ks::sigmoid((s.c[0] * l.t[i] + s.c[1]) * l.t[i] + s.c[2]);

@@ -26,16 +26,20 @@ struct Material;
 struct LightSet;
 struct Shape;
 struct EmissionSpectrum;
+struct ReflectanceSpectrum;
 
 // The wavelengths of one path, from its one number u (RayBatch::lambdaU).
 using PathWavelengths = kernels::spectral::SampledWavelengthsN<3>;
 
 // An RGB value's spectrum: scale * S(c0 t^2 + c1 t + c2), times the colour space's illuminant
 // for an illuminant. Set up once for constant values (refined), per texel from the table.
+// A reflectance with a spectrum of its own (scene/reflectance_spectrum.h) takes that instead:
+// `own`, its values at every nanometre, read at the lane's nearest nanometre.
 struct UpsampledRgb {
     float c[3] = {0, 0, 0};
     float scale = 1;
     bool valid = false; // false: not precomputed (a textured parameter)
+    const float* own = nullptr; // kDenseCount values (SpectralRender keeps them alive)
 };
 
 // A lane's wavelengths with what every conversion at them reads: the normalised wavelength of
@@ -70,7 +74,8 @@ public:
     // A precomputed value (unbounded; an illuminant also takes the illuminant's values).
     static Vec3 evaluate(const UpsampledRgb& s, const LaneSpectrum& l, bool illuminant);
 
-    // A material's constant parameters, precomputed (invalid where textured).
+    // A material's constant parameters, precomputed (invalid where textured); `color` and
+    // `transmittance` the material's own spectra where it has them.
     struct MaterialSpectra {
         UpsampledRgb color, eta, k, transmittance, albedo;
     };
@@ -115,6 +120,7 @@ private:
 
     const spectral::ColorSpace& m_cs;
     std::vector<MaterialSpectra> m_materials;
+    std::vector<std::shared_ptr<const ReflectanceSpectrum>> m_reflectances; // their `own`s
     struct LightSpectrum {
         UpsampledRgb s;
         Vec3 base;  // the RGB it was set up from (own's colour where it has one)

@@ -138,6 +138,12 @@ private:
     std::uint64_t raysSoFar() const { return std::uint64_t(m_stats.merged().raysTraced); }
     bool stopRequested() const { return m_control.stop && m_control.stop(); }
     Image wholeImage();
+    // This rank's film so far, passes in flight included, through the sensor: the watcher's.
+    Image imageSoFar() const {
+        Image img = m_film.resolveInProgress();
+        applySensor(m_sensor, img);
+        return img;
+    }
     // One pass; false when the render ends after it.
     bool renderPass(int pass);
     void tracePass(int pass, int first, int count);
@@ -158,7 +164,9 @@ private:
     std::atomic<Clock::rep> m_startTicks;
     const Cluster& m_cluster;
     Film m_film;
-    SensorMatrix m_sensor; // the film's sensor, applied to every image the job hands out
+    // The film's sensor, applied to every image the job hands out: the result, the progressive
+    // and watched images, the error log's, and (through the luminance it weighs) the noise layers.
+    SensorMatrix m_sensor;
     RenderContext m_rc;
     std::optional<NoiseBreakdown> m_noise;
     std::optional<SpectralRender> m_spectral; // spectral mode's conversions
@@ -211,7 +219,7 @@ RenderJob::RenderJob(const std::string& label, const Scene& scene, const EmbreeS
       m_camera(m_rc), m_stages(m_rc),
       m_errorLog(control.errorLogPath, m_result.errorLogFailure) {
     if (control.noiseBreakdown) {
-        m_noise.emplace(m_film.width(), m_film.height(), m_film.exponent());
+        m_noise.emplace(m_film.width(), m_film.height(), m_film.exponent(), m_sensor);
         m_rc.noise = &*m_noise;
     }
     if (engine.spectral) {
@@ -300,8 +308,8 @@ RenderResult RenderJob::run() {
         }
     } watch{m_control.watcher};
     if (m_control.watcher && m_control.watcher->begin)
-        m_control.watcher->begin(m_film, [this] { return fraction(); },
-                                [this] { return raysSoFar(); });
+        m_control.watcher->begin([this] { return imageSoFar(); }, [this] { return fraction(); },
+                                 [this] { return raysSoFar(); });
     m_lastProgressive = Clock::now();
     m_stop = m_cluster.distributed() ? agreeInterrupted(m_cluster) : interruptRequested();
     if (!m_cluster.distributed() && stopRequested()) m_stop = m_stopped = true;

@@ -4,19 +4,19 @@ namespace rayproc {
 
 PeriodicReport::PeriodicReport(double intervalSeconds, Report report)
     : m_interval(intervalSeconds), m_report(std::move(report)) {
-    m_watcher.begin = [this](const Film& film, std::function<double()> fraction,
+    m_watcher.begin = [this](std::function<Image()> image, std::function<double()> fraction,
                              std::function<std::uint64_t()> rays) {
-        begin(film, std::move(fraction), std::move(rays));
+        begin(std::move(image), std::move(fraction), std::move(rays));
     };
     m_watcher.end = [this] { end(); };
 }
 
 PeriodicReport::~PeriodicReport() { end(); }
 
-void PeriodicReport::begin(const Film& film, std::function<double()> fraction,
+void PeriodicReport::begin(std::function<Image()> image, std::function<double()> fraction,
                            std::function<std::uint64_t()> rays) {
     end(); // a watcher serves one render at a time
-    m_film = &film;
+    m_image = std::move(image);
     m_fraction = std::move(fraction);
     m_rays = std::move(rays);
     m_start = std::chrono::steady_clock::now();
@@ -40,16 +40,16 @@ void PeriodicReport::end() {
     m_wake.notify_all();
     if (m_thread.joinable()) m_thread.join();
     reportNow(); // where the passes ended
-    m_film = nullptr;
+    m_image = nullptr;
 }
 
 void PeriodicReport::reportNow() {
-    if (!m_film || !m_report) return;
+    if (!m_image || !m_report) return;
     Progress p;
     p.fraction = m_fraction ? m_fraction() : 0.0;
     p.rays = m_rays ? m_rays() : 0;
     p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
-    m_report(*m_film, p);
+    m_report(m_image(), p);
 }
 
 } // namespace rayproc

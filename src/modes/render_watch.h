@@ -1,9 +1,8 @@
 // A report at a fixed interval while a render's passes run, from a thread of its own, and
 // once more when they end: rayproc serve's page and `render --display-server` show the image
-// filling in with it (RenderControl::Watcher, Film::resolveInProgress).
+// filling in with it (RenderControl::Watcher: the film so far, through the film's sensor).
 #pragma once
 
-#include "engine/film.h"
 #include "modes/render_job.h"
 
 #include <chrono>
@@ -22,7 +21,7 @@ public:
         std::uint64_t rays = 0; // traced so far
         double seconds = 0;     // since the passes began
     };
-    using Report = std::function<void(const Film& film, const Progress& progress)>;
+    using Report = std::function<void(Image image, const Progress& progress)>;
 
     PeriodicReport(double intervalSeconds, Report report);
     ~PeriodicReport(); // stops a report still running
@@ -32,7 +31,7 @@ public:
     const RenderControl::Watcher* watcher() const { return &m_watcher; }
 
 private:
-    void begin(const Film& film, std::function<double()> fraction,
+    void begin(std::function<Image()> image, std::function<double()> fraction,
                std::function<std::uint64_t()> rays);
     void end();
     void reportNow();
@@ -44,7 +43,7 @@ private:
     std::condition_variable m_wake;
     bool m_running = false;
     std::thread m_thread;
-    const Film* m_film = nullptr;
+    std::function<Image()> m_image; // set while a render runs
     std::function<double()> m_fraction;
     std::function<std::uint64_t()> m_rays;
     std::chrono::steady_clock::time_point m_start;

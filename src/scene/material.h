@@ -7,10 +7,15 @@
 #include "core/math.h"
 #include "kernels/bsdf_flags.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace rayproc {
+
+// A reflectance given as a spectrum, kept for the spectral mode (scene/reflectance_spectrum.h).
+struct ReflectanceSpectrum;
+using ReflectanceSpectrumRef = std::shared_ptr<const ReflectanceSpectrum>;
 
 // A parameter that is the constant `value`, or Scene::textures[texture] evaluated at the hit.
 struct ColorParam {
@@ -52,6 +57,10 @@ struct Material {
     // (when useReflectance), coateddiffuse's base reflectance, diffusetransmission's reflectance.
     Vec3 color{0.5f, 0.5f, 0.5f};
     int colorTexture = -1; // replaces `color` when >= 0
+    // The constant `color`'s own spectrum where the file gave one (a pbrt-v4 sampled
+    // reflectance, an rgb under another colour space): the spectral mode's; RGB mode's is
+    // `color`. Likewise DiffuseTransmission's `transmittance`. nullptr: upsampled from the RGB.
+    ReflectanceSpectrumRef colorSpectrum, transmittanceSpectrum;
     float ior = 1.5f;      // dielectric, thindielectric, the coated materials' coats
     float roughness = 0.2f; // Glossy only: GGX alpha = roughness^2
 

@@ -4,6 +4,7 @@
 #include "image/image.h"
 #include "scene/camera_check.h"
 #include "scene/metals.h"
+#include "scene/pbrt/pbrt_spectrum.h"
 #include "scene/scene_loader_detail.h"
 #include "texture/texture_image.h"
 
@@ -462,6 +463,23 @@ Affine parseLightFrame(const JsonRef& l) {
     return a;
 }
 
+// A light's colour: [r, g, b] (>= 0), or {"blackbody": kelvin, "scale": s}: Planck's law at
+// luminance 1 as pbrt-v4 normalises a blackbody light, times s (default 1). The blackbody keeps
+// its spectrum for the spectral mode (`spectrum`, scene/emission_spectrum.h); RGB mode takes its
+// colour, the importer's blackbodyRgb.
+namespace {
+Vec3 lightColor(const JsonRef& v, EmissionSpectrumRef& spectrum) {
+    spectrum = nullptr;
+    if (!v.isObject()) return v.color();
+    v.expectObject({"blackbody", "scale"}, "a blackbody colour");
+    const float kelvin = v["blackbody"].positive();
+    const float scale = v.has("scale") ? nonNegative(v["scale"]) : 1.0f;
+    spectrum = pbrt::blackbodyEmission(kelvin);
+    if (!spectrum) v["blackbody"].fail("a blackbody this cold has no visible light");
+    return spectrum->rgb * scale;
+}
+} // namespace
+
 void parseLights(const JsonRef& v, Scene& scene) {
     if (!v.isArray()) v.fail("expected an array of lights");
     static const std::vector<std::string> kTypes = {"point", "spot", "directional",
@@ -475,7 +493,7 @@ void parseLights(const JsonRef& v, Scene& scene) {
             l.expectObject({"type", "name", "position", "intensity"}, "a point light");
             light.type = LightType::Point;
             light.position = l["position"].vec3();
-            light.intensity = l["intensity"].color();
+            light.intensity = lightColor(l["intensity"], light.spectrum);
         } else if (type == "spot") {
             l.expectObject({"type", "name", "position", "direction", "intensity", "cone_angle",
                             "falloff_angle"},
@@ -483,7 +501,7 @@ void parseLights(const JsonRef& v, Scene& scene) {
             light.type = LightType::Spot;
             light.position = l["position"].vec3();
             light.direction = l["direction"].direction();
-            light.intensity = l["intensity"].color();
+            light.intensity = lightColor(l["intensity"], light.spectrum);
             if (l.has("cone_angle")) light.coneAngle = l["cone_angle"].positive();
             if (l.has("falloff_angle")) light.falloffAngle = nonNegative(l["falloff_angle"]);
             if (light.coneAngle + light.falloffAngle > 180) {
@@ -494,13 +512,13 @@ void parseLights(const JsonRef& v, Scene& scene) {
             l.expectObject({"type", "name", "direction", "irradiance"}, "a directional light");
             light.type = LightType::Directional;
             light.direction = l["direction"].direction();
-            light.intensity = l["irradiance"].color();
+            light.intensity = lightColor(l["irradiance"], light.spectrum);
         } else if (type == "goniometric") {
             l.expectObject({"type", "name", "position", "intensity", "image", "transform"},
                            "a goniometric light");
             light.type = LightType::Goniometric;
             light.position = l["position"].vec3();
-            light.intensity = l["intensity"].color();
+            light.intensity = lightColor(l["intensity"], light.spectrum);
             parseLightImage(l, light, false);
             light.toWorld = parseLightFrame(l);
         } else {
@@ -509,7 +527,8 @@ void parseLights(const JsonRef& v, Scene& scene) {
             if (haveEnvironment) l.fail("a scene may have only one environment light");
             haveEnvironment = true;
             light.type = LightType::Environment;
-            if (!l.has("image") || l.has("radiance")) light.intensity = l["radiance"].color();
+            if (!l.has("image") || l.has("radiance"))
+                light.intensity = lightColor(l["radiance"], light.spectrum);
             if (l.has("image")) parseLightImage(l, light, true);
             else if (l.has("mapping")) l["mapping"].fail("\"mapping\" needs an \"image\"");
             if (l.has("scale")) light.intensity = light.intensity * nonNegative(l["scale"]);

@@ -432,9 +432,11 @@ function showLights(s) {
   s.lights.forEach((l, i) => {
     const row = document.createElement("div"); row.className = "row";
     const key = ["intensity", "radiance", "irradiance"].find((k) => l[k] !== undefined);
-    row.textContent = (l.name ? l.name + " (" + l.type + ")" : l.type) + (l.image ? " image " + l.image.split("/").pop() : "") + " ";
+    const bb = key && l[key] && l[key].blackbody; // shown as its RGB; setting it replaces it
+    row.textContent = (l.name ? l.name + " (" + l.type + ")" : l.type) + (l.image ? " image " + l.image.split("/").pop() : "") +
+      (bb ? " blackbody " + bb + " K" : "") + " ";
     if (key) {
-      const rgb = Array.isArray(l[key]) ? l[key] : [l[key], l[key], l[key]];
+      const rgb = Array.isArray(l[key]) ? l[key] : bb ? l[key + "_rgb"] : [l[key], l[key], l[key]];
       const inputs = rgb.map((c) => { const input = document.createElement("input"); input.type = "number";
         input.step = "0.5"; input.min = "0"; input.value = c; input.disabled = !s.editable; return input; });
       const b = document.createElement("button"); b.textContent = "set " + key; b.disabled = !s.editable;

@@ -14,6 +14,7 @@
 #include "modes/render_plan.h"
 #include "modes/render_watch.h"
 #include "scene/pbrt/pbrt_loader.h"
+#include "scene/pbrt/pbrt_spectrum.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_loader_detail.h"
 
@@ -100,6 +101,27 @@ Json sceneLightsJson(const Scene& scene) {
         if (!l.name.empty()) j["name"] = l.name;
         if (!l.imageFile.empty()) j["image"] = l.imageFile;
         lights.push_back(j);
+    }
+    return lights;
+}
+
+// A JSON scene's lights as written; a blackbody colour ({"blackbody": K, "scale": s}) also as
+// the RGB that RGB mode renders ("<key>_rgb"), which the page's three fields show: setting them
+// replaces the blackbody by that RGB (docs/serve.md).
+Json docLightsJson(const Json& doc) {
+    Json lights = doc.contains("lights") ? doc["lights"] : Json::array();
+    for (Json& l : lights) {
+        if (!l.is_object()) continue;
+        for (const char* key : {"intensity", "radiance", "irradiance"}) {
+            const Json* c = l.contains(key) ? &l[key] : nullptr;
+            if (!c || !c->is_object() || !c->contains("blackbody") || !(*c)["blackbody"].is_number())
+                continue;
+            const double scale = c->contains("scale") && (*c)["scale"].is_number()
+                                     ? (*c)["scale"].get<double>()
+                                     : 1.0;
+            l[std::string(key) + "_rgb"] =
+                vec3Json(pbrt::blackbodyRgb((*c)["blackbody"].get<double>()) * float(scale));
+        }
     }
     return lights;
 }
@@ -446,8 +468,7 @@ Json Session::state() const {
     s["objects"] = objectsJson();
     s["materials"] = m_editable && m_doc.contains("materials") ? m_doc["materials"] : Json::object();
     // A pbrt scene's lights are listed read-only (the sun and the sky among them).
-    s["lights"] = m_editable ? (m_doc.contains("lights") ? m_doc["lights"] : Json::array())
-                             : sceneLightsJson(*m_loaded->scene);
+    s["lights"] = m_editable ? docLightsJson(m_doc) : sceneLightsJson(*m_loaded->scene);
     s["warnings"] = m_warnings;
     s["analysis"] = m_loaded->analysis;
     // The samples per pixel a render takes when the page gives none, per mode.
@@ -619,7 +640,7 @@ void Session::refinePreview(const std::shared_ptr<Loaded>& loaded, std::uint64_t
     const RaytraceSettings settings = raytraceSettings(scene.render, {});
     std::function<double()> fraction; // of the passes done, while they run
     RenderControl::Watcher watcher{
-        [&](const Film&, std::function<double()> f, std::function<std::uint64_t()>) {
+        [&](std::function<Image()>, std::function<double()> f, std::function<std::uint64_t()>) {
             fraction = std::move(f);
         },
         [&] { fraction = nullptr; }};
@@ -749,8 +770,8 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     engine.spectral = request.spectral;
     // While the passes run, four times a second: the image with the tiles done so far, and
     // the progress. Before them, the StartingTicker's messages.
-    PeriodicReport watch(0.25, [&](const Film& film, const PeriodicReport::Progress& p) {
-        sendFrame(film.resolveInProgress(), version);
+    PeriodicReport watch(0.25, [&](Image image, const PeriodicReport::Progress& p) {
+        sendFrame(std::move(image), version);
         sendText({{"type", "progress"}, {"mode", request.mode}, {"fraction", p.fraction},
                   {"seconds", p.seconds},
                   {"eta_seconds", p.fraction > 0 ? p.seconds * (1 - p.fraction) / p.fraction : -1.0},
@@ -760,9 +781,10 @@ void Session::renderMode(const std::shared_ptr<Loaded>& loaded, const RenderRequ
     StartingTicker starting(*this, request.mode);
     const RenderControl::Watcher* report = watch.watcher();
     RenderControl::Watcher watcher{
-        [&](const Film& film, std::function<double()> fraction, std::function<std::uint64_t()> rays) {
+        [&](std::function<Image()> image, std::function<double()> fraction,
+            std::function<std::uint64_t()> rays) {
             starting.stop();
-            report->begin(film, std::move(fraction), std::move(rays));
+            report->begin(std::move(image), std::move(fraction), std::move(rays));
         },
         [&] { report->end(); }};
     RenderControl control;

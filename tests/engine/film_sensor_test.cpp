@@ -1,14 +1,18 @@
 // engine/film_sensor.h: pbrt-v4's "rgb" film with the "cie1931" sensor. The imaging ratio
 // exposure x iso / 100 scales the image, white balance adapts the daylight white of its
 // temperature to the colour space's white; the film's images in RGB and spectral mode, through
-// the render job, and the pbrt importer's Film and Camera parameters.
+// the render job (the result, the progressive and watched images and the noise layers alike),
+// and the pbrt importer's Film and Camera parameters.
 #include "../analytic/analytic.h"
 #include "engine/film_sensor.h"
+#include "engine/noise_breakdown.h"
 #include "pbrt/pbrt_test_util.h"
 #include "scene/pbrt/pbrt_spectrum.h"
 #include "spectral/color_space.h"
 #include "spectral/spectra.h"
 #include "spectral/white_balance.h"
+
+#include <map>
 
 using namespace rayproc;
 using namespace rayproc::test;
@@ -64,6 +68,37 @@ std::string greyScene(const std::string& film, const std::string& light, const s
            " \"point3 from\" [0 0 1] \"point3 to\" [0 0 0]\n"
            "Material \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]\n"
            "Shape \"bilinearmesh\" \"point3 P\" [-5 -5 0 5 -5 0 -5 5 0 5 5 0]\n";
+}
+
+// Every image one render hands out besides its result: the progressive images (one per pass
+// but the last), the watcher's image at the end, the noise layers by name.
+struct Outputs {
+    RenderResult result;
+    std::vector<Image> progressive;
+    Image watched;
+    std::map<std::string, std::vector<float>> layers;
+};
+
+Outputs renderOutputs(const std::string& text) {
+    LoadedPbrt r = loadPbrt(text);
+    REQUIRE(r.warnings.empty());
+    EmbreeScene accel(*r.scene);
+    Outputs out;
+    EngineSettings engine = quietTwoThreads();
+    RenderControl control;
+    control.noiseBreakdown = true;
+    control.progressiveSeconds = 0; // after every pass
+    control.onProgress = [&](const Image& img) { out.progressive.push_back(img); };
+    std::function<Image()> soFar;
+    RenderControl::Watcher watcher;
+    watcher.begin = [&](std::function<Image()> image, std::function<double()>,
+                        std::function<std::uint64_t()>) { soFar = std::move(image); };
+    watcher.end = [&] { out.watched = soFar(); };
+    control.watcher = &watcher;
+    out.result = renderPath(*r.scene, accel, pathSettings(r.scene->render, ModeOverrides{4, 0, 0}),
+                            engine, control);
+    for (const ImageLayer& l : out.result.layers) out.layers[l.name] = l.values;
+    return out;
 }
 
 } // namespace
@@ -179,4 +214,75 @@ TEST_CASE("Film sensor in renders: white balance at the light's temperature give
         for (int c = 0; c < 3; ++c)
             CHECK(std::abs(b[c].mean - 0.5 / kPi) <= 4 * b[c].stdError + 1e-3 * 0.5 / kPi);
     }
+}
+
+TEST_CASE("Film sensor: iso 200 doubles every image a render hands out, noise layers included",
+          "[engine][spectral]") {
+    const std::string light = "\"blackbody L\" 3000";
+    Outputs base = renderOutputs(greyScene("", light));
+    Outputs iso = renderOutputs(greyScene("\"float iso\" 200", light));
+    REQUIRE(meanValue(base.result.image) > 0.05);
+    // The progressive images (passes of 1 spp with the noise breakdown: three before the last)
+    // and the watcher's: the film's RGB times 2, exactly, as the result.
+    REQUIRE(base.progressive.size() == 3);
+    REQUIRE(iso.progressive.size() == base.progressive.size());
+    auto doubled = [](const Image& a, const Image& b) {
+        bool same = a.pixels.size() == b.pixels.size();
+        for (std::size_t i = 0; same && i < a.pixels.size(); ++i) same = b.pixels[i] == 2 * a.pixels[i];
+        return same;
+    };
+    CHECK(doubled(base.result.image, iso.result.image));
+    for (std::size_t k = 0; k < base.progressive.size(); ++k) {
+        INFO("progressive image " << k);
+        CHECK(doubled(base.progressive[k], iso.progressive[k]));
+    }
+    CHECK(sameBits(base.watched, base.result.image)); // after the last pass: the result
+    CHECK(sameBits(iso.watched, iso.result.image));
+    // The noise layers: each group's mean luminance doubles; its noise, a variance over
+    // (F^2 + 0.01), F the pixel's mean luminance, becomes 4 var / (4 F^2 + 0.01).
+    REQUIRE(base.layers.size() == 2 * NoiseBreakdown::kGroups + 1);
+    double worstMean = 0, worstNoise = 0, largestMean = 0;
+    for (int g = 0; g <= NoiseBreakdown::kGroups; ++g) {
+        const std::string name = NoiseBreakdown::name(NoiseBreakdown::Group(g));
+        const std::vector<float>& noiseA = base.layers.at("noise." + name);
+        const std::vector<float>& noiseB = iso.layers.at("noise." + name);
+        for (std::size_t p = 0; p < noiseA.size(); ++p) {
+            const float* px = &base.result.image.pixels[3 * p];
+            const double f = luminance(Vec3(px[0], px[1], px[2]));
+            const double variance = noiseA[p] * (f * f + 0.01);
+            const double expected = 4 * variance / (4 * f * f + 0.01);
+            worstNoise = std::max(worstNoise, std::abs(noiseB[p] - expected) / (expected + 1e-6));
+            if (g == NoiseBreakdown::kGroups) continue; // no mean.total
+            const float a = base.layers.at("mean." + name)[p], b = iso.layers.at("mean." + name)[p];
+            largestMean = std::max(largestMean, double(a));
+            worstMean = std::max(worstMean, std::abs(double(b) - 2.0 * a) / (2.0 * a + 1e-6));
+        }
+    }
+    INFO("largest mean " << largestMean << ", worst mean " << worstMean << ", worst noise "
+                         << worstNoise);
+    CHECK(largestMean > 0.05);
+    CHECK(worstMean < 1e-5);
+    CHECK(worstNoise < 1e-3);
+}
+
+TEST_CASE("Film sensor: the noise layers' means add up to the luminance of the image handed out",
+          "[engine][spectral]") {
+    // White balance mixes the channels: the layers weigh each contribution's colour through
+    // the sensor's matrix, so the groups' means still add up to the written pixel's luminance.
+    Outputs out = renderOutputs(
+        greyScene("\"float iso\" 300 \"float whitebalance\" 2500", "\"blackbody L\" 6500"));
+    double worst = 0, largest = 0;
+    const std::size_t pixels = out.result.image.pixels.size() / 3;
+    for (std::size_t p = 0; p < pixels; ++p) {
+        double sum = 0;
+        for (int g = 0; g < NoiseBreakdown::kGroups; ++g)
+            sum += out.layers.at(std::string("mean.") + NoiseBreakdown::name(NoiseBreakdown::Group(g)))[p];
+        const float* px = &out.result.image.pixels[3 * p];
+        const double lum = luminance(Vec3(px[0], px[1], px[2]));
+        largest = std::max(largest, lum);
+        worst = std::max(worst, std::abs(sum - lum) / (lum + 1e-3));
+    }
+    INFO("largest luminance " << largest << ", worst relative difference " << worst);
+    CHECK(largest > 0.1);
+    CHECK(worst < 1e-4);
 }

@@ -271,9 +271,9 @@ TEST_CASE("pbrt lights keep sampled and named illuminant spectra, not RGB ones",
     for (float nm : {435.0f, 546.0f, 611.0f}) // its mercury and europium lines
         CHECK(f11.values.at(nm) == Approx(spectral::cieIlluminant("F11")->at(nm)).epsilon(1e-5));
 
-    // RGB under sRGB, a constant spectrum and an image sky have no spectrum of their own.
+    // RGB under sRGB and an image sky have no spectrum of their own (a one-number spectrum is
+    // an error, as in pbrt-v4: tests/pbrt/pbrt_materials_test.cpp).
     CHECK_FALSE(onlyLight(loadLights(R"(LightSource "point" "rgb I" [1 0.5 0.2])")).spectrum);
-    CHECK_FALSE(onlyLight(loadLights(R"(LightSource "point" "spectrum I" [2])")).spectrum);
     writeImageFile("sky.pfm", 8, 8, 0.5f);
     CHECK_FALSE(
         onlyLight(loadLights(R"(LightSource "infinite" "string filename" "sky.pfm")")).spectrum);

@@ -195,7 +195,8 @@ TEST_CASE("Under a time limit the progress fraction is the share of the budget s
     std::function<double()> fraction;
     double atEnd = -1;
     RenderControl::Watcher watcher;
-    watcher.begin = [&](const Film&, std::function<double()> f, std::function<std::uint64_t()>) {
+    watcher.begin = [&](std::function<Image()>, std::function<double()> f,
+                        std::function<std::uint64_t()>) {
         fraction = std::move(f);
     };
     watcher.end = [&] { atEnd = fraction(); };

@@ -44,8 +44,24 @@ TEST_CASE("diffuse, the default material, and named materials", "[pbrt]") {
     Material def = materialOf("");
     CHECK(def.type == MaterialType::Diffuse);
     CHECK(def.color == Vec3(0.5f));
-    Material grey = materialOf("Material \"diffuse\" \"spectrum reflectance\" 0.25");
-    CHECK(grey.color == Vec3(0.25f));
+    // One number is no spectrum in pbrt-v4 (an odd count of wavelength, value pairs): an
+    // error that names the file and line, on a material, a light and a constant texture alike.
+    CHECK_THAT(pbrtErrorOf(std::string(kPbrtHeader) +
+                           "Material \"diffuse\" \"spectrum reflectance\" 0.25\n"),
+               Catch::Contains("bad.pbrt:5") && Catch::Contains("\"spectrum reflectance\"") &&
+                   Catch::Contains("got 1 value"));
+    CHECK_THAT(pbrtErrorOf(std::string(kPbrtHeader) + "\nLightSource \"point\" \"spectrum I\" [2]\n"),
+               Catch::Contains("bad.pbrt:6") && Catch::Contains("\"spectrum I\""));
+    CHECK_THAT(pbrtErrorOf(std::string(kPbrtHeader) +
+                           "Texture \"t\" \"spectrum\" \"constant\" \"spectrum value\" [0.5]\n"
+                           "Material \"diffuse\" \"texture reflectance\" \"t\"\n"),
+               Catch::Contains("bad.pbrt:5") && Catch::Contains("\"spectrum value\""));
+    CHECK_THAT(pbrtErrorOf(std::string(kPbrtHeader) +
+                           "Material \"dielectric\" \"spectrum eta\" [1.5]\n"),
+               Catch::Contains("bad.pbrt:5"));
+    CHECK_THAT(pbrtErrorOf(std::string(kPbrtHeader) +
+                           "Material \"diffuse\" \"spectrum reflectance\" [400 0.5 500]\n"),
+               Catch::Contains("bad.pbrt:5") && Catch::Contains("odd count"));
 
     // Used before it is defined: resolved after parsing.
     auto r = loadWorld("NamedMaterial \"late\"\nShape \"sphere\"\n"

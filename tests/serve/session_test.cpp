@@ -3,6 +3,7 @@
 
 #include "accel/embree_scene.h"
 #include "modes/modes.h"
+#include "scene/pbrt/pbrt_spectrum.h"
 #include "scene/scene_loader.h"
 #include "serve/session.h"
 
@@ -15,6 +16,7 @@
 #include <condition_variable>
 #include <fstream>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 using namespace rayproc;
@@ -220,6 +222,35 @@ TEST_CASE("serve: light edits, checked by the loader", "[serve]") {
                Catch::Contains("/lights/0"));
     CHECK_THAT(messageOf(h.send({{"type", "light"}, {"index", 3}, {"set", {{"intensity", {1, 1, 1}}}}})),
                Catch::Contains("no light 3"));
+}
+
+TEST_CASE("serve: a blackbody light shows its RGB, and setting it replaces the blackbody",
+          "[serve][spectral]") {
+    TempDir dir;
+    std::string path = sceneWithLight(dir);
+    std::string text;
+    {
+        std::ifstream in(path);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        text = ss.str();
+    }
+    const std::string rgb = R"("intensity": [5, 5, 5])";
+    REQUIRE(text.find(rgb) != std::string::npos);
+    text.replace(text.find(rgb), rgb.size(), R"("intensity": {"blackbody": 2700, "scale": 5})");
+    std::ofstream(path) << text;
+    Harness h(path);
+    Json light = h.send({{"type", "state"}})["lights"][0];
+    CHECK(light["intensity"]["blackbody"] == 2700); // as written
+    const Vec3 expected = pbrt::blackbodyRgb(2700) * 5.0f;
+    REQUIRE(light["intensity_rgb"].size() == 3);
+    for (int c = 0; c < 3; ++c)
+        CHECK(light["intensity_rgb"][std::size_t(c)].get<double>() == Approx(expected[c]));
+    CHECK(h.send({{"type", "light"}, {"index", 0}, {"set", {{"intensity", {2, 1, 0.5}}}}})["type"] ==
+          "edited");
+    light = h.send({{"type", "state"}})["lights"][0];
+    CHECK(light["intensity"] == Json::array({2, 1, 0.5}));
+    CHECK_FALSE(light.contains("intensity_rgb"));
 }
 
 TEST_CASE("serve: a saved scene renders exactly as the page shows it", "[serve]") {

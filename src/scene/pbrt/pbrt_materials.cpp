@@ -80,7 +80,7 @@ void conductorIndex(const ParamList& params, const ValueReader& values, const So
             failAt(loc, "Material \"coatedconductor\" takes \"reflectance\" or \"" +
                             std::string(etaName) + "\" and \"" + std::string(kName) +
                             "\", not both");
-        ColorParam r = colorParam(params, values, "reflectance", SpectrumUse::Albedo, Vec3(0.9f));
+        ColorParam r = values.reflectance(params, "reflectance", Vec3(0.9f), m.colorSpectrum);
         m.color = r.value;
         m.colorTexture = r.texture;
         m.useReflectance = true;
@@ -112,10 +112,11 @@ void shadingNormals(const ParamList& params, const ValueReader& values, Material
     }
 }
 
-// The material's base colour from the spectrum or texture parameter `name`.
+// The material's base colour from the spectrum or texture parameter `name` (a constant's own
+// spectrum kept for the spectral mode).
 void baseColor(const ParamList& params, const ValueReader& values, std::string_view name,
                Vec3 def, Material& m) {
-    ColorParam c = colorParam(params, values, name, SpectrumUse::Albedo, def);
+    ColorParam c = values.reflectance(params, name, def, m.colorSpectrum);
     m.color = c.value;
     m.colorTexture = c.texture;
 }
@@ -201,7 +202,7 @@ MaterialResult convertMaterial(const std::string& type, const ParamList& params,
         m.type = MaterialType::DiffuseTransmission;
         baseColor(params, values, "reflectance", Vec3(0.25f), m);
         m.transmittance =
-            colorParam(params, values, "transmittance", SpectrumUse::Albedo, Vec3(0.25f));
+            values.reflectance(params, "transmittance", Vec3(0.25f), m.transmittanceSpectrum);
         m.scale = values.scalar(params, "scale", 1.0f);
         if (!(m.scale >= 0)) failAt(loc, "\"scale\" must not be negative");
     } else if (type == "mix") {

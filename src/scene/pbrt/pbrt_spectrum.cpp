@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 namespace rayproc::pbrt {
 
@@ -151,6 +152,30 @@ EmissionSpectrumRef rgbIlluminantEmission(const Vec3& rgb, const spectral::Color
     e->rgb = rgbIlluminantToSrgb(rgb, cs);
     e->label = std::string("rgb in ") + cs.name;
     return e;
+}
+
+namespace {
+
+ReflectanceSpectrumRef clampedReflectance(const std::function<double(double)>& f,
+                                          std::string label) {
+    auto r = std::make_shared<ReflectanceSpectrum>();
+    r->values = spectral::DenseSpectrum::sample([&](double nm) { return std::clamp(f(nm), 0.0, 1.0); });
+    r->label = std::move(label);
+    return r;
+}
+
+} // namespace
+
+ReflectanceSpectrumRef sampledReflectance(const std::vector<double>& pairs) {
+    return clampedReflectance([&pairs](double nm) { return spectral::piecewiseLinear(pairs, nm); },
+                              "sampled spectrum");
+}
+
+ReflectanceSpectrumRef rgbAlbedoReflectance(const Vec3& rgb, const spectral::ColorSpace& cs) {
+    if (isSrgb(cs)) return nullptr;
+    spectral::RgbAlbedoSpectrum s(cs, rgb.x, rgb.y, rgb.z);
+    return clampedReflectance([&s](double nm) { return double(s(float(nm))); },
+                              std::string("rgb in ") + cs.name);
 }
 
 bool namedGlassIor(const std::string& name, double& ior) {

@@ -13,6 +13,8 @@
 
 #include "core/math.h"
 #include "scene/emission_spectrum.h"
+#include "scene/reflectance_spectrum.h"
+#include "scene/material.h"
 
 #include <string>
 #include <vector>
@@ -56,6 +58,13 @@ EmissionSpectrumRef namedIlluminantEmission(const std::string& name);
 // space (pbrt-v4's RGBIlluminantSpectrum, whose photometric scale counts the illuminant alone,
 // so it is not renormalised) with its sRGB colour rgbIlluminantToSrgb; nullptr under sRGB.
 EmissionSpectrumRef rgbIlluminantEmission(const Vec3& rgb, const spectral::ColorSpace& cs);
+
+// Reflectance-like spectra kept whole for the spectral mode (scene/reflectance_spectrum.h):
+// (wavelength, value) pairs, zero outside their range; an "rgb" reflectance under another
+// colour space than sRGB, that space's RGBAlbedoSpectrum (nullptr under sRGB, whose colour the
+// spectral mode upsamples itself). Both clamped to [0, 1].
+ReflectanceSpectrumRef sampledReflectance(const std::vector<double>& pairs);
+ReflectanceSpectrumRef rgbAlbedoReflectance(const Vec3& rgb, const spectral::ColorSpace& cs);
 
 // An "rgb" value written under another ColorSpace than sRGB, as sRGB (docs/pbrt-import.md,
 // "Colour spaces"): pbrt-v4 upsamples it with that colour space's table (Jakob & Hanika), so

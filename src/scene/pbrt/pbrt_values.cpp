@@ -236,10 +236,6 @@ bool ValueReader::plainColor(const Param& p, Vec3& out) {
         out = {float(p.numbers[0]), float(p.numbers[1]), float(p.numbers[2])};
         return true;
     }
-    if (p.type == "spectrum" && p.numbers.size() == 1) {
-        out = Vec3(float(p.numbers[0]));
-        return true;
-    }
     if (p.type == "float" && p.numbers.size() == 1) {
         out = Vec3(float(p.numbers[0]));
         return true;
@@ -269,13 +265,14 @@ Vec3 ValueReader::convert(const Param& p, SpectrumUse use, Vec3 def,
         if (!(p.numbers[0] > 0))
             failAt(p.loc, "parameter " + p.decl() + " needs a positive temperature in kelvin");
         c = blackbodyRgb(p.numbers[0]);
-    } else if (!p.numbers.empty()) { // spectrum: a constant, or (wavelength, value) pairs
-        if (p.numbers.size() == 1) {
-            c = Vec3(float(p.numbers[0]));
-        } else if (p.numbers.size() % 2 != 0) {
-            failAt(p.loc, "parameter " + p.decl() +
-                              " expects one constant or (wavelength, value) pairs, got an odd "
-                              "count");
+    } else if (!p.numbers.empty()) { // spectrum: (wavelength, value) pairs
+        // As pbrt-v4 (ParameterDictionary): no constant spectrum, one number is an odd count.
+        if (p.numbers.size() % 2 != 0) {
+            failAt(p.loc, "parameter " + p.decl() + " expects (wavelength, value) pairs, got " +
+                              std::to_string(p.numbers.size()) +
+                              (p.numbers.size() == 1 ? " value (pbrt-v4 has no constant "
+                                                       "spectrum: write \"float\" or \"rgb\")"
+                                                     : " values, an odd count"));
         } else if (use == SpectrumUse::Illuminant) {
             c = sampledEmissionRgb(p.numbers);
         } else if (use == SpectrumUse::Albedo) {
@@ -337,7 +334,31 @@ EmissionSpectrumRef ValueReader::emissionSpectrum(const Param& p, const spectral
     if (p.type != "spectrum") return nullptr;
     if (p.numbers.size() >= 2) return sampledEmission(p.numbers);
     if (p.numbers.empty() && p.strings.size() == 1) return namedIlluminantEmission(p.strings[0]);
-    return nullptr; // a constant: taken as grey RGB, as before
+    return nullptr;
+}
+
+ColorParam ValueReader::reflectance(const ParamList& params, std::string_view name, Vec3 def,
+                                    ReflectanceSpectrumRef& spectrum) const {
+    spectrum = nullptr;
+    ColorParam c = colorParam(params, name, SpectrumUse::Albedo, def);
+    const Param* p = params.get(name, {"rgb", "spectrum", "blackbody", "texture"});
+    if (!p || c.textured()) return c;
+    if (p->type != "texture") {
+        spectrum = reflectanceSpectrum(*p, *m_colorSpace);
+    } else {
+        const Texture* t = texture(*p, false);
+        if (t->constant && t->hasValue) spectrum = reflectanceSpectrum(t->value, *t->colorSpace);
+    }
+    return c;
+}
+
+// Called after convert() accepted the parameter: its values are valid.
+ReflectanceSpectrumRef ValueReader::reflectanceSpectrum(const Param& p,
+                                                        const spectral::ColorSpace& cs) {
+    Vec3 rgb;
+    if (p.type == "rgb") return plainColor(p, rgb) ? rgbAlbedoReflectance(rgb, cs) : nullptr;
+    if (p.type == "spectrum" && p.numbers.size() >= 2) return sampledReflectance(p.numbers);
+    return nullptr; // a blackbody or a named spectrum: its colour (convert's) is all there is
 }
 
 float ValueReader::scalar(const ParamList& params, std::string_view name, float def) const {

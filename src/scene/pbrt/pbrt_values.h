@@ -44,6 +44,12 @@ public:
     // than sRGB) kept whole for the spectral mode; nullptr where the colour is all there is.
     Vec3 emission(const ParamList& params, std::string_view name, Vec3 def,
                   EmissionSpectrumRef& spectrum) const;
+    // A reflectance-like parameter (SpectrumUse::Albedo), as colorParam(), and the spectrum
+    // the file gave its constant (pairs, an "rgb" under another colour space than sRGB) kept
+    // whole for the spectral mode (scene/reflectance_spectrum.h); nullptr where the colour is
+    // all there is (sRGB rgb, a texture of another class than "constant").
+    ColorParam reflectance(const ParamList& params, std::string_view name, Vec3 def,
+                           ReflectanceSpectrumRef& spectrum) const;
     // A float parameter or float texture, or `def`.
     float scalar(const ParamList& params, std::string_view name, float def) const;
     // The same as parameters that may refer to a texture of any class. A texture whose image
@@ -57,8 +63,8 @@ public:
     // `loc`; the material then shades with its own normals).
     int normalMapTexture(const std::string& file, const SourceLoc& loc) const;
 
-    // A colour parameter's value as written (rgb, spectrum constant or blackbody); false if it
-    // is absent, a named or sampled spectrum, or a texture.
+    // A colour parameter's value as written (rgb, or a float as grey); false for any other
+    // type (spectra, blackbody, textures).
     static bool plainColor(const Param& p, Vec3& out);
 
     // The ColorSpace directive's colour space in the graphics state: "rgb" values read from now
@@ -90,6 +96,8 @@ private:
     }
     const Texture* texture(const Param& ref, bool wantFloat) const;
     static EmissionSpectrumRef emissionSpectrum(const Param& p, const spectral::ColorSpace& cs);
+    static ReflectanceSpectrumRef reflectanceSpectrum(const Param& p,
+                                                      const spectral::ColorSpace& cs);
 
     Warnings& m_warnings;
     std::unordered_map<std::string, Texture> m_floatTextures;

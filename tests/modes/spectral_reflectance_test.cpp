@@ -1,0 +1,137 @@
+// Reflectance spectra in the spectral mode (scene/reflectance_spectrum.h, docs/spectral.md,
+// "Reflectance spectra"): a pbrt-v4 material's sampled reflectance, or an rgb reflectance
+// under another ColorSpace, keeps its spectrum for the spectral mode, which evaluates it at the
+// path's wavelengths instead of upsampling its sRGB colour; RGB mode renders the colour as
+// before. Against the test's own quadrature of light x reflectance x CIE functions.
+#include "../analytic/analytic.h"
+#include "pbrt/pbrt_test_util.h"
+#include "scene/pbrt/pbrt_spectrum.h"
+#include "scene/reflectance_spectrum.h"
+#include "spectral/color_space.h"
+#include "spectral/rgb_spectrum.h"
+#include "spectral/spectra.h"
+
+#include <cstdio>
+
+using namespace rayproc;
+using namespace rayproc::test;
+
+namespace {
+
+// A reflectance with steps the sigmoid family cannot follow: its sRGB metamer differs.
+const std::vector<double> kPairs = {400, 0.1, 480, 0.8, 520, 0.05, 600, 0.9, 650, 0.15, 700, 0.6};
+const char* kPairsText = "[400 0.1 480 0.8 520 0.05 600 0.9 650 0.15 700 0.6]";
+
+const spectral::ColorSpace& srgb() { return spectral::colorSpace(spectral::ColorSpaceId::Srgb); }
+
+// The material of the first shape after `world`.
+Material materialOf(const std::string& world) {
+    auto r = loadWorld(world + "\nShape \"sphere\"\n");
+    REQUIRE(r.warnings.empty());
+    auto shapes = rootShapes(*r.scene);
+    REQUIRE(!shapes.empty());
+    return r.scene->materials[std::size_t(shapes[0].shape->material)];
+}
+
+// Linear sRGB of rho(l) E(l) / pi (a Lambertian surface under a head-on light of irradiance
+// spectrum E): XYZ summed over every nanometre over the y-bar integral, then sRGB's matrix.
+Vec3 lambertianUnder(const std::function<double(double)>& rho,
+                     const std::function<double(double)>& irradiance) {
+    spectral::Xyz xyz = spectral::toXyz(
+        [&](double nm) { return rho(nm) * irradiance(nm) / 3.14159265358979323846; });
+    spectral::ColorSpace::Rgb c = srgb().fromXyz({xyz.x, xyz.y, xyz.z});
+    return {float(c.r), float(c.g), float(c.b)};
+}
+
+std::string squareUnder(const std::string& material) {
+    return "LightSource \"distant\" \"blackbody L\" 4000 \"point3 from\" [0 0 1] "
+           "\"point3 to\" [0 0 0]\n" +
+           material + "\nShape \"bilinearmesh\" \"point3 P\" [-5 -5 0 5 -5 0 -5 5 0 5 5 0]\n";
+}
+
+// Path mode, 16 x 16 pixels (every stage reads a material's colour at the lane through the
+// same precomputed value, engine/spectral_render.h).
+Image render(Scene& scene, int spp, bool spectral) {
+    scene.camera.width = scene.camera.height = 16;
+    EmbreeScene accel(scene);
+    return renderPath(scene, accel, pathSettings(scene.render, ModeOverrides{spp, 0, 0}),
+                      quietTwoThreads(spectral))
+        .image;
+}
+
+} // namespace
+
+TEST_CASE("pbrt reflectance spectra are kept for the spectral mode beside their colour",
+          "[pbrt][spectral]") {
+    // Sampled pairs: the spectrum itself (zero outside its range), the colour as before.
+    Material d = materialOf(std::string("Material \"diffuse\" \"spectrum reflectance\" ") + kPairsText);
+    REQUIRE(d.colorSpectrum);
+    CHECK(d.colorSpectrum->values.at(480) == Approx(0.8));
+    CHECK(d.colorSpectrum->values.at(500) == Approx(0.425));
+    CHECK(d.colorSpectrum->values.at(390) == 0.0f);
+    CHECK(d.color == pbrt::sampledReflectanceRgb(kPairs));
+    // Values above 1 are clamped, as pbrt-v4's materials clamp a reflectance.
+    Material bright = materialOf("Material \"diffuse\" \"spectrum reflectance\" [400 0.2 500 1.3 600 0.2]");
+    REQUIRE(bright.colorSpectrum);
+    CHECK(bright.colorSpectrum->values.at(500) == 1.0f);
+    // An rgb under sRGB has none (the spectral mode upsamples it itself); under rec2020 it is
+    // rec2020's spectrum, not the sRGB metamer of its colour.
+    CHECK_FALSE(materialOf("Material \"diffuse\" \"rgb reflectance\" [0.2 0.5 0.7]").colorSpectrum);
+    Material rec = materialOf("ColorSpace \"rec2020\"\nMaterial \"diffuse\" \"rgb reflectance\" [0.7 0.2 0.1]");
+    REQUIRE(rec.colorSpectrum);
+    spectral::RgbAlbedoSpectrum rho(spectral::colorSpace(spectral::ColorSpaceId::Rec2020), 0.7f, 0.2f, 0.1f);
+    for (float nm : {450.0f, 550.0f, 650.0f})
+        CHECK(rec.colorSpectrum->values.at(nm) == Approx(rho(nm)).epsilon(1e-5));
+    // coateddiffuse, a conductor's reflectance, diffusetransmission's two colours, and a
+    // constant texture's value.
+    const std::string pairs = std::string("\"spectrum reflectance\" ") + kPairsText;
+    CHECK(materialOf("Material \"coateddiffuse\" " + pairs).colorSpectrum);
+    CHECK(materialOf("Material \"conductor\" " + pairs).colorSpectrum);
+    Material dt = materialOf("Material \"diffusetransmission\" " + pairs +
+                             " \"spectrum transmittance\" [400 0.5 700 0.1]");
+    CHECK(dt.colorSpectrum);
+    REQUIRE(dt.transmittanceSpectrum);
+    CHECK(dt.transmittanceSpectrum->values.at(550) == Approx(0.3));
+    CHECK(materialOf(std::string("Texture \"t\" \"spectrum\" \"constant\" \"spectrum value\" ") +
+                     kPairsText + "\nMaterial \"diffuse\" \"texture reflectance\" \"t\"")
+              .colorSpectrum);
+}
+
+TEST_CASE("Spectral mode: a sampled reflectance renders its own spectrum, RGB mode its colour",
+          "[spectral-mode][spectral]") {
+    auto sampled = loadWorld(squareUnder(std::string("Material \"diffuse\" \"spectrum reflectance\" ") + kPairsText));
+    REQUIRE(sampled.warnings.empty());
+    const Vec3 colour = pbrt::sampledReflectanceRgb(kPairs);
+    char rgbText[160];
+    std::snprintf(rgbText, sizeof rgbText, "Material \"diffuse\" \"rgb reflectance\" [%.9g %.9g %.9g]",
+                  colour.x, colour.y, colour.z);
+    auto rgb = loadWorld(squareUnder(rgbText));
+    // The light: Planck's law over its photometric integral (pbrt-v4's), irradiance 1 head-on.
+    double planckY = 0;
+    for (int nm = 360; nm <= 830; ++nm)
+        planckY += spectral::cieY().at(float(nm)) * kernels::spectral::planck(nm, 4000);
+    const double unit = spectral::cieYIntegral() / planckY;
+    auto light = [&](double nm) { return kernels::spectral::planck(nm, 4000) * unit; };
+    const Vec3 expected = lambertianUnder(
+        [](double nm) { return spectral::piecewiseLinear(kPairs, nm); }, light);
+    // What the mode rendered before: the sRGB upsampled spectrum of the colour.
+    spectral::RgbAlbedoSpectrum metamer(srgb(), colour.x, colour.y, colour.z);
+    const Vec3 before = lambertianUnder([&](double nm) { return double(metamer(float(nm))); }, light);
+    const double tolerance = 1e-3 * maxComponent(expected);
+    double missedBefore = 0;
+    for (int c = 0; c < 3; ++c)
+        missedBefore = std::max(missedBefore, double(std::abs(before[c] - expected[c])));
+    INFO("expected " << expected.x << " " << expected.y << " " << expected.z << ", before "
+                     << before.x << " " << before.y << " " << before.z);
+    CHECK(missedBefore > 10 * tolerance);
+    Image img = render(*sampled.scene, 64, true);
+    for (int c = 0; c < 3; ++c) {
+        PixelStats s = pixelStats(img, c);
+        INFO("channel " << c << ": rendered " << s.mean << " +- " << s.stdError << ", expected "
+                        << expected[c] << ", before " << before[c]);
+        CHECK(std::abs(s.mean - expected[c]) <= 4 * s.stdError + tolerance);
+        CHECK(s.stdError < 2 * tolerance);
+    }
+    // RGB mode takes the colour: the same image as the colour written as rgb, to the bit.
+    CHECK(sameBits(render(*sampled.scene, 2, false), render(*rgb.scene, 2, false)));
+}
