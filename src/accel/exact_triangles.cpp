@@ -65,7 +65,8 @@ void exactIntersect(const RTCIntersectFunctionNArguments* args) {
         float t = float(h.t);
         float& tfar = RTCRayN_tfar(ray, N, i);
         // A tie (a ray along the edge two triangles share) goes to the lower triangle index
-        // whichever order the traversal tests them in, so every packet width reports the same.
+        // whichever order the traversal tests them in, where both boxes are entered (Embree's
+        // box test can skip one by rounding: docs/architecture.md, the intersection handler).
         if (t > tfar) continue;
         if (t == tfar && RTCHitN_geomID(hit, N, i) == args->geomID &&
             RTCHitN_instID(hit, N, i, 0) == instId &&
