@@ -57,20 +57,22 @@ float roughnessToAlpha(float roughness, bool remap) {
 kernels::LobeFlags materialLobes(const std::vector<Material>& materials, int index) {
     using namespace kernels;
     const Material& m = materials[std::size_t(index)];
-    const LobeFlags width = smooth(m) ? kLobeSpecular : kLobeGlossy;
+    // Delta or glossy by the roughness, for the kinds that have one (looked at per hit: only
+    // where it is asked).
+    auto width = [&m] { return smooth(m) ? kLobeSpecular : kLobeGlossy; };
     switch (m.type) {
     case MaterialType::Diffuse: return kLobeReflection | kLobeDiffuse;
     case MaterialType::DiffuseTransmission: {
         const bool black = !m.transmittance.textured() && m.transmittance.value == Vec3(0.0f);
         return kLobeReflection | kLobeDiffuse | (black ? 0 : kLobeTransmission);
     }
-    case MaterialType::CoatedDiffuse: return kLobeReflection | kLobeDiffuse | width;
+    case MaterialType::CoatedDiffuse: return kLobeReflection | kLobeDiffuse | width();
     case MaterialType::Glossy: return kLobeReflection | kLobeGlossy;
     case MaterialType::Mirror: return kLobeReflection | kLobeSpecular;
     case MaterialType::ThinDielectric:
         return kLobeReflection | kLobeTransmission | kLobeSpecular | kLobeStraight;
-    case MaterialType::Conductor: return kLobeReflection | width;
-    case MaterialType::Dielectric: return kLobeReflection | kLobeTransmission | width;
+    case MaterialType::Conductor: return kLobeReflection | width();
+    case MaterialType::Dielectric: return kLobeReflection | kLobeTransmission | width();
     case MaterialType::CoatedConductor:
         if (coatedConductorDelta(m)) return kLobeReflection | kLobeSpecular;
         return kLobeReflection | kLobeGlossy | (smooth(m) ? kLobeSpecular : 0);
