@@ -568,6 +568,12 @@ void diskSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
     l.dpdv = cross(l.ns, l.dpdu);
 }
 
+// Whether two vectors are the same bits (== would take -0 for 0 and never NaN for NaN).
+bool sameBits(const Vec3& a, const Vec3& b) {
+    static_assert(sizeof(Vec3) == 3 * sizeof(float));
+    return std::memcmp(&a, &b, sizeof(Vec3)) == 0;
+}
+
 // The local geometry into world space, with normals that are never zero or NaN.
 void placeSurface(const LocalSurface& l, const Affine* toWorld, const Affine* toLocal,
                   const Vec3& rayDir, SurfaceHit& h) {
@@ -575,7 +581,8 @@ void placeSurface(const LocalSurface& l, const Affine* toWorld, const Affine* to
         h.p = toWorld->point(l.p);
         h.pError = kernels::transformedPointError(*toWorld, l.p, l.err);
         h.ng = robustNormalize(toLocal->normalByInverse(l.ng));
-        h.ns = robustNormalize(toLocal->normalByInverse(l.ns));
+        // A surface without its own shading normals has ns = ng: the same result, once.
+        h.ns = sameBits(l.ns, l.ng) ? h.ng : robustNormalize(toLocal->normalByInverse(l.ns));
         h.dpdu = toWorld->vector(l.dpdu);
         h.dpdv = toWorld->vector(l.dpdv);
         // The inverse transpose keeps the front side the side the winding named in the
@@ -584,7 +591,7 @@ void placeSurface(const LocalSurface& l, const Affine* toWorld, const Affine* to
         h.p = l.p;
         h.pError = l.err;
         h.ng = robustNormalize(l.ng);
-        h.ns = robustNormalize(l.ns);
+        h.ns = sameBits(l.ns, l.ng) ? h.ng : robustNormalize(l.ns);
         h.dpdu = l.dpdu;
         h.dpdv = l.dpdv;
     }
