@@ -68,10 +68,10 @@ public:
 
 private:
     // One sample of the whole BSDF (kernels::sampleBsdf, as path mode samples it). A delta lobe
-    // continues as a mirror does; a glossy lobe's ray (a rough coat's too) sees only the sky and the surfaces it meets
-    // (emitters are light sampled); a diffuse-like sample (a coated base, diffuse transmission)
-    // ends here (false): the shadow stage gave its direct light and gi's gather its indirect
-    // light.
+    // continues as a mirror does; a glossy lobe's ray (a rough coat's too) sees only the sky and
+    // the surfaces it meets (emitters are light sampled); a diffuse-like sample (a coated base,
+    // diffuse transmission) ends here (false): the shadow stage gave its direct light and gi's
+    // gather its indirect light.
     bool sampleMaterial(int k, const SurfaceHit& h, const Material& mat, const Vec3& wo,
                         const SampleNumbers& numbers, Bounce& r) const {
         const int i = m_hits.lane[k];

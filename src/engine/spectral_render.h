@@ -80,13 +80,6 @@ public:
         UpsampledRgb color, eta, k, transmittance, albedo;
     };
     const MaterialSpectra& material(int index) const { return m_materials[std::size_t(index)]; }
-    // Material `index`'s constant colour `rgb` (Material::color, which raytrace's mirror,
-    // glossy and glass read directly) at the lane's wavelengths.
-    Vec3 materialColor(int index, const Vec3& rgb, const LaneSpectrum& l) const {
-        const UpsampledRgb& pre = material(index).color;
-        return pre.valid ? evaluate(pre, l, false) : albedo(rgb, l);
-    }
-
     // The emission of light i (LightSet::lights) at the lane's wavelengths, for a value that is
     // its radiance (an area light) or intensity (a delta light) times a scalar, as a light
     // sample's weight and an emitter's radiance are.
