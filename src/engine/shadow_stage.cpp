@@ -32,7 +32,6 @@ Vec3 evalCos(const kernels::BsdfParams& bsdf, const SurfaceHit& h, const Vec3& w
 // how each sample's contribution shares the BSDF with the rays other stages spawn.
 struct ShadedHit {
     const SurfaceHit& h;
-    const Material& mat;
     kernels::BsdfParams bsdf;
     Vec3 wo{}, ng{}, ns{}, w{};
     bool transmits = false;
@@ -101,7 +100,6 @@ private:
     ShadedHit shadedHit(int i, const SurfaceHit& h) const {
         // The BSDF built in place (no copy of its parameters per hit).
         ShadedHit s{.h = h,
-                    .mat = m_rc.scene.materials[h.material],
                     .bsdf = bsdfAt(m_rc.scene, h.material, h,
                                    kernels::hashCombine(m_b.rngKey[i], kDimLightBase - 2),
                                    m_wl.shading()),

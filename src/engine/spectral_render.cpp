@@ -53,8 +53,10 @@ SpectralRender::SpectralRender(const Scene& scene, const LightSet& lights)
     };
     for (const Material& m : scene.materials) {
         MaterialSpectra s;
-        if (m.colorTexture < 0) s.color = refinedAlbedo(m_cs, m.color);
-        if (m.colorTexture < 0) own(m.colorSpectrum, s.color);
+        if (m.colorTexture < 0) {
+            s.color = refinedAlbedo(m_cs, m.color);
+            own(m.colorSpectrum, s.color);
+        }
         s.eta = constantUnbounded(m_cs, m.eta);
         s.k = constantUnbounded(m_cs, m.k);
         s.transmittance = constantAlbedo(m_cs, m.transmittance);

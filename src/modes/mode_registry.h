@@ -1,8 +1,8 @@
 // Every mode, registered once: its name, a line that says what it does, its own command-line
 // options, and its entry points: the samples per pixel of its settings, the render log's text of
 // them, bench's words for those that are not the defaults, the photons the memory check counts,
-// and its render. The render command, bench and serve
-// read this list instead of naming the modes themselves.
+// and its render. The render command, bench and serve read this list instead of naming the
+// modes themselves.
 //
 // Where the command-line options live:
 //  - A mode's own options, those only its settings read, are declared beside its settings
