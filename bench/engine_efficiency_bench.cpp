@@ -77,11 +77,12 @@ void replayEngine(benchmark::State& state, std::string mode, std::string sceneNa
     const Recording& rec = recording(mode, sceneName);
     Intersector intersector(loadedScene(sceneName).accel->root(), 16);
     auto batch = std::make_unique<RayBatch>();
+    auto shadows = std::make_unique<ShadowBatch>();
     ThreadStats stats;
     std::uint64_t hits = 0;
     for (auto _ : state) {
         for (const RecordedBatch& r : rec.batches) {
-            RayBatch& b = *batch;
+            WorkBatch& b = r.occlusion ? static_cast<WorkBatch&>(*shadows) : *batch;
             b.kind = r.kind;
             b.count = r.count;
             std::copy_n(r.ox.data(), r.count, b.ox.data());
@@ -92,9 +93,13 @@ void replayEngine(benchmark::State& state, std::string mode, std::string sceneNa
             std::copy_n(r.dz.data(), r.count, b.dz.data());
             std::copy_n(r.tnear.data(), r.count, b.tnear.data());
             std::copy_n(r.tfar.data(), r.count, b.tfar.data());
-            const RayQuery query = r.occlusion ? RayQuery::Occlusion : RayQuery::Closest;
-            intersector.trace(b, stats, query);
-            hits += r.occlusion ? (b.occluded(0) ? 1 : 0) : (b.hit(0) ? 1 : 0);
+            if (r.occlusion) {
+                intersector.trace(*shadows, stats);
+                hits += shadows->occluded(0) ? 1 : 0;
+            } else {
+                intersector.trace(*batch, stats);
+                hits += batch->hit(0) ? 1 : 0;
+            }
         }
     }
     benchmark::DoNotOptimize(hits);

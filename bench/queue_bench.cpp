@@ -38,7 +38,7 @@ void queueRoundTrip(benchmark::State& state) {
         RayBatch* b = s.pool.acquire((i++ & 1) ? RayKind::Camera : RayKind::Reflection);
         b->count = kBatchSize;
         s.queue.push(b);
-        RayBatch* popped = nullptr;
+        WorkBatch* popped = nullptr;
         while (!s.queue.tryPop(popped)) ++emptyPops; // never empty: this thread pushed first
         benchmark::DoNotOptimize(popped->count);
         s.pool.release(popped);

@@ -167,9 +167,10 @@ void shadowRetrace(benchmark::State& state, std::string sceneName) {
     StageRig rig(sceneName, raytracePolicy());
     Batches cameras = rig.cameraBatches(kInputBatches);
     rig.trace(cameras);
-    Batches inputs = rig.spawned(rig.surface, cameras, RayKind::Shadow, 4 * kInputBatches);
+    ShadowBatches inputs =
+        rig.spawned<ShadowBatch>(rig.surface, cameras, RayKind::Shadow, 4 * kInputBatches);
     for (auto _ : state) {
-        for (const auto& in : inputs) rig.shadow.retrace(*in, rig.ctx); // reads, adds to film
+        for (const auto& in : inputs) rig.shadow.retraceShadows(*in, rig.ctx); // adds to film
     }
     setRate(state, "rays/s", double(rayCount(inputs)));
     state.counters["occluded"] = [&] {
@@ -325,19 +326,22 @@ const SceneCache& sceneCache(const std::string& sceneName) {
         camera.beginPass(0, 1);
         while (camera.emit(rig.ctx)) {
             // Trace every queued batch and hand it to its stage until nothing is left.
-            RayBatch* b = nullptr;
+            WorkBatch* b = nullptr;
             for (;;) {
                 if (!rig.queue.tryPop(b)) {
                     if (!rig.ctx.flush()) break;
                     continue;
                 }
-                const bool gatherShadow = b->kind == kGatherShadowRay;
-                rig.intersector.trace(*b, rig.stats,
-                                      gatherShadow ? RayQuery::Occlusion : defaultQuery(b->kind));
-                if (b->kind == kGatherRay || gatherShadow)
-                    rig.gather->retrace(*b, rig.ctx);
-                else if (b->kind != RayKind::Shadow)
-                    rig.surface.retrace(*b, rig.ctx);
+                if (b->type == BatchType::Shadow) {
+                    auto& shadows = static_cast<ShadowBatch&>(*b);
+                    rig.intersector.trace(shadows, rig.stats);
+                    if (b->kind == kGatherShadowRay) rig.gather->retraceShadows(shadows, rig.ctx);
+                } else {
+                    auto& rays = static_cast<RayBatch&>(*b);
+                    rig.intersector.trace(rays, rig.stats);
+                    if (b->kind == kGatherRay) rig.gather->retrace(rays, rig.ctx);
+                    else rig.surface.retrace(rays, rig.ctx);
+                }
                 rig.pool.release(b);
             }
         }

@@ -31,7 +31,9 @@
 
 namespace rayproc::bench {
 
-using Batches = std::vector<std::unique_ptr<RayBatch>>;
+template <class B> using BatchesOf = std::vector<std::unique_ptr<B>>;
+using Batches = BatchesOf<RayBatch>;
+using ShadowBatches = BatchesOf<ShadowBatch>;
 
 inline LoadedScene& nativeScene(const std::string& name) {
     LoadedScene& s = loadedScene(name);
@@ -98,12 +100,13 @@ struct StageRig {
     // Pops every queued batch and returns it to the pool.
     void drainAll() { drain(RayKind::Camera, 0); }
     // Pops every queued batch; keeps copies of those of `kind`, at most `keep` of them
-    // (appended to `out` when given); returns them to the pool.
-    void drain(RayKind kind, std::size_t keep, Batches* out = nullptr) {
-        RayBatch* b = nullptr;
+    // (appended to `out` when given; their type is the kind's); returns them to the pool.
+    template <class B = RayBatch>
+    void drain(RayKind kind, std::size_t keep, BatchesOf<B>* out = nullptr) {
+        WorkBatch* b = nullptr;
         while (queue.tryPop(b)) {
             if (out && b->kind == kind && out->size() < keep)
-                out->push_back(std::make_unique<RayBatch>(*b));
+                out->push_back(std::make_unique<B>(static_cast<const B&>(*b)));
             pool.release(b);
         }
     }
@@ -124,28 +127,30 @@ struct StageRig {
         return out;
     }
 
-    void trace(Batches& batches) {
+    template <class B> void trace(BatchesOf<B>& batches) {
         for (auto& b : batches) intersector.trace(*b, stats);
     }
 
     // The batches of `kind` that `stage` spawns from each of `inputs` (retraced on copies),
-    // at most `keep`, traced.
-    Batches spawned(RetraceStage& stage, const Batches& inputs, RayKind kind, std::size_t keep) {
-        Batches out;
+    // at most `keep`, traced; B is the kind's type (ShadowBatch for occlusion rays).
+    template <class B = RayBatch>
+    BatchesOf<B> spawned(RetraceStage& stage, const Batches& inputs, RayKind kind,
+                         std::size_t keep) {
+        BatchesOf<B> out;
         auto work = std::make_unique<RayBatch>();
         for (const auto& in : inputs) {
             if (out.size() >= keep) break;
             *work = *in;
             stage.retrace(*work, ctx);
             ctx.flush();
-            drain(kind, keep, &out);
+            drain<B>(kind, keep, &out);
         }
         trace(out);
         return out;
     }
 };
 
-inline std::size_t rayCount(const Batches& batches) {
+template <class B> std::size_t rayCount(const BatchesOf<B>& batches) {
     std::size_t n = 0;
     for (const auto& b : batches) n += std::size_t(b->count);
     return n;

@@ -43,7 +43,7 @@ template <> struct Packet<16> {
 };
 
 template <class R>
-void loadRays(R& r, const RayBatch& b, int base, int n, int* valid, int K) {
+void loadRays(R& r, const WorkBatch& b, int base, int n, int* valid, int K) {
     for (int k = 0; k < K; ++k) {
         int i = base + std::min(k, n - 1); // inactive lanes repeat a valid ray: no garbage
         valid[k] = k < n ? -1 : 0;
@@ -55,57 +55,70 @@ void loadRays(R& r, const RayBatch& b, int base, int n, int* valid, int K) {
 }
 
 template <int K>
-void tracePackets(RTCScene scene, RayBatch& b, bool occlusion, RTCIntersectContext* ctx) {
+void occludePackets(RTCScene scene, ShadowBatch& b, RTCIntersectContext* ctx) {
     alignas(64) int valid[K];
     for (int base = 0; base < b.count; base += K) {
         int n = std::min(K, b.count - base);
-        if (occlusion) {
-            alignas(64) typename Packet<K>::Ray r;
-            loadRays(r, b, base, n, valid, K);
-            Packet<K>::occluded(valid, scene, ctx, &r);
-            for (int k = 0; k < n; ++k) b.tfar[base + k] = r.tfar[k];
-        } else {
-            alignas(64) typename Packet<K>::RayHit rh;
-            loadRays(rh.ray, b, base, n, valid, K);
-            for (int k = 0; k < K; ++k) {
-                rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-            }
-            Packet<K>::intersect(valid, scene, ctx, &rh);
-            for (int k = 0; k < n; ++k) {
-                int i = base + k;
-                b.t[i] = rh.ray.tfar[k];
-                b.u[i] = rh.hit.u[k];
-                b.v[i] = rh.hit.v[k];
-                b.geomId[i] = rh.hit.geomID[k];
-                b.primId[i] = rh.hit.primID[k];
-                b.instId[i] = rh.hit.instID[0][k];
-            }
+        alignas(64) typename Packet<K>::Ray r;
+        loadRays(r, b, base, n, valid, K);
+        Packet<K>::occluded(valid, scene, ctx, &r);
+        for (int k = 0; k < n; ++k) b.tfar[base + k] = r.tfar[k];
+    }
+}
+
+template <int K>
+void intersectPackets(RTCScene scene, RayBatch& b, RTCIntersectContext* ctx) {
+    alignas(64) int valid[K];
+    for (int base = 0; base < b.count; base += K) {
+        int n = std::min(K, b.count - base);
+        alignas(64) typename Packet<K>::RayHit rh;
+        loadRays(rh.ray, b, base, n, valid, K);
+        for (int k = 0; k < K; ++k) {
+            rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        Packet<K>::intersect(valid, scene, ctx, &rh);
+        for (int k = 0; k < n; ++k) {
+            int i = base + k;
+            b.t[i] = rh.ray.tfar[k];
+            b.u[i] = rh.hit.u[k];
+            b.v[i] = rh.hit.v[k];
+            b.geomId[i] = rh.hit.geomID[k];
+            b.primId[i] = rh.hit.primID[k];
+            b.instId[i] = rh.hit.instID[0][k];
         }
     }
 }
 
-void traceSingle(RTCScene scene, RayBatch& b, bool occlusion, RTCIntersectContext* ctx) {
+RTCRayHit singleRay(const WorkBatch& b, int i) {
+    RTCRayHit rh;
+    rh.ray.org_x = b.ox[i]; rh.ray.org_y = b.oy[i]; rh.ray.org_z = b.oz[i];
+    rh.ray.dir_x = b.dx[i]; rh.ray.dir_y = b.dy[i]; rh.ray.dir_z = b.dz[i];
+    rh.ray.tnear = b.tnear[i]; rh.ray.tfar = b.tfar[i];
+    rh.ray.time = 0; rh.ray.mask = 0xffffffffu; rh.ray.id = unsigned(i); rh.ray.flags = 0;
+    return rh;
+}
+
+void occludeSingle(RTCScene scene, ShadowBatch& b, RTCIntersectContext* ctx) {
     for (int i = 0; i < b.count; ++i) {
-        RTCRayHit rh;
-        rh.ray.org_x = b.ox[i]; rh.ray.org_y = b.oy[i]; rh.ray.org_z = b.oz[i];
-        rh.ray.dir_x = b.dx[i]; rh.ray.dir_y = b.dy[i]; rh.ray.dir_z = b.dz[i];
-        rh.ray.tnear = b.tnear[i]; rh.ray.tfar = b.tfar[i];
-        rh.ray.time = 0; rh.ray.mask = 0xffffffffu; rh.ray.id = unsigned(i); rh.ray.flags = 0;
-        if (occlusion) {
-            rtcOccluded1(scene, ctx, &rh.ray);
-            b.tfar[i] = rh.ray.tfar;
-        } else {
-            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-            rtcIntersect1(scene, ctx, &rh);
-            b.t[i] = rh.ray.tfar;
-            b.u[i] = rh.hit.u;
-            b.v[i] = rh.hit.v;
-            b.geomId[i] = rh.hit.geomID;
-            b.primId[i] = rh.hit.primID;
-            b.instId[i] = rh.hit.instID[0];
-        }
+        RTCRayHit rh = singleRay(b, i);
+        rtcOccluded1(scene, ctx, &rh.ray);
+        b.tfar[i] = rh.ray.tfar;
+    }
+}
+
+void intersectSingle(RTCScene scene, RayBatch& b, RTCIntersectContext* ctx) {
+    for (int i = 0; i < b.count; ++i) {
+        RTCRayHit rh = singleRay(b, i);
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, ctx, &rh);
+        b.t[i] = rh.ray.tfar;
+        b.u[i] = rh.hit.u;
+        b.v[i] = rh.hit.v;
+        b.geomId[i] = rh.hit.geomID;
+        b.primId[i] = rh.hit.primID;
+        b.instId[i] = rh.hit.instID[0];
     }
 }
 
@@ -120,11 +133,9 @@ Intersector::Intersector(RTCScene scene, int width)
     RAYPROC_CHECK(isValidPacketWidth(width));
 }
 
-void Intersector::trace(RayBatch& b, ThreadStats& stats, RayQuery query) const {
-    const bool occlusion = query == RayQuery::Occlusion;
+RTCIntersectContext Intersector::begin(WorkBatch& b, ThreadStats& stats, bool occlusion) const {
     StageId id = occlusion ? StageId::Occlude : StageId::Intersect;
     if (m_recorder) m_recorder->record(b, occlusion);
-    StageTimer timer(stats, id);
     stats.stages[int(id)].raysIn += b.count;
     stats.raysTraced += b.count;
     RTCIntersectContext ctx;
@@ -132,11 +143,28 @@ void Intersector::trace(RayBatch& b, ThreadStats& stats, RayQuery query) const {
     // Primary rays of a tile are coherent; everything spawned at surfaces is not.
     ctx.flags = b.kind == RayKind::Camera ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
                                           : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    return ctx;
+}
+
+void Intersector::trace(RayBatch& b, ThreadStats& stats) const {
+    RTCIntersectContext ctx = begin(b, stats, false); // records first: untimed
+    StageTimer timer(stats, StageId::Intersect);
     switch (m_width) {
-    case 1: traceSingle(m_scene, b, occlusion, &ctx); break;
-    case 4: tracePackets<4>(m_scene, b, occlusion, &ctx); break;
-    case 8: tracePackets<8>(m_scene, b, occlusion, &ctx); break;
-    default: tracePackets<16>(m_scene, b, occlusion, &ctx); break;
+    case 1: intersectSingle(m_scene, b, &ctx); break;
+    case 4: intersectPackets<4>(m_scene, b, &ctx); break;
+    case 8: intersectPackets<8>(m_scene, b, &ctx); break;
+    default: intersectPackets<16>(m_scene, b, &ctx); break;
+    }
+}
+
+void Intersector::trace(ShadowBatch& b, ThreadStats& stats) const {
+    RTCIntersectContext ctx = begin(b, stats, true); // records first: untimed
+    StageTimer timer(stats, StageId::Occlude);
+    switch (m_width) {
+    case 1: occludeSingle(m_scene, b, &ctx); break;
+    case 4: occludePackets<4>(m_scene, b, &ctx); break;
+    case 8: occludePackets<8>(m_scene, b, &ctx); break;
+    default: occludePackets<16>(m_scene, b, &ctx); break;
     }
 }
 

@@ -1,7 +1,7 @@
 // The one intersection handler shared by every pass (the paper's "ray-intersection handler").
 // It turns a batch into Embree packets of width K (1, 4, 8 or 16) with valid masks, traces
-// them, and writes the hits back into the batch. Occlusion batches (shadow rays, and the kinds a
-// mode routes as such) use occlusion queries.
+// them, and writes the hits back into the batch. Occlusion batches (ShadowBatch: shadow rays, and
+// the kinds a mode routes as such) use occlusion queries.
 #pragma once
 
 #include "engine/ray_batch.h"
@@ -18,12 +18,13 @@ public:
     // width: 1 selects single-ray rtcIntersect1 / rtcOccluded1; 4, 8, 16 select packets.
     Intersector(RTCScene scene, int width);
     int width() const { return m_width; }
-    void trace(RayBatch& batch, ThreadStats& stats, RayQuery query) const;
-    void trace(RayBatch& batch, ThreadStats& stats) const {
-        trace(batch, stats, defaultQuery(batch.kind));
-    }
+    // Closest hits of a batch of rays; whether each occlusion ray is blocked (tfar < 0).
+    void trace(RayBatch& batch, ThreadStats& stats) const;
+    void trace(ShadowBatch& batch, ThreadStats& stats) const;
 
 private:
+    RTCIntersectContext begin(WorkBatch& batch, ThreadStats& stats, bool occlusion) const;
+
     RTCScene m_scene;
     int m_width;
     RayRecorder* m_recorder; // benchmarks only (engine/ray_recorder.h); null otherwise

@@ -20,7 +20,7 @@ enum PathDim : std::uint32_t { kDimPickLobe = 19, kDimLight = 21, kDimBsdf = 23,
 
 bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const SurfaceHit& h,
                     const kernels::BsdfParams& bsdf, const Vec3& wo, const Vec3& w, Vec2 u,
-                    float up, bool areaLightsOnly, bool compensated, RayBatch& out,
+                    float up, bool areaLightsOnly, bool compensated, ShadowBatch& out,
                     const SpectralShading* spectral) {
     if (lights.choiceCount() == 0) return false;
     const LightSampler::Pick choice = lights.sampler.sample(h.p, up);
@@ -67,7 +67,7 @@ bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const Surf
     Vec3 side = dot(wi, fg) > 0 ? fg : -fg;
     spawnShadowRay(out, b, i, h, side, wi, ls.valid ? &ls : nullptr, c);
     // The shadow stage files the contribution under this choice's light samples (--stats).
-    out.rngKey[out.count - 1] = 1 + contributionOfLightSample(pick);
+    out.category[out.count - 1] = std::uint32_t(1 + contributionOfLightSample(pick));
     return true;
 }
 
@@ -206,7 +206,7 @@ private:
         // Next-event estimation: one light (or the sky), MIS-weighted against the BSDF.
         if (!deltaMaterial && m_lights.choiceCount() > 0 &&
             sampleOneLight(m_lights, m_b, i, h, bsdf, wo, w, u[1], pickLobe.x, false,
-                           m_policy.skyCompensation, m_ctx.out(m_outputs.shadow), spectral()))
+                           m_policy.skyCompensation, m_ctx.outShadow(m_outputs.shadow), spectral()))
             ++shadowOut;
 
         // Continue the path by sampling the BSDF.

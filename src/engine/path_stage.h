@@ -32,7 +32,7 @@ namespace rayproc {
 // Whether a ray was spawned.
 bool sampleOneLight(const LightSet& lights, const RayBatch& b, int i, const SurfaceHit& h,
                     const kernels::BsdfParams& bsdf, const Vec3& wo, const Vec3& w, Vec2 u,
-                    float up, bool areaLightsOnly, bool compensated, RayBatch& out,
+                    float up, bool areaLightsOnly, bool compensated, ShadowBatch& out,
                     const SpectralShading* spectral = nullptr);
 
 class PathStage : public RetraceStage {

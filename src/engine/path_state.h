@@ -26,6 +26,8 @@ inline void facingNormals(const SurfaceHit& h, const Vec3& wo, Vec3& ng, Vec3& n
 }
 
 inline Vec3 laneThroughput(const RayBatch& b, int i) { return {b.wr[i], b.wg[i], b.wb[i]}; }
+// An occlusion ray's unoccluded contribution.
+inline Vec3 laneThroughput(const ShadowBatch& b, int i) { return {b.wr[i], b.wg[i], b.wb[i]}; }
 
 // Beer-Lambert absorption of a segment travelled inside a shape filled with an absorbing medium:
 // a ray from o along d that reaches the shape's surface from its back side (d along the outward
@@ -82,7 +84,7 @@ inline void spawnRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& o
 // contribution: to the sampled point of `light` when it has one at a finite distance, stopping
 // short of it by that point's error bound (kernels::shadowSegment), else along wi to infinity
 // (directional lights, the sky; light = nullptr).
-inline void spawnShadowRay(RayBatch& out, const RayBatch& parent, int i, const SurfaceHit& h,
+inline void spawnShadowRay(ShadowBatch& out, const RayBatch& parent, int i, const SurfaceHit& h,
                            const Vec3& ng, const Vec3& wi, const LightSample* light,
                            const Vec3& contribution) {
     Vec3 o, d = wi;
@@ -97,12 +99,8 @@ inline void spawnShadowRay(RayBatch& out, const RayBatch& parent, int i, const S
     out.sample[j] = parent.sample[i];
     out.wr[j] = contribution.x; out.wg[j] = contribution.y; out.wb[j] = contribution.z;
     out.lambdaU[j] = parent.lambdaU[i];
-    out.rngKey[j] = 0;
-    out.depth[j] = parent.depth[i];
-    out.specularDepth[j] = 0;
+    out.category[j] = 0;
     out.flags[j] = 0;
-    out.prevPdf[j] = 0;
-    out.prevCos[j] = 0;
 }
 
 } // namespace rayproc

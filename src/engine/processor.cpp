@@ -18,18 +18,19 @@ StageContext::~StageContext() {
 }
 
 void StageContext::discard() {
-    for (RayBatch*& b : m_open)
+    for (WorkBatch*& b : m_open)
         if (b) {
             m_pool.release(b);
             b = nullptr;
         }
     while (m_readyCount > 0) m_pool.release(m_ready[--m_readyCount]);
     while (m_freeCount > 0) m_pool.release(m_free[--m_freeCount]);
+    while (m_freeShadowCount > 0) m_pool.release(m_freeShadow[--m_freeShadowCount]);
 }
 
 bool StageContext::flush() {
     bool any = false;
-    for (RayBatch*& b : m_open) {
+    for (WorkBatch*& b : m_open) {
         if (b && b->count > 0) {
             m_queue.push(b);
             b = nullptr;
@@ -48,19 +49,41 @@ RayProcessor::RayProcessor(const Intersector& intersector, Stats& stats, int thr
       m_threads(threads > 0 ? threads : tbb::this_task_arena::max_concurrency()),
       m_arena(m_threads) {}
 
-void RayProcessor::process(RayBatch* batch, StageContext& ctx) {
+void RetraceStage::retrace(RayBatch& batch, StageContext&) {
+    throw std::logic_error(std::string("a stage that takes no closest-hit rays was given the ") +
+                           rayKindName(batch.kind) + " queue");
+}
+
+void RetraceStage::retraceShadows(ShadowBatch& batch, StageContext&) {
+    throw std::logic_error(std::string("a stage that takes no occlusion rays was given the ") +
+                           rayKindName(batch.kind) + " queue");
+}
+
+// Trace, then hand the batch to its kind's stage: closest hits to retrace, occlusion to
+// retraceShadows (a kind's route says which its batches are).
+void RayProcessor::process(WorkBatch* batch, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     ++stats.batches;
     QueueCounters& queue = stats.queues[int(batch->kind)];
     ++queue.batches;
     queue.rays += std::uint64_t(batch->count);
     RetraceStage* stage = m_stages[int(batch->kind)];
-    if (!stage) {
+    const bool occlusion = m_queries[int(batch->kind)] == RayQuery::Occlusion;
+    if (!stage || occlusion != (batch->type == BatchType::Shadow)) {
         m_pool.release(batch);
-        throw UnroutedRayKind(batch->kind);
+        if (!stage) throw UnroutedRayKind(batch->kind);
+        throw std::logic_error(std::string("the ") + rayKindName(batch->kind) +
+                               " queue was given batches of the other type than its query");
     }
-    m_intersector.trace(*batch, stats, m_queries[int(batch->kind)]);
-    stage->retrace(*batch, ctx);
+    if (occlusion) {
+        auto& shadows = static_cast<ShadowBatch&>(*batch);
+        m_intersector.trace(shadows, stats);
+        stage->retraceShadows(shadows, ctx);
+    } else {
+        auto& rays = static_cast<RayBatch&>(*batch);
+        m_intersector.trace(rays, stats);
+        stage->retrace(rays, ctx);
+    }
     ctx.release(batch);
 }
 
@@ -94,7 +117,7 @@ void RayProcessor::worker(Emitter& emitter, const std::function<bool()>& stopEmi
         try {
             if (!ctx.noneReady() && m_emitterDone.load(std::memory_order_acquire))
                 ctx.shareKept();
-            RayBatch* b = nullptr;
+            WorkBatch* b = nullptr;
             if (ctx.popLocal(b) || m_queue.tryPop(b)) {
                 process(b, ctx);
                 worked = true;
@@ -136,7 +159,7 @@ void RayProcessor::run(Emitter& emitter, const std::function<bool()>& stopEmitti
     RAYPROC_CHECK(m_left.load(std::memory_order_acquire) == m_threads);
     if (m_failed.load()) {
         // The run's work is dropped with it: queued and staged batches go back to the pool.
-        RayBatch* b = nullptr;
+        WorkBatch* b = nullptr;
         while (m_queue.tryPop(b)) m_pool.release(b);
         for (auto& c : m_contexts) c->discard();
         std::rethrow_exception(m_failure);

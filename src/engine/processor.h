@@ -52,7 +52,7 @@ public:
 
 private:
     void worker(Emitter& emitter, const std::function<bool()>& stopEmitting);
-    void process(RayBatch* batch, StageContext& ctx);
+    void process(WorkBatch* batch, StageContext& ctx);
 
     const Intersector& m_intersector;
     Stats& m_stats;

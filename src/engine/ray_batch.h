@@ -1,5 +1,6 @@
-// RayBatch: the unit of work that flows through the ray processor. Structure of arrays, so the
-// intersect stage can load packets straight from it and kernels can loop over lanes.
+// The work items that flow through the ray processor, a batch of rays at a time: RayBatch (rays
+// traced to their closest hit) and ShadowBatch (occlusion rays). Structure of arrays, so the
+// intersect stage can load packets straight from them and kernels can loop over lanes.
 #pragma once
 
 #include <array>
@@ -9,8 +10,8 @@ namespace rayproc {
 
 // Rays per batch. A multiple of 16 (the widest Embree packet). 64, 128, 256 and 512 measured
 // within noise of each other on the Cornell box in raytrace mode (docs/performance.md, "Batch
-// size"); 256 keeps queue traffic at 0.5 ns per ray, a batch (~40 KB) fits in L2, and a 16x16
-// camera tile is exactly one batch.
+// size"); 256 keeps queue traffic at 0.5 ns per ray, a batch (25 KB of rays, 16 KB of occlusion
+// rays) fits in L2, and a 16x16 camera tile is exactly one batch.
 constexpr int kBatchSize = 256;
 
 // What a ray is for. The kind selects the retrace stage that receives the ray's result, and how
@@ -78,20 +79,48 @@ inline bool visiblePoint(std::uint8_t flags) {
     return (flags & (kFlagCountEmission | kFlagVisibleChain)) != 0;
 }
 
-struct RayBatch {
+// What a batch holds: rays whose closest hits its stage shades (RayBatch), or occlusion rays
+// whose stage only needs to know whether each reached its end (ShadowBatch, pbrt-v4's
+// ShadowRayWorkItem). The queue, the pool and the processor move both; a route's query
+// (RayQuery) says which one its kind's batches are.
+enum class BatchType : std::uint8_t { Rays, Shadow };
+
+// What every batch starts with: its kind, how many lanes are filled, and the rays as Embree
+// takes them (structure of arrays, so the intersect stage loads packets straight from them).
+struct WorkBatch {
     RayKind kind = RayKind::Camera;
+    BatchType type = BatchType::Rays;
     int count = 0;
     bool fresh = false; // new work from an emitter: queued behind work already in flight
 
-    // Ray
     alignas(64) std::array<float, kBatchSize> ox, oy, oz;
     alignas(64) std::array<float, kBatchSize> dx, dy, dz;
     alignas(64) std::array<float, kBatchSize> tnear, tfar;
-    // Payload
+
+    bool full() const { return count == kBatchSize; }
+
+    // Appends a ray and returns its lane; the caller fills the payload.
+    int push(float oxv, float oyv, float ozv, float dxv, float dyv, float dzv, float tn, float tf) {
+        int i = count++;
+        ox[i] = oxv; oy[i] = oyv; oz[i] = ozv;
+        dx[i] = dxv; dy[i] = dyv; dz[i] = dzv;
+        tnear[i] = tn; tfar[i] = tf;
+        return i;
+    }
+
+protected:
+    explicit WorkBatch(BatchType t) : type(t) {}
+};
+
+// Rays traced to their closest hit: camera, reflection, refraction, a mode's path and gather
+// rays. The payload is what the stage that shades the hit needs to go on with the path.
+struct RayBatch : WorkBatch {
+    static constexpr BatchType kType = BatchType::Rays;
+    RayBatch() : WorkBatch(kType) {}
+
     alignas(64) std::array<std::uint32_t, kBatchSize> pixel;  // film slot
     alignas(64) std::array<std::uint32_t, kBatchSize> sample; // the pixel's sample index
-    alignas(64) std::array<float, kBatchSize> wr, wg, wb;     // path throughput, or for shadow
-                                                              // rays the unoccluded contribution
+    alignas(64) std::array<float, kBatchSize> wr, wg, wb;     // path throughput
     alignas(64) std::array<std::uint64_t, kBatchSize> rngKey; // the ray's random stream
     alignas(64) std::array<std::uint8_t, kBatchSize> depth;   // bounces so far
     alignas(64) std::array<std::uint8_t, kBatchSize> specularDepth; // reflection + refraction bounces
@@ -103,22 +132,28 @@ struct RayBatch {
     // successors and shadow rays inherit; the three floats of wr/wg/wb are then the
     // throughput at those wavelengths. Written but unread in RGB mode.
     alignas(64) std::array<float, kBatchSize> lambdaU;
-    // Hit, filled by the intersect stage (for shadow rays: tfar < 0 means occluded)
+    // Hit, filled by the intersect stage
     alignas(64) std::array<float, kBatchSize> t, u, v;
     alignas(64) std::array<std::uint32_t, kBatchSize> geomId, primId, instId;
 
-    bool full() const { return count == kBatchSize; }
     bool hit(int i) const { return geomId[i] != 0xffffffffu; }
-    bool occluded(int i) const { return tfar[i] < 0.0f; }
+};
 
-    // Appends a ray and returns its lane; the caller fills the payload.
-    int push(float oxv, float oyv, float ozv, float dxv, float dyv, float dzv, float tn, float tf) {
-        int i = count++;
-        ox[i] = oxv; oy[i] = oyv; oz[i] = ozv;
-        dx[i] = dxv; dy[i] = dyv; dz[i] = dzv;
-        tnear[i] = tn; tfar[i] = tf;
-        return i;
-    }
+// Occlusion rays: each carries the contribution it adds where it is not blocked (a light or
+// sky sample's), and where that goes. The intersect stage writes tfar < 0 for a blocked ray.
+struct ShadowBatch : WorkBatch {
+    static constexpr BatchType kType = BatchType::Shadow;
+    ShadowBatch() : WorkBatch(kType) {}
+
+    alignas(64) std::array<std::uint32_t, kBatchSize> pixel;  // film slot (gi: a record's)
+    alignas(64) std::array<std::uint32_t, kBatchSize> sample; // the pixel's sample index
+    alignas(64) std::array<float, kBatchSize> wr, wg, wb;     // unoccluded contribution
+    alignas(64) std::array<float, kBatchSize> lambdaU;        // spectral: the path's wavelengths
+    // Path mode: 1 + the contribution's category for --stats' noise breakdown (0: none).
+    alignas(64) std::array<std::uint32_t, kBatchSize> category;
+    alignas(64) std::array<std::uint8_t, kBatchSize> flags; // the spawning ray's, as a mode keeps them
+
+    bool occluded(int i) const { return tfar[i] < 0.0f; }
 };
 
 } // namespace rayproc

@@ -15,10 +15,11 @@ const char* rayKindName(RayKind k) {
     return i >= 0 && i < kModeRayKindCount ? modeNames[i] : "?";
 }
 
-RayBatch* BatchPool::acquire(RayKind kind) {
-    RayBatch* b = nullptr;
-    if (!m_free.try_pop(b)) {
-        auto owned = std::make_unique<RayBatch>();
+template <class Batch>
+Batch* BatchPool::take(tbb::concurrent_queue<Batch*>& free, RayKind kind) {
+    Batch* b = nullptr;
+    if (!free.try_pop(b)) {
+        auto owned = std::make_unique<Batch>();
         b = owned.get();
         std::lock_guard<std::mutex> lock(m_ownedLock);
         m_owned.push_back(std::move(owned));
@@ -28,24 +29,31 @@ RayBatch* BatchPool::acquire(RayKind kind) {
     return b;
 }
 
-void BatchPool::reuse(RayBatch* b, RayKind kind) {
+RayBatch* BatchPool::acquire(RayKind kind) { return take(m_free, kind); }
+
+ShadowBatch* BatchPool::acquireShadow(RayKind kind) { return take(m_freeShadow, kind); }
+
+void BatchPool::reuse(WorkBatch* b, RayKind kind) {
     b->kind = kind;
     b->count = 0;
     b->fresh = kind == RayKind::Camera;
 }
 
-void BatchPool::release(RayBatch* b) { m_free.push(b); }
+void BatchPool::release(WorkBatch* b) {
+    if (b->type == BatchType::Shadow) m_freeShadow.push(static_cast<ShadowBatch*>(b));
+    else m_free.push(static_cast<RayBatch*>(b));
+}
 
 BatchPool::~BatchPool() = default;
 
-void RayQueue::push(RayBatch* b) {
+void RayQueue::push(WorkBatch* b) {
     // Count first: a consumer that sees the batch must also see a non-zero size.
     m_size.fetch_add(1, std::memory_order_release);
     if (b->fresh) m_primary.push(b);
     else m_secondary.push(b);
 }
 
-bool RayQueue::tryPop(RayBatch*& b) {
+bool RayQueue::tryPop(WorkBatch*& b) {
     if (m_secondary.try_pop(b) || m_primary.try_pop(b)) {
         m_size.fetch_sub(1, std::memory_order_acq_rel);
         return true;

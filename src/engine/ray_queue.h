@@ -13,20 +13,25 @@
 
 namespace rayproc {
 
+// Spent batches of each type, reused by type.
 class BatchPool {
 public:
     RayBatch* acquire(RayKind kind);
-    void release(RayBatch* b);
+    ShadowBatch* acquireShadow(RayKind kind);
+    void release(WorkBatch* b);
     // An empty batch of `kind` made of a spent one.
-    static void reuse(RayBatch* b, RayKind kind);
+    static void reuse(WorkBatch* b, RayKind kind);
     std::size_t allocated() const { return m_allocated.load(); }
     ~BatchPool();
 
 private:
+    template <class Batch> Batch* take(tbb::concurrent_queue<Batch*>& free, RayKind kind);
+
     tbb::concurrent_queue<RayBatch*> m_free;
+    tbb::concurrent_queue<ShadowBatch*> m_freeShadow;
     std::atomic<std::size_t> m_allocated{0};
     std::mutex m_ownedLock;
-    std::vector<std::unique_ptr<RayBatch>> m_owned;
+    std::vector<std::unique_ptr<WorkBatch>> m_owned;
 };
 
 // Multi-producer multi-consumer queue of batches. Secondary rays (shadow, reflection,
@@ -35,14 +40,14 @@ private:
 // by the depth of the paths, not the size of the image.
 class RayQueue {
 public:
-    void push(RayBatch* b);
-    bool tryPop(RayBatch*& b);
+    void push(WorkBatch* b);
+    bool tryPop(WorkBatch*& b);
     bool empty() const { return m_size.load(std::memory_order_acquire) == 0; }
     std::size_t size() const { return m_size.load(std::memory_order_acquire); }
 
 private:
-    tbb::concurrent_queue<RayBatch*> m_secondary;
-    tbb::concurrent_queue<RayBatch*> m_primary;
+    tbb::concurrent_queue<WorkBatch*> m_secondary;
+    tbb::concurrent_queue<WorkBatch*> m_primary;
     std::atomic<std::size_t> m_size{0};
 };
 

@@ -15,7 +15,7 @@ RayRecorder::Scope::~Scope() {
     s_active.store(nullptr, std::memory_order_release);
 }
 
-void RayRecorder::record(const RayBatch& b, bool occlusion) {
+void RayRecorder::record(const WorkBatch& b, bool occlusion) {
     ThreadLog& log = m_logs.local();
     RecordedBatch r;
     r.kind = b.kind;
@@ -34,8 +34,13 @@ void RayRecorder::record(const RayBatch& b, bool occlusion) {
     copy(r.tfar, b.tfar);
     log.batches.push_back(std::move(r));
     if (m_fullCap > 0 &&
-        m_fullTaken[int(b.kind)].fetch_add(1, std::memory_order_relaxed) < m_fullCap)
-        log.full.push_back(std::make_shared<const RayBatch>(b));
+        m_fullTaken[int(b.kind)].fetch_add(1, std::memory_order_relaxed) < m_fullCap) {
+        if (b.type == BatchType::Shadow)
+            log.fullShadow.push_back(
+                std::make_shared<const ShadowBatch>(static_cast<const ShadowBatch&>(b)));
+        else
+            log.full.push_back(std::make_shared<const RayBatch>(static_cast<const RayBatch&>(b)));
+    }
 }
 
 std::vector<RecordedBatch> RayRecorder::batches() const {
@@ -45,12 +50,25 @@ std::vector<RecordedBatch> RayRecorder::batches() const {
     return all;
 }
 
-std::vector<std::shared_ptr<const RayBatch>> RayRecorder::fullBatches(RayKind kind) const {
-    std::vector<std::shared_ptr<const RayBatch>> out;
-    for (const ThreadLog& log : m_logs)
-        for (const auto& b : log.full)
+namespace {
+
+template <class Batch, class Logs, class Member>
+std::vector<std::shared_ptr<const Batch>> ofKind(const Logs& logs, Member member, RayKind kind) {
+    std::vector<std::shared_ptr<const Batch>> out;
+    for (const auto& log : logs)
+        for (const auto& b : log.*member)
             if (b->kind == kind) out.push_back(b);
     return out;
+}
+
+} // namespace
+
+std::vector<std::shared_ptr<const RayBatch>> RayRecorder::fullBatches(RayKind kind) const {
+    return ofKind<RayBatch>(m_logs, &ThreadLog::full, kind);
+}
+
+std::vector<std::shared_ptr<const ShadowBatch>> RayRecorder::fullShadowBatches(RayKind kind) const {
+    return ofKind<ShadowBatch>(m_logs, &ThreadLog::fullShadow, kind);
 }
 
 std::size_t RayRecorder::rayCount() const {

@@ -41,12 +41,14 @@ public:
     explicit RayRecorder(std::size_t fullBatchesPerKind = 0) : m_fullCap(fullBatchesPerKind) {}
 
     // Called by the Intersector before it traces `b`; from any thread.
-    void record(const RayBatch& b, bool occlusion);
+    void record(const WorkBatch& b, bool occlusion);
 
     // Every recorded batch: the first thread's in its order, then the next thread's, ...
     std::vector<RecordedBatch> batches() const;
-    // The batches of `kind` kept whole (at most fullBatchesPerKind, untraced).
+    // The batches of `kind` kept whole (at most fullBatchesPerKind, untraced): rays traced to
+    // their closest hit, or occlusion rays.
     std::vector<std::shared_ptr<const RayBatch>> fullBatches(RayKind kind) const;
+    std::vector<std::shared_ptr<const ShadowBatch>> fullShadowBatches(RayKind kind) const;
     std::size_t rayCount() const;
 
     // The recorder Intersectors built now attach to; null when recording is off.
@@ -65,6 +67,7 @@ private:
     struct ThreadLog {
         std::vector<RecordedBatch> batches;
         std::vector<std::shared_ptr<const RayBatch>> full;
+        std::vector<std::shared_ptr<const ShadowBatch>> fullShadow;
     };
     std::size_t m_fullCap;
     std::array<std::atomic<std::size_t>, kRayKindCount> m_fullTaken{};

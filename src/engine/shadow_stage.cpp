@@ -116,7 +116,7 @@ private:
 
     void emitShadow(int i, const SurfaceHit& h, const Vec3& ng, const Vec3& wi,
                     const LightSample* light, const Vec3& contribution) {
-        spawnShadowRay(m_ctx.out(RayKind::Shadow), m_b, i, h, ng, wi, light, contribution);
+        spawnShadowRay(m_ctx.outShadow(RayKind::Shadow), m_b, i, h, ng, wi, light, contribution);
         ++m_spawned;
     }
 
@@ -239,7 +239,7 @@ void ShadowStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
     stats.stages[int(StageId::Shadow)].raysOut += spawner.spawned();
 }
 
-void ShadowStage::retrace(RayBatch& b, StageContext& ctx) {
+void ShadowStage::retraceShadows(ShadowBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, StageId::Shadow);
     stats.stages[int(StageId::Shadow)].raysIn += std::uint64_t(b.count);
@@ -247,10 +247,10 @@ void ShadowStage::retrace(RayBatch& b, StageContext& ctx) {
         if (b.occluded(i)) continue;
         Vec3 c = laneThroughput(b, i);
         if (m_rc.spectral) c = m_rc.spectral->toFilm(c, m_rc.spectral->lane(b.lambdaU[i]));
-        // Path mode's light samples carry their category (1 + it) in the key they do not use.
-        if (b.rngKey[i] != 0)
+        // Path mode's light samples carry their category (1 + it).
+        if (b.category[i] != 0)
             fileContribution(stats, m_rc.noise, m_rc.lights.lights.size(), b.pixel[i],
-                             std::size_t(b.rngKey[i] - 1), c, false);
+                             std::size_t(b.category[i] - 1), c, false);
         m_rc.film.add(b.pixel[i], c, stats);
     }
 }

@@ -17,7 +17,7 @@ class ShadowStage : public RetraceStage {
 public:
     explicit ShadowStage(const RenderContext& rc) : m_rc(rc) {}
     void spawn(const RayBatch& parent, const HitList& hits, StageContext& ctx);
-    void retrace(RayBatch& batch, StageContext& ctx) override;
+    void retraceShadows(ShadowBatch& batch, StageContext& ctx) override;
 
 private:
     const RenderContext& m_rc;

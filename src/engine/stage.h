@@ -3,12 +3,14 @@
 // rays through its StageContext. Stages hold no per-thread state of their own.
 #pragma once
 
+#include "core/error.h"
 #include "engine/ray_batch.h"
 #include "engine/ray_queue.h"
 #include "engine/stats.h"
 
 #include <array>
 #include <atomic>
+#include <type_traits>
 
 namespace rayproc {
 
@@ -18,7 +20,7 @@ namespace rayproc {
 // Under a processor (keepLocal) a thread also keeps what stays hot in its own caches: up to
 // kLocalReady full batches of secondary rays, which it traces next itself (last in, first out)
 // instead of handing them through the central queue to another core, and up to kLocalFree
-// spent batches, which it fills again before taking one from the shared pool. Camera batches,
+// spent batches of each type, which it fills again before taking one from the shared pool. Camera batches,
 // what overflows and everything once the emitter is done (`tail`) go to the central queue, so
 // other threads find work whenever there is any to share.
 class StageContext {
@@ -34,21 +36,15 @@ public:
     // emitter is done" flag).
     void keepLocal(const std::atomic<bool>* tail) { m_tail = tail; }
 
-    // A batch of `kind` with room for at least one more ray.
-    RayBatch& out(RayKind kind) {
-        RayBatch*& b = m_open[int(kind)];
-        if (b && b->full()) {
-            push(b);
-            b = nullptr;
-        }
-        if (!b) b = acquire(kind);
-        return *b;
-    }
+    // A batch of `kind` with room for at least one more ray: rays traced to their closest hit
+    // (out), or occlusion rays (outShadow) for a kind whose route traces them so.
+    RayBatch& out(RayKind kind) { return open<RayBatch>(kind); }
+    ShadowBatch& outShadow(RayKind kind) { return open<ShadowBatch>(kind); }
     // Pushes every non-empty open batch to the queue; returns whether any was pushed.
     bool flush();
     // Pushes the open batch of one kind, if it holds rays.
     void flush(RayKind kind) {
-        RayBatch*& b = m_open[int(kind)];
+        WorkBatch*& b = m_open[int(kind)];
         if (b && b->count > 0) {
             push(b);
             b = nullptr;
@@ -62,15 +58,19 @@ public:
         while (m_readyCount > 0) m_queue.push(m_ready[--m_readyCount]);
     }
     // The batch this thread queued last for itself, if any.
-    bool popLocal(RayBatch*& b) {
+    bool popLocal(WorkBatch*& b) {
         if (m_readyCount == 0) return false;
         b = m_ready[--m_readyCount];
         return true;
     }
     // A traced batch back to this thread's spent batches (the pool's when they are full).
-    void release(RayBatch* b) {
-        if (m_tail && m_freeCount < kLocalFree) m_free[m_freeCount++] = b;
-        else m_pool.release(b);
+    void release(WorkBatch* b) {
+        if (m_tail && b->type == BatchType::Rays && m_freeCount < kLocalFree)
+            m_free[m_freeCount++] = static_cast<RayBatch*>(b);
+        else if (m_tail && b->type == BatchType::Shadow && m_freeShadowCount < kLocalFree)
+            m_freeShadow[m_freeShadowCount++] = static_cast<ShadowBatch*>(b);
+        else
+            m_pool.release(b);
     }
 
     // Returns every open, ready and spent batch to the pool unsent (a run that failed drops
@@ -80,28 +80,48 @@ public:
     ThreadStats* stats = nullptr; // set by the processor for the running thread
 
 private:
-    void push(RayBatch* b) {
+    template <class Batch> Batch& open(RayKind kind) {
+        WorkBatch*& b = m_open[int(kind)];
+        if (b && b->full()) {
+            push(b);
+            b = nullptr;
+        }
+        if (!b) b = acquire<Batch>(kind);
+        // One kind, one type: a kind's rays are all traced as its route says.
+        RAYPROC_CHECK(b->type == Batch::kType);
+        return *static_cast<Batch*>(b);
+    }
+    void push(WorkBatch* b) {
         if (m_tail && !b->fresh && m_readyCount < kLocalReady &&
             !m_tail->load(std::memory_order_relaxed))
             m_ready[m_readyCount++] = b;
         else
             m_queue.push(b);
     }
-    RayBatch* acquire(RayKind kind) {
-        if (m_freeCount == 0) return m_pool.acquire(kind);
-        RayBatch* b = m_free[--m_freeCount];
-        BatchPool::reuse(b, kind);
-        return b;
+    template <class Batch> Batch* acquire(RayKind kind) {
+        if constexpr (std::is_same_v<Batch, ShadowBatch>) {
+            if (m_freeShadowCount == 0) return m_pool.acquireShadow(kind);
+            ShadowBatch* b = m_freeShadow[--m_freeShadowCount];
+            BatchPool::reuse(b, kind);
+            return b;
+        } else {
+            if (m_freeCount == 0) return m_pool.acquire(kind);
+            RayBatch* b = m_free[--m_freeCount];
+            BatchPool::reuse(b, kind);
+            return b;
+        }
     }
 
     RayQueue& m_queue;
     BatchPool& m_pool;
-    std::array<RayBatch*, kRayKindCount> m_open{};
+    std::array<WorkBatch*, kRayKindCount> m_open{};
     const std::atomic<bool>* m_tail = nullptr;
-    std::array<RayBatch*, kLocalReady> m_ready{};
+    std::array<WorkBatch*, kLocalReady> m_ready{};
     int m_readyCount = 0;
     std::array<RayBatch*, kLocalFree> m_free{};
     int m_freeCount = 0;
+    std::array<ShadowBatch*, kLocalFree> m_freeShadow{};
+    int m_freeShadowCount = 0;
 };
 
 class Emitter {
@@ -112,10 +132,14 @@ public:
     virtual bool emit(StageContext& ctx) = 0;
 };
 
+// A stage takes the batches of the kinds routed to it: rays with their closest hits (retrace),
+// or occlusion rays with whether each was blocked (retraceShadows). A stage implements what its
+// routes carry; being handed the other type is a wiring error (std::logic_error).
 class RetraceStage {
 public:
     virtual ~RetraceStage() = default;
-    virtual void retrace(RayBatch& batch, StageContext& ctx) = 0;
+    virtual void retrace(RayBatch& batch, StageContext& ctx);
+    virtual void retraceShadows(ShadowBatch& batch, StageContext& ctx);
 };
 
 } // namespace rayproc

@@ -135,7 +135,7 @@ std::uint64_t CorrectionStage::replaceMap(const RayBatch& b, int i, const Surfac
     std::uint64_t spawned = 0;
     if (sampleOneLight(m_rc.lights, b, i, h, bsdf, wo, w, uniform2(b, i, kDimLight),
                        kernels::uniform(b.rngKey[i], kDimLight + 2), leaveDirect,
-                       policy.skyCompensation, ctx.out(RayKind::Shadow), wl.shading()))
+                       policy.skyCompensation, ctx.outShadow(RayKind::Shadow), wl.shading()))
         ++spawned;
     // The bounce, as path mode takes it (its depth limit and Russian roulette).
     const std::uint8_t flags = leaveDirect ? kFlagSkipEnvironment : 0;

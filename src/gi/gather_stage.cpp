@@ -67,7 +67,7 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
         if (dot(wi, ng) <= 0 || !(c > 0)) return;
         Vec3 contribution = reflect * weight * c;
         if (isBlack(contribution) || !isFinite(contribution)) return;
-        RayBatch& out = ctx.out(kGatherShadowRay);
+        ShadowBatch& out = ctx.outShadow(kGatherShadowRay);
         spawnShadowRay(out, b, i, h, ng, wi, light, contribution);
         out.flags[out.count - 1] = std::uint8_t(b.flags[i] & kFlagGatherRecord);
         ++spawned;
@@ -96,7 +96,8 @@ std::uint64_t GatherStage::sampleDirect(const RayBatch& b, int i, const SurfaceH
     return spawned;
 }
 
-void GatherStage::deposit(const RayBatch& b, int i, const Vec3& radiance,
+template <class Batch>
+void GatherStage::deposit(const Batch& b, int i, const Vec3& radiance,
                           const LaneSpectrum& lane, ThreadStats& stats) const {
     if (isBlack(radiance)) return;
     const Vec3 l = m_rc.spectral ? m_rc.spectral->toFilm(radiance, lane) : radiance;
@@ -108,7 +109,7 @@ void GatherStage::deposit(const RayBatch& b, int i, const Vec3& radiance,
     }
 }
 
-void GatherStage::retraceShadow(RayBatch& b, StageContext& ctx) {
+void GatherStage::retraceShadows(ShadowBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, kGatherStageId);
     stats.stages[int(kGatherStageId)].raysIn += std::uint64_t(b.count);
@@ -408,10 +409,6 @@ void GatherStage::recordGatherEnd(const RayBatch& b, int i, float distance, bool
 }
 
 void GatherStage::retrace(RayBatch& b, StageContext& ctx) {
-    if (b.kind == kGatherShadowRay) {
-        retraceShadow(b, ctx);
-        return;
-    }
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, kGatherStageId);
     stats.stages[int(kGatherStageId)].raysIn += std::uint64_t(b.count);

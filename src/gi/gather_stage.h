@@ -82,6 +82,8 @@ public:
         : m_rc(rc), m_gi(gi), m_requests(requests) {}
     void spawn(const RayBatch& parent, const HitList& hits, StageContext& ctx) override;
     void retrace(RayBatch& batch, StageContext& ctx) override;
+    // The light samples' occlusion rays (kGatherShadowRay).
+    void retraceShadows(ShadowBatch& batch, StageContext& ctx) override;
 
     // What the global map gives where gi reads it; the correction stage takes it away again.
     // Irradiance from `map` (the global map or its scattered photons): precomputed or full;
@@ -109,7 +111,8 @@ private:
                                StageContext& ctx) const;
     // Adds a light sample's, or a gather ray's, radiance to lane i's pixel or cache record (in
     // spectral mode it is at `lane`'s wavelengths: converted to RGB as the film does).
-    void deposit(const RayBatch& b, int i, const Vec3& radiance, const LaneSpectrum& lane,
+    template <class Batch>
+    void deposit(const Batch& b, int i, const Vec3& radiance, const LaneSpectrum& lane,
                  ThreadStats& stats) const;
     // Adds reflect x E to lane i's pixel: `reflect` the throughput times the BSDF, E an RGB
     // estimate of irradiance (spectral mode: lightAt the lane's wavelengths, then the film's RGB).
@@ -119,7 +122,7 @@ private:
     // shape it hit, or nullptr for a light sample) or the sky (-1, nullptr), at the lane's
     // wavelengths in spectral mode.
     Vec3 emissionAt(const Vec3& rgb, int light, const Shape* shape, const LaneSpectrum& lane) const;
-    void retraceShadow(RayBatch& batch, StageContext& ctx);
+
     // Lane i's hit, `wl` selected at its wavelengths (spectral mode).
     bool shadeHit(const RayBatch& b, int i, const LaneShading& wl, Vec3& radiance,
                   float& distance, std::uint64_t& spawned, StageContext& ctx) const;

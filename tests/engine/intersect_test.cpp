@@ -20,6 +20,7 @@ constexpr int kCameraRays = 2048 + 37; // 8 full batches and a partial one
 constexpr int kRandomRays = 2048 + 101;
 
 using Batches = std::vector<std::unique_ptr<RayBatch>>;
+using ShadowBatches = std::vector<std::unique_ptr<ShadowBatch>>;
 
 void append(Batches& bs, RayKind kind, const Vec3& o, const Vec3& d, float tfar) {
     if (bs.empty() || bs.back()->full() || bs.back()->kind != kind) {
@@ -62,9 +63,22 @@ Batches makeRays(const Scene& scene, bool shadow, unsigned seed) {
     return bs;
 }
 
-Batches copyOf(const Batches& bs) {
-    Batches out;
-    for (auto& b : bs) out.push_back(std::make_unique<RayBatch>(*b));
+template <class B> std::vector<std::unique_ptr<B>> copyOf(const std::vector<std::unique_ptr<B>>& bs) {
+    std::vector<std::unique_ptr<B>> out;
+    for (auto& b : bs) out.push_back(std::make_unique<B>(*b));
+    return out;
+}
+
+// The same rays as occlusion rays, batch for batch.
+ShadowBatches shadowsOf(const Batches& bs) {
+    ShadowBatches out;
+    for (auto& b : bs) {
+        out.push_back(std::make_unique<ShadowBatch>());
+        out.back()->kind = b->kind;
+        for (int i = 0; i < b->count; ++i)
+            out.back()->push(b->ox[i], b->oy[i], b->oz[i], b->dx[i], b->dy[i], b->dz[i],
+                             b->tnear[i], b->tfar[i]);
+    }
     return out;
 }
 
@@ -81,13 +95,15 @@ std::int64_t ulpDistance(float a, float b) {
     return std::abs(std::int64_t(ia) - std::int64_t(ib));
 }
 
-struct Traced {
-    Batches batches;
+template <class B> struct TracedOf {
+    std::vector<std::unique_ptr<B>> batches;
     std::uint64_t raysTraced = 0;
 };
+using Traced = TracedOf<RayBatch>;
 
-Traced traceAll(const Batches& rays, RTCScene scene, int width) {
-    Traced t{copyOf(rays), 0};
+template <class B>
+TracedOf<B> traceAll(const std::vector<std::unique_ptr<B>>& rays, RTCScene scene, int width) {
+    TracedOf<B> t{copyOf(rays), 0};
     Intersector isect(scene, width);
     ThreadStats stats;
     for (auto& b : t.batches) isect.trace(*b, stats);
@@ -186,8 +202,8 @@ TEST_CASE("Packet and single-ray paths give the same hits on thousands of random
         }
 
         // Shadow rays with finite tfar: the same occlusion at every width.
-        Batches shadowRays = makeRays(*scene, true, 4321);
-        Traced shadowSingle = traceAll(shadowRays, accel.root(), 1);
+        ShadowBatches shadowRays = shadowsOf(makeRays(*scene, true, 4321));
+        TracedOf<ShadowBatch> shadowSingle = traceAll(shadowRays, accel.root(), 1);
         std::size_t occluded = 0;
         for (auto& b : shadowSingle.batches)
             for (int i = 0; i < b->count; ++i) occluded += b->occluded(i);
@@ -195,10 +211,10 @@ TEST_CASE("Packet and single-ray paths give the same hits on thousands of random
         CHECK(occluded < total);
         for (int width : {4, 8, 16}) {
             INFO("shadow packet width " << width);
-            Traced packet = traceAll(shadowRays, accel.root(), width);
+            TracedOf<ShadowBatch> packet = traceAll(shadowRays, accel.root(), width);
             std::size_t mismatch = 0;
             for (std::size_t k = 0; k < shadowRays.size(); ++k) {
-                const RayBatch &s = *shadowSingle.batches[k], &p = *packet.batches[k];
+                const ShadowBatch &s = *shadowSingle.batches[k], &p = *packet.batches[k];
                 for (int i = 0; i < s.count; ++i) {
                     if (s.occluded(i) != p.occluded(i) || !sameBits(s.tfar[i], p.tfar[i])) {
                         if (mismatch++ < 5)

@@ -21,7 +21,8 @@ public:
     bool emit(StageContext& ctx) override {
         if (m_done.exchange(true)) return false;
         for (RayKind kind : m_kinds) {
-            RayBatch& b = ctx.out(kind);
+            const bool occlusion = kind == RayKind::Shadow || kind == modeRayKind(3);
+            WorkBatch& b = occlusion ? static_cast<WorkBatch&>(ctx.outShadow(kind)) : ctx.out(kind);
             for (int i = 0; i < m_count; ++i) b.push(0, 0, 0, 0, 0, -1, 0.0f, 100.0f);
             ctx.flush(kind);
         }
@@ -41,8 +42,9 @@ public:
     struct Traced {
         bool occluded, hit;
     };
-    void retrace(RayBatch& b, StageContext&) override {
-        traced[b.kind] = {b.occluded(0), b.hit(0)};
+    void retrace(RayBatch& b, StageContext&) override { traced[b.kind] = {false, b.hit(0)}; }
+    void retraceShadows(ShadowBatch& b, StageContext&) override {
+        traced[b.kind] = {b.occluded(0), false};
     }
     std::vector<RayKind> kinds() const {
         std::vector<RayKind> out;

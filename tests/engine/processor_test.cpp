@@ -88,10 +88,12 @@ namespace {
 // One batch of `kind`: a ray from the sphere's centre out through its wall.
 class OneBatchEmitter : public Emitter {
 public:
-    explicit OneBatchEmitter(RayKind kind) : m_kind(kind) {}
+    // `occlusion`: the ray in an occlusion batch (ShadowBatch), else in a batch of rays.
+    OneBatchEmitter(RayKind kind, bool occlusion) : m_kind(kind), m_occlusion(occlusion) {}
     bool emit(StageContext& ctx) override {
         if (m_done.exchange(true)) return false;
-        RayBatch& b = ctx.out(m_kind);
+        WorkBatch& b = m_occlusion ? static_cast<WorkBatch&>(ctx.outShadow(m_kind))
+                                   : ctx.out(m_kind);
         b.push(0, 0, 0, 0, 0, -1, 0.0f, 100.0f);
         ctx.flush(m_kind);
         return true;
@@ -99,6 +101,7 @@ public:
 
 private:
     RayKind m_kind;
+    bool m_occlusion;
     std::atomic<bool> m_done{false};
 };
 
@@ -106,8 +109,11 @@ private:
 class ResultStage : public RetraceStage {
 public:
     void retrace(RayBatch& b, StageContext&) override {
-        occluded = b.occluded(0);
         hit = b.hit(0);
+        ++batches;
+    }
+    void retraceShadows(ShadowBatch& b, StageContext&) override {
+        occluded = b.occluded(0);
         ++batches;
     }
     bool occluded = false, hit = false;
@@ -128,7 +134,7 @@ TEST_CASE("A mode's ray kind is traced as its route says: closest hit or occlusi
     INFO((occlusion ? "occlusion" : "closest hit") << ", width " << intersector.width());
     ResultStage result;
     processor.setStage(kind, &result, occlusion ? RayQuery::Occlusion : RayQuery::Closest);
-    OneBatchEmitter emitter(kind);
+    OneBatchEmitter emitter(kind, occlusion);
     processor.run(emitter, [] { return false; });
     REQUIRE(result.batches == 1);
     // An occlusion query writes only tfar (negative: occluded); a closest-hit query writes the
@@ -138,4 +144,23 @@ TEST_CASE("A mode's ray kind is traced as its route says: closest hit or occlusi
     CHECK(t.stages[int(StageId::Occlude)].raysIn == (occlusion ? 1u : 0u));
     CHECK(t.stages[int(StageId::Intersect)].raysIn == (occlusion ? 0u : 1u));
     if (!occlusion) CHECK(result.hit);
+}
+
+TEST_CASE("A batch of the other type than its kind's route is refused: an occlusion queue "
+          "takes only occlusion rays, a closest-hit queue only rays",
+          "[engine][processor]") {
+    auto scene = sceneFromJson(kClosedSphere);
+    EmbreeScene accel(*scene);
+    Intersector intersector(accel.root(), 16);
+    Stats stats;
+    RayProcessor processor(intersector, stats, 1);
+    const RayKind kind = modeRayKind(2);
+    const bool occlusion = GENERATE(false, true);
+    INFO((occlusion ? "occlusion route given rays" : "closest-hit route given occlusion rays"));
+    ResultStage result;
+    processor.setStage(kind, &result, occlusion ? RayQuery::Occlusion : RayQuery::Closest);
+    OneBatchEmitter emitter(kind, !occlusion);
+    CHECK_THROWS_WITH(processor.run(emitter, [] { return false; }),
+                      Catch::Matchers::Contains("other type than its query"));
+    CHECK(result.batches == 0);
 }

@@ -31,9 +31,13 @@ std::vector<std::unique_ptr<RayBatch>> makeBatches(int n, RayKind kind) {
     return v;
 }
 
+// The index a test wrote into a batch of rays' first pixel.
+std::uint32_t tagOf(WorkBatch* b) { return static_cast<RayBatch*>(b)->pixel[0]; }
+
 } // namespace
 
-TEST_CASE("RayBatch::push fills consecutive lanes", "[engine]") {
+TEST_CASE("RayBatch::push fills consecutive lanes, and a ShadowBatch says which rays were blocked",
+          "[engine]") {
     auto b = std::make_unique<RayBatch>();
     CHECK(b->count == 0);
     for (int i = 0; i < kBatchSize; ++i) {
@@ -57,9 +61,13 @@ TEST_CASE("RayBatch::push fills consecutive lanes", "[engine]") {
     b->geomId[4] = 0;
     CHECK_FALSE(b->hit(3));
     CHECK(b->hit(4));
-    b->tfar[5] = -std::numeric_limits<float>::infinity();
-    CHECK(b->occluded(5));
-    CHECK_FALSE(b->occluded(6));
+    auto shadows = std::make_unique<ShadowBatch>();
+    CHECK(shadows->type == BatchType::Shadow);
+    CHECK(b->type == BatchType::Rays);
+    for (int i = 0; i < 7; ++i) shadows->push(0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 1.0f);
+    shadows->tfar[5] = -std::numeric_limits<float>::infinity();
+    CHECK(shadows->occluded(5));
+    CHECK_FALSE(shadows->occluded(6));
 }
 
 TEST_CASE("BatchPool recycles released batches", "[engine]") {
@@ -130,7 +138,7 @@ TEST_CASE("RayQueue pops secondary rays before camera rays, FIFO within each", "
     RayQueue q;
     CHECK(q.empty());
     CHECK(q.size() == 0);
-    RayBatch* out = nullptr;
+    WorkBatch* out = nullptr;
     CHECK_FALSE(q.tryPop(out));
 
     // Interleaved pushes.
@@ -190,17 +198,17 @@ TEST_CASE("RayQueue under concurrent push and pop loses and duplicates nothing",
         // Phase 1: every index pushes its batch, then pops one (any one) and records it.
         tbb::parallel_for(0, kTotal, [&](int i) {
             q.push(all[i]);
-            RayBatch* b = nullptr;
+            WorkBatch* b = nullptr;
             if (q.tryPop(b)) {
-                seen[b->pixel[0]].fetch_add(1);
+                seen[tagOf(b)].fetch_add(1);
                 ++pops;
             }
         });
     });
     // Phase 2: drain.
-    RayBatch* b = nullptr;
+    WorkBatch* b = nullptr;
     while (q.tryPop(b)) {
-        seen[b->pixel[0]].fetch_add(1);
+        seen[tagOf(b)].fetch_add(1);
         ++pops;
     }
     CHECK(q.empty());
@@ -221,7 +229,7 @@ TEST_CASE("RayQueue under concurrent push and pop loses and duplicates nothing",
             0, 2,
             [&](int) {
                 for (int round = 0; round < 20000; ++round) {
-                    RayBatch* x = nullptr;
+                    WorkBatch* x = nullptr;
                     if (q.tryPop(x)) q.push(x);
                 }
             },
@@ -229,7 +237,7 @@ TEST_CASE("RayQueue under concurrent push and pop loses and duplicates nothing",
     });
     CHECK(q.size() == std::size_t(kTotal));
     for (auto& s : seen) s.store(0);
-    while (q.tryPop(b)) seen[b->pixel[0]].fetch_add(1);
+    while (q.tryPop(b)) seen[tagOf(b)].fetch_add(1);
     CHECK(q.empty());
     for (int i = 0; i < kTotal; ++i) {
         INFO("batch " << i);

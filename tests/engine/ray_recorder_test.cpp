@@ -8,6 +8,7 @@
 
 #include <cstring>
 #include <map>
+#include <type_traits>
 
 using namespace rayproc;
 using namespace rayproc::test;
@@ -59,7 +60,8 @@ TEST_CASE("the ray recorder sees every traced ray of a render, only while active
     }
 
     // Whole batches: at most the cap per kind, untraced (shadow rays keep their tfar >= 0).
-    auto shadows = recorder.fullBatches(RayKind::Shadow);
+    auto shadows = recorder.fullShadowBatches(RayKind::Shadow);
+    CHECK(recorder.fullBatches(RayKind::Shadow).empty());
     CHECK(shadows.size() == 2);
     for (const auto& b : shadows)
         for (int i = 0; i < b->count; ++i) CHECK(b->tfar[i] >= 0.0f);
@@ -89,13 +91,12 @@ TEST_CASE("recorded rays replayed through bare Embree give the engine's hits",
     Intersector intersector(accel.root(), 16);
     ThreadStats stats;
     std::size_t compared = 0;
-    for (RayKind kind : {RayKind::Camera, RayKind::Shadow}) {
-        auto full = recorder.fullBatches(kind);
+    auto replay = [&](RayKind kind, const auto& full) {
         REQUIRE(!full.empty());
         std::size_t next = 0; // one thread: full batches are the first recorded ones, in order
         for (const RecordedBatch& r : batches) {
             if (r.kind != kind || next >= full.size()) continue;
-            RayBatch b = *full[next++];
+            auto b = *full[next++];
             REQUIRE(b.count == r.count);
             intersector.trace(b, stats);
             RTCIntersectContext ctx;
@@ -113,10 +114,12 @@ TEST_CASE("recorded rays replayed through bare Embree give the engine's hits",
                 rh.ray.mask = 0xffffffffu;
                 rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                if (kind == RayKind::Shadow) {
+                if constexpr (std::is_same_v<decltype(b), ShadowBatch>) {
+                    CHECK(r.occlusion);
                     rtcOccluded1(accel.root(), &ctx, &rh.ray);
                     CHECK((rh.ray.tfar < 0) == b.occluded(i));
                 } else {
+                    CHECK_FALSE(r.occlusion);
                     rtcIntersect1(accel.root(), &ctx, &rh);
                     CHECK(rh.hit.geomID == b.geomId[i]);
                     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
@@ -125,6 +128,8 @@ TEST_CASE("recorded rays replayed through bare Embree give the engine's hits",
                 ++compared;
             }
         }
-    }
+    };
+    replay(RayKind::Camera, recorder.fullBatches(RayKind::Camera));
+    replay(RayKind::Shadow, recorder.fullShadowBatches(RayKind::Shadow));
     CHECK(compared > 1000);
 }
