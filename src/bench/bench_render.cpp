@@ -36,11 +36,11 @@ std::string RenderConfig::settingsString() const {
     const ModeEntry* entry = findMode(mode);
     const std::string words = entry ? entry->settingWords(*this) : std::string();
     if (!words.empty()) o << " " << words;
-    if (!engine.stratification) o << " no-stratification";
-    if (!engine.skyCompensation && mode == "path") o << " no-sky-compensation";
-    if (!engine.glossyMis && (mode == "gi" || mode == "raytrace")) o << " no-glossy-mis";
-    if (!engine.lightChoice && (mode == "gi" || mode == "raytrace")) o << " no-light-choice";
-    if (!engine.diffuseMis && (mode == "gi" || mode == "raytrace")) o << " no-diffuse-mis";
+    std::size_t count = 0;
+    const EngineSwitchName* names = engineSwitchNames(count);
+    for (std::size_t i = 0; i < count && entry; ++i)
+        if ((entry->engineSwitches & names[i].flag) && !(engine.*names[i].on))
+            o << " no-" << names[i].word;
     if (engine.packetWidth != 16) o << " packets=" << engine.packetWidth;
     if (engine.seed != 1) o << " seed=" << engine.seed;
     if (engine.spectral) o << " spectral";

@@ -166,6 +166,23 @@ std::string renderModeOf(const RenderArgs& a, const Scene& scene) {
     return mode;
 }
 
+// A sampling switch that the mode's stages do not read changes nothing: said, not refused (a
+// script may give every mode the same switches).
+void warnUnreadSwitches(const std::string& mode, const EngineSettings& engine) {
+    const ModeEntry& entry = *findMode(mode);
+    std::size_t count = 0;
+    const EngineSwitchName* names = engineSwitchNames(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (engine.*names[i].on || (entry.engineSwitches & names[i].flag)) continue;
+        std::string readers;
+        for (const ModeEntry& m : modeRegistry())
+            if (m.engineSwitches & names[i].flag)
+                readers += (readers.empty() ? "" : ", ") + std::string(m.name);
+        std::fprintf(stderr, "rayproc: warning: --no-%s changes nothing in %s mode (%s read it)\n",
+                     names[i].word, mode.c_str(), readers.c_str());
+    }
+}
+
 EngineSettings engineSettingsOf(const RenderArgs& a, const Scene& scene, int threads,
                                 const Cluster& cluster) {
     EngineSettings engine;
@@ -423,6 +440,7 @@ int runRender(const RenderArgs& a) {
     std::unique_ptr<Scene> scene = loadRenderScene(a, files, phases);
     const std::string mode = renderModeOf(a, *scene);
     const EngineSettings engine = engineSettingsOf(a, *scene, budget.threads, cluster);
+    if (writer) warnUnreadSwitches(mode, engine);
     RenderControl control = renderControlOf(a, cluster, phases);
     const ToneMapSettings tm = toneMapOf(a);
     if (a.progressive && writer) writeProgressively(a, output, tm, control);

@@ -20,4 +20,16 @@ std::string EngineSettings::toString() const {
     return o.str();
 }
 
+const EngineSwitchName* engineSwitchNames(std::size_t& count) {
+    static const EngineSwitchName names[] = {
+        {kSwitchStratification, "stratification", &EngineSettings::stratification},
+        {kSwitchSkyCompensation, "sky-compensation", &EngineSettings::skyCompensation},
+        {kSwitchGlossyMis, "glossy-mis", &EngineSettings::glossyMis},
+        {kSwitchLightChoice, "light-choice", &EngineSettings::lightChoice},
+        {kSwitchDiffuseMis, "diffuse-mis", &EngineSettings::diffuseMis},
+    };
+    count = sizeof names / sizeof names[0];
+    return names;
+}
+
 } // namespace rayproc

@@ -4,6 +4,7 @@
 // (engine/render_control.h), a parameter of every render beside these settings.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -39,5 +40,23 @@ struct EngineSettings {
     int adaptiveMinSpp = 16;
     std::string toString() const;
 };
+
+// The sampling switches above that only some modes read, as the command line names them
+// (--no-<word>). A mode says which its stages read (ModeEntry::engineSwitches); bench's
+// settings column and the command line's warnings go by that, not by mode names.
+enum EngineSwitch : unsigned {
+    kSwitchStratification = 1u << 0,
+    kSwitchSkyCompensation = 1u << 1,
+    kSwitchGlossyMis = 1u << 2,
+    kSwitchLightChoice = 1u << 3,
+    kSwitchDiffuseMis = 1u << 4,
+};
+struct EngineSwitchName {
+    EngineSwitch flag;
+    const char* word; // the option is --no-<word>
+    bool EngineSettings::*on;
+};
+// Every switch, in the order bench's settings column lists them.
+const EngineSwitchName* engineSwitchNames(std::size_t& count);
 
 } // namespace rayproc

@@ -32,6 +32,10 @@ ModeSettings ModeSettings::forScene(const Scene& scene, const ModeOverrides& cli
     return m;
 }
 
+// What raytrace's and gi's stages read where they sample lights (applyLightSwitches).
+constexpr unsigned kLightSwitches =
+    kSwitchStratification | kSwitchGlossyMis | kSwitchLightChoice | kSwitchDiffuseMis;
+
 const std::vector<ModeEntry>& modeRegistry() {
     static const std::vector<ModeEntry> modes{
         {"preview",
@@ -39,7 +43,7 @@ const std::vector<ModeEntry>& modeRegistry() {
          nullptr,
          [](const ModeSettings& m) { return m.preview.spp; },
          [](const ModeSettings& m) { return m.preview.toString(); },
-         [](const ModeSettings&) { return std::string(); }, noPhotons,
+         [](const ModeSettings&) { return std::string(); }, kSwitchStratification, noPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
             const EngineSettings& engine, const RenderControl& control) {
              return renderPreview(scene, accel, m.preview, engine, control);
@@ -49,7 +53,8 @@ const std::vector<ModeEntry>& modeRegistry() {
          nullptr,
          [](const ModeSettings& m) { return m.raytrace.spp; },
          [](const ModeSettings& m) { return m.raytrace.toString(); },
-         [](const ModeSettings& m) { return rouletteWord(m.raytrace.roulette); }, noPhotons,
+         [](const ModeSettings& m) { return rouletteWord(m.raytrace.roulette); }, kLightSwitches,
+         noPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
             const EngineSettings& engine, const RenderControl& control) {
              return renderRaytrace(scene, accel, m.raytrace, engine, control);
@@ -58,7 +63,8 @@ const std::vector<ModeEntry>& modeRegistry() {
          "photon mapping with final gathering and an irradiance cache",
          giOptions,
          [](const ModeSettings& m) { return m.gi.spp; },
-         [](const ModeSettings& m) { return m.gi.toString(); }, giSettingWords, giPhotons,
+         [](const ModeSettings& m) { return m.gi.toString(); }, giSettingWords, kLightSwitches,
+         giPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
             const EngineSettings& engine, const RenderControl& control) {
              return renderGi(scene, accel, m.gi, engine, control);
@@ -68,7 +74,8 @@ const std::vector<ModeEntry>& modeRegistry() {
          nullptr,
          [](const ModeSettings& m) { return m.path.spp; },
          [](const ModeSettings& m) { return m.path.toString(); },
-         [](const ModeSettings& m) { return rouletteWord(m.path.roulette); }, noPhotons,
+         [](const ModeSettings& m) { return rouletteWord(m.path.roulette); },
+         kSwitchStratification | kSwitchSkyCompensation, noPhotons,
          [](const Scene& scene, const EmbreeScene& accel, const ModeSettings& m,
             const EngineSettings& engine, const RenderControl& control) {
              return renderPath(scene, accel, m.path, engine, control);

@@ -55,6 +55,8 @@ struct ModeEntry {
     // option that sets it; gi's swept counts (gather, ic, photons) always. Empty when there is
     // nothing to say. A new setting of a mode adds its word here, not in bench/.
     std::string (*settingWords)(const ModeSettings& s);
+    // The engine's sampling switches its stages read (EngineSwitch flags; engine_settings.h).
+    unsigned engineSwitches;
     // Photons the memory check counts (engine/memory_budget.h): the global map's and the
     // largest caustic map's; none outside gi.
     std::pair<std::uint64_t, std::uint64_t> (*photons)(const ModeSettings& s);

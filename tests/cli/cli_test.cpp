@@ -501,3 +501,27 @@ TEST_CASE("render --coat-model sets how every coateddiffuse is evaluated", "[cli
     CHECK(bad.err.find("random-walk") != std::string::npos);
     CHECK(!std::filesystem::exists(dir.file("bad.pfm")));
 }
+
+TEST_CASE("A sampling switch the mode does not read is warned of and changes nothing", "[cli]") {
+    TempDir dir;
+    const std::string out = dir.file("out.pfm");
+    auto render = [&](const std::string& mode, const std::string& option) {
+        std::vector<std::string> args = {"render", scenePath("cornell-box"), "--mode", mode,
+                                         "--width", "16", "--height", "12", "--spp", "2",
+                                         "-o", out};
+        if (!option.empty()) args.push_back(option);
+        return runRayproc(args, dir);
+    };
+    RunResult path = render("path", "--no-glossy-mis");
+    INFO(path.err);
+    CHECK(path.status == 0);
+    CHECK(contains(path.err, "warning: --no-glossy-mis changes nothing in path mode (raytrace, gi "
+                             "read it)"));
+    RunResult raytrace = render("raytrace", "--no-glossy-mis");
+    CHECK(raytrace.status == 0);
+    CHECK_FALSE(contains(raytrace.err, "changes nothing"));
+    RunResult gi = render("gi", "--no-sky-compensation");
+    CHECK(contains(gi.err, "warning: --no-sky-compensation changes nothing in gi mode (path read "
+                           "it)"));
+}
+

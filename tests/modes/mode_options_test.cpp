@@ -105,3 +105,28 @@ TEST_CASE("The options several modes share reach every mode that reads them", "[
     CHECK(defaults.gi.roulette);
     CHECK(defaults.gi.debugView == GiDebugView::None);
 }
+
+// The render command warns that a sampling switch a mode does not read changes nothing
+// (ModeEntry::engineSwitches): it must be so (a scene of area lights, glossy and diffuse
+// surfaces, glass and a sky).
+TEST_CASE("An engine switch a mode does not read changes none of its pixels", "[modes]") {
+    std::unique_ptr<Scene> scene = loadSceneAt("materials", 16, 12);
+    EmbreeScene accel(*scene);
+    std::size_t count = 0;
+    const EngineSwitchName* names = engineSwitchNames(count);
+    for (const ModeEntry& mode : modeRegistry()) {
+        ModeSettings m = ModeSettings::forScene(*scene, ModeOverrides{});
+        m.setSpp(2);
+        EngineSettings engine;
+        engine.threads = 2;
+        engine.quiet = true;
+        const Image all = mode.render(*scene, accel, m, engine, RenderControl{}).image;
+        for (std::size_t i = 0; i < count; ++i) {
+            if (mode.engineSwitches & names[i].flag) continue;
+            INFO(mode.name << " without --no-" << names[i].word);
+            EngineSettings off = engine;
+            off.*names[i].on = false;
+            CHECK(sameBits(mode.render(*scene, accel, m, off, RenderControl{}).image, all));
+        }
+    }
+}
