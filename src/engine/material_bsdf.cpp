@@ -1,6 +1,7 @@
 #include "engine/material_bsdf.h"
 
 #include "kernels/random.h"
+#include "scene/ior_spectrum.h"
 #include "texture/texture_eval.h"
 
 #include <algorithm>
@@ -86,6 +87,11 @@ void coatedConductorParams(const Material& m, const ParamEval& eval, kernels::Bs
     b.g = std::clamp(b.g, -1.0f, 1.0f);
 }
 
+bool dispersiveMaterial(const Material& m) {
+    return m.iorSpectrum &&
+           (m.type == MaterialType::Dielectric || m.type == MaterialType::ThinDielectric);
+}
+
 // Fills the parameters every kind reads from the material's constants and textures; with
 // `sp` (material index `mi`) the colours at the lane's wavelengths.
 kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureContext* tc,
@@ -97,6 +103,7 @@ kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureCo
                                 : m.color,
                             &MS::color, false);
     b.ior = m.ior;
+    if (sp && dispersiveMaterial(m)) b.ior = m.iorSpectrum->at(sp->lane.w.lambda[0]);
     b.alpha = kernels::ggxAlpha(m.roughness);
     b.alphaX = roughnessToAlpha(eval(m.uRoughness), m.remapRoughness);
     b.alphaY = roughnessToAlpha(eval(m.vRoughness), m.remapRoughness);
@@ -242,6 +249,10 @@ kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& h
     b.key = key;
     b.tangent = hit.dpdu; // the kernels make it perpendicular to the shading normal
     return b;
+}
+
+bool dispersive(const Scene& scene, int material, const SpectralShading* spectral) {
+    return spectral && dispersiveMaterial(scene.materials[std::size_t(material)]);
 }
 
 kernels::BsdfParams bsdfOf(const Material& m) { return build(nullptr, m, nullptr); }

@@ -31,6 +31,20 @@ struct SpectralShading {
     const LaneSpectrum& lane;
 };
 
+// Dispersion (docs/spectral.md): with `spectral`, whether materials[material] is a Dielectric or
+// ThinDielectric whose index varies over wavelength (Material::iorSpectrum). bsdfAt builds it
+// at the lane's hero wavelength, and the path's other wavelengths end there, as pbrt-v4's
+// dielectric materials terminate them (SampledWavelengths::TerminateSecondary) on any
+// interaction: every ray a stage spawns from such a hit carries SpectralRender::terminatedU
+// of its number (LaneShading::select with the material, then u()). Always false in RGB mode.
+bool dispersive(const Scene& scene, int material, const SpectralShading* spectral);
+// The wavelength number of the rays spawned at a hit on materials[material] by a lane of number
+// u: u, or past a dispersive material SpectralRender::terminatedU(u).
+inline float laneNumber(float u, const Scene& scene, int material,
+                        const SpectralShading* spectral) {
+    return dispersive(scene, material, spectral) ? SpectralRender::terminatedU(u) : u;
+}
+
 // A stage's spectral state while it shades one lane after another: the lane's wavelengths and
 // the shading that reads them; nothing in RGB mode (no render). Not copyable: the shading
 // refers to the lane it holds.
@@ -43,20 +57,29 @@ public:
     LaneShading& operator=(const LaneShading&) = delete;
     // The lane of wavelength sample u (RayBatch::lambdaU) is shaded next.
     void select(float u) {
+        m_u = u;
         if (m_shading) m_lane = m_shading->render.lane(u);
     }
+    // The lane of wavelength sample u at a hit on scene.materials[material]: past it only
+    // the hero wavelength where the material disperses (the number SpectralRender::
+    // terminatedU(u), which the rays spawned from the hit take from u()).
+    void select(float u, const Scene& scene, int material) {
+        select(laneNumber(u, scene, material, shading()));
+    }
+    float u() const { return m_u; }
     const LaneSpectrum& lane() const { return m_lane; }
     const SpectralShading* shading() const { return m_shading ? &*m_shading : nullptr; }
 
 private:
     LaneSpectrum m_lane{};
+    float m_u = 0;
     std::optional<SpectralShading> m_shading;
 };
 
 // The BSDF of Scene::materials[material] (not a mix: see resolveMix) at `hit`. `key` seeds the
 // stochastic evaluation of layered materials. With `spectral` its colours hold their spectra
 // at the lane's wavelengths (reflectances as albedo spectra, eta and k as unbounded ones; the
-// dielectric's ior stays one number).
+// dielectric's ior stays one number: a dispersive one's at the lane's hero wavelength).
 kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& hit,
                            std::uint64_t key, const SpectralShading* spectral = nullptr);
 

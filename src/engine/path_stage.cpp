@@ -190,6 +190,10 @@ private:
     // One light sample and one BSDF sample at the surface vertex.
     void scatter(int i, SurfaceHit& h, const Vec3& w, const Vec3& wo) {
         resolveShading(m_rc.scene, h, wo);
+        // A dispersive material keeps the hero wavelength alone, for its light sample and its
+        // continuation, which inherit the lane's number.
+        m_wl.select(m_b.lambdaU[i], m_rc.scene, h.material);
+        m_b.lambdaU[i] = m_wl.u();
         kernels::BsdfParams bsdf =
             bsdfAt(m_rc.scene, h.material, h, kernels::hashCombine(m_b.rngKey[i], kDimLayered),
                    spectral());

@@ -80,6 +80,16 @@ inline void spawnRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& o
     out.flags[j] = flags;
 }
 
+// The same with the wavelength number `lambdaU` (spectral mode: LaneShading::u(), the parent's
+// or, past a dispersive interface, its hero's alone; engine/material_bsdf.h).
+inline void spawnRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& origin,
+                     const Vec3& dir, const Vec3& weight, std::uint8_t depth,
+                     std::uint8_t specularDepth, std::uint8_t flags, std::uint32_t branch,
+                     float lambdaU) {
+    spawnRay(out, parent, i, origin, dir, weight, depth, specularDepth, flags, branch);
+    out.lambdaU[out.count - 1] = lambdaU;
+}
+
 // Writes an occlusion ray from hit h (facing geometric normal ng) carrying its unoccluded
 // contribution: to the sampled point of `light` when it has one at a finite distance, stopping
 // short of it by that point's error bound (kernels::shadowSegment), else along wi to infinity
@@ -101,6 +111,13 @@ inline void spawnShadowRay(ShadowBatch& out, const RayBatch& parent, int i, cons
     out.lambdaU[j] = parent.lambdaU[i];
     out.category[j] = 0;
     out.flags[j] = 0;
+}
+// The same with the wavelength number `lambdaU` (as spawnRay's).
+inline void spawnShadowRay(ShadowBatch& out, const RayBatch& parent, int i, const SurfaceHit& h,
+                           const Vec3& ng, const Vec3& wi, const LightSample* light,
+                           const Vec3& contribution, float lambdaU) {
+    spawnShadowRay(out, parent, i, h, ng, wi, light, contribution);
+    out.lambdaU[out.count - 1] = lambdaU;
 }
 
 } // namespace rayproc

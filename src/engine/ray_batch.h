@@ -128,9 +128,9 @@ struct RayBatch : WorkBatch {
     // Path mode: how the ray was sampled, for multiple importance sampling where it lands.
     alignas(64) std::array<float, kBatchSize> prevPdf; // BSDF pdf (solid angle); 0 = delta/camera
     alignas(64) std::array<float, kBatchSize> prevCos; // cos(wi, previous facing normal)
-    // Spectral mode: the path's wavelength number (engine/spectral_render.h), which its
-    // successors and shadow rays inherit; the three floats of wr/wg/wb are then the
-    // throughput at those wavelengths. Written but unread in RGB mode.
+    // Spectral mode: the path's wavelength number (engine/spectral_render.h; its sign bit marks
+    // a path past a dispersive interface), which its successors and shadow rays inherit;
+    // wr/wg/wb are then the throughput at those wavelengths. Written but unread in RGB mode.
     alignas(64) std::array<float, kBatchSize> lambdaU;
     // Hit, filled by the intersect stage
     alignas(64) std::array<float, kBatchSize> t, u, v;

@@ -44,13 +44,14 @@ public:
         // samples' at this hit (the same sequence key, other pairs of dimensions).
         const SampleNumbers numbers(m_b, i, m_policy.stratify, m_seedKey,
                                     1 + std::uint32_t(m_b.kind));
-        m_wl.select(m_b.lambdaU[i]);
+        m_wl.select(m_b.lambdaU[i], m_rc.scene, h.material); // a dispersive one: the hero alone
         if (!sampleMaterial(k, h, mat, wo, numbers, r)) return;
         if (r.transmitted) {
             if (!m_policy.refractionStage || !nextRay(i, r)) return;
             RayBatch& out = m_ctx.out(RayKind::Refraction);
             spawnRay(out, m_b, i, offsetRayOrigin(h, -ng, r.wi), r.wi, r.w,
-                     nextDepth(m_b.depth[i]), nextDepth(m_b.specularDepth[i]), r.flags, 0);
+                     nextDepth(m_b.depth[i]), nextDepth(m_b.specularDepth[i]), r.flags, 0,
+                     m_wl.u());
             out.prevPdf[out.count - 1] = r.misPdf;
             ++m_spawned;
             return;
@@ -58,7 +59,7 @@ public:
         if (!nextRay(i, r)) return;
         RayBatch& out = m_ctx.out(RayKind::Reflection);
         spawnRay(out, m_b, i, offsetRayOrigin(h, ng, r.wi), r.wi, r.w, nextDepth(m_b.depth[i]),
-                 nextDepth(m_b.specularDepth[i]), r.flags, 0);
+                 nextDepth(m_b.specularDepth[i]), r.flags, 0, m_wl.u());
         out.prevPdf[out.count - 1] = r.misPdf;
         out.prevCos[out.count - 1] = dot(r.wi, ns);
         ++m_spawned;

@@ -17,7 +17,7 @@ void RefractionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         int i = hits.lane[k];
         const SurfaceHit& h = hits.hit[k];
         Vec3 wo = -laneDirection(b, i);
-        wl.select(b.lambdaU[i]);
+        wl.select(b.lambdaU[i], m_rc.scene, h.material); // a dispersive one: the hero alone
         const kernels::BsdfParams bsdf =
             bsdfAt(m_rc.scene, h.material, h, b.rngKey[i], wl.shading());
         const kernels::SmoothInterface s = kernels::smoothInterface(bsdf, wo, h.ng, h.ns);
@@ -30,7 +30,7 @@ void RefractionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         Vec3 wRefl = w * s.reflectance;
         if (spec <= policy.maxDepth && continuePath(policy, depth, b.rngKey[i], 1, wRefl)) {
             spawnRay(ctx.out(RayKind::Reflection), b, i, offsetRayOrigin(h, s.g, s.reflected),
-                     s.reflected, wRefl, std::uint8_t(depth), std::uint8_t(spec), flags, 1);
+                     s.reflected, wRefl, std::uint8_t(depth), std::uint8_t(spec), flags, 1, wl.u());
             ++spawned;
         }
 
@@ -56,7 +56,7 @@ void RefractionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         if (s.entering) wTrans = wTrans * bsdf.color; // the tint, as sampleBsdf applies it
         if (!policy.previewGlass && !continuePath(policy, depth, b.rngKey[i], 2, wTrans)) continue;
         spawnRay(ctx.out(RayKind::Refraction), b, i, offsetRayOrigin(h, s.g, wt), wt, wTrans,
-                 tDepth, std::uint8_t(spec), flags, 2);
+                 tDepth, std::uint8_t(spec), flags, 2, wl.u());
         ++spawned;
     }
     stats.stages[int(StageId::Refraction)].raysOut += spawned;

@@ -83,7 +83,7 @@ public:
           m_choose(choosesLights(rc.policy, rc.lights)), m_seedKey(sampleSeedKey(rc.seed)) {}
 
     void spawnAt(int i, const SurfaceHit& h) {
-        m_wl.select(m_b.lambdaU[i]);
+        m_wl.select(m_b.lambdaU[i], m_rc.scene, h.material); // a dispersive one: the hero alone
         const ShadedHit s = shadedHit(i, h);
         // Sobol points over the pixel's samples, a hit's n samples of a kind an aligned block
         // of n of them (SampleNumbers::get2D(dim, s, n)).
@@ -116,7 +116,8 @@ private:
 
     void emitShadow(int i, const SurfaceHit& h, const Vec3& ng, const Vec3& wi,
                     const LightSample* light, const Vec3& contribution) {
-        spawnShadowRay(m_ctx.outShadow(RayKind::Shadow), m_b, i, h, ng, wi, light, contribution);
+        spawnShadowRay(m_ctx.outShadow(RayKind::Shadow), m_b, i, h, ng, wi, light, contribution,
+                       m_wl.u());
         ++m_spawned;
     }
 
@@ -177,7 +178,7 @@ private:
         RayBatch& out = m_ctx.out(RayKind::Reflection);
         spawnRay(out, m_b, i, offsetRayOrigin(s.h, s.ng, wi), wi, weight,
                  std::uint8_t(std::min(int(m_b.depth[i]) + 1, 255)), m_b.specularDepth[i],
-                 std::uint8_t(kFlagMisEmission | kFlagEmissionOnly), 0x4d);
+                 std::uint8_t(kFlagMisEmission | kFlagEmissionOnly), 0x4d, m_wl.u());
         out.prevPdf[out.count - 1] = pdf;
         out.prevCos[out.count - 1] = dot(wi, s.ns);
         ++m_spawned;

@@ -100,6 +100,8 @@ void SpectralRender::buildWavelengthTables() {
 
 LaneSpectrum SpectralRender::lane(float u) const {
     LaneSpectrum l;
+    const bool terminated = std::signbit(u);
+    u = std::fabs(u);
     const float n = float(kInverseCdfCells);
     for (int i = 0; i < 3; ++i) {
         float x = PathWavelengths::offset(u, i) * n;
@@ -114,6 +116,11 @@ LaneSpectrum SpectralRender::lane(float u) const {
         l.nm[i] = nm;
         l.illuminant[i] = m_illuminantNm[std::size_t(nm)];
         l.film[i] = m_filmNm[std::size_t(nm)] * (1.0f / l.w.pdf[i]);
+    }
+    if (terminated) {
+        l.w.terminateSecondary();
+        l.film[0] = l.film[0] * 3.0f;
+        l.film[1] = l.film[2] = Vec3(0.0f);
     }
     return l;
 }
@@ -183,6 +190,7 @@ Vec3 SpectralRender::toFilm(const Vec3& values, const LaneSpectrum& l) const {
 Vec3 SpectralRender::toXyz(const Vec3& values, const LaneSpectrum& l) const {
     Vec3 xyz(0.0f);
     for (int i = 0; i < 3; ++i) {
+        if (l.w.pdf[i] == 0) continue; // a terminated secondary wavelength
         // The nearest nanometre's sample, as lane() takes the film's.
         int nm = std::min(int(l.w.lambda[i] - ks::kLambdaMin + 0.5f), ks::kDenseCount - 1);
         xyz += m_xyzNm[std::size_t(nm)] * (values[i] / l.w.pdf[i]);

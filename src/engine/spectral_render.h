@@ -15,6 +15,7 @@
 #include "kernels/spectrum.h"
 #include "spectral/color_space.h"
 
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -64,7 +65,13 @@ public:
     // density (its CDF is exact at the nodes), and that is the pdf a lane carries: exact for
     // the map, and no transcendental function per lane (they were a fifth of a spectral
     // render's time).
+    // A path past a dispersive interface (engine/material_bsdf.h, dispersive) keeps its hero
+    // wavelength alone, pbrt-v4's SampledWavelengths::TerminateSecondary: its number carries
+    // the mark (terminatedU: the sign bit, -0 for 0, which every successor ray inherits), and
+    // its lane's secondary wavelengths have density 0 (they add nothing at the film) and the
+    // hero's is divided by 3 (it carries the whole estimate).
     LaneSpectrum lane(float u) const;
+    static float terminatedU(float u) { return -std::fabs(u); }
     static constexpr int kInverseCdfCells = 1024;
 
     // RGB values at a lane's wavelengths, through the table (textures, skies).

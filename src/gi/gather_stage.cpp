@@ -381,11 +381,11 @@ bool GatherStage::shadeHit(const RayBatch& b, int i, const LaneShading& wl, Vec3
             else next = next / q;
         }
         if (smp.valid && !isBlack(next) && isFinite(next)) {
-            Vec3 no = offsetRayOrigin(h, h.ng, smp.wi);
             std::uint8_t flags = b.flags[i];
             if (cls == MaterialClass::Glossy) flags |= kFlagPastGlossy;
-            spawnRay(ctx.out(kGatherRay), b, i, no, smp.wi, next, b.depth[i],
-                     std::uint8_t(b.specularDepth[i] + 1), flags, 7);
+            spawnRay(ctx.out(kGatherRay), b, i, offsetRayOrigin(h, h.ng, smp.wi), smp.wi, next,
+                     b.depth[i], std::uint8_t(b.specularDepth[i] + 1), flags, 7,
+                     laneNumber(b.lambdaU[i], m_rc.scene, h.material, wl.shading()));
             ++spawned;
             return true;
         }

@@ -33,9 +33,9 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         Vec3 wo = -d;
         resolveShading(m_rc.scene, h, wo);
         // Spectral mode: the photon's power is at its wavelengths, and so is everything it
-        // meets (absorption, the BSDF).
+        // meets (absorption, the BSDF); past a dispersive interface its hero's alone (wl.u()).
         LaneShading wl(m_rc.spectral);
-        wl.select(b.lambdaU[i]);
+        wl.select(b.lambdaU[i], m_rc.scene, h.material);
         Vec3 power =
             laneThroughput(b, i) * interiorTransmittance(h, o, d, m_rc.spectral, &wl.lane());
         // Photons are stored where a lookup may read them: at diffuse and glossy surfaces. A
@@ -93,8 +93,8 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
             next = next * smoothTransmissionScale(bsdf.ior, dot(wo, h.ng) > 0);
         std::uint8_t nextFlags = std::uint8_t(
             flags | (s.delta || s.coat || roughInterface ? kPhotonSpecular : kPhotonDiffuse));
-        Vec3 no = offsetRayOrigin(h, h.ng, s.wi);
-        spawnRay(ctx.out(kPhotonRay), b, i, no, s.wi, next, std::uint8_t(depth), 0, nextFlags, 4);
+        spawnRay(ctx.out(kPhotonRay), b, i, offsetRayOrigin(h, h.ng, s.wi), s.wi, next,
+                 std::uint8_t(depth), 0, nextFlags, 4, wl.u());
         ++spawned;
     }
     stats.stages[int(kPhotonStageId)].raysOut += spawned;

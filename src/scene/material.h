@@ -16,6 +16,9 @@ namespace rayproc {
 // A reflectance given as a spectrum, kept for the spectral mode (scene/reflectance_spectrum.h).
 struct ReflectanceSpectrum;
 using ReflectanceSpectrumRef = std::shared_ptr<const ReflectanceSpectrum>;
+// A dielectric's index over wavelength, kept for the spectral mode (scene/ior_spectrum.h).
+struct IorSpectrum;
+using IorSpectrumRef = std::shared_ptr<const IorSpectrum>;
 
 // A parameter that is the constant `value`, or Scene::textures[texture] evaluated at the hit.
 struct ColorParam {
@@ -62,6 +65,10 @@ struct Material {
     // `color`. Likewise DiffuseTransmission's `transmittance`. nullptr: upsampled from the RGB.
     ReflectanceSpectrumRef colorSpectrum, transmittanceSpectrum;
     float ior = 1.5f;      // dielectric, thindielectric, the coated materials' coats
+    // Dielectric and ThinDielectric: the index over wavelength where the file gave one that
+    // varies (a named glass, sampled pairs): the spectral mode's (dispersion); RGB mode's is
+    // `ior`, its value at 587.6 nm. nullptr: `ior` at every wavelength.
+    IorSpectrumRef iorSpectrum;
     float roughness = 0.2f; // Glossy only: GGX alpha = roughness^2
 
     // Trowbridge-Reitz roughness of Conductor, Dielectric and the coated materials' coats

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "image/image.h"
 #include "scene/camera_check.h"
+#include "scene/ior_spectrum.h"
 #include "scene/metals.h"
 #include "scene/pbrt/pbrt_spectrum.h"
 #include "scene/scene_loader_detail.h"
@@ -278,6 +279,37 @@ void parseConductorIndex(const JsonRef& m, Material& mat) {
     }
 }
 
+// A dielectric's or thindielectric's "ior": a number; a named glass ("glass-BK7", ...: its
+// catalogue n_d, and its Sellmeier dispersion for the spectral mode, scene/ior_spectrum.h); or
+// [wavelength, index, ...] pairs (their value at 587.6 nm, and the pairs for the spectral mode
+// where the index varies).
+void parseDielectricIor(const JsonRef& m, Material& mat) {
+    if (!m.has("ior")) return;
+    const JsonRef v = m["ior"];
+    if (v.isString()) {
+        const std::string name = v.string();
+        double nd = 0;
+        if (!namedGlassIndex(name, nd))
+            v.fail("unknown glass \"" + name + "\" (glass-BK7, glass-BAF10, glass-FK51A, "
+                   "glass-LASF9, glass-F5, glass-F10, glass-F11)");
+        mat.ior = float(nd);
+        mat.iorSpectrum = namedGlassDispersion(name);
+    } else if (v.isArray()) {
+        const std::size_t n = v.arraySize();
+        if (n < 2 || n % 2 != 0) v.fail("expected (wavelength, index) pairs");
+        std::vector<double> pairs;
+        for (std::size_t i = 0; i < n; ++i) {
+            pairs.push_back(v[i].positive());
+            if (i % 2 == 0 && i > 0 && !(pairs[i] > pairs[i - 2]))
+                v[i].fail("wavelengths must ascend");
+        }
+        mat.iorSpectrum = sampledIor(pairs);
+        mat.ior = mat.iorSpectrum ? mat.iorSpectrum->at(587.6f) : float(pairs[1]);
+    } else {
+        mat.ior = v.positive();
+    }
+}
+
 // The slab between a coat and its base: "thickness", "albedo", "g", "max_depth", "samples".
 void parseLayer(const JsonRef& m, Material& mat) {
     if (m.has("thickness")) mat.thickness.value = m["thickness"].positive();
@@ -343,7 +375,7 @@ Material parseMaterial(const JsonRef& m, const std::string& name, const std::str
                         "remap_roughness", "displacement", "normal_map"},
                        "a dielectric material");
         mat.type = MaterialType::Dielectric;
-        if (m.has("ior")) mat.ior = m["ior"].positive();
+        parseDielectricIor(m, mat);
         parseRoughness(m, mat);
     } else if (type == "glossy") {
         m.expectObject({"type", "color", "roughness", "displacement", "normal_map"},
@@ -364,7 +396,7 @@ Material parseMaterial(const JsonRef& m, const std::string& name, const std::str
     } else if (type == "thindielectric") {
         m.expectObject({"type", "ior", "displacement", "normal_map"}, "a thindielectric material");
         mat.type = MaterialType::ThinDielectric;
-        if (m.has("ior")) mat.ior = m["ior"].positive();
+        parseDielectricIor(m, mat);
     } else if (type == "diffusetransmission") {
         m.expectObject({"type", "color", "transmittance", "scale", "displacement", "normal_map"},
                        "a diffusetransmission material");

@@ -1,5 +1,6 @@
 #include "scene/pbrt/pbrt_materials.h"
 
+#include "scene/ior_spectrum.h"
 #include "scene/metals.h"
 #include "scene/pbrt/pbrt_spectrum.h"
 
@@ -38,9 +39,11 @@ ColorParam metalParam(const ParamList& params, const ValueReader& values, std::s
 
 // A dielectric's index `name` ("eta", coatedconductor's "interface.eta"): a float, a constant
 // spectrum or a named glass (at 587.6 nm). `zeroIsOne`: 0 means index-matched (pbrt-v4's
-// coatedconductor), else the index must be positive.
+// coatedconductor), else the index must be positive. With `dispersion`, an index that varies
+// over wavelength (a named glass, sampled pairs) is kept there for the spectral mode.
 float etaParam(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
-               float def, std::string_view name = "eta", bool zeroIsOne = false) {
+               float def, std::string_view name = "eta", bool zeroIsOne = false,
+               IorSpectrumRef* dispersion = nullptr) {
     const Param* eta = params.find(name);
     double ior = def;
     if (eta && (eta->type == "float" || eta->type == "texture"))
@@ -49,6 +52,9 @@ float etaParam(const ParamList& params, const ValueReader& values, const SourceL
         ior = values.color(params, name, SpectrumUse::Unbounded, Vec3(def)).x;
     if (zeroIsOne && ior == 0) ior = 1.0;
     if (!(ior > 0)) failAt(eta ? eta->loc : loc, std::string(name) + " must be positive");
+    if (dispersion && eta && eta->type == "spectrum")
+        *dispersion = eta->strings.size() == 1 ? namedGlassDispersion(eta->strings[0])
+                                               : sampledIor(eta->numbers);
     return float(ior);
 }
 
@@ -192,12 +198,12 @@ MaterialResult convertMaterial(const std::string& type, const ParamList& params,
     } else if (type == "dielectric") {
         m.type = MaterialType::Dielectric;
         m.color = Vec3(1.0f);
-        m.ior = etaParam(params, values, loc, 1.5f);
+        m.ior = etaParam(params, values, loc, 1.5f, "eta", false, &m.iorSpectrum);
         readRoughness(params, values, loc, m);
     } else if (type == "thindielectric") {
         m.type = MaterialType::ThinDielectric;
         m.color = Vec3(1.0f);
-        m.ior = etaParam(params, values, loc, 1.5f);
+        m.ior = etaParam(params, values, loc, 1.5f, "eta", false, &m.iorSpectrum);
     } else if (type == "diffusetransmission") {
         m.type = MaterialType::DiffuseTransmission;
         baseColor(params, values, "reflectance", Vec3(0.25f), m);

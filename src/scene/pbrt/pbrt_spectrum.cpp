@@ -1,5 +1,6 @@
 #include "scene/pbrt/pbrt_spectrum.h"
 
+#include "scene/ior_spectrum.h"
 #include "spectral/color_space.h"
 #include "spectral/rgb_spectrum.h"
 #include "spectral/spectra.h"
@@ -179,19 +180,9 @@ ReflectanceSpectrumRef rgbAlbedoReflectance(const Vec3& rgb, const spectral::Col
 }
 
 bool namedGlassIor(const std::string& name, double& ior) {
-    // Schott catalogue n_d values; pbrt's "glass-F5", "F10" and "F11" are the SF5, SF10 and
-    // SF11 glasses.
-    static const std::pair<const char*, double> kGlasses[] = {
-        {"glass-BK7", 1.5168},   {"glass-BAF10", 1.6700}, {"glass-FK51A", 1.4866},
-        {"glass-LASF9", 1.8503}, {"glass-F5", 1.6727},    {"glass-F10", 1.7283},
-        {"glass-F11", 1.7847}};
-    for (const auto& [n, v] : kGlasses) {
-        if (name == n) {
-            ior = v;
-            return true;
-        }
-    }
-    return false;
+    // Schott catalogue n_d values (scene/ior_spectrum.cpp); pbrt's "glass-F5", "F10" and "F11"
+    // are the SF5, SF10 and SF11 glasses.
+    return namedGlassIndex(name, ior);
 }
 
 } // namespace rayproc::pbrt

@@ -1,0 +1,195 @@
+// Dispersion in the spectral mode (docs/spectral.md, "Dispersion"): a dielectric whose index
+// varies over wavelength refracts each path at its hero wavelength and ends the path's other
+// wavelengths (pbrt-v4's TerminateSecondary), so
+// - a camera looking through an SF11 prism at a thin emitter of a narrow blue or red band sees
+//   it where Snell's law with the glass's n(lambda) puts it (the test traces the chief ray
+//   itself), and through the same prism with a constant index both bands coincide;
+// - the estimate stays unbiased: a dispersive glass sphere in a furnace is invisible (every
+//   ray sees the furnace's radiance, whatever the index);
+// - RGB mode renders a named glass at its n_d, bit-identical to the index written as a float.
+#include "pbrt/pbrt_test_util.h"
+#include "scene/ior_spectrum.h"
+#include "spectral_checks.h"
+
+#include <cmath>
+#include <cstdio>
+
+using namespace rayproc;
+using namespace rayproc::test;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// The prism: apex angle A between its entry face (the plane z = 1, facing the camera at
+// z = 10) and its exit face through (-1, 1), so a ray down the axis leaves deviated towards
+// +x; the emitter strip lies in the plane z = -30.
+constexpr double kApexDeg = 20, kEmitterZ = -30, kFovDeg = 4;
+constexpr int kWidth = 160, kHeight = 40;
+
+struct V2 {
+    double x, z;
+};
+// Snell's law: d refracted through a surface of unit normal n facing against d, eta = n_i/n_t.
+V2 refract(V2 d, V2 n, double eta) {
+    double ci = -(d.x * n.x + d.z * n.z), k = 1 - eta * eta * (1 - ci * ci);
+    double s = eta * ci - std::sqrt(k);
+    return {eta * d.x + s * n.x, eta * d.z + s * n.z};
+}
+// Where the camera ray at angle phi from the axis (in the plane y = 0) meets the emitter plane
+// through a prism of index n.
+double emitterX(double phi, double n) {
+    const double a = kApexDeg * kPi / 180;
+    V2 d{std::sin(phi), -std::cos(phi)};
+    const double x1 = 9 * std::tan(phi); // the entry face, 9 below the camera
+    V2 d1 = refract(d, {0, 1}, 1 / n);
+    const V2 face{std::sin(a), std::cos(a)}; // the exit face's inward normal
+    const double t = -(x1 + 1) * face.x / (d1.x * face.x + d1.z * face.z);
+    V2 p{x1 + t * d1.x, 1 + t * d1.z};
+    V2 d2 = refract(d1, face, n);
+    return p.x + (kEmitterZ - p.z) / d2.z * d2.x;
+}
+// The image column (pixels from the left edge) where the emitter at xe appears through index n.
+double columnOf(double xe, double n) {
+    double lo = -8 * kPi / 180, hi = 8 * kPi / 180;
+    for (int k = 0; k < 80; ++k) {
+        double mid = (lo + hi) / 2;
+        (emitterX(mid, n) < xe ? lo : hi) = mid;
+    }
+    const double aspect = double(kWidth) / kHeight;
+    const double s = std::tan(lo) / std::tan(kFovDeg / 2 * kPi / 180);
+    return (s + aspect) / (2 * aspect) * kWidth;
+}
+
+// A triangular prism of apex angle kApexDeg (outward-wound) and a strip emitter of a triangular
+// band `lo`..`hi` nm at x = xe.
+std::string prismScene(const std::string& eta, double xe, double lo, double hi) {
+    const double t = 1 - 2 * std::tan(kApexDeg * kPi / 180);
+    char text[2048];
+    std::snprintf(text, sizeof text,
+                  "Scale -1 1 1  LookAt 0 0 10  0 0 0  0 1 0\n"
+                  "Camera \"perspective\" \"float fov\" %g\n"
+                  "Film \"rgb\" \"integer xresolution\" %d \"integer yresolution\" %d\n"
+                  "WorldBegin\n"
+                  "AttributeBegin\n"
+                  "Material \"dielectric\" %s\n"
+                  "Shape \"trianglemesh\" \"point3 P\" [-1 -3 1  1 -3 1  1 -3 %.9g  -1 3 1  1 3 1  "
+                  "1 3 %.9g]\n"
+                  "  \"integer indices\" [0 1 4  0 4 3  1 2 5  1 5 4  0 3 5  0 5 2  0 2 1  3 4 5]\n"
+                  "AttributeEnd\n"
+                  "AttributeBegin\n"
+                  "AreaLightSource \"diffuse\" \"spectrum L\" [%g 0 %g 1 %g 0] \"bool twosided\" true\n"
+                  "Shape \"bilinearmesh\" \"point3 P\" [%.9g -3 %g  %.9g -3 %g  %.9g 3 %g  %.9g 3 %g]\n"
+                  "AttributeEnd\n",
+                  kFovDeg, kWidth, kHeight, eta.c_str(), t, t, lo, (lo + hi) / 2, hi, xe - 0.05,
+                  kEmitterZ, xe + 0.05, kEmitterZ, xe - 0.05, kEmitterZ, xe + 0.05, kEmitterZ);
+    return text;
+}
+
+EngineSettings engineFor(bool spectral) {
+    EngineSettings e = quietTwoThreads(spectral);
+    e.seed = 1;
+    return e;
+}
+
+Image renderPbrt(const std::string& text, int spp, bool spectral) {
+    auto r = loadPbrt(text, "prism.pbrt");
+    REQUIRE(r.warnings.empty());
+    EmbreeScene accel(*r.scene);
+    return renderPath(*r.scene, accel, pathSettings(r.scene->render, ModeOverrides{spp, 0, 0}),
+                      engineFor(spectral))
+        .image;
+}
+
+// The luminance-weighted mean column of the middle rows (CIE Y from the film's linear sRGB).
+double centroidColumn(const Image& img) {
+    double sum = 0, weighted = 0;
+    for (int y = kHeight / 2 - 4; y < kHeight / 2 + 4; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const float* p = img.at(x, y);
+            double lum = 0.2126729 * p[0] + 0.7151522 * p[1] + 0.0721750 * p[2];
+            sum += lum;
+            weighted += lum * (x + 0.5);
+        }
+    return sum > 0 ? weighted / sum : -1;
+}
+
+// The band's expected column: each wavelength's column weighted by its luminance (the band's
+// triangle times y-bar).
+double expectedColumn(const IorSpectrum& glass, double xe, double lo, double hi) {
+    double sum = 0, weighted = 0;
+    for (double nm = lo; nm <= hi; nm += 0.25) {
+        double w = (1 - std::abs(nm - (lo + hi) / 2) / ((hi - lo) / 2)) *
+                   spectral::cieY().at(float(nm));
+        sum += w;
+        weighted += w * columnOf(xe, glass.at(float(nm)));
+    }
+    return weighted / sum;
+}
+
+} // namespace
+
+TEST_CASE("Spectral mode: an SF11 prism deviates blue and red by Snell's law with its n(lambda)",
+          "[spectral-mode][dispersion]") {
+    IorSpectrumRef sf11 = namedGlassDispersion("glass-F11");
+    REQUIRE(sf11);
+    const double nd = 1.7847;
+    // The emitter where the axis ray lands through the glass at n_d: the image's middle.
+    const double xe = emitterX(0, nd);
+    const double blueLo = 440, blueHi = 460, redLo = 640, redHi = 660;
+    const double blueExpected = expectedColumn(*sf11, xe, blueLo, blueHi);
+    const double redExpected = expectedColumn(*sf11, xe, redLo, redHi);
+    const double ndColumn = columnOf(xe, nd);
+    const std::string glass = "\"spectrum eta\" \"glass-F11\"", flat = "\"float eta\" 1.7847";
+    const double blue = centroidColumn(renderPbrt(prismScene(glass, xe, blueLo, blueHi), 256, true));
+    const double red = centroidColumn(renderPbrt(prismScene(glass, xe, redLo, redHi), 256, true));
+    const double blueFlat = centroidColumn(renderPbrt(prismScene(flat, xe, blueLo, blueHi), 64, true));
+    const double redFlat = centroidColumn(renderPbrt(prismScene(flat, xe, redLo, redHi), 64, true));
+    INFO("blue: column " << blue << " (Snell " << blueExpected << "), red " << red << " (Snell "
+                         << redExpected << "); constant index: blue " << blueFlat << ", red "
+                         << redFlat << " (Snell " << ndColumn << ")");
+    CHECK(redExpected - blueExpected > 5); // the split the check must see
+    CHECK(std::abs(blue - blueExpected) < 0.25);
+    CHECK(std::abs(red - redExpected) < 0.25);
+    CHECK(std::abs(blueFlat - ndColumn) < 0.25);
+    CHECK(std::abs(redFlat - ndColumn) < 0.25);
+    CHECK(std::abs(blueFlat - redFlat) < 0.2);
+}
+
+TEST_CASE("Spectral mode: a dispersive glass sphere in a furnace is invisible (unbiased "
+          "termination)",
+          "[spectral-mode][dispersion]") {
+    // Every ray of the closed furnace (emission RGB (1, 1, 1), albedo 0.8) carries 5, through
+    // lossless glass too (its radiance's eta^2 cancels on leaving): a path that crosses the
+    // glass keeps its hero wavelength alone, which must carry the whole estimate.
+    auto r = loadPbrt("LookAt 0 0 0  0 0 -1  0 1 0\n"
+                      "Camera \"perspective\" \"float fov\" 24\n"
+                      "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32\n"
+                      "WorldBegin\n"
+                      "AttributeBegin\n"
+                      "Material \"diffuse\" \"rgb reflectance\" [0.8 0.8 0.8]\n"
+                      "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"bool twosided\" true\n"
+                      "Shape \"sphere\" \"float radius\" 3\n"
+                      "AttributeEnd\n"
+                      "AttributeBegin\n"
+                      "Material \"dielectric\" \"spectrum eta\" \"glass-F11\"\n"
+                      "Translate 0 0 -2\n"
+                      "Shape \"sphere\" \"float radius\" 0.6\n"
+                      "AttributeEnd\n",
+                      "furnace.pbrt");
+    REQUIRE(r.warnings.empty());
+    EmbreeScene accel(*r.scene);
+    RenderResult res = renderPath(*r.scene, accel,
+                                  pathSettings(r.scene->render, ModeOverrides{1024, 0, 0}),
+                                  engineFor(true));
+    // The glass's disc (17.5 degrees in radius) covers the whole view (16.7 degrees to a
+    // corner).
+    checkMeanRadiance(res.image, Vec3(5.0f), 0.01, "through the glass");
+    CHECK(res.stats.totals.invalidSamples == 0);
+}
+
+TEST_CASE("RGB mode renders a named glass at its n_d, to the bit", "[spectral-mode][dispersion]") {
+    const double xe = emitterX(0, 1.7847);
+    Image named = renderPbrt(prismScene("\"spectrum eta\" \"glass-F11\"", xe, 440, 460), 4, false);
+    Image flat = renderPbrt(prismScene("\"float eta\" 1.7847", xe, 440, 460), 4, false);
+    CHECK(sameBits(named, flat));
+}
