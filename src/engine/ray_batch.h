@@ -110,6 +110,10 @@ struct WorkBatch {
 
 protected:
     explicit WorkBatch(BatchType t) : type(t) {}
+    // Not virtual, so protected: a batch is owned, and deleted, as its own type.
+    ~WorkBatch() = default;
+    WorkBatch(const WorkBatch&) = default;
+    WorkBatch& operator=(const WorkBatch&) = default;
 };
 
 // Rays traced to their closest hit: camera, reflection, refraction, a mode's path and gather

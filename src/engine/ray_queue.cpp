@@ -16,22 +16,25 @@ const char* rayKindName(RayKind k) {
 }
 
 template <class Batch>
-Batch* BatchPool::take(tbb::concurrent_queue<Batch*>& free, RayKind kind) {
+Batch* BatchPool::take(tbb::concurrent_queue<Batch*>& free,
+                       std::vector<std::unique_ptr<Batch>>& owned, RayKind kind) {
     Batch* b = nullptr;
     if (!free.try_pop(b)) {
-        auto owned = std::make_unique<Batch>();
-        b = owned.get();
+        auto made = std::make_unique<Batch>();
+        b = made.get();
         std::lock_guard<std::mutex> lock(m_ownedLock);
-        m_owned.push_back(std::move(owned));
+        owned.push_back(std::move(made));
         ++m_allocated;
     }
     reuse(b, kind);
     return b;
 }
 
-RayBatch* BatchPool::acquire(RayKind kind) { return take(m_free, kind); }
+RayBatch* BatchPool::acquire(RayKind kind) { return take(m_free, m_owned, kind); }
 
-ShadowBatch* BatchPool::acquireShadow(RayKind kind) { return take(m_freeShadow, kind); }
+ShadowBatch* BatchPool::acquireShadow(RayKind kind) {
+    return take(m_freeShadow, m_ownedShadow, kind);
+}
 
 void BatchPool::reuse(WorkBatch* b, RayKind kind) {
     b->kind = kind;

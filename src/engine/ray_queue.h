@@ -25,13 +25,17 @@ public:
     ~BatchPool();
 
 private:
-    template <class Batch> Batch* take(tbb::concurrent_queue<Batch*>& free, RayKind kind);
+    template <class Batch>
+    Batch* take(tbb::concurrent_queue<Batch*>& free, std::vector<std::unique_ptr<Batch>>& owned,
+                RayKind kind);
 
     tbb::concurrent_queue<RayBatch*> m_free;
     tbb::concurrent_queue<ShadowBatch*> m_freeShadow;
     std::atomic<std::size_t> m_allocated{0};
     std::mutex m_ownedLock;
-    std::vector<std::unique_ptr<WorkBatch>> m_owned;
+    // Owned by their own type: a WorkBatch has no virtual destructor.
+    std::vector<std::unique_ptr<RayBatch>> m_owned;
+    std::vector<std::unique_ptr<ShadowBatch>> m_ownedShadow;
 };
 
 // Multi-producer multi-consumer queue of batches. Secondary rays (shadow, reflection,
