@@ -155,7 +155,8 @@ struct ShadowBatch : WorkBatch {
     alignas(64) std::array<float, kBatchSize> lambdaU;        // spectral: the path's wavelengths
     // Path mode: 1 + the contribution's category for --stats' noise breakdown (0: none).
     alignas(64) std::array<std::uint32_t, kBatchSize> category;
-    alignas(64) std::array<std::uint8_t, kBatchSize> flags; // the spawning ray's, as a mode keeps them
+    // The spawning ray's flags, as a mode keeps them (gi: whether it serves a cache record).
+    alignas(64) std::array<std::uint8_t, kBatchSize> flags;
 
     bool occluded(int i) const { return tfar[i] < 0.0f; }
 };

@@ -20,9 +20,9 @@ namespace rayproc {
 // Under a processor (keepLocal) a thread also keeps what stays hot in its own caches: up to
 // kLocalReady full batches of secondary rays, which it traces next itself (last in, first out)
 // instead of handing them through the central queue to another core, and up to kLocalFree
-// spent batches of each type, which it fills again before taking one from the shared pool. Camera batches,
-// what overflows and everything once the emitter is done (`tail`) go to the central queue, so
-// other threads find work whenever there is any to share.
+// spent batches of each type, which it fills again before taking one from the shared pool.
+// Camera batches, what overflows and everything once the emitter is done (`tail`) go to the
+// central queue, so other threads find work whenever there is any to share.
 class StageContext {
 public:
     static constexpr int kLocalReady = 4;

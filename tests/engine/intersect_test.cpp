@@ -63,7 +63,8 @@ Batches makeRays(const Scene& scene, bool shadow, unsigned seed) {
     return bs;
 }
 
-template <class B> std::vector<std::unique_ptr<B>> copyOf(const std::vector<std::unique_ptr<B>>& bs) {
+template <class B>
+std::vector<std::unique_ptr<B>> copyOf(const std::vector<std::unique_ptr<B>>& bs) {
     std::vector<std::unique_ptr<B>> out;
     for (auto& b : bs) out.push_back(std::make_unique<B>(*b));
     return out;
