@@ -5,7 +5,6 @@
 // keeps for the spectral mode.
 #include "pbrt/pbrt_test_util.h"
 #include "scene/ior_spectrum.h"
-#include "scene/pbrt/pbrt_spectrum.h"
 #include "test_util.h"
 
 #include <catch2/catch.hpp>
@@ -24,7 +23,7 @@ TEST_CASE("Named glasses' Sellmeier formulas give their catalogue n_d and Abbe n
         IorSpectrumRef s = namedGlassDispersion(name);
         REQUIRE(s);
         double catalogueNd = 0;
-        REQUIRE(pbrt::namedGlassIor(name, catalogueNd));
+        REQUIRE(namedGlassIndex(name, catalogueNd));
         const double nd = s->at(587.56f), nF = s->at(486.13f), nC = s->at(656.27f);
         const double vd = (nd - 1) / (nF - nC);
         INFO(name << ": n_d " << nd << " (catalogue " << catalogueNd << "), v_d " << vd

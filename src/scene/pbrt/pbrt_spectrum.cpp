@@ -1,6 +1,5 @@
 #include "scene/pbrt/pbrt_spectrum.h"
 
-#include "scene/ior_spectrum.h"
 #include "spectral/color_space.h"
 #include "spectral/rgb_spectrum.h"
 #include "spectral/spectra.h"
@@ -177,12 +176,6 @@ ReflectanceSpectrumRef rgbAlbedoReflectance(const Vec3& rgb, const spectral::Col
     spectral::RgbAlbedoSpectrum s(cs, rgb.x, rgb.y, rgb.z);
     return clampedReflectance([&s](double nm) { return double(s(float(nm))); },
                               std::string("rgb in ") + cs.name);
-}
-
-bool namedGlassIor(const std::string& name, double& ior) {
-    // Schott catalogue n_d values (scene/ior_spectrum.cpp); pbrt's "glass-F5", "F10" and "F11"
-    // are the SF5, SF10 and SF11 glasses.
-    return namedGlassIndex(name, ior);
 }
 
 } // namespace rayproc::pbrt

@@ -76,8 +76,4 @@ Vec3 rgbAlbedoToSrgb(const Vec3& rgb, const spectral::ColorSpace& cs);
 Vec3 rgbUnboundedToSrgb(const Vec3& rgb, const spectral::ColorSpace& cs);
 Vec3 rgbIlluminantToSrgb(const Vec3& rgb, const spectral::ColorSpace& cs);
 
-// The index of refraction (at the helium d line, 587.6 nm) of pbrt's named glass spectra
-// ("glass-BK7", ...); false for other names.
-bool namedGlassIor(const std::string& name, double& ior);
-
 } // namespace rayproc::pbrt

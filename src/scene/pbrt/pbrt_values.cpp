@@ -1,5 +1,6 @@
 #include "scene/pbrt/pbrt_values.h"
 
+#include "scene/ior_spectrum.h"
 #include "scene/pbrt/pbrt_spectrum.h"
 #include "image/image.h"
 #include "texture/texture_image.h"
@@ -285,7 +286,7 @@ Vec3 ValueReader::convert(const Param& p, SpectrumUse use, Vec3 def,
         double ior = 0;
         if (use == SpectrumUse::Illuminant && namedIlluminantRgb(name, c)) {
             // the tabulated CIE illuminant's colour, luminance 1
-        } else if (namedGlassIor(name, ior) && use == SpectrumUse::Unbounded) {
+        } else if (namedGlassIndex(name, ior) && use == SpectrumUse::Unbounded) {
             c = Vec3(float(ior));
         } else {
             m_warnings.add(p.loc, "named spectrum \"" + name +
