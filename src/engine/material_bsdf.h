@@ -9,6 +9,7 @@
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <cstring>
 #include <optional>
 
 namespace rayproc {
@@ -55,8 +56,12 @@ public:
     }
     LaneShading(const LaneShading&) = delete;
     LaneShading& operator=(const LaneShading&) = delete;
-    // The lane of wavelength sample u (RayBatch::lambdaU) is shaded next.
+    // The lane of wavelength sample u (RayBatch::lambdaU) is shaded next. The same number
+    // again (a path vertex's emission, then its scattering) keeps the lane already built; the
+    // bits decide, so a terminated number (-0 for 0: SpectralRender::terminatedU) is another.
     void select(float u) {
+        if (m_selected && std::memcmp(&u, &m_u, sizeof u) == 0) return;
+        m_selected = true;
         m_u = u;
         if (m_shading) m_lane = m_shading->render.lane(u);
     }
@@ -73,6 +78,7 @@ public:
 private:
     LaneSpectrum m_lane{};
     float m_u = 0;
+    bool m_selected = false; // m_u and m_lane hold a selected lane
     std::optional<SpectralShading> m_shading;
 };
 
