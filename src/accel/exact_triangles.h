@@ -4,7 +4,8 @@
 // Embree's convention, Ng, primID (the mesh's triangle index), geomID and instID. Single rays and
 // 4/8/16-wide packets go through the same per-lane code, so every packet width finds the same
 // hit on a triangle it tests (which triangles a ray tests at a tie follows the traversal order:
-// docs/architecture.md, the intersection handler). Alpha cut-outs apply as for Embree's triangles (the same decision, alphaKeeps).
+// docs/architecture.md, the intersection handler). Alpha cut-outs apply as for Embree's
+// triangles (the same decision, alphaKeeps).
 #pragma once
 
 #include "accel/embree_scene.h"

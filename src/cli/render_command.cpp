@@ -510,9 +510,9 @@ void addSceneOptions(CLI::App* cmd, RenderArgs* args) {
         ->check(CLI::Range(1, 4096));
     cmd->add_option("--packet-width", args->packetWidth,
                     "Embree traversal: 1 = single rays (rtcIntersect1), 4/8/16 = packets "
-                    "(default 16). Every width gives the same image, except where a ray meets two surfaces "
-                    "at the same distance to within float rounding (coplanar or touching "
-                    "geometry): which one it hits then follows the traversal order")
+                    "(default 16). Every width gives the same image, except where a ray meets "
+                    "two surfaces at the same distance to within float rounding (coplanar or "
+                    "touching geometry): which one it hits then follows the traversal order")
         ->check(CLI::IsMember({1, 4, 8, 16}));
     cmd->add_option("--exposure", args->exposure, "Exposure in stops for PNG output (default 0)")
         ->check(finiteFloat());
