@@ -296,7 +296,13 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             add(rgbOf(causticIrradiance(h.p, ns, b.pixel[i])));
         }
         if (s.debugView == GiDebugView::Caustics) continue;
-        if (gi.cache) {
+        // A path that dispersive glass left one wavelength sees, through the glass, a point
+        // that depends on that wavelength, and needs that wavelength's irradiance there. A
+        // record holds irradiance of every wavelength (its rays spread over the spectrum),
+        // whose spectrum at the point differs per wavelength behind dispersive glass, and
+        // taking it at the path's own wavelength biased the colour (docs/spectral.md,
+        // "Dispersion"): such a visible point gathers at its own wavelength instead.
+        if (gi.cache && !(!prepass && std::signbit(b.lambdaU[i]))) {
             ++giCounter(stats, kGiCacheLookups);
             IrradianceCache::LookupResult r;
             if (gi.cache->lookup(h.p, ns, r)) {

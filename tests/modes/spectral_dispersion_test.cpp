@@ -155,27 +155,38 @@ TEST_CASE("Spectral mode: an SF11 prism deviates blue and red by Snell's law wit
     CHECK(std::abs(blueFlat - redFlat) < 0.2);
 }
 
+namespace {
+
+// The furnace (a closed sphere of emission RGB (1, 1, 1) and albedo 0.8: every ray carries 5,
+// through lossless glass too, its radiance's eta^2 cancelling on leaving) around a glass
+// sphere of index `eta` (a pbrt-v4 parameter) that fills the camera's view.
+std::string furnaceWithGlass(const std::string& eta) {
+    return "LookAt 0 0 0  0 0 -1  0 1 0\n"
+           "Camera \"perspective\" \"float fov\" 24\n"
+           "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32\n"
+           "WorldBegin\n"
+           "AttributeBegin\n"
+           "Material \"diffuse\" \"rgb reflectance\" [0.8 0.8 0.8]\n"
+           "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"bool twosided\" true\n"
+           "Shape \"sphere\" \"float radius\" 3\n"
+           "AttributeEnd\n"
+           "AttributeBegin\n"
+           "Material \"dielectric\" " +
+           eta +
+           "\n"
+           "Translate 0 0 -2\n"
+           "Shape \"sphere\" \"float radius\" 0.6\n"
+           "AttributeEnd\n";
+}
+
+} // namespace
+
 TEST_CASE("Spectral mode: a dispersive glass sphere in a furnace is invisible (unbiased "
           "termination)",
           "[spectral-mode][dispersion]") {
-    // Every ray of the closed furnace (emission RGB (1, 1, 1), albedo 0.8) carries 5, through
-    // lossless glass too (its radiance's eta^2 cancels on leaving): a path that crosses the
-    // glass keeps its hero wavelength alone, which must carry the whole estimate.
-    auto r = loadPbrt("LookAt 0 0 0  0 0 -1  0 1 0\n"
-                      "Camera \"perspective\" \"float fov\" 24\n"
-                      "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32\n"
-                      "WorldBegin\n"
-                      "AttributeBegin\n"
-                      "Material \"diffuse\" \"rgb reflectance\" [0.8 0.8 0.8]\n"
-                      "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"bool twosided\" true\n"
-                      "Shape \"sphere\" \"float radius\" 3\n"
-                      "AttributeEnd\n"
-                      "AttributeBegin\n"
-                      "Material \"dielectric\" \"spectrum eta\" \"glass-F11\"\n"
-                      "Translate 0 0 -2\n"
-                      "Shape \"sphere\" \"float radius\" 0.6\n"
-                      "AttributeEnd\n",
-                      "furnace.pbrt");
+    // A path that crosses the glass keeps its hero wavelength alone, which must carry the
+    // whole estimate.
+    auto r = loadPbrt(furnaceWithGlass("\"spectrum eta\" \"glass-F11\""), "furnace.pbrt");
     REQUIRE(r.warnings.empty());
     EmbreeScene accel(*r.scene);
     RenderResult res = renderPath(*r.scene, accel,
@@ -185,6 +196,32 @@ TEST_CASE("Spectral mode: a dispersive glass sphere in a furnace is invisible (u
     // corner).
     checkMeanRadiance(res.image, Vec3(5.0f), 0.01, "through the glass");
     CHECK(res.stats.totals.invalidSamples == 0);
+}
+
+TEST_CASE("Spectral gi: behind dispersive glass the cache's irradiance is the path's wavelength's",
+          "[spectral-mode][dispersion][gi]") {
+    // Seen through dispersive glass, the wall point depends on the path's one wavelength, and
+    // so does the irradiance it needs there: the cache's records, which hold light of every
+    // wavelength, tilted the colour (+9% red, -5% blue against the constant index). Without
+    // the caustic map (whose estimate is not yet taken per wavelength: docs/spectral.md) gi
+    // must give the same image as through glass of a constant index, the light through the
+    // glass missing from both alike.
+    auto render = [](const std::string& eta) {
+        auto r = loadPbrt(furnaceWithGlass(eta), "furnace.pbrt");
+        REQUIRE(r.warnings.empty());
+        EmbreeScene accel(*r.scene);
+        GiSettings s = giSettings(*r.scene, ModeOverrides{64, 0, 0});
+        s.caustics = false;
+        return renderGi(*r.scene, accel, s, engineFor(true));
+    };
+    RenderResult dispersive = render("\"spectrum eta\" \"glass-F11\"");
+    RenderResult flat = render("\"float eta\" 1.7847");
+    const Vec3 a = imageMean(dispersive.image), b = imageMean(flat.image);
+    for (int c = 0; c < 3; ++c) {
+        INFO("channel " << c << ": glass-F11 " << a[c] << ", constant index " << b[c]);
+        CHECK(std::abs(a[c] / b[c] - 1) < 0.015);
+    }
+    CHECK(dispersive.stats.totals.invalidSamples == 0);
 }
 
 TEST_CASE("RGB mode renders a named glass at its n_d, to the bit", "[spectral-mode][dispersion]") {
