@@ -198,6 +198,15 @@ Vec3 SpectralRender::toXyz(const Vec3& values, const LaneSpectrum& l) const {
     return xyz;
 }
 
+float SpectralRender::oneWavelengthWeight(float lambda, const Vec3& xyz) const {
+    // toXyz: xyz = m_xyzNm[nm] * value / pdf, the pdf of a terminated hero; its largest
+    // matching function's channel is the photon's largest (RGBE keeps that one best).
+    const int nm = std::min(std::max(int(lambda - ks::kLambdaMin + 0.5f), 0), ks::kDenseCount - 1);
+    const Vec3& m = m_xyzNm[std::size_t(nm)];
+    const int c = largestComponent(m);
+    return m[c] > 0 ? xyz[c] / m[c] : 0.0f;
+}
+
 Vec3 SpectralRender::xyzToRgb(const Vec3& v) const {
     const float(&m)[3][3] = m_xyzToRgb;
     return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,

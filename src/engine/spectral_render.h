@@ -111,6 +111,10 @@ public:
     Vec3 toXyz(const Vec3& values, const LaneSpectrum& l) const;
     // The colour space's linear RGB of an XYZ value.
     Vec3 xyzToRgb(const Vec3& xyz) const;
+    // For the toXyz `xyz` of a path of one wavelength `lambda` (nm, a terminated lane's
+    // hero): its value over that wavelength's density, the factor toXyz took the matching
+    // functions at `lambda` by (0 where they are 0). gi's caustic photons of one wavelength.
+    float oneWavelengthWeight(float lambda, const Vec3& xyz) const;
 
     const spectral::ColorSpace& colorSpace() const { return m_cs; }
 

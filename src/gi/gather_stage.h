@@ -118,6 +118,9 @@ private:
     // estimate of irradiance (spectral mode: lightAt the lane's wavelengths, then the film's RGB).
     void addReflected(const RayBatch& b, int i, const Vec3& reflect, const Vec3& e,
                       const LaneSpectrum& lane, ThreadStats& stats) const;
+    // Adds reflect x light to lane i's pixel, light already at the lane's wavelengths.
+    void addReflectedLight(const RayBatch& b, int i, const Vec3& reflect, const Vec3& light,
+                           const LaneSpectrum& lane, ThreadStats& stats) const;
     // Light reaching a gather ray straight from an emitter (light set index `light`, or -1; the
     // shape it hit, or nullptr for a light sample) or the sky (-1, nullptr), at the lane's
     // wavelengths in spectral mode.
@@ -135,6 +138,19 @@ private:
     // The caustic map's irradiance (as the map holds it): k-nearest, or within the pass's
     // radius when progressive (the pixel's own with GiSettings::causticPixelRadius).
     Vec3 causticIrradiance(const Vec3& p, const Vec3& n, std::uint32_t pixel) const;
+    // The caustic light at a visible point of a path of one wavelength (spectral mode, past
+    // dispersive glass), at its lane: through the glass the point depends on the wavelength,
+    // and so does the caustic light there, so the map's photons of one wavelength count
+    // through a tent kernel over wavelength around the path's (kCausticBandwidthNm); photons
+    // of three wavelengths as their colour's spectrum (lightAt). Same radius as
+    // causticIrradiance.
+    Vec3 causticLightOfOneWavelength(const Vec3& p, const Vec3& n, std::uint32_t pixel,
+                                     const LaneSpectrum& lane) const;
+    // The caustic estimate's radius logic (k-nearest, fixed, progressive per pixel), over
+    // `within(radius, counted)` (an estimate within a radius) and `nearest()` (the k-nearest).
+    template <class Within, class Nearest>
+    auto causticEstimate(const Vec3& p, std::uint32_t pixel, const Within& within,
+                         const Nearest& nearest) const;
     const RenderContext& m_rc;
     const GiData& m_gi;
     IcRequests* m_requests;

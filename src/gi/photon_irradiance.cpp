@@ -131,6 +131,29 @@ Vec3 PhotonMap::irradianceWithin(const Vec3& p, const Vec3& n, float radius,
     return inWatts(sum.irradiance());
 }
 
+PhotonMap::WavelengthSplit PhotonMap::irradianceSplit(
+    const Vec3& p, const Vec3& n, float radius,
+    const std::function<float(float, const Vec3&)>& oneWavelength, std::uint32_t* counted) const {
+    if (counted) *counted = 0;
+    WavelengthSplit out;
+    if (m_photons.empty() || !(radius > 0)) return out;
+    float radius2 = radius * radius;
+    ConeSum others(p, n, radius, radius2), one(p, n, radius, radius2);
+    kdtree::search(m_photons.data(), m_photons.size(), p, radius2, [&](std::size_t i, float d2) {
+        const StoredPhoton& s = m_photons[i];
+        const float lambda = m_wavelength.empty() ? 0.0f : m_wavelength[i];
+        if (!others.counts(s)) return;
+        if (lambda > 0)
+            one.addCounted(Vec3(oneWavelength(lambda, decodeRgbe(s.power)), 0.0f, 0.0f), d2);
+        else
+            others.addCounted(decodeRgbe(s.power), d2);
+    });
+    if (counted) *counted = others.count() + one.count();
+    out.others = inWatts(others.irradiance());
+    out.oneWavelength = inWatts(one.irradiance()).x;
+    return out;
+}
+
 float PhotonMap::neighbourRadius2(const Vec3& p, int k, float maxDistance,
                                  std::uint32_t* found) const {
     if (found) *found = 0;

@@ -21,6 +21,8 @@ namespace rayproc {
 bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<bool()>& stop) {
     m_photons.clear();
     m_photons.shrink_to_fit();
+    m_wavelength.clear();
+    m_wavelength.shrink_to_fit();
     m_precomputed.clear();
     m_precomputed.shrink_to_fit();
     m_deferred.clear();
@@ -29,17 +31,19 @@ bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<boo
     RAYPROC_CHECK(photons.size() < (std::size_t(1) << 32));
 
     std::vector<kdtree::BuildKey> keys(photons.size());
-    std::atomic<bool> finite{true};
+    std::atomic<bool> finite{true}, oneWavelength{false};
     orderedParallelFor(0, photons.size(), 16384,
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                          bool ok = true;
+                          bool ok = true, one = false;
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
                               const PhotonRecord& ph = photons[i];
                               ok &= isFinite(ph.power);
+                              one |= ph.wavelength > 0;
                               keys[i] = {{ph.position.x, ph.position.y, ph.position.z},
                                          std::uint32_t(i)};
                           }
                           if (!ok) finite = false;
+                          if (one) oneWavelength = true;
                       });
     RAYPROC_CHECK(finite.load()); // the powers; kdtree::build checks the positions
     std::vector<std::uint8_t> axis;
@@ -48,6 +52,7 @@ bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<boo
     // Encode each photon into its node.
     std::atomic<bool> stopped{false};
     std::vector<StoredPhoton> stored(photons.size());
+    std::vector<float> wavelength(oneWavelength ? photons.size() : 0);
     orderedParallelFor(0, photons.size(), 4096,
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           if (stopped.load(std::memory_order_relaxed)) return;
@@ -72,15 +77,17 @@ bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<boo
                               s.power = encodeRgbe(ph.power);
                               s.direction = encodeDirection(ph.direction);
                               s.normalAxis = std::uint16_t(lastCode | (unsigned(axis[i]) << 14));
+                              if (!wavelength.empty()) wavelength[i] = ph.wavelength;
                           }
                       });
     if (stopped) return false;
     m_photons = std::move(stored);
+    m_wavelength = std::move(wavelength);
     return true;
 }
 
 std::size_t PhotonMap::memoryBytes() const {
-    return m_photons.capacity() * sizeof(StoredPhoton) +
+    return m_photons.capacity() * sizeof(StoredPhoton) + m_wavelength.capacity() * sizeof(float) +
            m_precomputed.capacity() * sizeof(PrecomputedPhoton) +
            m_deferred.capacity() * sizeof(std::atomic<std::uint64_t>);
 }

@@ -40,6 +40,9 @@ struct PhotonRecord {
     // gi's gather samples those lights at its hits instead (buildPhotonMap's `indirect` map
     // leaves these photons out). 0 otherwise.
     std::uint32_t sampledDirect = 0;
+    // Spectral mode: the one wavelength (nm) a photon past dispersive glass carries (its power
+    // is that wavelength's alone, SpectralRender::lane), 0 for a photon of three.
+    float wavelength = 0;
 };
 
 class PhotonMap {
@@ -130,6 +133,19 @@ public:
     // `counted` (optional) receives how many photons the estimate counted (SPPM's M).
     Vec3 irradianceWithin(const Vec3& p, const Vec3& n, float radius,
                           std::uint32_t* counted = nullptr) const;
+    // The same photons as irradianceWithin, split by what they carry: photons of three
+    // wavelengths sum their power into `others`, photons of one (PhotonRecord::wavelength)
+    // add oneWavelength(their wavelength, their power) into `oneWavelength`, with the same
+    // cone filter (gi's caustic estimate for a path of one wavelength, GatherStage).
+    struct WavelengthSplit {
+        Vec3 others{0.0f};
+        float oneWavelength = 0;
+    };
+    WavelengthSplit irradianceSplit(const Vec3& p, const Vec3& n, float radius,
+                                    const std::function<float(float, const Vec3&)>& oneWavelength,
+                                    std::uint32_t* counted = nullptr) const;
+    // Whether any stored photon carries one wavelength.
+    bool hasWavelengths() const { return !m_wavelength.empty(); }
     // The distance^2 from p to its k-th nearest photon, or maxDistance^2 when fewer lie within
     // it (the radius a k-nearest estimate at p would use); `found` (optional): the photons
     // within that radius (k, or fewer at maxDistance).
@@ -224,6 +240,8 @@ private:
     Rgbe precomputedIrradiance(std::size_t i) const;
 
     std::vector<StoredPhoton> m_photons;
+    // Per stored photon (tree order) its PhotonRecord::wavelength; empty where none has one.
+    std::vector<float> m_wavelength;
     double m_unit = 1; // setPowerUnit
     std::vector<PrecomputedPhoton> m_precomputed;
     bool m_hasPrecomputed = false;

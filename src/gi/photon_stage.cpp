@@ -12,6 +12,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace rayproc {
 
@@ -58,7 +59,11 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
                 // Spectral mode stores the CIE XYZ of its three values (the film's estimate of
                 // its colour, before the film's matrix to RGB; non-negative, as RGBE needs).
                 const Vec3 stored3 = m_rc.spectral ? m_rc.spectral->toXyz(power, wl.lane()) : power;
-                stored.push_back({key, PhotonRecord{h.p, stored3, wo, fg, sampled}});
+                // Past dispersive glass it carries its hero wavelength alone, which the
+                // caustic estimate of a path of one wavelength reads (GatherStage).
+                const float one = m_rc.spectral && std::signbit(wl.u()) ? wl.lane().w.lambda[0]
+                                                                       : 0.0f;
+                stored.push_back({key, PhotonRecord{h.p, stored3, wo, fg, sampled, one}});
                 ++giCounter(stats, kGiPhotonsStored);
             }
             // A caustic path ends at its first diffuse surface, unless a coat over it

@@ -340,6 +340,46 @@ TEST_CASE("Density estimates of a uniformly lit plane equal flux over area", "[g
         CHECK(isBlack(map.irradianceWithin(points[0], plane.n, 0.0f)));
         CHECK(isBlack(PhotonMap().irradianceWithin(points[0], plane.n, 1.0f)));
     }
+    SECTION("the split estimate takes photons of one wavelength apart, over the same photons") {
+        // gi's caustic estimate for a path of one wavelength (spectral mode, dispersive glass):
+        // every third photon carries one wavelength (400-699 nm); the others go to `others`,
+        // those to `oneWavelength` through the caller's function, under the same cone filter.
+        std::vector<PhotonRecord> all = plane.photons(kPhotons, 1), three, blueOne;
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            if (i % 3 == 0) {
+                all[i].wavelength = 400.0f + float(i % 300);
+                if (all[i].wavelength < 500.0f) blueOne.push_back(all[i]);
+            } else {
+                three.push_back(all[i]);
+            }
+        }
+        PhotonMap mixed, threeMap, blueMap;
+        mixed.build(all);
+        threeMap.build(three);
+        blueMap.build(blueOne);
+        CHECK(mixed.hasWavelengths());
+        CHECK_FALSE(threeMap.hasWavelengths());
+        CHECK_FALSE(map.hasWavelengths());
+        const float r = 0.4f;
+        auto red = [](float, const Vec3& power) { return power.x; };
+        auto blue = [](float lambda, const Vec3& power) { return lambda < 500 ? power.x : 0.0f; };
+        for (std::size_t i = 0; i < 8; ++i) {
+            std::uint32_t counted = 0, countedAll = 0;
+            PhotonMap::WavelengthSplit e = mixed.irradianceSplit(points[i], plane.n, r, red,
+                                                                  &counted);
+            const Vec3 whole = mixed.irradianceWithin(points[i], plane.n, r, &countedAll);
+            INFO("point " << i << ": others " << e.others.x << " + one " << e.oneWavelength
+                          << " against " << whole.x);
+            CHECK(counted == countedAll);
+            CHECK(std::abs(e.others.x + e.oneWavelength - whole.x) < 1e-4f * whole.x);
+            CHECK(maxComponent(relativeError(
+                      e.others, threeMap.irradianceWithin(points[i], plane.n, r))) < 1e-4f);
+            const float b = mixed.irradianceSplit(points[i], plane.n, r, blue).oneWavelength;
+            const float bBrute = blueMap.irradianceWithin(points[i], plane.n, r).x;
+            CHECK(b > 0);
+            CHECK(std::abs(b - bBrute) < 1e-4f * bBrute);
+        }
+    }
     SECTION("the median k-th neighbour distance matches the density: k = pi r^2 density") {
         // 200000 photons on 100 units^2: k = 100 neighbours lie within sqrt(100 / (2000 pi)).
         float r = map.medianNeighbourRadius(100, 10.0f, 512);
