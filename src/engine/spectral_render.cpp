@@ -62,6 +62,7 @@ SpectralRender::SpectralRender(const Scene& scene, const LightSet& lights)
         s.transmittance = constantAlbedo(m_cs, m.transmittance);
         if (!m.transmittance.textured()) own(m.transmittanceSpectrum, s.transmittance);
         s.albedo = constantAlbedo(m_cs, m.albedo);
+        if (!m.albedo.textured()) own(m.albedoSpectrum, s.albedo);
         m_materials.push_back(s);
     }
     for (const LightSource& l : lights.lights) {

@@ -62,8 +62,9 @@ struct Material {
     int colorTexture = -1; // replaces `color` when >= 0
     // The constant `color`'s own spectrum where the file gave one (a pbrt-v4 sampled
     // reflectance, an rgb under another colour space): the spectral mode's; RGB mode's is
-    // `color`. Likewise DiffuseTransmission's `transmittance`. nullptr: upsampled from the RGB.
-    ReflectanceSpectrumRef colorSpectrum, transmittanceSpectrum;
+    // `color`. Likewise DiffuseTransmission's `transmittance` and a coated layer's `albedo`.
+    // nullptr: upsampled from the RGB.
+    ReflectanceSpectrumRef colorSpectrum, transmittanceSpectrum, albedoSpectrum;
     float ior = 1.5f;      // dielectric, thindielectric, the coated materials' coats
     // Dielectric and ThinDielectric: the index over wavelength where the file gave one that
     // varies (a named glass, sampled pairs): the spectral mode's (dispersion); RGB mode's is

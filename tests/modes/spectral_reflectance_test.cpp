@@ -4,6 +4,9 @@
 // path's wavelengths instead of upsampling its sRGB colour; RGB mode renders the colour as
 // before. Against the test's own quadrature of light x reflectance x CIE functions.
 #include "../analytic/analytic.h"
+#include "engine/material_bsdf.h"
+#include "engine/spectral_render.h"
+#include "lighting/light_set.h"
 #include "pbrt/pbrt_test_util.h"
 #include "scene/pbrt/pbrt_spectrum.h"
 #include "scene/reflectance_spectrum.h"
@@ -95,6 +98,42 @@ TEST_CASE("pbrt reflectance spectra are kept for the spectral mode beside their 
     CHECK(materialOf(std::string("Texture \"t\" \"spectrum\" \"constant\" \"spectrum value\" ") +
                      kPairsText + "\nMaterial \"diffuse\" \"texture reflectance\" \"t\"")
               .colorSpectrum);
+}
+
+TEST_CASE("A coated layer's sampled albedo is kept, and the spectral BSDF takes it",
+          "[pbrt][spectral]") {
+    // coateddiffuse's (and coatedconductor's) medium `albedo`, pbrt-v4's SpectrumTexture of
+    // reflectance-like values, like the reflectance above: its own spectrum beside its colour.
+    auto r = loadWorld(std::string("Material \"coateddiffuse\" \"spectrum albedo\" ") +
+                       kPairsText + " \"float thickness\" 0.1\nShape \"sphere\"\n");
+    REQUIRE(r.warnings.empty());
+    const int material = rootShapes(*r.scene)[0].shape->material;
+    const Material& m = r.scene->materials[std::size_t(material)];
+    REQUIRE(m.albedoSpectrum);
+    CHECK(m.albedoSpectrum->values.at(480) == Approx(0.8));
+    CHECK(m.albedo.value == pbrt::sampledReflectanceRgb(kPairs));
+    CHECK_FALSE(materialOf("Material \"coateddiffuse\" \"rgb albedo\" [0.2 0.5 0.7]")
+                    .albedoSpectrum);
+    CHECK(materialOf("Material \"coatedconductor\" \"spectrum albedo\" " +
+                     std::string(kPairsText))
+              .albedoSpectrum);
+    // At a lane's wavelengths the BSDF's albedo is the spectrum's, at the nearest nanometre.
+    EmbreeScene accel(*r.scene);
+    LightSet lights = LightSet::build(*r.scene, accel);
+    SpectralRender spectral(*r.scene, lights);
+    LaneShading wl(&spectral);
+    SurfaceHit hit;
+    hit.ng = hit.ns = Vec3(0, 0, 1);
+    hit.material = material;
+    for (float u : {0.1f, 0.35f, 0.6f}) {
+        wl.select(u);
+        const kernels::BsdfParams b = bsdfAt(*r.scene, material, hit, 0, wl.shading());
+        for (int i = 0; i < 3; ++i) {
+            const int nm = wl.lane().nm[i];
+            INFO("lambda " << wl.lane().w.lambda[i]);
+            CHECK(b.albedo[i] == m.albedoSpectrum->values.values[std::size_t(nm)]);
+        }
+    }
 }
 
 TEST_CASE("Spectral mode: a sampled reflectance renders its own spectrum, RGB mode its colour",

@@ -131,7 +131,7 @@ void baseColor(const ParamList& params, const ValueReader& values, std::string_v
 void readLayer(const ParamList& params, const ValueReader& values, const SourceLoc& loc,
                Material& m) {
     m.thickness = floatParam(params, values, "thickness", 0.01f);
-    m.albedo = colorParam(params, values, "albedo", SpectrumUse::Albedo, Vec3(0.0f));
+    m.albedo = values.reflectance(params, "albedo", Vec3(0.0f), m.albedoSpectrum);
     m.g = values.scalar(params, "g", 0.0f);
     m.maxDepth = int(params.getInt("maxdepth", 10));
     m.nSamples = int(params.getInt("nsamples", 1));
