@@ -87,11 +87,6 @@ void coatedConductorParams(const Material& m, const ParamEval& eval, kernels::Bs
     b.g = std::clamp(b.g, -1.0f, 1.0f);
 }
 
-bool dispersiveMaterial(const Material& m) {
-    return m.iorSpectrum &&
-           (m.type == MaterialType::Dielectric || m.type == MaterialType::ThinDielectric);
-}
-
 // Fills the parameters every kind reads from the material's constants and textures; with
 // `sp` (material index `mi`) the colours at the lane's wavelengths.
 kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureContext* tc,
@@ -249,6 +244,14 @@ kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& h
     b.key = key;
     b.tangent = hit.dpdu; // the kernels make it perpendicular to the shading normal
     return b;
+}
+
+bool dispersiveMaterial(const Material& m) {
+    switch (m.type) {
+    case MaterialType::Dielectric:
+    case MaterialType::ThinDielectric: return m.iorSpectrum != nullptr;
+    default: return false;
+    }
 }
 
 bool dispersive(const Scene& scene, int material, const SpectralShading* spectral) {

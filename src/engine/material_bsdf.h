@@ -39,6 +39,8 @@ struct SpectralShading {
 // interaction: every ray a stage spawns from such a hit carries SpectralRender::terminatedU
 // of its number (LaneShading::select with the material, then u()). Always false in RGB mode.
 bool dispersive(const Scene& scene, int material, const SpectralShading* spectral);
+// The same for a material, whatever the mode.
+bool dispersiveMaterial(const Material& m);
 // The wavelength number of the rays spawned at a hit on materials[material] by a lane of number
 // u: u, or past a dispersive material SpectralRender::terminatedU(u).
 inline float laneNumber(float u, const Scene& scene, int material,
