@@ -98,7 +98,12 @@ kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureCo
                                 : m.color,
                             &MS::color, false);
     b.ior = m.ior;
-    if (sp && dispersiveMaterial(m)) b.ior = m.iorSpectrum->at(sp->lane.w.lambda[0]);
+    // pbrt-v4's materials sample their eta at the hero wavelength, an index of 0 (a spectrum
+    // past its ends) taken as 1.
+    if (sp && dispersiveMaterial(m)) {
+        const float n = m.iorSpectrum->at(sp->lane.w.lambda[0]);
+        b.ior = n == 0 ? 1.0f : n;
+    }
     b.alpha = kernels::ggxAlpha(m.roughness);
     b.alphaX = roughnessToAlpha(eval(m.uRoughness), m.remapRoughness);
     b.alphaY = roughnessToAlpha(eval(m.vRoughness), m.remapRoughness);
@@ -249,7 +254,9 @@ kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& h
 bool dispersiveMaterial(const Material& m) {
     switch (m.type) {
     case MaterialType::Dielectric:
-    case MaterialType::ThinDielectric: return m.iorSpectrum != nullptr;
+    case MaterialType::ThinDielectric:
+    case MaterialType::CoatedDiffuse:
+    case MaterialType::CoatedConductor: return m.iorSpectrum != nullptr;
     default: return false;
     }
 }
