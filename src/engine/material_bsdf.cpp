@@ -87,11 +87,6 @@ void coatedConductorParams(const Material& m, const ParamEval& eval, kernels::Bs
     b.g = std::clamp(b.g, -1.0f, 1.0f);
 }
 
-bool dispersiveMaterial(const Material& m) {
-    return m.iorSpectrum &&
-           (m.type == MaterialType::Dielectric || m.type == MaterialType::ThinDielectric);
-}
-
 // Fills the parameters every kind reads from the material's constants and textures; with
 // `sp` (material index `mi`) the colours at the lane's wavelengths.
 kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureContext* tc,
@@ -103,7 +98,12 @@ kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureCo
                                 : m.color,
                             &MS::color, false);
     b.ior = m.ior;
-    if (sp && dispersiveMaterial(m)) b.ior = m.iorSpectrum->at(sp->lane.w.lambda[0]);
+    // pbrt-v4's materials sample their eta at the hero wavelength, an index of 0 (a spectrum
+    // past its ends) taken as 1.
+    if (sp && dispersiveMaterial(m)) {
+        const float n = m.iorSpectrum->at(sp->lane.w.lambda[0]);
+        b.ior = n == 0 ? 1.0f : n;
+    }
     b.alpha = kernels::ggxAlpha(m.roughness);
     b.alphaX = roughnessToAlpha(eval(m.uRoughness), m.remapRoughness);
     b.alphaY = roughnessToAlpha(eval(m.vRoughness), m.remapRoughness);
@@ -249,6 +249,16 @@ kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& h
     b.key = key;
     b.tangent = hit.dpdu; // the kernels make it perpendicular to the shading normal
     return b;
+}
+
+bool dispersiveMaterial(const Material& m) {
+    switch (m.type) {
+    case MaterialType::Dielectric:
+    case MaterialType::ThinDielectric:
+    case MaterialType::CoatedDiffuse:
+    case MaterialType::CoatedConductor: return m.iorSpectrum != nullptr;
+    default: return false;
+    }
 }
 
 bool dispersive(const Scene& scene, int material, const SpectralShading* spectral) {

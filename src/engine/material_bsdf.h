@@ -33,12 +33,15 @@ struct SpectralShading {
 };
 
 // Dispersion (docs/spectral.md): with `spectral`, whether materials[material] is a Dielectric or
-// ThinDielectric whose index varies over wavelength (Material::iorSpectrum). bsdfAt builds it
-// at the lane's hero wavelength, and the path's other wavelengths end there, as pbrt-v4's
-// dielectric materials terminate them (SampledWavelengths::TerminateSecondary) on any
-// interaction: every ray a stage spawns from such a hit carries SpectralRender::terminatedU
-// of its number (LaneShading::select with the material, then u()). Always false in RGB mode.
+// ThinDielectric, or a CoatedDiffuse or CoatedConductor's coat, whose index varies over
+// wavelength (Material::iorSpectrum). bsdfAt builds it at the lane's hero wavelength, and the
+// path's other wavelengths end there, as pbrt-v4's dielectric and coated materials terminate
+// them (SampledWavelengths::TerminateSecondary) on any interaction: every ray a stage spawns
+// from such a hit carries SpectralRender::terminatedU of its number (LaneShading::select with
+// the material, then u()). Always false in RGB mode.
 bool dispersive(const Scene& scene, int material, const SpectralShading* spectral);
+// The same for a material, whatever the mode.
+bool dispersiveMaterial(const Material& m);
 // The wavelength number of the rays spawned at a hit on materials[material] by a lane of number
 // u: u, or past a dispersive material SpectralRender::terminatedU(u).
 inline float laneNumber(float u, const Scene& scene, int material,
@@ -85,7 +88,8 @@ private:
 // The BSDF of Scene::materials[material] (not a mix: see resolveMix) at `hit`. `key` seeds the
 // stochastic evaluation of layered materials. With `spectral` its colours hold their spectra
 // at the lane's wavelengths (reflectances as albedo spectra, eta and k as unbounded ones; the
-// dielectric's ior stays one number: a dispersive one's at the lane's hero wavelength).
+// dielectric's or coat's ior stays one number: a dispersive one's at the lane's hero
+// wavelength).
 kernels::BsdfParams bsdfAt(const Scene& scene, int material, const SurfaceHit& hit,
                            std::uint64_t key, const SpectralShading* spectral = nullptr);
 

@@ -122,6 +122,11 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             SurfaceHit h = resolveHit(b, i, addDirect, stats);
             if (b.flags[i] & kFlagEmissionOnly) continue; // a last vertex's MIS partner
             resolveShading(m_rc.scene, h, -laneDirection(b, i));
+            // A dispersive material (a coat's too) keeps the hero wavelength alone for every
+            // stage the hit goes to (docs/spectral.md, "Dispersion"); the emission found here,
+            // added above, keeps all three.
+            if (m_rc.spectral && dispersiveMaterial(m_rc.scene.materials[h.material]))
+                b.lambdaU[i] = SpectralRender::terminatedU(b.lambdaU[i]);
             routeByLobes(m_rc.scene, i, h, visiblePoint(b.flags[i]), addDirect, handled, prepass,
                          r);
         }

@@ -86,6 +86,10 @@ void CorrectionStage::retrace(RayBatch& b, StageContext& ctx) {
         SurfaceHit h =
             m_rc.accel.surface(b.instId[i], b.geomId[i], b.primId[i], b.u[i], b.v[i], o, d, b.t[i]);
         resolveShading(m_rc.scene, h, -d);
+        // A dispersive material (a coat's) keeps the hero wavelength alone, as the gather
+        // stage's does at the same hit.
+        if (m_rc.spectral && dispersiveMaterial(m_rc.scene.materials[h.material]))
+            b.lambdaU[i] = SpectralRender::terminatedU(b.lambdaU[i]);
         // The gather's far end: its BSDF stream (GatherStage::retrace).
         spawned += replaceMap(b, i, h, true, kernels::hashCombine(b.rngKey[i], 43), ctx);
     }

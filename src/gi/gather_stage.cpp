@@ -373,8 +373,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
 
 // The radiance gather ray i finds at its hit, added to `radiance` (before its throughput),
 // the hit's distance, and its specular continuation; whether the ray goes on.
-bool GatherStage::shadeHit(const RayBatch& b, int i, const LaneShading& wl, Vec3& radiance,
-                           float& distance,
+bool GatherStage::shadeHit(RayBatch& b, int i, LaneShading& wl, Vec3& radiance, float& distance,
                            std::uint64_t& spawned, StageContext& ctx) const {
     ThreadStats& stats = *ctx.stats;
     const GiData& gi = m_gi;
@@ -392,6 +391,9 @@ bool GatherStage::shadeHit(const RayBatch& b, int i, const LaneShading& wl, Vec3
                                m_rc.spectral ? m_rc.lights.indexOf(h.shape, h.instance) : -1,
                                h.shape, wl.lane());
     resolveShading(m_rc.scene, h, -d);
+    // A dispersive material (a coat's): the hero alone from here on (docs/spectral.md).
+    wl.select(b.lambdaU[i], m_rc.scene, h.material);
+    b.lambdaU[i] = wl.u();
     // Emitters are light sampled at the gather's origin, and light reaching it through
     // specular surfaces (a coat's reflection included) straight from an emitter is the
     // caustic map's: neither is added here. At a diffuse surface the global map gives
@@ -444,8 +446,7 @@ bool GatherStage::shadeHit(const RayBatch& b, int i, const LaneShading& wl, Vec3
             std::uint8_t flags = b.flags[i];
             if (cls == MaterialClass::Glossy) flags |= kFlagPastGlossy;
             spawnRay(ctx.out(kGatherRay), b, i, offsetRayOrigin(h, h.ng, smp.wi), smp.wi, next,
-                     b.depth[i], std::uint8_t(b.specularDepth[i] + 1), flags, 7,
-                     laneNumber(b.lambdaU[i], m_rc.scene, h.material, wl.shading()));
+                     b.depth[i], std::uint8_t(b.specularDepth[i] + 1), flags, 7, wl.u());
             ++spawned;
             return true;
         }

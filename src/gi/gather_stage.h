@@ -126,9 +126,10 @@ private:
     // wavelengths in spectral mode.
     Vec3 emissionAt(const Vec3& rgb, int light, const Shape* shape, const LaneSpectrum& lane) const;
 
-    // Lane i's hit, `wl` selected at its wavelengths (spectral mode).
-    bool shadeHit(const RayBatch& b, int i, const LaneShading& wl, Vec3& radiance,
-                  float& distance, std::uint64_t& spawned, StageContext& ctx) const;
+    // Lane i's hit, `wl` selected at its wavelengths (spectral mode); at a dispersive material
+    // the lane's hero alone from there on (its number marked in `b` and `wl`).
+    bool shadeHit(RayBatch& b, int i, LaneShading& wl, Vec3& radiance, float& distance,
+                  std::uint64_t& spawned, StageContext& ctx) const;
     void recordGatherEnd(const RayBatch& b, int i, float distance, bool done) const;
     std::uint64_t spawnFinalGather(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& ng,
                                    const Vec3& ns, const Vec3& reflectance, bool prepass,

@@ -66,9 +66,10 @@ struct Material {
     // nullptr: upsampled from the RGB.
     ReflectanceSpectrumRef colorSpectrum, transmittanceSpectrum, albedoSpectrum;
     float ior = 1.5f;      // dielectric, thindielectric, the coated materials' coats
-    // Dielectric and ThinDielectric: the index over wavelength where the file gave one that
-    // varies (a named glass, sampled pairs): the spectral mode's (dispersion); RGB mode's is
-    // `ior`, its value at 587.6 nm. nullptr: `ior` at every wavelength.
+    // Dielectric, ThinDielectric and the coated materials' coats: the index over wavelength
+    // where the file gave one that varies (a named glass, sampled pairs): the spectral mode's
+    // (dispersion); RGB mode's is `ior`, its value at 587.6 nm. nullptr: `ior` at every
+    // wavelength.
     IorSpectrumRef iorSpectrum;
     float roughness = 0.2f; // Glossy only: GGX alpha = roughness^2
 

@@ -279,10 +279,10 @@ void parseConductorIndex(const JsonRef& m, Material& mat) {
     }
 }
 
-// A dielectric's or thindielectric's "ior": a number; a named glass ("glass-BK7", ...: its
-// catalogue n_d, and its Sellmeier dispersion for the spectral mode, scene/ior_spectrum.h); or
-// [wavelength, index, ...] pairs (their value at 587.6 nm, and the pairs for the spectral mode
-// where the index varies).
+// A dielectric's, thindielectric's or coated material's (its coat's) "ior": a number; a named
+// glass ("glass-BK7", ...: its catalogue n_d, and its Sellmeier dispersion for the spectral
+// mode, scene/ior_spectrum.h); or [wavelength, index, ...] pairs (their value at 587.6 nm, and
+// the pairs for the spectral mode where the index varies).
 void parseDielectricIor(const JsonRef& m, Material& mat) {
     if (!m.has("ior")) return;
     const JsonRef v = m["ior"];
@@ -326,7 +326,7 @@ void parseCoatedDiffuse(const JsonRef& m, Material& mat) {
                    "a coateddiffuse material");
     mat.type = MaterialType::CoatedDiffuse;
     mat.color = Vec3(0.5f);
-    if (m.has("ior")) mat.ior = m["ior"].positive();
+    parseDielectricIor(m, mat);
     parseRoughness(m, mat);
     parseLayer(m, mat);
     if (m.has("model") && !coatModelNamed(m["model"].nonEmptyString(), mat.coatModel))
@@ -343,7 +343,7 @@ void parseCoatedConductor(const JsonRef& m, Material& mat) {
                     "max_depth", "samples", "displacement", "normal_map"},
                    "a coatedconductor material");
     mat.type = MaterialType::CoatedConductor;
-    if (m.has("ior")) mat.ior = m["ior"].positive();
+    parseDielectricIor(m, mat);
     parseRoughness(m, mat);
     parseConductorIndex(m, mat);
     if (m.has("conductor_roughness"))

@@ -63,7 +63,7 @@ Material materialOf(const std::string& material) {
 
 } // namespace
 
-TEST_CASE("pbrt dielectrics keep a varying eta for the spectral mode beside its n_d",
+TEST_CASE("pbrt dielectrics and coats keep a varying eta for the spectral mode beside its n_d",
           "[pbrt][spectral][dispersion]") {
     Material bk7 = materialOf("Material \"dielectric\" \"spectrum eta\" \"glass-BK7\"");
     CHECK(bk7.ior == 1.5168f);
@@ -80,9 +80,22 @@ TEST_CASE("pbrt dielectrics keep a varying eta for the spectral mode beside its 
     CHECK_FALSE(materialOf("Material \"dielectric\" \"float eta\" 1.5").iorSpectrum);
     CHECK_FALSE(materialOf("Material \"dielectric\" \"spectrum eta\" [400 1.5 700 1.5]").iorSpectrum);
     CHECK_FALSE(materialOf("Material \"dielectric\"").iorSpectrum);
-    // A coat keeps its n_d (its dispersion is not modelled).
+    // The coats: coateddiffuse's eta, coatedconductor's interface.eta.
+    Material coated = materialOf("Material \"coateddiffuse\" \"spectrum eta\" \"glass-BK7\"");
+    CHECK(coated.ior == 1.5168f);
+    REQUIRE(coated.iorSpectrum);
+    CHECK(coated.iorSpectrum->label == "glass-BK7");
+    Material interface = materialOf(
+        "Material \"coatedconductor\" \"spectrum interface.eta\" [400 1.6 700 1.5]");
+    REQUIRE(interface.iorSpectrum);
+    CHECK(interface.ior == Approx(1.6 - 0.1 * 187.6 / 300));
+    CHECK_FALSE(materialOf("Material \"coateddiffuse\" \"float eta\" 1.5").iorSpectrum);
+    CHECK_FALSE(materialOf("Material \"coatedconductor\"").iorSpectrum);
+    // The conductor's own eta is no coat's.
     CHECK_FALSE(
-        materialOf("Material \"coateddiffuse\" \"spectrum eta\" \"glass-BK7\"").iorSpectrum);
+        materialOf("Material \"coatedconductor\" \"spectrum conductor.eta\" \"metal-Au-eta\" "
+                   "\"spectrum conductor.k\" \"metal-Au-k\"")
+            .iorSpectrum);
 }
 
 namespace {
@@ -99,7 +112,7 @@ Material jsonMaterial(const std::string& material) {
 
 } // namespace
 
-TEST_CASE("JSON dielectrics take a named glass or index pairs as their ior",
+TEST_CASE("JSON dielectrics and coats take a named glass or index pairs as their ior",
           "[scene][spectral][dispersion]") {
     Material named = jsonMaterial(R"({"type": "dielectric", "ior": "glass-F11"})");
     CHECK(named.ior == 1.7847f);
@@ -112,6 +125,17 @@ TEST_CASE("JSON dielectrics take a named glass or index pairs as their ior",
     CHECK_FALSE(flat.iorSpectrum);
     CHECK(flat.ior == 1.5f);
     CHECK_FALSE(jsonMaterial(R"({"type": "dielectric", "ior": 1.33})").iorSpectrum);
+    // The coats' "ior" likewise.
+    Material coated = jsonMaterial(R"({"type": "coateddiffuse", "ior": "glass-BK7"})");
+    CHECK(coated.ior == 1.5168f);
+    CHECK(coated.iorSpectrum);
+    Material lacquer =
+        jsonMaterial(R"({"type": "coatedconductor", "metal": "Au", "ior": [400, 1.6, 700, 1.5]})");
+    REQUIRE(lacquer.iorSpectrum);
+    CHECK(lacquer.ior == Approx(1.6 - 0.1 * 187.6 / 300));
+    CHECK(jsonMaterial(R"({"type": "coateddiffuse", "ior": 1.4})").ior == 1.4f);
+    CHECK_THROWS_WITH(jsonMaterial(R"({"type": "coatedconductor", "ior": "glass-XX"})"),
+                      Catch::Contains("unknown glass"));
     CHECK_THROWS_WITH(jsonMaterial(R"({"type": "dielectric", "ior": "glass-XX"})"),
                       Catch::Contains("unknown glass"));
     CHECK_THROWS_WITH(jsonMaterial(R"({"type": "dielectric", "ior": [700, 1.5, 400, 1.6]})"),

@@ -146,7 +146,7 @@ void coatedDiffuse(const ParamList& params, const ValueReader& values, const Sou
     m.type = MaterialType::CoatedDiffuse;
     baseColor(params, values, "reflectance", Vec3(0.5f), m);
     readRoughness(params, values, loc, m);
-    m.ior = etaParam(params, values, loc, 1.5f);
+    m.ior = etaParam(params, values, loc, 1.5f, "eta", false, &m.iorSpectrum);
     readLayer(params, values, loc, m);
 }
 
@@ -156,7 +156,7 @@ void coatedConductor(const ParamList& params, const ValueReader& values, const S
                      Material& m) {
     m.type = MaterialType::CoatedConductor;
     roughnessPair(params, values, loc, "interface.", m.uRoughness, m.vRoughness);
-    m.ior = etaParam(params, values, loc, 1.5f, "interface.eta", true);
+    m.ior = etaParam(params, values, loc, 1.5f, "interface.eta", true, &m.iorSpectrum);
     conductorIndex(params, values, loc, "conductor.eta", "conductor.k", true, m);
     roughnessPair(params, values, loc, "conductor.", m.conductorURoughness,
                   m.conductorVRoughness);
