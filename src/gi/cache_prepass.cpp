@@ -157,6 +157,28 @@ void traceLevel(const Scene& scene, const EmbreeScene& accel, const LightSet& li
     progress.pixelsBefore = progress.pixelsBefore.load() + double(cam.width) * cam.height;
 }
 
+// traceLevel with room for every gather the level wants. Two slots a pixel hold most levels;
+// where smooth glass splits the camera's paths into more visible points (both lobes of every
+// interface), the slots ran out and which gathers got one depended on the threads' timing, so
+// the records, and the image, did too. The level's wants are the same whatever the timing
+// (its lookups read only earlier levels' records), so a level that wanted more is traced
+// again with room for exactly that many.
+void traceLevelWhole(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
+                     const GiData& gi, IcRequests& requests, const Camera& cam, int filmExponent,
+                     const EngineSettings& engine, const Cluster& cluster, PhaseLog* phases,
+                     Stats& stats, PrepassProgress& progress) {
+    const double pixelsBefore = progress.pixelsBefore.load();
+    std::size_t capacity = std::size_t(cam.width) * cam.height * 2;
+    for (;;) {
+        requests.beginLevel(capacity);
+        traceLevel(scene, accel, lights, gi, requests, cam, filmExponent, engine, cluster, phases,
+                   stats, progress);
+        if (requests.wanted() <= capacity || interruptRequested()) return;
+        capacity = requests.wanted();
+        progress.pixelsBefore = pixelsBefore; // the level again
+    }
+}
+
 // The level's gathers as plain values, in slot order.
 std::vector<MadeGather> madeGathers(IcRequests& requests) {
     std::vector<MadeGather> made;
@@ -241,9 +263,8 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         PhaseTimer levelPhase(phases, "cache_insert");
         if (stopped(cluster)) break;
         const Camera cam = levelCamera(scene.camera, scale);
-        requests.beginLevel(std::size_t(cam.width) * cam.height * 2);
-        traceLevel(scene, accel, lights, gi, requests, cam, filmExponent, engine, cluster, phases, stats,
-                   levels);
+        traceLevelWhole(scene, accel, lights, gi, requests, cam, filmExponent, engine, cluster,
+                        phases, stats, levels);
         // New records (every rank's) in a fixed order, then into the cache.
         std::vector<MadeGather> made = mergeGatherShares(cluster, madeGathers(requests));
         // A level cut short would leave holes in the cache; the render is cancelled anyway.

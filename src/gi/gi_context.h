@@ -225,6 +225,8 @@ public:
     }
     // The slots this level claimed (after its pass).
     std::size_t claimed() const { return std::min<std::size_t>(m_used.load(), m_capacity); }
+    // The slots this level asked for, those refused for want of room included.
+    std::size_t wanted() const { return m_used.load(); }
     // Units per unit radiance of the requests' sums (IcRequest::radianceScale).
     void setRadianceScale(double scale) { m_radianceScale = scale; }
     double radianceScale() const { return m_radianceScale; }

@@ -21,6 +21,21 @@ enum PhotonDim : std::uint32_t { kDimScatter = 30, kDimLobe = 32, kDimSurvive = 
 
 } // namespace
 
+PhotonRecord PhotonStage::record(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& wo,
+                                 const Vec3& power, const LaneShading& wl) const {
+    Vec3 fg = dot(wo, h.ng) >= 0 ? h.ng : -h.ng;
+    // Where a photon from a delta light or the sky first lands it is that light's direct
+    // light, which gi's gather samples instead (GiSettings::gatherDirect).
+    std::uint32_t sampled = b.depth[i] == 0 && (b.flags[i] & kPhotonDeltaOrSky) ? 1u : 0u;
+    // Spectral mode stores the CIE XYZ of its three values (the film's estimate of its
+    // colour, before the film's matrix to RGB; non-negative, as RGBE needs).
+    const Vec3 stored3 = m_rc.spectral ? m_rc.spectral->toXyz(power, wl.lane()) : power;
+    // Past dispersive glass it carries its hero wavelength alone, which the caustic estimate
+    // of a path of one wavelength reads (GatherStage).
+    const float one = m_rc.spectral && std::signbit(wl.u()) ? wl.lane().w.lambda[0] : 0.0f;
+    return PhotonRecord{h.p, stored3, wo, fg, sampled, one};
+}
+
 void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, kPhotonStageId);
@@ -51,19 +66,8 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         if (!specularSurface) {
             bool store = m_causticPass ? (flags & kPhotonSpecular) && !(flags & kPhotonDiffuse) : true;
             if (store) {
-                Vec3 fg = dot(wo, h.ng) >= 0 ? h.ng : -h.ng;
                 std::uint64_t key = (std::uint64_t(b.sample[i]) << 8) | b.depth[i];
-                // Where a photon from a delta light or the sky first lands it is that light's
-                // direct light, which gi's gather samples instead (GiSettings::gatherDirect).
-                std::uint32_t sampled = b.depth[i] == 0 && (flags & kPhotonDeltaOrSky) ? 1u : 0u;
-                // Spectral mode stores the CIE XYZ of its three values (the film's estimate of
-                // its colour, before the film's matrix to RGB; non-negative, as RGBE needs).
-                const Vec3 stored3 = m_rc.spectral ? m_rc.spectral->toXyz(power, wl.lane()) : power;
-                // Past dispersive glass it carries its hero wavelength alone, which the
-                // caustic estimate of a path of one wavelength reads (GatherStage).
-                const float one = m_rc.spectral && std::signbit(wl.u()) ? wl.lane().w.lambda[0]
-                                                                       : 0.0f;
-                stored.push_back({key, PhotonRecord{h.p, stored3, wo, fg, sampled, one}});
+                stored.push_back({key, record(b, i, h, wo, power, wl)});
                 ++giCounter(stats, kGiPhotonsStored);
             }
             // A caustic path ends at its first diffuse surface, unless a coat over it

@@ -19,6 +19,9 @@
 
 namespace rayproc {
 
+struct SurfaceHit;
+class LaneShading;
+
 // A photon ray's flags: it scattered diffusely / specularly on its way (the caustic pass keeps
 // L S+ D paths only), and it left a delta light or the sky (set by the photon emitter).
 enum PhotonFlags : std::uint8_t { kPhotonDiffuse = 1, kPhotonSpecular = 2, kPhotonDeltaOrSky = 4 };
@@ -52,6 +55,9 @@ public:
                                                        const std::function<bool()>& stop = {});
 
 private:
+    // The photon lane i of b leaves at its hit h (power: its flux there; wl: its lane).
+    PhotonRecord record(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& wo,
+                        const Vec3& power, const LaneShading& wl) const;
     const RenderContext& m_rc;
     bool m_causticPass;
     bool m_roughCaustics;
