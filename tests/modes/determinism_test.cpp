@@ -1,6 +1,6 @@
 // Reproducibility: the same scene, seed and settings give the same image bit for bit whatever
 // the thread count and the packet width; a different seed gives a different image.
-#include "pbrt/pbrt_test_util.h"
+#include "furnace_scene.h"
 #include "test_util.h"
 
 #include <algorithm>
@@ -116,19 +116,7 @@ TEST_CASE("Path and gi images do not depend on the thread count or the packet wi
 // threads' timing. A glass sphere filling the view inside a furnace: every pixel past two.
 TEST_CASE("gi's cache prepass makes the same records when glass splits the camera's paths",
           "[modes][gi][determinism]") {
-    auto loaded = loadPbrt("LookAt 0 0 0  0 0 -1  0 1 0\n"
-                           "Camera \"perspective\" \"float fov\" 24\n"
-                           "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32\n"
-                           "WorldBegin\n"
-                           "AttributeBegin\n"
-                           "Material \"diffuse\" \"rgb reflectance\" [0.8 0.8 0.8]\n"
-                           "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"bool twosided\" true\n"
-                           "Shape \"sphere\" \"float radius\" 3\n"
-                           "AttributeEnd\n"
-                           "Material \"dielectric\" \"float eta\" 1.5\n"
-                           "Translate 0 0 -2\n"
-                           "Shape \"sphere\" \"float radius\" 0.6\n",
-                           "glass-furnace.pbrt");
+    auto loaded = loadPbrt(furnaceAround("\"dielectric\" \"float eta\" 1.5"), "glass-furnace.pbrt");
     REQUIRE(loaded.warnings.empty());
     const Scene* scene = loaded.scene.get();
     EmbreeScene accel(*scene);

@@ -11,7 +11,7 @@
 #include "engine/material_bsdf.h"
 #include "kernels/pbrt_bsdfs.h"
 #include "lighting/light_set.h"
-#include "pbrt/pbrt_test_util.h"
+#include "furnace_scene.h"
 #include "scene/ior_spectrum.h"
 #include "spectral/spectra.h"
 #include "spectral_checks.h"
@@ -25,21 +25,6 @@ using namespace rayproc::test;
 namespace {
 
 double fresnelNormal(double n) { return (n - 1) * (n - 1) / ((n + 1) * (n + 1)); }
-
-EngineSettings engineFor(bool spectral) {
-    EngineSettings e = quietTwoThreads(spectral);
-    e.seed = 1;
-    return e;
-}
-
-Image renderPbrt(const std::string& text, int spp, bool spectral) {
-    auto r = loadPbrt(text, "coat.pbrt");
-    REQUIRE(r.warnings.empty());
-    EmbreeScene accel(*r.scene);
-    return renderPath(*r.scene, accel, pathSettings(r.scene->render, ModeOverrides{spp, 0, 0}),
-                      engineFor(spectral))
-        .image;
-}
 
 // A camera looking down -z at a coated square (the plane z = 0, x < 0: the image's one half)
 // inside a closed black sphere that emits `band` (a pbrt-v4 spectrum) on its inside: the other
@@ -179,9 +164,9 @@ TEST_CASE("Spectral mode: a black-based coat reflects a narrow band head-on by i
     const double blueExpected = expectedReflectance(*sf11, spectral::cieZ(), 420, 450);
     const double redExpected = expectedReflectance(*sf11, spectral::cieX(), 640, 670);
     const double blue = measuredReflectance(
-        renderPbrt(coatScene(coat, blueBand, 96, 48, 2), 256, true), rowZ);
+        renderPbrtPath(coatScene(coat, blueBand, 96, 48, 2), 256, true), rowZ);
     const double red = measuredReflectance(
-        renderPbrt(coatScene(coat, redBand, 96, 48, 2), 256, true), rowX);
+        renderPbrtPath(coatScene(coat, redBand, 96, 48, 2), 256, true), rowX);
     INFO("blue: " << blue << " (Fresnel " << blueExpected << "), red " << red << " (Fresnel "
                   << redExpected << "), n_d's " << fresnelNormal(1.7847));
     CHECK(blueExpected > redExpected * 1.07); // the split the check must see
@@ -196,27 +181,14 @@ TEST_CASE("Spectral mode: a dispersive coat over a white base in a furnace is in
     // smooth SF11 coat lies over a white base with no absorption between them (the analytic
     // coat: lossless): a path that meets the coat keeps its hero alone, which must carry the
     // whole estimate.
-    auto r = loadPbrt("LookAt 0 0 0  0 0 -1  0 1 0\n"
-                      "Camera \"perspective\" \"float fov\" 24\n"
-                      "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32\n"
-                      "WorldBegin\n"
-                      "AttributeBegin\n"
-                      "Material \"diffuse\" \"rgb reflectance\" [0.8 0.8 0.8]\n"
-                      "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"bool twosided\" true\n"
-                      "Shape \"sphere\" \"float radius\" 3\n"
-                      "AttributeEnd\n"
-                      "AttributeBegin\n"
-                      "Material \"coateddiffuse\" \"rgb reflectance\" [1 1 1] "
-                      "\"spectrum eta\" \"glass-F11\" \"float thickness\" 1e-7\n"
-                      "Translate 0 0 -2\n"
-                      "Shape \"sphere\" \"float radius\" 0.6\n"
-                      "AttributeEnd\n",
+    auto r = loadPbrt(furnaceAround("\"coateddiffuse\" \"rgb reflectance\" [1 1 1] "
+                                    "\"spectrum eta\" \"glass-F11\" \"float thickness\" 1e-7"),
                       "furnace.pbrt");
     REQUIRE(r.warnings.empty());
     EmbreeScene accel(*r.scene);
     RenderResult res = renderPath(*r.scene, accel,
                                   pathSettings(r.scene->render, ModeOverrides{1024, 0, 0}),
-                                  engineFor(true));
+                                  seedOneEngine(true));
     checkMeanRadiance(res.image, Vec3(5.0f), 0.01, "the coated sphere");
     CHECK(res.stats.totals.invalidSamples == 0);
 }
@@ -235,8 +207,8 @@ TEST_CASE("RGB mode renders a glass-named coat at its n_d, to the bit",
            "\"coatedconductor\" \"float interface.roughness\" 0.1 \"float interface.eta\" "
            "1.7847"}}) {
         INFO(named);
-        Image a = renderPbrt(coatScene(named, band, 32, 16, 40), 4, false);
-        Image b = renderPbrt(coatScene(flat, band, 32, 16, 40), 4, false);
+        Image a = renderPbrtPath(coatScene(named, band, 32, 16, 40), 4, false);
+        Image b = renderPbrtPath(coatScene(flat, band, 32, 16, 40), 4, false);
         CHECK(sameBits(a, b));
     }
 }

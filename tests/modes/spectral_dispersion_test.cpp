@@ -7,8 +7,8 @@
 // - the estimate stays unbiased: a dispersive glass sphere in a furnace is invisible (every
 //   ray sees the furnace's radiance, whatever the index);
 // - RGB mode renders a named glass at its n_d, bit-identical to the index written as a float.
-#include "pbrt/pbrt_test_util.h"
 #include "engine/spectral_render.h"
+#include "furnace_scene.h"
 #include "lighting/light_set.h"
 #include "scene/ior_spectrum.h"
 #include "spectral_checks.h"
@@ -87,21 +87,6 @@ std::string prismScene(const std::string& eta, double xe, double lo, double hi) 
     return text;
 }
 
-EngineSettings engineFor(bool spectral) {
-    EngineSettings e = quietTwoThreads(spectral);
-    e.seed = 1;
-    return e;
-}
-
-Image renderPbrt(const std::string& text, int spp, bool spectral) {
-    auto r = loadPbrt(text, "prism.pbrt");
-    REQUIRE(r.warnings.empty());
-    EmbreeScene accel(*r.scene);
-    return renderPath(*r.scene, accel, pathSettings(r.scene->render, ModeOverrides{spp, 0, 0}),
-                      engineFor(spectral))
-        .image;
-}
-
 // The luminance-weighted mean column of the middle rows (CIE Y from the film's linear sRGB).
 double centroidColumn(const Image& img) {
     double sum = 0, weighted = 0;
@@ -142,10 +127,13 @@ TEST_CASE("Spectral mode: an SF11 prism deviates blue and red by Snell's law wit
     const double redExpected = expectedColumn(*sf11, xe, redLo, redHi);
     const double ndColumn = columnOf(xe, nd);
     const std::string glass = "\"spectrum eta\" \"glass-F11\"", flat = "\"float eta\" 1.7847";
-    const double blue = centroidColumn(renderPbrt(prismScene(glass, xe, blueLo, blueHi), 256, true));
-    const double red = centroidColumn(renderPbrt(prismScene(glass, xe, redLo, redHi), 256, true));
-    const double blueFlat = centroidColumn(renderPbrt(prismScene(flat, xe, blueLo, blueHi), 64, true));
-    const double redFlat = centroidColumn(renderPbrt(prismScene(flat, xe, redLo, redHi), 64, true));
+    auto column = [&](const std::string& eta, double lo, double hi, int spp) {
+        return centroidColumn(renderPbrtPath(prismScene(eta, xe, lo, hi), spp, true));
+    };
+    const double blue = column(glass, blueLo, blueHi, 256);
+    const double red = column(glass, redLo, redHi, 256);
+    const double blueFlat = column(flat, blueLo, blueHi, 64);
+    const double redFlat = column(flat, redLo, redHi, 64);
     INFO("blue: column " << blue << " (Snell " << blueExpected << "), red " << red << " (Snell "
                          << redExpected << "); constant index: blue " << blueFlat << ", red "
                          << redFlat << " (Snell " << ndColumn << ")");
@@ -157,43 +145,18 @@ TEST_CASE("Spectral mode: an SF11 prism deviates blue and red by Snell's law wit
     CHECK(std::abs(blueFlat - redFlat) < 0.2);
 }
 
-namespace {
-
-// The furnace (a closed sphere of emission RGB (1, 1, 1) and albedo 0.8: every ray carries 5,
-// through lossless glass too, its radiance's eta^2 cancelling on leaving) around a glass
-// sphere of index `eta` (a pbrt-v4 parameter) that fills the camera's view.
-std::string furnaceWithGlass(const std::string& eta) {
-    return "LookAt 0 0 0  0 0 -1  0 1 0\n"
-           "Camera \"perspective\" \"float fov\" 24\n"
-           "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32\n"
-           "WorldBegin\n"
-           "AttributeBegin\n"
-           "Material \"diffuse\" \"rgb reflectance\" [0.8 0.8 0.8]\n"
-           "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"bool twosided\" true\n"
-           "Shape \"sphere\" \"float radius\" 3\n"
-           "AttributeEnd\n"
-           "AttributeBegin\n"
-           "Material \"dielectric\" " +
-           eta +
-           "\n"
-           "Translate 0 0 -2\n"
-           "Shape \"sphere\" \"float radius\" 0.6\n"
-           "AttributeEnd\n";
-}
-
-} // namespace
-
 TEST_CASE("Spectral mode: a dispersive glass sphere in a furnace is invisible (unbiased "
           "termination)",
           "[spectral-mode][dispersion]") {
     // A path that crosses the glass keeps its hero wavelength alone, which must carry the
     // whole estimate.
-    auto r = loadPbrt(furnaceWithGlass("\"spectrum eta\" \"glass-F11\""), "furnace.pbrt");
+    auto r =
+        loadPbrt(furnaceAround("\"dielectric\" \"spectrum eta\" \"glass-F11\""), "furnace.pbrt");
     REQUIRE(r.warnings.empty());
     EmbreeScene accel(*r.scene);
     RenderResult res = renderPath(*r.scene, accel,
                                   pathSettings(r.scene->render, ModeOverrides{1024, 0, 0}),
-                                  engineFor(true));
+                                  seedOneEngine(true));
     // The glass's disc (17.5 degrees in radius) covers the whole view (16.7 degrees to a
     // corner).
     checkMeanRadiance(res.image, Vec3(5.0f), 0.01, "through the glass");
@@ -210,12 +173,12 @@ TEST_CASE("Spectral gi: behind dispersive glass the cache's irradiance is the pa
     // give the same image as through glass of a constant index, the light through the glass
     // missing from both alike.
     auto render = [](const std::string& eta) {
-        auto r = loadPbrt(furnaceWithGlass(eta), "furnace.pbrt");
+        auto r = loadPbrt(furnaceAround("\"dielectric\" " + eta), "furnace.pbrt");
         REQUIRE(r.warnings.empty());
         EmbreeScene accel(*r.scene);
         GiSettings s = giSettings(*r.scene, ModeOverrides{64, 0, 0});
         s.caustics = false;
-        return renderGi(*r.scene, accel, s, engineFor(true));
+        return renderGi(*r.scene, accel, s, seedOneEngine(true));
     };
     RenderResult dispersive = render("\"spectrum eta\" \"glass-F11\"");
     RenderResult flat = render("\"float eta\" 1.7847");
@@ -231,7 +194,8 @@ TEST_CASE("A photon of one wavelength gives its weight back from its XYZ",
           "[spectral-mode][dispersion][gi]") {
     // gi's caustic estimate for a path of one wavelength reads each such photon's value over
     // its density from the XYZ the map stores (SpectralRender::oneWavelengthWeight).
-    auto r = loadPbrt(furnaceWithGlass("\"spectrum eta\" \"glass-F11\""), "furnace.pbrt");
+    auto r =
+        loadPbrt(furnaceAround("\"dielectric\" \"spectrum eta\" \"glass-F11\""), "furnace.pbrt");
     EmbreeScene accel(*r.scene);
     LightSet lights = LightSet::build(*r.scene, accel);
     SpectralRender spectral(*r.scene, lights);
@@ -250,7 +214,8 @@ TEST_CASE("A photon of one wavelength gives its weight back from its XYZ",
 
 TEST_CASE("RGB mode renders a named glass at its n_d, to the bit", "[spectral-mode][dispersion]") {
     const double xe = emitterX(0, 1.7847);
-    Image named = renderPbrt(prismScene("\"spectrum eta\" \"glass-F11\"", xe, 440, 460), 4, false);
-    Image flat = renderPbrt(prismScene("\"float eta\" 1.7847", xe, 440, 460), 4, false);
+    Image named =
+        renderPbrtPath(prismScene("\"spectrum eta\" \"glass-F11\"", xe, 440, 460), 4, false);
+    Image flat = renderPbrtPath(prismScene("\"float eta\" 1.7847", xe, 440, 460), 4, false);
     CHECK(sameBits(named, flat));
 }
