@@ -1,7 +1,8 @@
 // What the dispersion and determinism tests share: a pbrt-v4 furnace around a sphere of a
-// given material, and path renders of pbrt-v4 text at seed 1 on two threads.
+// given material, path renders of pbrt-v4 text at seed 1 on two threads, and the furnace check.
 #pragma once
 
+#include "../analytic/analytic.h"
 #include "pbrt/pbrt_test_util.h"
 #include "test_util.h"
 
@@ -47,6 +48,19 @@ inline Image renderPbrtPath(const std::string& text, int spp, bool spectral) {
     return renderPath(*r.scene, accel, pathSettings(r.scene->render, ModeOverrides{spp, 0, 0}),
                       seedOneEngine(spectral))
         .image;
+}
+
+// Spectral path mode in the furnace around `material` (1024 spp): every ray carries 5, so the
+// image's mean must be 5 within 1% in every channel, with no invalid sample.
+inline void checkSpectralPathFurnace(const std::string& material, const std::string& label) {
+    auto r = loadPbrt(furnaceAround(material), "furnace.pbrt");
+    REQUIRE(r.warnings.empty());
+    EmbreeScene accel(*r.scene);
+    RenderResult res = renderPath(*r.scene, accel,
+                                  pathSettings(r.scene->render, ModeOverrides{1024, 0, 0}),
+                                  seedOneEngine(true));
+    checkMeanRadiance(res.image, Vec3(5.0f), 0.01, label);
+    CHECK(res.stats.totals.invalidSamples == 0);
 }
 
 } // namespace rayproc::test

@@ -181,16 +181,9 @@ TEST_CASE("Spectral mode: a dispersive coat over a white base in a furnace is in
     // smooth SF11 coat lies over a white base with no absorption between them (the analytic
     // coat: lossless): a path that meets the coat keeps its hero alone, which must carry the
     // whole estimate.
-    auto r = loadPbrt(furnaceAround("\"coateddiffuse\" \"rgb reflectance\" [1 1 1] "
-                                    "\"spectrum eta\" \"glass-F11\" \"float thickness\" 1e-7"),
-                      "furnace.pbrt");
-    REQUIRE(r.warnings.empty());
-    EmbreeScene accel(*r.scene);
-    RenderResult res = renderPath(*r.scene, accel,
-                                  pathSettings(r.scene->render, ModeOverrides{1024, 0, 0}),
-                                  seedOneEngine(true));
-    checkMeanRadiance(res.image, Vec3(5.0f), 0.01, "the coated sphere");
-    CHECK(res.stats.totals.invalidSamples == 0);
+    checkSpectralPathFurnace("\"coateddiffuse\" \"rgb reflectance\" [1 1 1] "
+                             "\"spectrum eta\" \"glass-F11\" \"float thickness\" 1e-7",
+                             "the coated sphere");
 }
 
 TEST_CASE("RGB mode renders a glass-named coat at its n_d, to the bit",

@@ -150,17 +150,9 @@ TEST_CASE("Spectral mode: a dispersive glass sphere in a furnace is invisible (u
           "[spectral-mode][dispersion]") {
     // A path that crosses the glass keeps its hero wavelength alone, which must carry the
     // whole estimate.
-    auto r =
-        loadPbrt(furnaceAround("\"dielectric\" \"spectrum eta\" \"glass-F11\""), "furnace.pbrt");
-    REQUIRE(r.warnings.empty());
-    EmbreeScene accel(*r.scene);
-    RenderResult res = renderPath(*r.scene, accel,
-                                  pathSettings(r.scene->render, ModeOverrides{1024, 0, 0}),
-                                  seedOneEngine(true));
     // The glass's disc (17.5 degrees in radius) covers the whole view (16.7 degrees to a
     // corner).
-    checkMeanRadiance(res.image, Vec3(5.0f), 0.01, "through the glass");
-    CHECK(res.stats.totals.invalidSamples == 0);
+    checkSpectralPathFurnace("\"dielectric\" \"spectrum eta\" \"glass-F11\"", "through the glass");
 }
 
 TEST_CASE("Spectral gi: behind dispersive glass the cache's irradiance is the path's wavelength's",
