@@ -15,6 +15,12 @@ namespace {
 
 namespace ks = kernels::spectral;
 
+// The index of the nanometre sample nearest `lambda` (nm, in the visible range), as
+// kernels::spectral::denseAt takes it.
+int nearestNm(float lambda) {
+    return std::min(std::max(int(lambda - ks::kLambdaMin + 0.5f), 0), ks::kDenseCount - 1);
+}
+
 UpsampledRgb fromPolynomial(const spectral::SigmoidPolynomial& p, float scale) {
     UpsampledRgb u;
     for (int q = 0; q < 3; ++q) u.c[q] = p.c[q];
@@ -112,8 +118,7 @@ LaneSpectrum SpectralRender::lane(float u) const {
         l.w.lambda[i] = lambda;
         l.w.pdf[i] = m_cellPdf[std::size_t(k)];
         l.t[i] = (lambda - ks::kLambdaMin) * (1.0f / (ks::kLambdaMax - ks::kLambdaMin));
-        // The nearest nanometre's sample, as kernels::spectral::denseAt takes it.
-        int nm = std::min(int(lambda - ks::kLambdaMin + 0.5f), ks::kDenseCount - 1);
+        const int nm = nearestNm(lambda);
         l.nm[i] = nm;
         l.illuminant[i] = m_illuminantNm[std::size_t(nm)];
         l.film[i] = m_filmNm[std::size_t(nm)] * (1.0f / l.w.pdf[i]);
@@ -192,9 +197,7 @@ Vec3 SpectralRender::toXyz(const Vec3& values, const LaneSpectrum& l) const {
     Vec3 xyz(0.0f);
     for (int i = 0; i < 3; ++i) {
         if (l.w.pdf[i] == 0) continue; // a terminated secondary wavelength
-        // The nearest nanometre's sample, as lane() takes the film's.
-        int nm = std::min(int(l.w.lambda[i] - ks::kLambdaMin + 0.5f), ks::kDenseCount - 1);
-        xyz += m_xyzNm[std::size_t(nm)] * (values[i] / l.w.pdf[i]);
+        xyz += m_xyzNm[std::size_t(l.nm[i])] * (values[i] / l.w.pdf[i]); // as the film's
     }
     return xyz;
 }
@@ -202,8 +205,7 @@ Vec3 SpectralRender::toXyz(const Vec3& values, const LaneSpectrum& l) const {
 float SpectralRender::oneWavelengthWeight(float lambda, const Vec3& xyz) const {
     // toXyz: xyz = m_xyzNm[nm] * value / pdf, the pdf of a terminated hero; its largest
     // matching function's channel is the photon's largest (RGBE keeps that one best).
-    const int nm = std::min(std::max(int(lambda - ks::kLambdaMin + 0.5f), 0), ks::kDenseCount - 1);
-    const Vec3& m = m_xyzNm[std::size_t(nm)];
+    const Vec3& m = m_xyzNm[std::size_t(nearestNm(lambda))];
     const int c = largestComponent(m);
     return m[c] > 0 ? xyz[c] / m[c] : 0.0f;
 }

@@ -321,6 +321,8 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         Vec3 ng, ns;
         facingNormals(h, wo, ng, ns);
         bool firstDiffuse = visiblePoint(b.flags[i]);
+        // Past dispersive glass (or a dispersive coat) the path keeps one wavelength.
+        const bool oneWavelength = std::signbit(b.lambdaU[i]);
 
         if (!firstDiffuse) {
             ++giCounter(stats, kGiGlobalLookups);
@@ -342,7 +344,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
             (s.debugView == GiDebugView::None || s.debugView == GiDebugView::Caustics ||
              s.debugView == GiDebugView::IcRecords)) {
             ++giCounter(stats, kGiCausticLookups);
-            if (std::signbit(b.lambdaU[i]) && gi.caustic->hasWavelengths())
+            if (oneWavelength && gi.caustic->hasWavelengths())
                 addReflectedLight(b, i, reflect,
                                   causticLightOfOneWavelength(h.p, ns, b.pixel[i], wl.lane()),
                                   wl.lane(), stats);
@@ -356,7 +358,7 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         // whose spectrum at the point differs per wavelength behind dispersive glass, and
         // taking it at the path's own wavelength biased the colour (docs/spectral.md,
         // "Dispersion"): such a visible point gathers at its own wavelength instead.
-        if (gi.cache && !(!prepass && std::signbit(b.lambdaU[i]))) {
+        if (gi.cache && (prepass || !oneWavelength)) {
             ++giCounter(stats, kGiCacheLookups);
             IrradianceCache::LookupResult r;
             if (gi.cache->lookup(h.p, ns, r)) {
