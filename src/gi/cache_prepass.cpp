@@ -162,18 +162,18 @@ void traceLevel(const Scene& scene, const EmbreeScene& accel, const LightSet& li
 // interface), the slots ran out and which gathers got one depended on the threads' timing, so
 // the records, and the image, did too. The level's wants are the same whatever the timing
 // (its lookups read only earlier levels' records), so a level that wanted more is traced
-// again with room for exactly that many.
-void traceLevelWhole(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
+// again with room for exactly that many. Returns whether it did.
+bool traceLevelWhole(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
                      const GiData& gi, IcRequests& requests, const Camera& cam, int filmExponent,
                      const EngineSettings& engine, const Cluster& cluster, PhaseLog* phases,
                      Stats& stats, PrepassProgress& progress) {
     const double pixelsBefore = progress.pixelsBefore.load();
     std::size_t capacity = std::size_t(cam.width) * cam.height * 2;
-    for (;;) {
+    for (bool again = false;; again = true) {
         requests.beginLevel(capacity);
         traceLevel(scene, accel, lights, gi, requests, cam, filmExponent, engine, cluster, phases,
                    stats, progress);
-        if (requests.wanted() <= capacity || interruptRequested()) return;
+        if (requests.wanted() <= capacity || interruptRequested()) return again;
         capacity = requests.wanted();
         progress.pixelsBefore = pixelsBefore; // the level again
     }
@@ -240,15 +240,15 @@ IrradianceRecord recordOf(const MadeGather& r, const GiData& gi, double radiance
 
 } // namespace
 
-std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
-                                const LightSet& lights, const GiData& gi, IrradianceCache& cache,
-                                const EngineSettings& engine, const Cluster& cluster,
-                                PhaseLog* phases, Stats& stats) {
+CachePrepassCounts fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
+                                       const LightSet& lights, const GiData& gi,
+                                       IrradianceCache& cache, const EngineSettings& engine,
+                                       const Cluster& cluster, PhaseLog* phases, Stats& stats) {
     RAYPROC_CHECK(gi.cache == &cache);
     IcRequests requests;
     const int filmExponent = Film::exponentFor(lights.radianceScale(scene.worldBounds()));
     requests.setRadianceScale(IcRequest::radianceScale(filmExponent));
-    std::size_t inserted = 0;
+    CachePrepassCounts counts;
     // Progress: the levels weighted by their pixels (the full-resolution level is 3/4 of them).
     PrepassProgress levels;
     for (int scale : kScales) {
@@ -263,8 +263,9 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         PhaseTimer levelPhase(phases, "cache_insert");
         if (stopped(cluster)) break;
         const Camera cam = levelCamera(scene.camera, scale);
-        traceLevelWhole(scene, accel, lights, gi, requests, cam, filmExponent, engine, cluster,
-                        phases, stats, levels);
+        if (traceLevelWhole(scene, accel, lights, gi, requests, cam, filmExponent, engine,
+                            cluster, phases, stats, levels))
+            ++counts.levelsRetraced;
         // New records (every rank's) in a fixed order, then into the cache.
         std::vector<MadeGather> made = mergeGatherShares(cluster, madeGathers(requests));
         // A level cut short would leave holes in the cache; the render is cancelled anyway.
@@ -277,10 +278,10 @@ std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
         std::vector<IrradianceRecord> records;
         for (const MadeGather& r : made) records.push_back(recordOf(r, gi, requests.radianceScale()));
         cache.insert(records);
-        inserted += records.size();
+        counts.records += records.size();
     }
     progress.finish(!interruptRequested());
-    return inserted;
+    return counts;
 }
 
 } // namespace rayproc

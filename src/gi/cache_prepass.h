@@ -25,9 +25,17 @@ struct GiData;
 struct LightSet;
 struct Scene;
 
-// Fills `cache` (gi.cache must point at it) coarse to fine; returns the records inserted. A
-// collective under MPI: each rank gathers for its tiles of each level.
-std::size_t fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
+// What the prepass did: the records it inserted, and the levels it traced a second time
+// because they wanted more gathers than two a pixel (smooth glass splitting the camera's
+// paths; cache_prepass.cpp, traceLevelWhole).
+struct CachePrepassCounts {
+    std::size_t records = 0;
+    int levelsRetraced = 0;
+};
+
+// Fills `cache` (gi.cache must point at it) coarse to fine. A collective under MPI: each rank
+// gathers for its tiles of each level.
+CachePrepassCounts fillIrradianceCache(const Scene& scene, const EmbreeScene& accel,
                                 const LightSet& lights, const GiData& gi, IrradianceCache& cache,
                                 const EngineSettings& engine, const Cluster& cluster,
                                 PhaseLog* phases, Stats& stats);

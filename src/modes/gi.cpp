@@ -316,8 +316,10 @@ ThreadStats prepassCache(IrradianceCache& cache, GiData& gi, const Scene& scene,
     const GiSettings& s = gi.settings;
     auto t0 = Clock::now();
     gi.cache = s.irradianceCache ? &cache : nullptr;
+    CachePrepassCounts counts;
     if (s.irradianceCache && plan.globalMap && !stopped(cluster))
-        fillIrradianceCache(scene, accel, lights, gi, cache, engine, cluster, phases, cacheStats);
+        counts = fillIrradianceCache(scene, accel, lights, gi, cache, engine, cluster, phases,
+                                     cacheStats);
     double cacheSeconds = secondsSince(t0);
     ThreadStats cacheTotals = cacheStats.merged();
     sumToRoot(cluster, cacheTotals);
@@ -325,6 +327,7 @@ ThreadStats prepassCache(IrradianceCache& cache, GiData& gi, const Scene& scene,
     extras.push_back({"gi/cache_records", double(cache.size())});
     extras.push_back({"gi/cache_prepass_gather_rays",
                       double(cacheTotals.stages[int(kGatherStageId)].raysOut)});
+    extras.push_back({"gi/cache_prepass_levels_retraced", double(counts.levelsRetraced)});
     return cacheTotals;
 }
 
