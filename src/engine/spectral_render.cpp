@@ -48,8 +48,8 @@ UpsampledRgb constantUnbounded(const spectral::ColorSpace& cs, const ColorParam&
 
 SpectralRender::SpectralRender(const Scene& scene, const LightSet& lights)
     : m_cs(spectral::colorSpace(spectral::ColorSpaceId::Srgb)) {
-    // A constant reflectance with a spectrum of its own takes it (the material keeps it alive,
-    // and so does m_reflectances).
+    // A constant reflectance (or conductor's eta or k) with a spectrum of its own takes it (the
+    // material keeps it alive, and so does m_reflectances).
     auto own = [this](const ReflectanceSpectrumRef& r, UpsampledRgb& u) {
         if (!r) return;
         m_reflectances.push_back(r);
@@ -65,6 +65,8 @@ SpectralRender::SpectralRender(const Scene& scene, const LightSet& lights)
         }
         s.eta = constantUnbounded(m_cs, m.eta);
         s.k = constantUnbounded(m_cs, m.k);
+        if (!m.eta.textured()) own(m.etaSpectrum, s.eta);
+        if (!m.k.textured()) own(m.kSpectrum, s.k);
         s.transmittance = constantAlbedo(m_cs, m.transmittance);
         if (!m.transmittance.textured()) own(m.transmittanceSpectrum, s.transmittance);
         s.albedo = constantAlbedo(m_cs, m.albedo);

@@ -85,6 +85,9 @@ struct Material {
     // an equivalent eta/k).
     ColorParam eta{{0.2004f, 0.9240f, 1.1022f}}; // copper (pbrt-v4's default metal)
     ColorParam k{{3.9129f, 2.4528f, 2.1422f}};
+    // Constant eta and k's own spectra where the file gave them so (pairs, an rgb under
+    // another colour space; clamped to >= 0 only): the spectral mode's, as colorSpectrum.
+    ReflectanceSpectrumRef etaSpectrum, kSpectrum;
     bool useReflectance = false;
     // CoatedConductor: the conductor's roughness under the coat (pbrt-v4's
     // conductor.roughness / uroughness / vroughness), remapped as uRoughness.

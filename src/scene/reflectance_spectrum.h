@@ -5,6 +5,9 @@
 // an emitter keeps its emission spectrum (scene/emission_spectrum.h). The spectral mode
 // evaluates it at a path's wavelengths instead of upsampling the colour again with sRGB's table.
 // Values are clamped to [0, 1], as pbrt-v4's materials clamp a reflectance they evaluate.
+// A conductor's eta and k given so (pairs, an `rgb` under another colour space: that space's
+// RGBUnboundedSpectrum) keep theirs in the same form, only clamped to >= 0 (Material::
+// etaSpectrum, kSpectrum).
 #pragma once
 
 #include "spectral/spectra.h"

@@ -174,3 +174,119 @@ TEST_CASE("Spectral mode: a sampled reflectance renders its own spectrum, RGB mo
     // RGB mode takes the colour: the same image as the colour written as rgb, to the bit.
     CHECK(sameBits(render(*sampled.scene, 2, false), render(*rgb.scene, 2, false)));
 }
+
+namespace {
+
+// A gold-like conductor: eta falls and k rises towards the red, so it reflects red most.
+const std::vector<double> kEtaPairs = {400, 1.5, 500, 0.5, 600, 0.2, 700, 0.15};
+const std::vector<double> kKPairs = {400, 1.8, 500, 2.5, 600, 3.5, 700, 4.2};
+const char* kConductorText = "Material \"conductor\" \"spectrum eta\" [400 1.5 500 0.5 600 0.2 "
+                             "700 0.15] \"spectrum k\" [400 1.8 500 2.5 600 3.5 700 4.2]";
+
+} // namespace
+
+TEST_CASE("A conductor's sampled eta and k are kept, and the spectral BSDF takes them",
+          "[pbrt][spectral]") {
+    // pbrt-v4's conductor takes eta and k as unbounded spectra: pairs (zero outside their
+    // range), or an rgb upsampled as RGBUnboundedSpectrum in the file's colour space.
+    auto r = loadWorld(std::string(kConductorText) + "\nShape \"sphere\"\n");
+    REQUIRE(r.warnings.empty());
+    const int material = rootShapes(*r.scene)[0].shape->material;
+    const Material& m = r.scene->materials[std::size_t(material)];
+    REQUIRE(m.etaSpectrum);
+    REQUIRE(m.kSpectrum);
+    CHECK(m.etaSpectrum->values.at(450) == Approx(1.0));
+    CHECK(m.kSpectrum->values.at(650) == Approx(3.85));
+    CHECK(m.kSpectrum->values.at(390) == 0.0f);
+    // RGB mode's values are as before: each spectrum at 587.6 nm.
+    CHECK(m.eta.value == Vec3(float(pbrt::sampledValueAt(kEtaPairs, 587.6))));
+    CHECK(m.k.value == Vec3(float(pbrt::sampledValueAt(kKPairs, 587.6))));
+    // sRGB rgb, a named metal and a reflectance keep none; rec2020's rgb keeps its own
+    // unbounded spectrum (not clamped to 1).
+    CHECK_FALSE(materialOf("Material \"conductor\" \"rgb eta\" [0.2 0.9 1.1] \"rgb k\" [3.9 2.4 2.1]")
+                    .etaSpectrum);
+    CHECK_FALSE(materialOf("Material \"conductor\" \"spectrum eta\" \"metal-Au-eta\" "
+                           "\"spectrum k\" \"metal-Au-k\"")
+                    .kSpectrum);
+    CHECK_FALSE(materialOf("Material \"conductor\" \"rgb reflectance\" [0.9 0.6 0.2]").etaSpectrum);
+    Material rec = materialOf("ColorSpace \"rec2020\"\nMaterial \"conductor\" \"rgb eta\" "
+                              "[0.2 0.9 1.1] \"rgb k\" [3.9 2.4 2.1]");
+    REQUIRE(rec.kSpectrum);
+    spectral::RgbUnboundedSpectrum k(spectral::colorSpace(spectral::ColorSpaceId::Rec2020), 3.9f,
+                                     2.4f, 2.1f);
+    for (float nm : {450.0f, 550.0f, 650.0f})
+        CHECK(rec.kSpectrum->values.at(nm) == Approx(k(nm)).epsilon(1e-5));
+    CHECK(rec.kSpectrum->values.at(650.0f) > 1.0f);
+    // At a lane's wavelengths the BSDF's eta and k are the spectra's, at the nearest nanometre.
+    EmbreeScene accel(*r.scene);
+    LightSet lights = LightSet::build(*r.scene, accel);
+    SpectralRender spectral(*r.scene, lights);
+    LaneShading wl(&spectral);
+    SurfaceHit hit;
+    hit.ng = hit.ns = Vec3(0, 0, 1);
+    hit.material = material;
+    for (float u : {0.1f, 0.35f, 0.6f}) {
+        wl.select(u);
+        const kernels::BsdfParams b = bsdfAt(*r.scene, material, hit, 0, wl.shading());
+        for (int i = 0; i < 3; ++i) {
+            const std::size_t nm = std::size_t(wl.lane().nm[i]);
+            INFO("lambda " << wl.lane().w.lambda[i]);
+            CHECK(b.eta[i] == m.etaSpectrum->values.values[nm]);
+            CHECK(b.k[i] == m.kSpectrum->values.values[nm]);
+        }
+    }
+}
+
+TEST_CASE("Spectral mode: a conductor of sampled eta and k reflects its own Fresnel spectrum",
+          "[spectral-mode][spectral]") {
+    // A smooth conductor seen head-on (fov 4 degrees: within 2.9 degrees of normal incidence,
+    // where a metal's reflectance is its F0 to 1e-5) under a 4000 K sky: each pixel is the
+    // sky's spectrum times F0(lambda) = ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2).
+    const std::string head = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 4\n"
+                             "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16\n"
+                             "WorldBegin\nLightSource \"infinite\" \"blackbody L\" 4000\n";
+    const std::string square = "\nShape \"bilinearmesh\" \"point3 P\" [-5 -5 0 5 -5 0 -5 5 0 5 5 0]\n";
+    auto sampled = loadPbrt(head + kConductorText + square, "conductor.pbrt");
+    REQUIRE(sampled.warnings.empty());
+    const float eta587 = float(pbrt::sampledValueAt(kEtaPairs, 587.6));
+    const float k587 = float(pbrt::sampledValueAt(kKPairs, 587.6));
+    char rgbText[160];
+    std::snprintf(rgbText, sizeof rgbText,
+                  "Material \"conductor\" \"rgb eta\" [%.9g %.9g %.9g] \"rgb k\" [%.9g %.9g %.9g]",
+                  eta587, eta587, eta587, k587, k587, k587);
+    auto grey = loadPbrt(head + rgbText + square, "grey.pbrt");
+    REQUIRE(grey.warnings.empty());
+    double planckY = 0;
+    for (int nm = 360; nm <= 830; ++nm)
+        planckY += spectral::cieY().at(float(nm)) * kernels::spectral::planck(nm, 4000);
+    const double unit = spectral::cieYIntegral() / planckY;
+    auto f0 = [](double n, double k) {
+        return ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k);
+    };
+    auto reflected = [&](const std::function<double(double)>& f) {
+        spectral::Xyz xyz = spectral::toXyz(
+            [&](double nm) { return f(nm) * kernels::spectral::planck(nm, 4000) * unit; });
+        spectral::ColorSpace::Rgb c = srgb().fromXyz({xyz.x, xyz.y, xyz.z});
+        return Vec3(float(c.r), float(c.g), float(c.b));
+    };
+    // Outside the pairs' range eta = k = 0, as pbrt-v4's: F0 = 1.
+    const Vec3 expected = reflected([&](double nm) {
+        return f0(spectral::piecewiseLinear(kEtaPairs, nm), spectral::piecewiseLinear(kKPairs, nm));
+    });
+    // What the mode rendered before: eta and k at 587.6 nm at every wavelength, a grey F0.
+    const double greyF0 = f0(eta587, k587);
+    const Vec3 before = reflected([&](double) { return greyF0; });
+    const double tolerance = 2e-3 * maxComponent(expected);
+    INFO("expected " << expected.x << " " << expected.y << " " << expected.z << ", before "
+                     << before.x << " " << before.y << " " << before.z);
+    CHECK(std::abs(before.z - expected.z) > 10 * tolerance);
+    Image img = render(*sampled.scene, 64, true);
+    for (int c = 0; c < 3; ++c) {
+        PixelStats s = pixelStats(img, c);
+        INFO("channel " << c << ": rendered " << s.mean << " +- " << s.stdError << ", expected "
+                        << expected[c] << ", before " << before[c]);
+        CHECK(std::abs(s.mean - expected[c]) <= 4 * s.stdError + tolerance);
+    }
+    // RGB mode takes the values at 587.6 nm: the same image as those written as rgb, to the bit.
+    CHECK(sameBits(render(*sampled.scene, 2, false), render(*grey.scene, 2, false)));
+}

@@ -21,9 +21,11 @@ FloatParam floatParam(const ParamList& params, const ValueReader& values, std::s
 }
 
 // An unbounded spectral parameter (a conductor's eta or k): rgb, a constant, or a named metal
-// spectrum; `def` if absent.
+// spectrum; `def` if absent. Pairs and an rgb under another colour space than sRGB keep their
+// spectrum in `spectrum` for the spectral mode (a named metal: its colour is all there is).
 ColorParam metalParam(const ParamList& params, const ValueReader& values, std::string_view name,
-                      Vec3 def) {
+                      Vec3 def, ReflectanceSpectrumRef& spectrum) {
+    spectrum = nullptr;
     const Param* p = params.find(name);
     if (p && p->type == "spectrum" && p->numbers.empty() && p->strings.size() == 1) {
         Vec3 v;
@@ -34,7 +36,7 @@ ColorParam metalParam(const ParamList& params, const ValueReader& values, std::s
             return c;
         }
     }
-    return colorParam(params, values, name, SpectrumUse::Unbounded, def);
+    return values.unbounded(params, name, def, spectrum);
 }
 
 // A dielectric's index `name` ("eta", coatedconductor's "interface.eta"): a float, a constant
@@ -95,8 +97,8 @@ void conductorIndex(const ParamList& params, const ValueReader& values, const So
         Vec3 cuEta, cuK;
         namedMetalSpectrum("metal-Cu-eta", cuEta);
         namedMetalSpectrum("metal-Cu-k", cuK);
-        m.eta = metalParam(params, values, etaName, cuEta);
-        m.k = metalParam(params, values, kName, cuK);
+        m.eta = metalParam(params, values, etaName, cuEta, m.etaSpectrum);
+        m.k = metalParam(params, values, kName, cuK, m.kSpectrum);
     }
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 
 namespace rayproc::pbrt {
 
@@ -156,13 +157,21 @@ EmissionSpectrumRef rgbIlluminantEmission(const Vec3& rgb, const spectral::Color
 
 namespace {
 
-ReflectanceSpectrumRef clampedReflectance(const std::function<double(double)>& f,
-                                          std::string label) {
+// f at every nanometre, clamped to [0, top].
+ReflectanceSpectrumRef clampedSpectrum(const std::function<double(double)>& f, double top,
+                                       std::string label) {
     auto r = std::make_shared<ReflectanceSpectrum>();
-    r->values = spectral::DenseSpectrum::sample([&](double nm) { return std::clamp(f(nm), 0.0, 1.0); });
+    r->values = spectral::DenseSpectrum::sample([&](double nm) { return std::clamp(f(nm), 0.0, top); });
     r->label = std::move(label);
     return r;
 }
+
+ReflectanceSpectrumRef clampedReflectance(const std::function<double(double)>& f,
+                                          std::string label) {
+    return clampedSpectrum(f, 1.0, std::move(label));
+}
+
+constexpr double kUnboundedTop = std::numeric_limits<double>::max();
 
 } // namespace
 
@@ -176,6 +185,18 @@ ReflectanceSpectrumRef rgbAlbedoReflectance(const Vec3& rgb, const spectral::Col
     spectral::RgbAlbedoSpectrum s(cs, rgb.x, rgb.y, rgb.z);
     return clampedReflectance([&s](double nm) { return double(s(float(nm))); },
                               std::string("rgb in ") + cs.name);
+}
+
+ReflectanceSpectrumRef sampledUnbounded(const std::vector<double>& pairs) {
+    return clampedSpectrum([&pairs](double nm) { return spectral::piecewiseLinear(pairs, nm); },
+                           kUnboundedTop, "sampled spectrum");
+}
+
+ReflectanceSpectrumRef rgbUnboundedValues(const Vec3& rgb, const spectral::ColorSpace& cs) {
+    if (isSrgb(cs)) return nullptr;
+    spectral::RgbUnboundedSpectrum s(cs, rgb.x, rgb.y, rgb.z);
+    return clampedSpectrum([&s](double nm) { return double(s(float(nm))); }, kUnboundedTop,
+                           std::string("rgb in ") + cs.name);
 }
 
 } // namespace rayproc::pbrt

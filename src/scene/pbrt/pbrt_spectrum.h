@@ -65,6 +65,10 @@ EmissionSpectrumRef rgbIlluminantEmission(const Vec3& rgb, const spectral::Color
 // spectral mode upsamples itself). Both clamped to [0, 1].
 ReflectanceSpectrumRef sampledReflectance(const std::vector<double>& pairs);
 ReflectanceSpectrumRef rgbAlbedoReflectance(const Vec3& rgb, const spectral::ColorSpace& cs);
+// The same for an unbounded value (a conductor's eta or k): pairs, or an "rgb" under another
+// colour space than sRGB as that space's RGBUnboundedSpectrum; clamped to >= 0 only.
+ReflectanceSpectrumRef sampledUnbounded(const std::vector<double>& pairs);
+ReflectanceSpectrumRef rgbUnboundedValues(const Vec3& rgb, const spectral::ColorSpace& cs);
 
 // An "rgb" value written under another ColorSpace than sRGB, as sRGB (docs/pbrt-import.md,
 // "Colour spaces"): pbrt-v4 upsamples it with that colour space's table (Jakob & Hanika), so

@@ -340,25 +340,41 @@ EmissionSpectrumRef ValueReader::emissionSpectrum(const Param& p, const spectral
 
 ColorParam ValueReader::reflectance(const ParamList& params, std::string_view name, Vec3 def,
                                     ReflectanceSpectrumRef& spectrum) const {
+    return keptSpectrum(params, name, SpectrumUse::Albedo, def, spectrum);
+}
+
+ColorParam ValueReader::unbounded(const ParamList& params, std::string_view name, Vec3 def,
+                                  ReflectanceSpectrumRef& spectrum) const {
+    return keptSpectrum(params, name, SpectrumUse::Unbounded, def, spectrum);
+}
+
+ColorParam ValueReader::keptSpectrum(const ParamList& params, std::string_view name,
+                                     SpectrumUse use, Vec3 def,
+                                     ReflectanceSpectrumRef& spectrum) const {
     spectrum = nullptr;
-    ColorParam c = colorParam(params, name, SpectrumUse::Albedo, def);
+    ColorParam c = colorParam(params, name, use, def);
     const Param* p = params.get(name, {"rgb", "spectrum", "blackbody", "texture"});
     if (!p || c.textured()) return c;
     if (p->type != "texture") {
-        spectrum = reflectanceSpectrum(*p, *m_colorSpace);
+        spectrum = ownSpectrum(*p, use, *m_colorSpace);
     } else {
         const Texture* t = texture(*p, false);
-        if (t->constant && t->hasValue) spectrum = reflectanceSpectrum(t->value, *t->colorSpace);
+        if (t->constant && t->hasValue) spectrum = ownSpectrum(t->value, use, *t->colorSpace);
     }
     return c;
 }
 
 // Called after convert() accepted the parameter: its values are valid.
-ReflectanceSpectrumRef ValueReader::reflectanceSpectrum(const Param& p,
-                                                        const spectral::ColorSpace& cs) {
+ReflectanceSpectrumRef ValueReader::ownSpectrum(const Param& p, SpectrumUse use,
+                                                const spectral::ColorSpace& cs) {
+    const bool albedo = use == SpectrumUse::Albedo;
     Vec3 rgb;
-    if (p.type == "rgb") return plainColor(p, rgb) ? rgbAlbedoReflectance(rgb, cs) : nullptr;
-    if (p.type == "spectrum" && p.numbers.size() >= 2) return sampledReflectance(p.numbers);
+    if (p.type == "rgb") {
+        if (!plainColor(p, rgb)) return nullptr;
+        return albedo ? rgbAlbedoReflectance(rgb, cs) : rgbUnboundedValues(rgb, cs);
+    }
+    if (p.type == "spectrum" && p.numbers.size() >= 2)
+        return albedo ? sampledReflectance(p.numbers) : sampledUnbounded(p.numbers);
     return nullptr; // a blackbody or a named spectrum: its colour (convert's) is all there is
 }
 

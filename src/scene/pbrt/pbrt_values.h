@@ -50,6 +50,10 @@ public:
     // all there is (sRGB rgb, a texture of another class than "constant").
     ColorParam reflectance(const ParamList& params, std::string_view name, Vec3 def,
                            ReflectanceSpectrumRef& spectrum) const;
+    // The same for an unbounded value (SpectrumUse::Unbounded: a conductor's eta and k), its
+    // spectrum clamped to >= 0 only.
+    ColorParam unbounded(const ParamList& params, std::string_view name, Vec3 def,
+                         ReflectanceSpectrumRef& spectrum) const;
     // A float parameter or float texture, or `def`.
     float scalar(const ParamList& params, std::string_view name, float def) const;
     // The same as parameters that may refer to a texture of any class. A texture whose image
@@ -96,8 +100,11 @@ private:
     }
     const Texture* texture(const Param& ref, bool wantFloat) const;
     static EmissionSpectrumRef emissionSpectrum(const Param& p, const spectral::ColorSpace& cs);
-    static ReflectanceSpectrumRef reflectanceSpectrum(const Param& p,
-                                                      const spectral::ColorSpace& cs);
+    // reflectance() and unbounded(): the colour and the constant's own spectrum.
+    ColorParam keptSpectrum(const ParamList& params, std::string_view name, SpectrumUse use,
+                            Vec3 def, ReflectanceSpectrumRef& spectrum) const;
+    static ReflectanceSpectrumRef ownSpectrum(const Param& p, SpectrumUse use,
+                                              const spectral::ColorSpace& cs);
 
     Warnings& m_warnings;
     std::unordered_map<std::string, Texture> m_floatTextures;
