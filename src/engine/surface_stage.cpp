@@ -5,12 +5,16 @@
 #include "engine/material_bsdf.h"
 #include "engine/path_state.h"
 
+#include <cmath>
+
 namespace rayproc {
 
 namespace {
-// The hits of a batch by the stages that continue them.
+// The hits of a batch by the stages that continue them, and whether the hit being routed was
+// reached with all the path's wavelengths (HitList::arrivedWhole, for the mode's handlers).
 struct Routes {
     HitList direct, reflect, refract, indirect;
+    bool arrivedWhole = false;
 };
 
 // Routes hit h of lane i by its material's lobes (scene/material.h, materialLobes):
@@ -25,7 +29,7 @@ void routeByLobes(const Scene& scene, int i, const SurfaceHit& h, bool visible, 
         // keeps the hit a visible point) the global map gives all reflected light, direct too.
         const bool direct = addDirect && (!handled || visible);
         if (direct) r.direct.add(i, h);
-        if (handled) r.indirect.add(i, h);
+        if (handled) r.indirect.add(i, h, false, r.arrivedWhole);
         // A coat's reflection of the scene over the diffuse base, mirror or rough, traced by
         // the reflection stage (kernels::sampleCoatReflection).
         if (hasLobe(lobes, LobeFlags(kLobeGlossy | kLobeSpecular)) && !prepass)
@@ -125,6 +129,7 @@ void SurfaceStage::retrace(RayBatch& b, StageContext& ctx) {
             // A dispersive material (a coat's too) keeps the hero wavelength alone for every
             // stage the hit goes to (docs/spectral.md, "Dispersion"); the emission found here,
             // added above, keeps all three.
+            r.arrivedWhole = !std::signbit(b.lambdaU[i]);
             if (m_rc.spectral && dispersiveMaterial(m_rc.scene.materials[h.material]))
                 b.lambdaU[i] = SpectralRender::terminatedU(b.lambdaU[i]);
             routeByLobes(m_rc.scene, i, h, visiblePoint(b.flags[i]), addDirect, handled, prepass,

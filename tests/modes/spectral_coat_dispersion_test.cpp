@@ -205,3 +205,32 @@ TEST_CASE("RGB mode renders a glass-named coat at its n_d, to the bit",
         CHECK(sameBits(a, b));
     }
 }
+
+TEST_CASE("Spectral gi: a visible point on a dispersive coat reads the irradiance cache",
+          "[spectral-mode][dispersion][gi]") {
+    // Behind dispersive glass a visible point depends on the path's one wavelength and skips
+    // the cache (spectral_dispersion_test.cpp); on a dispersive coat that the camera's path
+    // reached with all its wavelengths it does not, though the coat leaves the path its hero
+    // alone: the cache's light there is the path's, as on a coat of a constant index.
+    auto render = [](const std::string& eta) {
+        auto r = loadPbrt(furnaceAround("\"coateddiffuse\" \"rgb reflectance\" [1 1 1] " + eta),
+                          "coat-furnace.pbrt");
+        REQUIRE(r.warnings.empty());
+        EmbreeScene accel(*r.scene);
+        GiSettings s = giSettings(*r.scene, ModeOverrides{16, 0, 0});
+        s.photons = 400000;
+        s.photonRounds = 1;
+        return renderGi(*r.scene, accel, s, seedOneEngine(true));
+    };
+    RenderResult dispersive = render("\"spectrum eta\" \"glass-F11\"");
+    RenderResult flat = render("\"float eta\" 1.7847");
+    // Every camera path meets the sphere first: one lookup a sample, nearly all of them hits.
+    const double lookups = extraStat(dispersive, "gi/cache_lookups");
+    CHECK(lookups >= 32 * 32 * 16);
+    CHECK(extraStat(dispersive, "gi/cache_hit_rate") > 0.9);
+    const Vec3 a = imageMean(dispersive.image), b = imageMean(flat.image);
+    for (int c = 0; c < 3; ++c) {
+        INFO("channel " << c << ": glass-F11 " << a[c] << ", constant index " << b[c]);
+        CHECK(std::abs(a[c] / b[c] - 1) < 0.015);
+    }
+}
