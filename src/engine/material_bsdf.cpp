@@ -138,6 +138,7 @@ TextureContext textureContext(const SurfaceHit& hit) {
     TextureContext tc;
     tc.uv = hit.uv;
     tc.p = hit.p;
+    tc.n = hit.ng;
     return tc;
 }
 

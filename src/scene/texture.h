@@ -1,10 +1,12 @@
-// Textures as the scene describes them (pbrt-v4's set): constant, image maps with uv mapping and
-// filtering, and the combinations scale, mix and checkerboard. Evaluated at a hit by
+// Textures as the scene describes them (pbrt-v4's set): constant, image maps with filtering,
+// bilerp, and the combinations scale, mix, direction mix and checkerboard (2D and 3D), with
+// pbrt-v4's mappings (uv, spherical, cylindrical, planar; a point for 3D). Evaluated at a hit by
 // texture/texture_eval.h; a material or shape parameter refers to one by index.
 #pragma once
 
 #include "core/math.h"
 
+#include <array>
 #include <memory>
 #include <string>
 
@@ -12,7 +14,14 @@ namespace rayproc {
 
 struct TextureImage; // texture/texture_image.h: decoded pixels and their MIP pyramid
 
-enum class TextureType { Constant, Image, Scale, Mix, Checkerboard };
+enum class TextureType { Constant, Image, Scale, Mix, Checkerboard, Bilerp, DirectionMix };
+// Where a texture is looked up (pbrt-v4's TextureMapping2D, and its 3D point mapping):
+// - Uv: (s, t) = (su u + du, sv v + dv);
+// - Spherical: p' = textureFromWorld(p), (s, t) = (theta / pi, phi / 2 pi) of p' from the origin;
+// - Cylindrical: (s, t) = ((pi + atan2(p'.y, p'.x)) / 2 pi, p'.z);
+// - Planar: (s, t) = (du + p' . planarS, dv + p' . planarT);
+// - Point: p' itself (a 3D checkerboard).
+enum class TextureMapping { Uv, Spherical, Cylindrical, Planar, Point };
 enum class TextureWrap { Repeat, Black, Clamp, Octahedral };
 enum class TextureFilter { Point, Bilinear, Trilinear, Ewa };
 
@@ -32,12 +41,24 @@ struct Texture {
     float scale = 1.0f;
     bool invert = false;
 
-    // Scale: tex(a) * tex(b). Mix: lerp(amount, tex(a), tex(b)). Checkerboard (2D, uv): tex(a)
-    // on even squares, tex(b) on odd, with the (su, sv, du, dv) mapping. Operands are texture
-    // indices, or -1 for the constants below.
+    // Image, Checkerboard and Bilerp: the mapping above; textureFromWorld is the inverse of the
+    // transform at the Texture directive (pbrt-v4's textureFromRender), planarS and planarT
+    // planar's "v1" and "v2".
+    TextureMapping mapping = TextureMapping::Uv;
+    Affine textureFromWorld;
+    Vec3 planarS{1.0f, 0.0f, 0.0f}, planarT{0.0f, 1.0f, 0.0f};
+
+    // Scale: tex(a) * tex(b). Mix: lerp(amount, tex(a), tex(b)). Checkerboard: tex(a) on even
+    // squares (cubes with the Point mapping), tex(b) on odd. DirectionMix: |n . direction|
+    // tex(a) + (1 - |n . direction|) tex(b), n the surface's normal and `direction` the world's
+    // of its "dir". Operands are texture indices, or -1 for the constants below.
     int a = -1, b = -1, amountTexture = -1;
     Vec3 aValue{1.0f, 1.0f, 1.0f}, bValue{0.0f, 0.0f, 0.0f};
     float amount = 0.5f;
+    Vec3 direction{0.0f, 1.0f, 0.0f};
+    // Bilerp: the values at (s, t) = (0, 0), (1, 0), (0, 1), (1, 1), bilinear between them
+    // (and beyond, as pbrt-v4 does not wrap them).
+    std::array<Vec3, 4> corners{};
 };
 
 } // namespace rayproc

@@ -1,7 +1,7 @@
-// pbrt-v4's textures: "uv" mapping (s, t) = (su u + du, sv v + dv); image maps flip t (image row
+// pbrt-v4's textures: the mappings of scene/texture.h give (s, t); image maps flip t (image row
 // 0 is t = 1), look up texel centres at (s w - 1/2, t h - 1/2) with the wrap mode, filter
 // bilinearly (trilinearly between MIP levels when a footprint is known) and apply scale and
-// invert; checkerboards alternate on the integer lattice of (s, t).
+// invert; checkerboards alternate on the integer lattice of (s, t), or of the point in 3D.
 #include "texture/texture_eval.h"
 
 #include "lighting/sphere_mapping.h"
@@ -101,8 +101,38 @@ Vec3 operand(const Scene& scene, int index, const Vec3& value, const TextureCont
     return index >= 0 ? evalTexture(scene, index, ctx) : value;
 }
 
+// The texture's (s, t) at the hit (its 2D mapping; the Point mapping has none).
+Vec2 mapToSt(const Texture& t, const TextureContext& ctx) {
+    constexpr float kInv2Pi = 0.5f * kInvPi;
+    if (t.mapping == TextureMapping::Uv || t.mapping == TextureMapping::Point)
+        return {t.su * ctx.uv.x + t.du, t.sv * ctx.uv.y + t.dv};
+    const Vec3 p = t.textureFromWorld.point(ctx.p);
+    switch (t.mapping) {
+    case TextureMapping::Uv: break;
+    case TextureMapping::Spherical: {
+        const Vec3 d = normalize(p);
+        float phi = std::atan2(d.y, d.x);
+        if (phi < 0) phi += 2 * kPi;
+        return {std::acos(std::clamp(d.z, -1.0f, 1.0f)) * kInvPi, phi * kInv2Pi};
+    }
+    case TextureMapping::Cylindrical: return {(kPi + std::atan2(p.y, p.x)) * kInv2Pi, p.z};
+    case TextureMapping::Planar: return {t.du + dot(p, t.planarS), t.dv + dot(p, t.planarT)};
+    case TextureMapping::Point: break;
+    }
+    return {t.su * ctx.uv.x + t.du, t.sv * ctx.uv.y + t.dv};
+}
+
+// Whether the checkerboard's square (cube) at the hit is an even one.
+bool evenCheck(const Texture& t, const TextureContext& ctx, float s, float tt) {
+    if (t.mapping != TextureMapping::Point)
+        return (long long)(std::floor(s) + std::floor(tt)) % 2 == 0;
+    const Vec3 p = t.textureFromWorld.point(ctx.p);
+    return (long long)(std::floor(p.x) + std::floor(p.y) + std::floor(p.z)) % 2 == 0;
+}
+
 Vec3 evaluate(const Scene& scene, const Texture& t, const TextureContext& ctx) {
-    const float s = t.su * ctx.uv.x + t.du, tt = t.sv * ctx.uv.y + t.dv;
+    const Vec2 st = mapToSt(t, ctx);
+    const float s = st.x, tt = st.y;
     switch (t.type) {
     case TextureType::Constant: return t.value;
     case TextureType::Image: {
@@ -119,9 +149,16 @@ Vec3 evaluate(const Scene& scene, const Texture& t, const TextureContext& ctx) {
         return operand(scene, t.a, t.aValue, ctx) * (1 - amount) +
                operand(scene, t.b, t.bValue, ctx) * amount;
     }
-    case TextureType::Checkerboard: {
-        bool even = (long long)(std::floor(s) + std::floor(tt)) % 2 == 0;
-        return even ? operand(scene, t.a, t.aValue, ctx) : operand(scene, t.b, t.bValue, ctx);
+    case TextureType::Checkerboard:
+        return evenCheck(t, ctx, s, tt) ? operand(scene, t.a, t.aValue, ctx)
+                                        : operand(scene, t.b, t.bValue, ctx);
+    case TextureType::Bilerp:
+        return t.corners[0] * ((1 - s) * (1 - tt)) + t.corners[1] * (s * (1 - tt)) +
+               t.corners[2] * ((1 - s) * tt) + t.corners[3] * (s * tt);
+    case TextureType::DirectionMix: {
+        const float amount = std::abs(dot(ctx.n, t.direction));
+        return operand(scene, t.a, t.aValue, ctx) * amount +
+               operand(scene, t.b, t.bValue, ctx) * (1 - amount);
     }
     }
     return t.value;

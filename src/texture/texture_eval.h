@@ -1,5 +1,6 @@
-// Evaluating a scene texture at a hit: image lookups (filtered, wrapped), and the scale, mix and
-// checkerboard combinations, recursively. Pure functions of the scene's texture table.
+// Evaluating a scene texture at a hit: its mapping, image lookups (filtered, wrapped), bilerp,
+// and the scale, mix, direction mix and checkerboard combinations, recursively. Pure functions
+// of the scene's texture table.
 #pragma once
 
 #include "core/math.h"
@@ -11,6 +12,7 @@ namespace rayproc {
 struct TextureContext {
     Vec2 uv;              // the surface's (u, v)
     Vec3 p;               // world-space point
+    Vec3 n{0, 0, 1};      // the surface's geometric normal (a direction mix's; either side)
     float footprint = 0;  // approximate width of the pixel's footprint in uv units (0: finest)
 };
 

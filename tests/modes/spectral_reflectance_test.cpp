@@ -203,7 +203,8 @@ TEST_CASE("A conductor's sampled eta and k are kept, and the spectral BSDF takes
     CHECK(m.k.value == Vec3(float(pbrt::sampledValueAt(kKPairs, 587.6))));
     // sRGB rgb, a named metal and a reflectance keep none; rec2020's rgb keeps its own
     // unbounded spectrum (not clamped to 1).
-    CHECK_FALSE(materialOf("Material \"conductor\" \"rgb eta\" [0.2 0.9 1.1] \"rgb k\" [3.9 2.4 2.1]")
+    CHECK_FALSE(materialOf("Material \"conductor\" \"rgb eta\" [0.2 0.9 1.1] "
+                           "\"rgb k\" [3.9 2.4 2.1]")
                     .etaSpectrum);
     CHECK_FALSE(materialOf("Material \"conductor\" \"spectrum eta\" \"metal-Au-eta\" "
                            "\"spectrum k\" \"metal-Au-k\"")
@@ -245,7 +246,8 @@ TEST_CASE("Spectral mode: a conductor of sampled eta and k reflects its own Fres
     const std::string head = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 4\n"
                              "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16\n"
                              "WorldBegin\nLightSource \"infinite\" \"blackbody L\" 4000\n";
-    const std::string square = "\nShape \"bilinearmesh\" \"point3 P\" [-5 -5 0 5 -5 0 -5 5 0 5 5 0]\n";
+    const std::string square =
+        "\nShape \"bilinearmesh\" \"point3 P\" [-5 -5 0 5 -5 0 -5 5 0 5 5 0]\n";
     auto sampled = loadPbrt(head + kConductorText + square, "conductor.pbrt");
     REQUIRE(sampled.warnings.empty());
     const float eta587 = float(pbrt::sampledValueAt(kEtaPairs, 587.6));

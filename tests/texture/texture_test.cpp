@@ -123,6 +123,112 @@ TEST_CASE("Scale, mix and checkerboard textures", "[texture]") {
     CHECK(evalFloatTexture(s, 0, TextureContext{}) == Approx(0.4f)); // a colour's mean
 }
 
+namespace {
+
+// At world point p with geometric normal n (and uv 0).
+Vec3 atPoint(const Scene& s, int index, const Vec3& p, const Vec3& n = {0, 0, 1}) {
+    TextureContext ctx;
+    ctx.p = p;
+    ctx.n = n;
+    return evalTexture(s, index, ctx);
+}
+
+// A bilerp whose value is (s, t, 0): it shows a mapping's (s, t).
+Texture stProbe(TextureMapping mapping) {
+    Texture t;
+    t.type = TextureType::Bilerp;
+    t.mapping = mapping;
+    t.corners = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)};
+    return t;
+}
+
+} // namespace
+
+TEST_CASE("Bilerp, direction mix, 3D checkerboard and the spherical, cylindrical and planar "
+          "mappings",
+          "[texture]") {
+    // pbrt-v4's definitions: bilerp (1-s)(1-t) v00 + s(1-t) v10 + (1-s)t v01 + st v11, not
+    // wrapped; direction mix |n . dir| tex1 + (1 - |n . dir|) tex2; a 3D checkerboard on the
+    // lattice of the point in texture space; spherical (theta / pi, phi / 2 pi), cylindrical
+    // ((pi + atan2(y, x)) / 2 pi, z), planar (du + p . v1, dv + p . v2).
+    Texture a, b;
+    a.value = {1, 0, 0};
+    b.value = {0, 0, 1};
+    Texture bilerp;
+    bilerp.type = TextureType::Bilerp;
+    bilerp.corners = {Vec3(0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 1)};
+    Texture mix;
+    mix.type = TextureType::DirectionMix;
+    mix.a = 0;
+    mix.b = 1;
+    mix.direction = {0, 1, 0};
+    Texture check;
+    check.type = TextureType::Checkerboard;
+    check.mapping = TextureMapping::Point;
+    check.a = 0;
+    check.b = 1;
+    check.textureFromWorld = Affine::translate({-1, 0, 0});
+    Texture planar = stProbe(TextureMapping::Planar);
+    planar.planarT = {0, 0, 1};
+    planar.du = 0.5f;
+    Scene s = sceneWith({a, b, bilerp, mix, check, stProbe(TextureMapping::Spherical),
+                         stProbe(TextureMapping::Cylindrical), planar});
+    CHECK(near(at(s, 0.25f, 0.5f, 2), {0.25f, 0.5f, 0.125f}));
+    CHECK(near(at(s, 2.0f, -1.0f, 2), {2.0f, -1.0f, -2.0f})); // beyond the square: extrapolated
+    CHECK(near(atPoint(s, 3, {}, {0, -1, 0}), a.value));
+    CHECK(near(atPoint(s, 3, {}, {1, 0, 0}), b.value));
+    CHECK(near(atPoint(s, 3, {}, {0, 0.5f, std::sqrt(0.75f)}), {0.5f, 0, 0.5f}));
+    CHECK(near(atPoint(s, 4, {1.5f, 0.5f, 0.5f}), a.value)); // (0.5, 0.5, 0.5) in its space
+    CHECK(near(atPoint(s, 4, {2.5f, 0.5f, 0.5f}), b.value));
+    CHECK(near(atPoint(s, 4, {2.5f, -0.5f, 0.5f}), a.value));
+    CHECK(near(atPoint(s, 5, {0, 0, 2}), {0, 0, 0}));
+    CHECK(near(atPoint(s, 5, {1, 1, 0}), {0.5f, 0.125f, 0}));
+    CHECK(near(atPoint(s, 5, {0, -3, 0}), {0.5f, 0.75f, 0}));
+    CHECK(near(atPoint(s, 6, {-1, 0, 3}), {1, 3, 0}));
+    CHECK(near(atPoint(s, 6, {0, 2, 0.5f}), {0.75f, 0.5f, 0}));
+    CHECK(near(atPoint(s, 7, {2, 7, 3}), {2.5f, 3, 0}));
+}
+
+TEST_CASE("pbrt textures: bilerp, directionmix, 3D checkerboards and the mappings in the "
+          "directive's space",
+          "[texture][pbrt]") {
+    auto r = loadWorld(
+        "AttributeBegin\nTranslate 10 0 0\n"
+        "Texture \"c3\" \"spectrum\" \"checkerboard\" \"integer dimension\" 3 "
+        "\"rgb tex1\" [1 0 0] \"rgb tex2\" [0 0 1]\n"
+        "Texture \"sph\" \"float\" \"bilerp\" \"string mapping\" \"spherical\" "
+        "\"float v00\" 0 \"float v10\" 1 \"float v01\" 0 \"float v11\" 1\n"
+        "Texture \"pl\" \"spectrum\" \"bilerp\" \"string mapping\" \"planar\" "
+        "\"vector3 v1\" [0 0 1] \"vector3 v2\" [0 1 0] \"float udelta\" 0.5 \"rgb v10\" [1 1 1]\n"
+        "Rotate 90 0 0 1\n"
+        "Texture \"dm\" \"spectrum\" \"directionmix\" \"rgb tex1\" [1 1 1] "
+        "\"texture tex2\" \"c3\"\n"
+        "AttributeEnd\n"
+        "Material \"diffuse\" \"texture reflectance\" \"dm\"\nShape \"sphere\"\n");
+    CHECK(r.warnings.empty());
+    const Scene& s = *r.scene;
+    REQUIRE(s.textures.size() == 4);
+    CHECK(s.textures[0].mapping == TextureMapping::Point);
+    CHECK(near(atPoint(s, 0, {10.5f, 0.5f, 0.5f}), {1, 0, 0}));
+    CHECK(near(atPoint(s, 0, {11.5f, 0.5f, 0.5f}), {0, 0, 1}));
+    CHECK(s.textures[1].isFloat);
+    // The sphere around (10, 0, 0): theta / pi at its equator is 0.5 (v10 = v11 = 1: s itself).
+    CHECK(evalFloatTexture(s, 1, TextureContext{{}, {10, 2, 0}}) == Approx(0.5f));
+    CHECK(s.textures[2].mapping == TextureMapping::Planar);
+    // (s, t) = (0.5 + 0.3, 0.5) at texture-space (0.25, 0.5, 0.3); v10 = v01 = v11 = 1:
+    // s + t - s t.
+    CHECK(near(atPoint(s, 2, {10.25f, 0.5f, 0.3f}), Vec3(0.9f)));
+    // "dir" (0, 1, 0) turned by the rotation: the world's x axis (either sign).
+    CHECK(std::abs(s.textures[3].direction.x) == Approx(1.0f));
+    CHECK(s.textures[3].b == 0);
+    std::string e = pbrtErrorOf(std::string(kPbrtHeader) +
+                                "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" 4\n");
+    CHECK_THAT(e, Catch::Contains("must be 2 or 3"));
+    auto odd = loadWorld("Texture \"x\" \"float\" \"checkerboard\" \"string mapping\" \"cubic\"\n"
+                         "Shape \"sphere\"\n");
+    CHECK(odd.warned("texture mapping \"cubic\" is not one of pbrt-v4's"));
+}
+
 TEST_CASE("pbrt textures: imagemap, scale, mix and checkerboard classes, missing files", "[texture][pbrt]") {
     writeQuadImage("tex/quad.pfm");
     auto r = loadWorld("Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"tex/quad.pfm\" "

@@ -68,7 +68,7 @@ void SceneBuilder::texture(const std::string& name, const std::string& type, con
     if (type != "float" && type != "spectrum" && type != "color")
         failAt(loc, "Texture \"" + name + "\": the type must be \"float\" or \"spectrum\", not \"" +
                         type + "\"");
-    m_values.defineTexture(name, type, cls, params, loc);
+    m_values.defineTexture(name, type, cls, params, loc, m_worldFix * m_state.ctm);
     reportUnused(params, "Texture \"" + cls + "\"");
 }
 

@@ -170,6 +170,12 @@ Vec3 ParamList::getPoint3(std::string_view name, Vec3 def) const {
     return {float(p->numbers[0]), float(p->numbers[1]), float(p->numbers[2])};
 }
 
+Vec3 ParamList::getVector3(std::string_view name, Vec3 def) const {
+    const Param* p = single(name, "vector3");
+    if (!p) return def;
+    return {float(p->numbers[0]), float(p->numbers[1]), float(p->numbers[2])};
+}
+
 void ParamList::ignore(std::initializer_list<std::string_view> names) const {
     for (std::string_view n : names)
         if (const Param* p = find(n)) p->used = true;

@@ -46,6 +46,7 @@ public:
     bool getBool(std::string_view name, bool def) const;
     std::string getString(std::string_view name, const std::string& def) const;
     Vec3 getPoint3(std::string_view name, Vec3 def) const;
+    Vec3 getVector3(std::string_view name, Vec3 def) const;
 
     // The parameter if present, checked against the accepted types; marks it used.
     const Param* get(std::string_view name, std::initializer_list<std::string_view> types) const;

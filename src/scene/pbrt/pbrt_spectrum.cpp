@@ -161,7 +161,8 @@ namespace {
 ReflectanceSpectrumRef clampedSpectrum(const std::function<double(double)>& f, double top,
                                        std::string label) {
     auto r = std::make_shared<ReflectanceSpectrum>();
-    r->values = spectral::DenseSpectrum::sample([&](double nm) { return std::clamp(f(nm), 0.0, top); });
+    r->values =
+        spectral::DenseSpectrum::sample([&](double nm) { return std::clamp(f(nm), 0.0, top); });
     r->label = std::move(label);
     return r;
 }

@@ -41,17 +41,31 @@ TextureEncoding parseEncoding(const std::string& e, const SourceLoc& loc) {
 
 } // namespace
 
-// pbrt-v4's (u, v) mapping parameters, shared by image maps and checkerboards.
+// pbrt-v4's 2D mapping ("mapping" and its own parameters, as pbrt-v4's TextureMapping2D reads
+// them), shared by image maps, 2D checkerboards and bilerp. An unknown name warns and is uv.
 static void readMapping(const ParamList& params, rayproc::Texture& t, Warnings& warnings,
                         const SourceLoc& loc) {
     std::string mapping = params.getString("mapping", "uv");
-    if (mapping != "uv")
-        warnings.add(loc, "texture mapping \"" + mapping + "\" is not supported; using \"uv\"");
-    t.su = float(params.getFloat("uscale", 1.0));
-    t.sv = float(params.getFloat("vscale", 1.0));
-    t.du = float(params.getFloat("udelta", 0.0));
-    t.dv = float(params.getFloat("vdelta", 0.0));
-    params.ignore({"v1", "v2"}); // planar mapping's axes
+    if (mapping == "spherical") {
+        t.mapping = TextureMapping::Spherical;
+    } else if (mapping == "cylindrical") {
+        t.mapping = TextureMapping::Cylindrical;
+    } else if (mapping == "planar") {
+        t.mapping = TextureMapping::Planar;
+        t.planarS = params.getVector3("v1", Vec3(1.0f, 0.0f, 0.0f));
+        t.planarT = params.getVector3("v2", Vec3(0.0f, 1.0f, 0.0f));
+        t.du = float(params.getFloat("udelta", 0.0));
+        t.dv = float(params.getFloat("vdelta", 0.0));
+    } else {
+        if (mapping != "uv")
+            warnings.add(loc, "texture mapping \"" + mapping +
+                                  "\" is not one of pbrt-v4's (uv, spherical, cylindrical, "
+                                  "planar); using \"uv\"");
+        t.su = float(params.getFloat("uscale", 1.0));
+        t.sv = float(params.getFloat("vscale", 1.0));
+        t.du = float(params.getFloat("udelta", 0.0));
+        t.dv = float(params.getFloat("vdelta", 0.0));
+    }
 }
 
 rayproc::Texture ValueReader::imageTexture(const std::string& name, const ParamList& params,
@@ -122,9 +136,55 @@ void ValueReader::operand(const ParamList& params, std::string_view name, bool i
     value = isFloat ? Vec3(scalar(params, name, def.x)) : color(params, name, SpectrumUse::Unbounded, def);
 }
 
+// A texture that combines others or values ("scale", "mix", "directionmix", "checkerboard",
+// "bilerp"), as pbrt-v4 defines each (operands' defaults included).
+rayproc::Texture ValueReader::combination(const std::string& className, const ParamList& params,
+                                          bool isFloat, const SourceLoc& loc,
+                                          const Mat4& worldFromTexture) const {
+    rayproc::Texture rt;
+    const Vec3 one(1.0f), zero(0.0f);
+    if (className == "scale") {
+        rt.type = TextureType::Scale;
+        operand(params, "tex", isFloat, one, rt.a, rt.aValue);
+        operand(params, "scale", true, one, rt.b, rt.bValue);
+    } else if (className == "mix" || className == "directionmix") {
+        rt.type = className == "mix" ? TextureType::Mix : TextureType::DirectionMix;
+        operand(params, "tex1", isFloat, zero, rt.a, rt.aValue);
+        operand(params, "tex2", isFloat, one, rt.b, rt.bValue);
+        if (rt.type == TextureType::Mix) {
+            Vec3 amount;
+            operand(params, "amount", true, Vec3(0.5f), rt.amountTexture, amount);
+            rt.amount = amount.x;
+        } else {
+            const Vec3 dir = params.getVector3("dir", Vec3(0.0f, 1.0f, 0.0f));
+            rt.direction = normalize(worldFromTexture.toAffine().vector(dir));
+            if (!(lengthSquared(rt.direction) > 0) || !isFinite(rt.direction))
+                failAt(loc, "directionmix's \"dir\" must be a non-zero direction");
+        }
+    } else if (className == "bilerp") {
+        readMapping(params, rt, m_warnings, loc);
+        rt.type = TextureType::Bilerp;
+        const char* names[4] = {"v00", "v10", "v01", "v11"};
+        const float defaults[4] = {0, 0, 1, 1};
+        for (int k = 0; k < 4; ++k)
+            rt.corners[std::size_t(k)] =
+                isFloat ? Vec3(scalar(params, names[k], defaults[k]))
+                        : color(params, names[k], SpectrumUse::Unbounded, Vec3(defaults[k]));
+    } else {
+        rt.type = TextureType::Checkerboard;
+        const long long dimension = params.getInt("dimension", 2);
+        if (dimension == 3) rt.mapping = TextureMapping::Point;
+        else if (dimension == 2) readMapping(params, rt, m_warnings, loc);
+        else failAt(loc, "checkerboard's \"dimension\" must be 2 or 3");
+        operand(params, "tex1", isFloat, one, rt.a, rt.aValue);
+        operand(params, "tex2", isFloat, zero, rt.b, rt.bValue);
+    }
+    return rt;
+}
+
 void ValueReader::defineTexture(const std::string& name, const std::string& type,
                                 const std::string& className, const ParamList& params,
-                                const SourceLoc& loc) {
+                                const SourceLoc& loc, const Mat4& worldFromTexture) {
     Texture t;
     t.isFloat = type == "float";
     t.className = className;
@@ -138,33 +198,20 @@ void ValueReader::defineTexture(const std::string& name, const std::string& type
             t.hasValue = true;
         }
     } else if (m_table && (className == "imagemap" || className == "scale" ||
-                           className == "mix" || className == "checkerboard")) {
-        rayproc::Texture rt;
+                           className == "mix" || className == "directionmix" ||
+                           className == "checkerboard" || className == "bilerp")) {
+        rayproc::Texture rt = className == "imagemap"
+                                  ? imageTexture(name, params, t.isFloat, loc, t.missing)
+                                  : combination(className, params, t.isFloat, loc,
+                                                worldFromTexture);
         rt.name = name;
         rt.isFloat = t.isFloat;
-        Vec3 one(1.0f), zero(0.0f);
-        if (className == "imagemap") {
-            rt = imageTexture(name, params, t.isFloat, loc, t.missing);
-            rt.name = name;
-            rt.isFloat = t.isFloat;
-        } else if (className == "scale") {
-            rt.type = TextureType::Scale;
-            operand(params, "tex", t.isFloat, one, rt.a, rt.aValue);
-            operand(params, "scale", true, one, rt.b, rt.bValue);
-        } else if (className == "mix") {
-            rt.type = TextureType::Mix;
-            operand(params, "tex1", t.isFloat, zero, rt.a, rt.aValue);
-            operand(params, "tex2", t.isFloat, one, rt.b, rt.bValue);
-            Vec3 amount;
-            operand(params, "amount", true, Vec3(0.5f), rt.amountTexture, amount);
-            rt.amount = amount.x;
-        } else {
-            rt.type = TextureType::Checkerboard;
-            if (params.getInt("dimension", 2) != 2)
-                m_warnings.add(loc, "3D checkerboard textures are not supported; using 2D");
-            readMapping(params, rt, m_warnings, loc);
-            operand(params, "tex1", t.isFloat, one, rt.a, rt.aValue);
-            operand(params, "tex2", t.isFloat, zero, rt.b, rt.bValue);
+        if (rt.mapping != TextureMapping::Uv) {
+            Mat4 inverse;
+            if (!worldFromTexture.inverse(inverse))
+                failAt(loc, "Texture \"" + name + "\": the transform has no inverse, which its "
+                            "mapping needs");
+            rt.textureFromWorld = inverse.toAffine();
         }
         if (!t.missing) {
             m_table->push_back(std::move(rt));

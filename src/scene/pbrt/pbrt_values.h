@@ -11,6 +11,7 @@
 #include "scene/material.h"
 #include "scene/texture.h"
 #include "scene/pbrt/pbrt_params.h"
+#include "scene/pbrt/pbrt_transform.h"
 #include "scene/pbrt/pbrt_warnings.h"
 #include "spectral/color_space.h"
 
@@ -32,9 +33,12 @@ public:
         m_dir = std::move(dir);
     }
 
-    // The Texture directive. `type` is "float" or "spectrum" (pbrt-v3's "color" too).
+    // The Texture directive. `type` is "float" or "spectrum" (pbrt-v3's "color" too);
+    // `worldFromTexture` the transform at the directive (the mappings other than uv and a
+    // direction mix's "dir" are in its space).
     void defineTexture(const std::string& name, const std::string& type,
-                       const std::string& className, const ParamList& params, const SourceLoc& loc);
+                       const std::string& className, const ParamList& params, const SourceLoc& loc,
+                       const Mat4& worldFromTexture);
 
     // A colour parameter, or `def` if absent. A texture of a class other than "constant"
     // gives `def` with a warning.
@@ -91,6 +95,9 @@ private:
                  int& index, Vec3& value) const;
     rayproc::Texture imageTexture(const std::string& name, const ParamList& params,
                                   bool isFloat, const SourceLoc& loc, bool& missing) const;
+    rayproc::Texture combination(const std::string& className, const ParamList& params,
+                                 bool isFloat, const SourceLoc& loc,
+                                 const Mat4& worldFromTexture) const;
     Vec3 convert(const Param& p, SpectrumUse use, Vec3 def) const {
         return convert(p, use, def, *m_colorSpace);
     }
