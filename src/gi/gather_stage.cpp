@@ -321,10 +321,8 @@ void GatherStage::spawn(const RayBatch& b, const HitList& hits, StageContext& ct
         Vec3 ng, ns;
         facingNormals(h, wo, ng, ns);
         bool firstDiffuse = visiblePoint(b.flags[i]);
-        // Past dispersive glass the path keeps one wavelength, and where it hit depends on
-        // it. On a dispersive coat reached with all of them it keeps one too, but the point
-        // does not depend on it: the cache's and the caustic map's light of every wavelength
-        // there is the path's at its own, as at any other point.
+        // Past dispersive glass the point depends on the path's one wavelength (not on a
+        // dispersive coat reached with all: HitList::arrivedWhole).
         const bool oneWavelength = std::signbit(b.lambdaU[i]) && !hits.arrivedWhole[k];
 
         if (!firstDiffuse) {
