@@ -60,12 +60,12 @@ TEST_CASE("the ray recorder sees every traced ray of a render, only while active
     }
 
     // Whole batches: at most the cap per kind, untraced (shadow rays keep their tfar >= 0).
-    auto shadows = recorder.fullShadowBatches(RayKind::Shadow);
-    CHECK(recorder.fullBatches(RayKind::Shadow).empty());
+    auto shadows = recorder.fullBatches<ShadowBatch>(RayKind::Shadow);
+    CHECK(recorder.fullBatches<RayBatch>(RayKind::Shadow).empty());
     CHECK(shadows.size() == 2);
     for (const auto& b : shadows)
         for (int i = 0; i < b->count; ++i) CHECK(b->tfar[i] >= 0.0f);
-    CHECK(recorder.fullBatches(RayKind::Camera).size() == 2);
+    CHECK(recorder.fullBatches<RayBatch>(RayKind::Camera).size() == 2);
 
     // Recording changes nothing, and nothing is recorded without a scope.
     RenderResult plain = render(*scene, accel, o);
@@ -129,7 +129,7 @@ TEST_CASE("recorded rays replayed through bare Embree give the engine's hits",
             }
         }
     };
-    replay(RayKind::Camera, recorder.fullBatches(RayKind::Camera));
-    replay(RayKind::Shadow, recorder.fullShadowBatches(RayKind::Shadow));
+    replay(RayKind::Camera, recorder.fullBatches<RayBatch>(RayKind::Camera));
+    replay(RayKind::Shadow, recorder.fullBatches<ShadowBatch>(RayKind::Shadow));
     CHECK(compared > 1000);
 }
