@@ -195,7 +195,7 @@ struct PhotonBatch : HitBatch {
     alignas(64) std::array<std::uint64_t, kBatchSize> rngKey; // the photon's random stream
     alignas(64) std::array<std::uint8_t, kBatchSize> depth;   // bounces so far
     alignas(64) std::array<std::uint8_t, kBatchSize> flags;   // gi's PhotonFlags
-    // Spectral mode: the photon's wavelength number, as RayBatch::lambdaU; 0 in RGB mode.
+    // Spectral mode: the photon's wavelength number, as RayBatch::lambdaU; unread in RGB mode.
     alignas(64) std::array<float, kBatchSize> lambdaU;
 };
 

@@ -3,7 +3,11 @@
 // replay traces the same rays); it changes nothing in the image; without a scope nothing is
 // recorded.
 #include "engine/intersect.h"
+#include "engine/pipeline.h"
 #include "engine/ray_recorder.h"
+#include "gi/gi_pipeline.h"
+#include "gi/photon_emitter.h"
+#include "gi/photon_stage.h"
 #include "test_util.h"
 
 #include <cstring>
@@ -132,4 +136,32 @@ TEST_CASE("recorded rays replayed through bare Embree give the engine's hits",
     replay(RayKind::Camera, recorder.fullBatches<RayBatch>(RayKind::Camera));
     replay(RayKind::Shadow, recorder.fullBatches<ShadowBatch>(RayKind::Shadow));
     CHECK(compared > 1000);
+}
+
+TEST_CASE("the ray recorder keeps gi's photons whole as photon batches", "[engine][recorder]") {
+    auto scene = loadSceneAt("cornell-box", 16, 16);
+    EmbreeScene accel(*scene);
+    LightSet lights = LightSet::build(*scene, accel);
+    Film film(1, 1);
+    ShadingPolicy policy;
+    RenderContext rc{*scene, accel, lights, policy, film, 1};
+    Stats stats;
+    PhotonStage stage(rc, /*causticPass=*/false, 8);
+    RayRecorder recorder(3);
+    {
+        RayRecorder::Scope scope(recorder);
+        Pipeline pipeline("photons", "photon", accel.root(), 16, stats, 1);
+        pipeline.stage("photon", {kPhotonQueue}, stage);
+        PhotonEmitter emitter(lights, scene->worldBounds(), 5000, 1, 1);
+        pipeline.run(emitter, [] { return false; });
+    }
+    CHECK(recorder.rayCount() == stats.merged().raysTraced);
+    auto photons = recorder.fullBatches<PhotonBatch>(kPhotonRay);
+    CHECK(photons.size() == 3);
+    CHECK(recorder.fullBatches<RayBatch>(kPhotonRay).empty());
+    for (const auto& b : photons) {
+        CHECK(b->type == BatchType::Photons);
+        CHECK(b->count > 0);
+    }
+    for (const RecordedBatch& r : recorder.batches()) CHECK_FALSE(r.occlusion);
 }
