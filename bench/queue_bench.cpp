@@ -28,14 +28,14 @@ void queueRoundTrip(benchmark::State& state) {
         g_shared = std::make_unique<SharedQueue>();
         // Warm the pool: the render reuses batches, so the benchmark should not measure new.
         RayBatch* warm[8];
-        for (RayBatch*& b : warm) b = g_shared->pool.acquire(RayKind::Camera);
+        for (RayBatch*& b : warm) b = g_shared->pool.acquire<RayBatch>(RayKind::Camera);
         for (RayBatch* b : warm) g_shared->pool.release(b);
     }
     // The benchmark library starts every thread's timed loop together, after thread 0's setup.
     std::uint64_t emptyPops = 0, i = 0;
     for (auto _ : state) {
         SharedQueue& s = *g_shared;
-        RayBatch* b = s.pool.acquire((i++ & 1) ? RayKind::Camera : RayKind::Reflection);
+        RayBatch* b = s.pool.acquire<RayBatch>((i++ & 1) ? RayKind::Camera : RayKind::Reflection);
         b->count = kBatchSize;
         s.queue.push(b);
         WorkBatch* popped = nullptr;

@@ -67,7 +67,7 @@ void occludePackets(RTCScene scene, ShadowBatch& b, RTCIntersectContext* ctx) {
 }
 
 template <int K>
-void intersectPackets(RTCScene scene, RayBatch& b, RTCIntersectContext* ctx) {
+void intersectPackets(RTCScene scene, HitBatch& b, RTCIntersectContext* ctx) {
     alignas(64) int valid[K];
     for (int base = 0; base < b.count; base += K) {
         int n = std::min(K, b.count - base);
@@ -107,7 +107,7 @@ void occludeSingle(RTCScene scene, ShadowBatch& b, RTCIntersectContext* ctx) {
     }
 }
 
-void intersectSingle(RTCScene scene, RayBatch& b, RTCIntersectContext* ctx) {
+void intersectSingle(RTCScene scene, HitBatch& b, RTCIntersectContext* ctx) {
     for (int i = 0; i < b.count; ++i) {
         RTCRayHit rh = singleRay(b, i);
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -146,7 +146,7 @@ RTCIntersectContext Intersector::begin(WorkBatch& b, ThreadStats& stats, bool oc
     return ctx;
 }
 
-void Intersector::trace(RayBatch& b, ThreadStats& stats) const {
+void Intersector::trace(HitBatch& b, ThreadStats& stats) const {
     RTCIntersectContext ctx = begin(b, stats, false); // records first: untimed
     StageTimer timer(stats, StageId::Intersect);
     switch (m_width) {

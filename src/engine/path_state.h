@@ -28,6 +28,8 @@ inline void facingNormals(const SurfaceHit& h, const Vec3& wo, Vec3& ng, Vec3& n
 inline Vec3 laneThroughput(const RayBatch& b, int i) { return {b.wr[i], b.wg[i], b.wb[i]}; }
 // An occlusion ray's unoccluded contribution.
 inline Vec3 laneThroughput(const ShadowBatch& b, int i) { return {b.wr[i], b.wg[i], b.wb[i]}; }
+// A photon's power.
+inline Vec3 laneThroughput(const PhotonBatch& b, int i) { return {b.wr[i], b.wg[i], b.wb[i]}; }
 
 // Beer-Lambert absorption of a segment travelled inside a shape filled with an absorbing medium:
 // a ray from o along d that reaches the shape's surface from its back side (d along the outward
@@ -42,7 +44,7 @@ inline Vec3 interiorTransmittance(const SurfaceHit& h, const Vec3& o, const Vec3
     float t = length(h.p - o);
     return {std::exp(-sigma.x * t), std::exp(-sigma.y * t), std::exp(-sigma.z * t)};
 }
-inline Vec3 laneDirection(const RayBatch& b, int i) { return {b.dx[i], b.dy[i], b.dz[i]}; }
+inline Vec3 laneDirection(const WorkBatch& b, int i) { return {b.dx[i], b.dy[i], b.dz[i]}; }
 
 // The paper's termination: "until the maximum ray depth is achieved or the contributed
 // radiance falls below a specified threshold" — with Russian roulette below the threshold so

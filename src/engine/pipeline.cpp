@@ -29,8 +29,9 @@ Pipeline& Pipeline::stage(std::string name, std::vector<RayRoute> queues, Retrac
                     throw PipelineError("pipeline " + m_layout.name + ": the " + route.name +
                                         " rays go to stage " + s.name +
                                         " already, not also to " + layout.name);
-        m_processor.setStage(route.kind, &stage, route.query);
-        layout.queues.push_back({route.kind, route.name, route.query == RayQuery::Occlusion});
+        m_processor.setStage(route.kind, &stage, route.batch);
+        layout.queues.push_back(
+            {route.kind, route.name, queryOf(route.batch) == RayQuery::Occlusion});
     }
     m_layout.stages.push_back(std::move(layout));
     return *this;

@@ -24,8 +24,8 @@ void StageContext::discard() {
             b = nullptr;
         }
     while (m_readyCount > 0) m_pool.release(m_ready[--m_readyCount]);
-    while (m_freeCount > 0) m_pool.release(m_free[--m_freeCount]);
-    while (m_freeShadowCount > 0) m_pool.release(m_freeShadow[--m_freeShadowCount]);
+    for (LocalFree& free : m_free)
+        while (free.count > 0) m_pool.release(free.batches[--free.count]);
 }
 
 bool StageContext::flush() {
@@ -59,8 +59,27 @@ void RetraceStage::retraceShadows(ShadowBatch& batch, StageContext&) {
                            rayKindName(batch.kind) + " queue");
 }
 
-// Trace, then hand the batch to its kind's stage: closest hits to retrace, occlusion to
-// retraceShadows (a kind's route says which its batches are).
+void RetraceStage::retracePhotons(PhotonBatch& batch, StageContext&) {
+    throw std::logic_error(std::string("a stage that takes no photons was given the ") +
+                           rayKindName(batch.kind) + " queue");
+}
+
+namespace {
+
+// A traced batch to its stage's method for its type.
+void retraceBy(RetraceStage& stage, RayBatch& b, StageContext& ctx) { stage.retrace(b, ctx); }
+void retraceBy(RetraceStage& stage, ShadowBatch& b, StageContext& ctx) {
+    stage.retraceShadows(b, ctx);
+}
+void retraceBy(RetraceStage& stage, PhotonBatch& b, StageContext& ctx) {
+    stage.retracePhotons(b, ctx);
+}
+
+} // namespace
+
+// Trace, then hand the batch to its kind's stage by its type: rays and photons with their
+// closest hits, occlusion rays with whether each was blocked (a kind's route says which type
+// its batches are).
 void RayProcessor::process(WorkBatch* batch, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     ++stats.batches;
@@ -68,22 +87,16 @@ void RayProcessor::process(WorkBatch* batch, StageContext& ctx) {
     ++queue.batches;
     queue.rays += std::uint64_t(batch->count);
     RetraceStage* stage = m_stages[int(batch->kind)];
-    const bool occlusion = m_queries[int(batch->kind)] == RayQuery::Occlusion;
-    if (!stage || occlusion != (batch->type == BatchType::Shadow)) {
+    if (!stage || batch->type != m_types[int(batch->kind)]) {
         m_pool.release(batch);
         if (!stage) throw UnroutedRayKind(batch->kind);
         throw std::logic_error(std::string("the ") + rayKindName(batch->kind) +
-                               " queue was given batches of the other type than its query");
+                               " queue was given batches of another type than its route's");
     }
-    if (occlusion) {
-        auto& shadows = static_cast<ShadowBatch&>(*batch);
-        m_intersector.trace(shadows, stats);
-        stage->retraceShadows(shadows, ctx);
-    } else {
-        auto& rays = static_cast<RayBatch&>(*batch);
-        m_intersector.trace(rays, stats);
-        stage->retrace(rays, ctx);
-    }
+    visitBatch(*batch, [&](auto& b) {
+        m_intersector.trace(b, stats);
+        retraceBy(*stage, b, ctx);
+    });
     ctx.release(batch);
 }
 

@@ -1,7 +1,8 @@
 // The ray processor (Farnsworth & Erbacher's "centralized ray processor"): emitters push ray
 // batches into the central queue; TBB tasks drain it, hand each batch to the one intersection
-// handler, then to the retrace stage of the batch's ray kind, which pushes the rays it spawns
-// back into the queue. Ray depth never recurses on the C++ stack.
+// handler, then to the retrace stage of the batch's ray kind (by the batch's type: rays,
+// occlusion rays or photons), which pushes the rays it spawns back into the queue. Ray depth
+// never recurses on the C++ stack.
 #pragma once
 
 #include "engine/intersect.h"
@@ -34,13 +35,16 @@ public:
     RayProcessor(const Intersector& intersector, Stats& stats, int threads);
 
     // Routes the rays of `kind` to `stage` (null: no stage; a batch of that kind ends the
-    // run with UnroutedRayKind), traced as `query` says (a mode's occlusion kinds say so
-    // here). Passes build their processor through a Pipeline (engine/pipeline.h).
-    void setStage(RayKind kind, RetraceStage* stage, RayQuery query) {
+    // run with UnroutedRayKind), in batches of type `type`, which also says how they are
+    // traced (a mode's occlusion and photon kinds say so here). Passes build their processor
+    // through a Pipeline (engine/pipeline.h).
+    void setStage(RayKind kind, RetraceStage* stage, BatchType type) {
         m_stages[int(kind)] = stage;
-        m_queries[int(kind)] = query;
+        m_types[int(kind)] = type;
     }
-    void setStage(RayKind kind, RetraceStage* stage) { setStage(kind, stage, defaultQuery(kind)); }
+    void setStage(RayKind kind, RetraceStage* stage) {
+        setStage(kind, stage, defaultBatchType(kind));
+    }
     int threads() const { return m_threads; }
     std::size_t batchesAllocated() const { return m_pool.allocated(); }
 
@@ -61,7 +65,7 @@ private:
     RayQueue m_queue;
     BatchPool m_pool;
     std::array<RetraceStage*, kRayKindCount> m_stages{};
-    std::array<RayQuery, kRayKindCount> m_queries{};
+    std::array<BatchType, kRayKindCount> m_types{};
     tbb::enumerable_thread_specific<std::unique_ptr<StageContext>> m_contexts;
     std::atomic<int> m_busy{0};
     std::atomic<bool> m_emitterDone{false};

@@ -1,10 +1,12 @@
 // The work items that flow through the ray processor, a batch of rays at a time: RayBatch (rays
-// traced to their closest hit) and ShadowBatch (occlusion rays). Structure of arrays, so the
-// intersect stage can load packets straight from them and kernels can loop over lanes.
+// traced to their closest hit), ShadowBatch (occlusion rays) and PhotonBatch (gi's photons,
+// traced to their closest hit). Structure of arrays, so the intersect stage can load packets
+// straight from them and kernels can loop over lanes.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <type_traits>
 
 namespace rayproc {
 
@@ -14,8 +16,8 @@ namespace rayproc {
 // rays) fits in L2, and a 16x16 camera tile is exactly one batch.
 constexpr int kBatchSize = 256;
 
-// What a ray is for. The kind selects the retrace stage that receives the ray's result, and how
-// it is traced (RayProcessor::setStage: closest hit, or occlusion for shadow rays). The engine
+// What a ray is for. The kind selects the retrace stage that receives the ray's result, and the
+// type of batch it travels in (RayProcessor::setStage; occlusion rays for shadow rays). The engine
 // names its own kinds; a mode's stages take the kinds from kFirstModeRayKind on, named in the
 // mode's own header (gi: gi/gi_pipeline.h). A kind's value also keys its stages' sample
 // numbers, so a mode keeps its kinds' values.
@@ -33,24 +35,38 @@ constexpr RayKind modeRayKind(int i) { return RayKind(kFirstModeRayKind + i); }
 // The engine's kinds' names; "mode-<i>" for a mode's.
 const char* rayKindName(RayKind k);
 
+// What a batch holds: rays whose closest hits its stage shades (RayBatch), occlusion rays
+// whose stage only needs to know whether each reached its end (ShadowBatch, pbrt-v4's
+// ShadowRayWorkItem), or photons whose closest hits the photon stage stores and scatters
+// (PhotonBatch). The queue, the pool and the processor move all three; a route (RayRoute)
+// says which one its kind's batches are.
+enum class BatchType : std::uint8_t { Rays, Shadow, Photons };
+constexpr int kBatchTypeCount = 3;
+
 // How a batch is traced: its closest hits, or only whether anything lies before tfar (an
-// occluded ray gets tfar < 0).
+// occluded ray gets tfar < 0). Its type says which.
 enum class RayQuery : std::uint8_t { Closest, Occlusion };
-// The engine's kinds' queries: occlusion for shadow rays. A mode's kinds say theirs when routed
-// (engine/pipeline.h).
-inline RayQuery defaultQuery(RayKind k) {
-    return k == RayKind::Shadow ? RayQuery::Occlusion : RayQuery::Closest;
+constexpr RayQuery queryOf(BatchType t) {
+    return t == BatchType::Shadow ? RayQuery::Occlusion : RayQuery::Closest;
+}
+// The engine's kinds' batches: occlusion rays for shadow rays, rays for the others. A mode's
+// kinds say theirs when routed (engine/pipeline.h).
+inline BatchType defaultBatchType(RayKind k) {
+    return k == RayKind::Shadow ? BatchType::Shadow : BatchType::Rays;
 }
 
 // One queue of a pipeline (engine/pipeline.h): the rays of one kind, its name for --stats and
-// how the intersector traces them. A mode names its kinds' queues (gi: gi/gi_pipeline.h).
+// the type of its batches, which says how the intersector traces them. A mode names its
+// kinds' queues (gi: gi/gi_pipeline.h).
 struct RayRoute {
     RayKind kind;
     const char* name;
-    RayQuery query;
+    BatchType batch;
 };
-// An engine kind's queue: its name (rayKindName) and query (defaultQuery).
-inline RayRoute engineRoute(RayKind kind) { return {kind, rayKindName(kind), defaultQuery(kind)}; }
+// An engine kind's queue: its name (rayKindName) and batch type (defaultBatchType).
+inline RayRoute engineRoute(RayKind kind) {
+    return {kind, rayKindName(kind), defaultBatchType(kind)};
+}
 
 // Per-ray flags.
 enum RayFlags : std::uint8_t {
@@ -78,12 +94,6 @@ enum RayFlags : std::uint8_t {
 inline bool visiblePoint(std::uint8_t flags) {
     return (flags & (kFlagCountEmission | kFlagVisibleChain)) != 0;
 }
-
-// What a batch holds: rays whose closest hits its stage shades (RayBatch), or occlusion rays
-// whose stage only needs to know whether each reached its end (ShadowBatch, pbrt-v4's
-// ShadowRayWorkItem). The queue, the pool and the processor move both; a route's query
-// (RayQuery) says which one its kind's batches are.
-enum class BatchType : std::uint8_t { Rays, Shadow };
 
 // What every batch starts with: its kind, how many lanes are filled, and the rays as Embree
 // takes them (structure of arrays, so the intersect stage loads packets straight from them).
@@ -116,11 +126,26 @@ protected:
     WorkBatch& operator=(const WorkBatch&) = default;
 };
 
+// What a batch traced to its closest hits adds: the hit, written by the intersect stage. The
+// intersector traces every such batch (RayBatch, PhotonBatch) through this one base.
+struct HitBatch : WorkBatch {
+    alignas(64) std::array<float, kBatchSize> t, u, v;
+    alignas(64) std::array<std::uint32_t, kBatchSize> geomId, primId, instId;
+
+    bool hit(int i) const { return geomId[i] != 0xffffffffu; }
+
+protected:
+    explicit HitBatch(BatchType type) : WorkBatch(type) {}
+    ~HitBatch() = default;
+    HitBatch(const HitBatch&) = default;
+    HitBatch& operator=(const HitBatch&) = default;
+};
+
 // Rays traced to their closest hit: camera, reflection, refraction, a mode's path and gather
 // rays. The payload is what the stage that shades the hit needs to go on with the path.
-struct RayBatch : WorkBatch {
+struct RayBatch : HitBatch {
     static constexpr BatchType kType = BatchType::Rays;
-    RayBatch() : WorkBatch(kType) {}
+    RayBatch() : HitBatch(kType) {}
 
     alignas(64) std::array<std::uint32_t, kBatchSize> pixel;  // film slot
     alignas(64) std::array<std::uint32_t, kBatchSize> sample; // the pixel's sample index
@@ -136,11 +161,6 @@ struct RayBatch : WorkBatch {
     // a path past a dispersive interface), which its successors and shadow rays inherit;
     // wr/wg/wb are then the throughput at those wavelengths. Written but unread in RGB mode.
     alignas(64) std::array<float, kBatchSize> lambdaU;
-    // Hit, filled by the intersect stage
-    alignas(64) std::array<float, kBatchSize> t, u, v;
-    alignas(64) std::array<std::uint32_t, kBatchSize> geomId, primId, instId;
-
-    bool hit(int i) const { return geomId[i] != 0xffffffffu; }
 };
 
 // Occlusion rays: each carries the contribution it adds where it is not blocked (a light or
@@ -160,5 +180,39 @@ struct ShadowBatch : WorkBatch {
 
     bool occluded(int i) const { return tfar[i] < 0.0f; }
 };
+
+// gi's photons (gi/photon_emitter.h, gi/photon_stage.h): a photon carries its power and what
+// its next bounce samples with, no film slot and no MIS state; the photon stage stores it at
+// its closest hit and scatters it on.
+struct PhotonBatch : HitBatch {
+    static constexpr BatchType kType = BatchType::Photons;
+    PhotonBatch() : HitBatch(kType) {}
+
+    // The photon's index in its pass: its stored records' key (with its depth), unique in the
+    // pass whatever thread traced it.
+    alignas(64) std::array<std::uint32_t, kBatchSize> index;
+    alignas(64) std::array<float, kBatchSize> wr, wg, wb;     // power
+    alignas(64) std::array<std::uint64_t, kBatchSize> rngKey; // the photon's random stream
+    alignas(64) std::array<std::uint8_t, kBatchSize> depth;   // bounces so far
+    alignas(64) std::array<std::uint8_t, kBatchSize> flags;   // gi's PhotonFlags
+    // Spectral mode: the photon's wavelength number, as RayBatch::lambdaU; unread in RGB mode.
+    alignas(64) std::array<float, kBatchSize> lambdaU;
+};
+
+// Calls f with b as its own type (RayBatch&, ShadowBatch& or PhotonBatch&): the one place that
+// turns a batch's type into its C++ type, so the pool, the recorder and the processor handle
+// every type with one generic body.
+template <class Batch, class F> decltype(auto) visitBatch(Batch& b, F&& f) {
+    constexpr bool isConst = std::is_const_v<Batch>;
+    using Rays = std::conditional_t<isConst, const RayBatch, RayBatch>;
+    using Shadows = std::conditional_t<isConst, const ShadowBatch, ShadowBatch>;
+    using Photons = std::conditional_t<isConst, const PhotonBatch, PhotonBatch>;
+    switch (b.type) {
+    case BatchType::Shadow: return f(static_cast<Shadows&>(b));
+    case BatchType::Photons: return f(static_cast<Photons&>(b));
+    case BatchType::Rays: break;
+    }
+    return f(static_cast<Rays&>(b));
+}
 
 } // namespace rayproc

@@ -15,36 +15,22 @@ const char* rayKindName(RayKind k) {
     return i >= 0 && i < kModeRayKindCount ? modeNames[i] : "?";
 }
 
-template <class Batch>
-Batch* BatchPool::take(tbb::concurrent_queue<Batch*>& free,
-                       std::vector<std::unique_ptr<Batch>>& owned, RayKind kind) {
-    Batch* b = nullptr;
-    if (!free.try_pop(b)) {
-        auto made = std::make_unique<Batch>();
-        b = made.get();
-        std::lock_guard<std::mutex> lock(m_ownedLock);
-        owned.push_back(std::move(made));
-        ++m_allocated;
-    }
-    reuse(b, kind);
+WorkBatch* BatchPool::own(Owned made) {
+    WorkBatch* b = made.get();
+    std::lock_guard<std::mutex> lock(m_ownedLock);
+    m_owned.push_back(std::move(made));
+    ++m_allocated;
     return b;
 }
 
-RayBatch* BatchPool::acquire(RayKind kind) { return take(m_free, m_owned, kind); }
-
-ShadowBatch* BatchPool::acquireShadow(RayKind kind) {
-    return take(m_freeShadow, m_ownedShadow, kind);
+void BatchPool::Delete::operator()(WorkBatch* b) const {
+    visitBatch(*b, [](auto& own) { delete &own; });
 }
 
 void BatchPool::reuse(WorkBatch* b, RayKind kind) {
     b->kind = kind;
     b->count = 0;
     b->fresh = kind == RayKind::Camera;
-}
-
-void BatchPool::release(WorkBatch* b) {
-    if (b->type == BatchType::Shadow) m_freeShadow.push(static_cast<ShadowBatch*>(b));
-    else m_free.push(static_cast<RayBatch*>(b));
 }
 
 BatchPool::~BatchPool() = default;

@@ -6,6 +6,7 @@
 
 #include <tbb/concurrent_queue.h>
 
+#include <array>
 #include <atomic>
 #include <memory>
 #include <mutex>
@@ -13,29 +14,34 @@
 
 namespace rayproc {
 
-// Spent batches of each type, reused by type.
+// Spent batches of each type, reused by type: one free list per BatchType.
 class BatchPool {
 public:
-    RayBatch* acquire(RayKind kind);
-    ShadowBatch* acquireShadow(RayKind kind);
-    void release(WorkBatch* b);
+    // An empty batch of `kind`, of type Batch (RayBatch, ShadowBatch, PhotonBatch).
+    template <class Batch> Batch* acquire(RayKind kind) {
+        WorkBatch* b = nullptr;
+        if (!m_free[int(Batch::kType)].try_pop(b)) b = own(Owned(new Batch()));
+        reuse(b, kind);
+        return static_cast<Batch*>(b);
+    }
+    void release(WorkBatch* b) { m_free[int(b->type)].push(b); }
     // An empty batch of `kind` made of a spent one.
     static void reuse(WorkBatch* b, RayKind kind);
     std::size_t allocated() const { return m_allocated.load(); }
     ~BatchPool();
 
 private:
-    template <class Batch>
-    Batch* take(tbb::concurrent_queue<Batch*>& free, std::vector<std::unique_ptr<Batch>>& owned,
-                RayKind kind);
+    // Deletes a batch as its own type: a WorkBatch has no virtual destructor.
+    struct Delete {
+        void operator()(WorkBatch* b) const;
+    };
+    using Owned = std::unique_ptr<WorkBatch, Delete>;
+    WorkBatch* own(Owned made);
 
-    tbb::concurrent_queue<RayBatch*> m_free;
-    tbb::concurrent_queue<ShadowBatch*> m_freeShadow;
+    std::array<tbb::concurrent_queue<WorkBatch*>, kBatchTypeCount> m_free;
     std::atomic<std::size_t> m_allocated{0};
     std::mutex m_ownedLock;
-    // Owned by their own type: a WorkBatch has no virtual destructor.
-    std::vector<std::unique_ptr<RayBatch>> m_owned;
-    std::vector<std::unique_ptr<ShadowBatch>> m_ownedShadow;
+    std::vector<Owned> m_owned;
 };
 
 // Multi-producer multi-consumer queue of batches. Secondary rays (shadow, reflection,

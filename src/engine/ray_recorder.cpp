@@ -2,6 +2,8 @@
 
 #include "core/error.h"
 
+#include <type_traits>
+
 namespace rayproc {
 
 std::atomic<RayRecorder*> RayRecorder::s_active{nullptr};
@@ -35,11 +37,10 @@ void RayRecorder::record(const WorkBatch& b, bool occlusion) {
     log.batches.push_back(std::move(r));
     if (m_fullCap > 0 &&
         m_fullTaken[int(b.kind)].fetch_add(1, std::memory_order_relaxed) < m_fullCap) {
-        if (b.type == BatchType::Shadow)
-            log.fullShadow.push_back(
-                std::make_shared<const ShadowBatch>(static_cast<const ShadowBatch&>(b)));
-        else
-            log.full.push_back(std::make_shared<const RayBatch>(static_cast<const RayBatch&>(b)));
+        visitBatch(b, [&](const auto& whole) {
+            using Batch = std::decay_t<decltype(whole)>;
+            log.full[int(b.type)].push_back(std::make_shared<const Batch>(whole));
+        });
     }
 }
 
@@ -48,27 +49,6 @@ std::vector<RecordedBatch> RayRecorder::batches() const {
     for (const ThreadLog& log : m_logs)
         all.insert(all.end(), log.batches.begin(), log.batches.end());
     return all;
-}
-
-namespace {
-
-template <class Batch, class Logs, class Member>
-std::vector<std::shared_ptr<const Batch>> ofKind(const Logs& logs, Member member, RayKind kind) {
-    std::vector<std::shared_ptr<const Batch>> out;
-    for (const auto& log : logs)
-        for (const auto& b : log.*member)
-            if (b->kind == kind) out.push_back(b);
-    return out;
-}
-
-} // namespace
-
-std::vector<std::shared_ptr<const RayBatch>> RayRecorder::fullBatches(RayKind kind) const {
-    return ofKind<RayBatch>(m_logs, &ThreadLog::full, kind);
-}
-
-std::vector<std::shared_ptr<const ShadowBatch>> RayRecorder::fullShadowBatches(RayKind kind) const {
-    return ofKind<ShadowBatch>(m_logs, &ThreadLog::fullShadow, kind);
 }
 
 std::size_t RayRecorder::rayCount() const {

@@ -7,9 +7,10 @@
 // Intersector built in the process records into it (the mode drivers build their own, so a
 // whole render, gi's photon and cache passes included, can be recorded without changing them).
 //
-// What is kept per traced batch: its kind, how it was traced, and the rays as Embree sees them (origin, direction,
-// tnear, tfar), before tracing. Optionally the first `fullBatchesPerKind` batches of each kind
-// are also kept whole (payload included), as realistic inputs for the per-stage benchmarks.
+// What is kept per traced batch: its kind, how it was traced, and the rays as Embree sees them
+// (origin, direction, tnear, tfar), before tracing. Optionally the first `fullBatchesPerKind`
+// batches of each kind are also kept whole (payload included, as their own type: RayBatch,
+// ShadowBatch or PhotonBatch), as realistic inputs for the per-stage benchmarks.
 // Recording is thread-safe (one buffer per thread); replay order is per thread, in the order
 // that thread traced its batches.
 #pragma once
@@ -45,10 +46,16 @@ public:
 
     // Every recorded batch: the first thread's in its order, then the next thread's, ...
     std::vector<RecordedBatch> batches() const;
-    // The batches of `kind` kept whole (at most fullBatchesPerKind, untraced): rays traced to
-    // their closest hit, or occlusion rays.
-    std::vector<std::shared_ptr<const RayBatch>> fullBatches(RayKind kind) const;
-    std::vector<std::shared_ptr<const ShadowBatch>> fullShadowBatches(RayKind kind) const;
+    // The batches of `kind` kept whole (at most fullBatchesPerKind, untraced), of the type
+    // Batch its route carries (RayBatch, ShadowBatch, PhotonBatch).
+    template <class Batch>
+    std::vector<std::shared_ptr<const Batch>> fullBatches(RayKind kind) const {
+        std::vector<std::shared_ptr<const Batch>> out;
+        for (const ThreadLog& log : m_logs)
+            for (const auto& b : log.full[int(Batch::kType)])
+                if (b->kind == kind) out.push_back(std::static_pointer_cast<const Batch>(b));
+        return out;
+    }
     std::size_t rayCount() const;
 
     // The recorder Intersectors built now attach to; null when recording is off.
@@ -66,8 +73,8 @@ public:
 private:
     struct ThreadLog {
         std::vector<RecordedBatch> batches;
-        std::vector<std::shared_ptr<const RayBatch>> full;
-        std::vector<std::shared_ptr<const ShadowBatch>> fullShadow;
+        // Batches kept whole, by type (BatchType), each owned as its own type.
+        std::array<std::vector<std::shared_ptr<const WorkBatch>>, kBatchTypeCount> full;
     };
     std::size_t m_fullCap;
     std::array<std::atomic<std::size_t>, kRayKindCount> m_fullTaken{};

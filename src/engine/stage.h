@@ -1,6 +1,6 @@
 // The interfaces between the processor and its stages. An Emitter creates work (camera rays,
-// later photons); a RetraceStage receives a traced batch of one RayKind and spawns successor
-// rays through its StageContext. Stages hold no per-thread state of their own.
+// photons); a RetraceStage receives a traced batch of one RayKind and spawns successor rays
+// through its StageContext. Stages hold no per-thread state of their own.
 #pragma once
 
 #include "core/error.h"
@@ -10,7 +10,6 @@
 
 #include <array>
 #include <atomic>
-#include <type_traits>
 
 namespace rayproc {
 
@@ -36,10 +35,11 @@ public:
     // emitter is done" flag).
     void keepLocal(const std::atomic<bool>* tail) { m_tail = tail; }
 
-    // A batch of `kind` with room for at least one more ray: rays traced to their closest hit
-    // (out), or occlusion rays (outShadow) for a kind whose route traces them so.
+    // A batch of `kind` with room for at least one more ray, of the type its route says: rays
+    // traced to their closest hit (out), occlusion rays (outShadow) or photons (outPhotons).
     RayBatch& out(RayKind kind) { return open<RayBatch>(kind); }
     ShadowBatch& outShadow(RayKind kind) { return open<ShadowBatch>(kind); }
+    PhotonBatch& outPhotons(RayKind kind) { return open<PhotonBatch>(kind); }
     // Pushes every non-empty open batch to the queue; returns whether any was pushed.
     bool flush();
     // Pushes the open batch of one kind, if it holds rays.
@@ -65,12 +65,9 @@ public:
     }
     // A traced batch back to this thread's spent batches (the pool's when they are full).
     void release(WorkBatch* b) {
-        if (m_tail && b->type == BatchType::Rays && m_freeCount < kLocalFree)
-            m_free[m_freeCount++] = static_cast<RayBatch*>(b);
-        else if (m_tail && b->type == BatchType::Shadow && m_freeShadowCount < kLocalFree)
-            m_freeShadow[m_freeShadowCount++] = static_cast<ShadowBatch*>(b);
-        else
-            m_pool.release(b);
+        LocalFree& free = m_free[int(b->type)];
+        if (m_tail && free.count < kLocalFree) free.batches[free.count++] = b;
+        else m_pool.release(b);
     }
 
     // Returns every open, ready and spent batch to the pool unsent (a run that failed drops
@@ -99,18 +96,18 @@ private:
             m_queue.push(b);
     }
     template <class Batch> Batch* acquire(RayKind kind) {
-        if constexpr (std::is_same_v<Batch, ShadowBatch>) {
-            if (m_freeShadowCount == 0) return m_pool.acquireShadow(kind);
-            ShadowBatch* b = m_freeShadow[--m_freeShadowCount];
-            BatchPool::reuse(b, kind);
-            return b;
-        } else {
-            if (m_freeCount == 0) return m_pool.acquire(kind);
-            RayBatch* b = m_free[--m_freeCount];
-            BatchPool::reuse(b, kind);
-            return b;
-        }
+        LocalFree& free = m_free[int(Batch::kType)];
+        if (free.count == 0) return m_pool.acquire<Batch>(kind);
+        WorkBatch* b = free.batches[--free.count];
+        BatchPool::reuse(b, kind);
+        return static_cast<Batch*>(b);
     }
+
+    // Spent batches of one type, kept for this thread's next batches of that type.
+    struct LocalFree {
+        std::array<WorkBatch*, kLocalFree> batches{};
+        int count = 0;
+    };
 
     RayQueue& m_queue;
     BatchPool& m_pool;
@@ -118,10 +115,7 @@ private:
     const std::atomic<bool>* m_tail = nullptr;
     std::array<WorkBatch*, kLocalReady> m_ready{};
     int m_readyCount = 0;
-    std::array<RayBatch*, kLocalFree> m_free{};
-    int m_freeCount = 0;
-    std::array<ShadowBatch*, kLocalFree> m_freeShadow{};
-    int m_freeShadowCount = 0;
+    std::array<LocalFree, kBatchTypeCount> m_free{};
 };
 
 class Emitter {
@@ -133,13 +127,15 @@ public:
 };
 
 // A stage takes the batches of the kinds routed to it: rays with their closest hits (retrace),
-// or occlusion rays with whether each was blocked (retraceShadows). A stage implements what its
-// routes carry; being handed the other type is a wiring error (std::logic_error).
+// occlusion rays with whether each was blocked (retraceShadows), or photons with their closest
+// hits (retracePhotons). A stage implements what its routes carry; being handed another type
+// is a wiring error (std::logic_error).
 class RetraceStage {
 public:
     virtual ~RetraceStage() = default;
     virtual void retrace(RayBatch& batch, StageContext& ctx);
     virtual void retraceShadows(ShadowBatch& batch, StageContext& ctx);
+    virtual void retracePhotons(PhotonBatch& batch, StageContext& ctx);
 };
 
 } // namespace rayproc

@@ -15,12 +15,12 @@ constexpr RayKind kGatherShadowRay = modeRayKind(2); // occlusion rays of a gath
 constexpr RayKind kCorrectionRay = modeRayKind(3); // one per first diffuse hit: corrects the map's bias
 constexpr RayKind kCorrectionPathRay = modeRayKind(4); // the path traced on from a correction ray's far end
 
-// Their queues (engine/pipeline.h): names for --stats, and how each is traced.
-constexpr RayRoute kPhotonQueue{kPhotonRay, "photon", RayQuery::Closest};
-constexpr RayRoute kGatherQueue{kGatherRay, "gather", RayQuery::Closest};
-constexpr RayRoute kGatherShadowQueue{kGatherShadowRay, "gather-shadow", RayQuery::Occlusion};
-constexpr RayRoute kCorrectionQueue{kCorrectionRay, "correction", RayQuery::Closest};
-constexpr RayRoute kCorrectionPathQueue{kCorrectionPathRay, "correction-path", RayQuery::Closest};
+// Their queues (engine/pipeline.h): names for --stats, and the batches each travels in.
+constexpr RayRoute kPhotonQueue{kPhotonRay, "photon", BatchType::Photons};
+constexpr RayRoute kGatherQueue{kGatherRay, "gather", BatchType::Rays};
+constexpr RayRoute kGatherShadowQueue{kGatherShadowRay, "gather-shadow", BatchType::Shadow};
+constexpr RayRoute kCorrectionQueue{kCorrectionRay, "correction", BatchType::Rays};
+constexpr RayRoute kCorrectionPathQueue{kCorrectionPathRay, "correction-path", BatchType::Rays};
 
 // A gather ray of an irradiance-cache record (its pixel is the record's request slot).
 constexpr std::uint8_t kFlagGatherRecord = kFlagModeBit;

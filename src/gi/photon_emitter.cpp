@@ -279,7 +279,7 @@ bool PhotonEmitter::emit(StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, kPhotonStageId);
     ctx.flush(kPhotonRay); // a fresh batch: emitted photons queue behind bounces
-    RayBatch& b = ctx.out(kPhotonRay);
+    PhotonBatch& b = ctx.outPhotons(kPhotonRay);
     b.fresh = true;
     std::uint64_t last = std::min<std::uint64_t>(first + kBatchSize, m_last);
     for (std::uint64_t k = first; k < last; ++k) {
@@ -289,15 +289,11 @@ bool PhotonEmitter::emit(StageContext& ctx) {
         if (m_spectral) e.power = spectralPower(e, u);
         int j = b.push(e.origin.x, e.origin.y, e.origin.z, e.direction.x, e.direction.y,
                        e.direction.z, 0.0f, kInfinity);
-        b.pixel[j] = 0;
-        b.sample[j] = std::uint32_t(k);
+        b.index[j] = std::uint32_t(k);
         b.wr[j] = e.power.x; b.wg[j] = e.power.y; b.wb[j] = e.power.z;
         b.rngKey[j] = kernels::hashCombine(m_key, k + 0x1000);
         b.depth[j] = 0;
-        b.specularDepth[j] = 0;
         b.flags[j] = e.deltaOrSky ? kPhotonDeltaOrSky : 0;
-        b.prevPdf[j] = 0;
-        b.prevCos[j] = 0;
         b.lambdaU[j] = u;
     }
     stats.stages[int(kPhotonStageId)].raysOut += std::uint64_t(b.count);

@@ -1,7 +1,8 @@
 // Photon emitter: the first pass of Jensen's photon mapping. Lights emit in proportion to
 // their power; each photon is a deterministic function of its index (stratified over the
 // photons of the pass: the light choice, the point on the light and the direction each use
-// their own permutation), so the photon maps do not depend on the thread count.
+// their own permutation), so the photon maps do not depend on the thread count. Photons travel
+// in their own batches (PhotonBatch: power, index, random stream, depth, flags, wavelength).
 #pragma once
 
 #include "core/math.h"

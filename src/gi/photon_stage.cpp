@@ -19,9 +19,24 @@ namespace rayproc {
 namespace {
 enum PhotonDim : std::uint32_t { kDimScatter = 30, kDimLobe = 32, kDimSurvive = 33 };
 
+// Writes the photon that lane i of `parent` scatters into, as gi has always keyed its random
+// stream: the successor's (branch 4) of spawnRay (engine/path_state.h).
+void spawnPhoton(PhotonBatch& out, const PhotonBatch& parent, int i, const Vec3& origin,
+                 const Vec3& dir, const Vec3& power, std::uint8_t depth, std::uint8_t flags,
+                 float lambdaU) {
+    constexpr std::uint32_t kBranch = 4;
+    int j = out.push(origin.x, origin.y, origin.z, dir.x, dir.y, dir.z, 0.0f, kInfinity);
+    out.index[j] = parent.index[i];
+    out.wr[j] = power.x; out.wg[j] = power.y; out.wb[j] = power.z;
+    out.rngKey[j] = kernels::hashCombine(parent.rngKey[i], 0x100u + kBranch);
+    out.depth[j] = depth;
+    out.flags[j] = flags;
+    out.lambdaU[j] = lambdaU;
+}
+
 } // namespace
 
-PhotonRecord PhotonStage::record(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& wo,
+PhotonRecord PhotonStage::record(const PhotonBatch& b, int i, const SurfaceHit& h, const Vec3& wo,
                                  const Vec3& power, const LaneShading& wl) const {
     Vec3 fg = dot(wo, h.ng) >= 0 ? h.ng : -h.ng;
     // Where a photon from a delta light or the sky first lands it is that light's direct
@@ -36,7 +51,7 @@ PhotonRecord PhotonStage::record(const RayBatch& b, int i, const SurfaceHit& h, 
     return PhotonRecord{h.p, stored3, wo, fg, sampled, one};
 }
 
-void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
+void PhotonStage::retracePhotons(PhotonBatch& b, StageContext& ctx) {
     ThreadStats& stats = *ctx.stats;
     StageTimer timer(stats, kPhotonStageId);
     stats.stages[int(kPhotonStageId)].raysIn += std::uint64_t(b.count);
@@ -66,7 +81,7 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
         if (!specularSurface) {
             bool store = m_causticPass ? (flags & kPhotonSpecular) && !(flags & kPhotonDiffuse) : true;
             if (store) {
-                std::uint64_t key = (std::uint64_t(b.sample[i]) << 8) | b.depth[i];
+                std::uint64_t key = (std::uint64_t(b.index[i]) << 8) | b.depth[i];
                 stored.push_back({key, record(b, i, h, wo, power, wl)});
                 ++giCounter(stats, kGiPhotonsStored);
             }
@@ -102,8 +117,8 @@ void PhotonStage::retrace(RayBatch& b, StageContext& ctx) {
             next = next * smoothTransmissionScale(bsdf.ior, dot(wo, h.ng) > 0);
         std::uint8_t nextFlags = std::uint8_t(
             flags | (s.delta || s.coat || roughInterface ? kPhotonSpecular : kPhotonDiffuse));
-        spawnRay(ctx.out(kPhotonRay), b, i, offsetRayOrigin(h, h.ng, s.wi), s.wi, next,
-                 std::uint8_t(depth), 0, nextFlags, 4, wl.u());
+        spawnPhoton(ctx.outPhotons(kPhotonRay), b, i, offsetRayOrigin(h, h.ng, s.wi), s.wi,
+                    next, std::uint8_t(depth), nextFlags, wl.u());
         ++spawned;
     }
     stats.stages[int(kPhotonStageId)].raysOut += spawned;

@@ -1,9 +1,10 @@
-// Photon stage: the retrace stage of photon rays (the paper's photon "retrace processor"; it
-// shares the intersection handler with the camera pass). At diffuse and glossy hits a photon
-// is stored — every one in the global pass; in the caustic pass only those that came from
-// the light through specular surfaces alone (L S+ D). It then scatters by Russian roulette on
-// the surface's reflectance (Jensen 2001): it survives with probability q = max channel of the
-// BSDF weight and carries power * weight / q, so the stored power stays unbiased.
+// Photon stage: the retrace stage of photon rays, which travel in PhotonBatches (the paper's
+// photon "retrace processor"; it shares the intersection handler with the camera pass). At
+// diffuse and glossy hits a photon is stored — every one in the global pass; in the caustic
+// pass only those that came from the light through specular surfaces alone (L S+ D). It then
+// scatters by Russian roulette on the surface's reflectance (Jensen 2001): it survives with
+// probability q = max channel of the BSDF weight and carries power * weight / q, so the stored
+// power stays unbiased.
 #pragma once
 
 #include "engine/render_context.h"
@@ -42,7 +43,7 @@ public:
                 bool roughCaustics = false)
         : m_rc(rc), m_causticPass(causticPass), m_roughCaustics(causticPass && roughCaustics),
           m_maxDepth(maxDepth) {}
-    void retrace(RayBatch& batch, StageContext& ctx) override;
+    void retracePhotons(PhotonBatch& batch, StageContext& ctx) override;
     // A photon's key: its index and bounce, (index << 8) | depth, unique in a pass.
     using KeyedPhoton = rayproc::KeyedPhoton;
     // The stored photons in key order (photon index, then bounce), whatever the threads;
@@ -56,7 +57,7 @@ public:
 
 private:
     // The photon lane i of b leaves at its hit h (power: its flux there; wl: its lane).
-    PhotonRecord record(const RayBatch& b, int i, const SurfaceHit& h, const Vec3& wo,
+    PhotonRecord record(const PhotonBatch& b, int i, const SurfaceHit& h, const Vec3& wo,
                         const Vec3& power, const LaneShading& wl) const;
     const RenderContext& m_rc;
     bool m_causticPass;

@@ -70,11 +70,11 @@ std::vector<std::unique_ptr<B>> copyOf(const std::vector<std::unique_ptr<B>>& bs
     return out;
 }
 
-// The same rays as occlusion rays, batch for batch.
-ShadowBatches shadowsOf(const Batches& bs) {
-    ShadowBatches out;
+// The same rays in batches of type B (occlusion rays, photons), batch for batch.
+template <class B> std::vector<std::unique_ptr<B>> sameRaysAs(const Batches& bs) {
+    std::vector<std::unique_ptr<B>> out;
     for (auto& b : bs) {
-        out.push_back(std::make_unique<ShadowBatch>());
+        out.push_back(std::make_unique<B>());
         out.back()->kind = b->kind;
         for (int i = 0; i < b->count; ++i)
             out.back()->push(b->ox[i], b->oy[i], b->oz[i], b->dx[i], b->dy[i], b->dz[i],
@@ -82,6 +82,7 @@ ShadowBatches shadowsOf(const Batches& bs) {
     }
     return out;
 }
+ShadowBatches shadowsOf(const Batches& bs) { return sameRaysAs<ShadowBatch>(bs); }
 
 bool sameBits(float a, float b) {
     return std::memcmp(&a, &b, sizeof a) == 0;
@@ -226,5 +227,36 @@ TEST_CASE("Packet and single-ray paths give the same hits on thousands of random
             }
             CHECK(mismatch == 0);
         }
+    }
+}
+
+TEST_CASE("Photons get the hits rays get: a PhotonBatch is traced as a RayBatch of the same "
+          "rays, at every width",
+          "[engine][intersect]") {
+    auto scene = loadScene(scenePath(GENERATE(std::string("cornell-box"), "instances")));
+    EmbreeScene accel(*scene);
+    Batches rays = makeRays(*scene, false, 99);
+    auto photons = sameRaysAs<PhotonBatch>(rays);
+    for (int width : {1, 4, 8, 16}) {
+        INFO("width " << width);
+        Traced r = traceAll(rays, accel.root(), width);
+        TracedOf<PhotonBatch> p = traceAll(photons, accel.root(), width);
+        CHECK(p.raysTraced == r.raysTraced);
+        std::size_t mismatch = 0, hits = 0;
+        for (std::size_t k = 0; k < rays.size(); ++k) {
+            const RayBatch& a = *r.batches[k];
+            const PhotonBatch& b = *p.batches[k];
+            for (int i = 0; i < a.count; ++i) {
+                hits += a.hit(i);
+                // A miss leaves the rest of the hit as Embree found it: only its id counts.
+                if (a.geomId[i] != b.geomId[i] ||
+                    (a.hit(i) && (a.primId[i] != b.primId[i] || a.instId[i] != b.instId[i] ||
+                                  !sameBits(a.t[i], b.t[i]) || !sameBits(a.u[i], b.u[i]) ||
+                                  !sameBits(a.v[i], b.v[i]))))
+                    ++mismatch;
+            }
+        }
+        CHECK(hits > 0);
+        CHECK(mismatch == 0);
     }
 }

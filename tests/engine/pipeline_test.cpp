@@ -59,8 +59,8 @@ struct SphereScene {
     EmbreeScene accel{*scene};
 };
 
-constexpr RayRoute kProbeQueue{modeRayKind(1), "probe", RayQuery::Closest};
-constexpr RayRoute kProbeShadowQueue{modeRayKind(3), "probe-shadow", RayQuery::Occlusion};
+constexpr RayRoute kProbeQueue{modeRayKind(1), "probe", BatchType::Rays};
+constexpr RayRoute kProbeShadowQueue{modeRayKind(3), "probe-shadow", BatchType::Shadow};
 
 } // namespace
 

@@ -24,9 +24,9 @@ namespace {
 class FailingStage : public RetraceStage {
 public:
     FailingStage(RetraceStage& inner, int failAt) : m_inner(inner), m_failAt(failAt) {}
-    void retrace(RayBatch& batch, StageContext& ctx) override {
+    void retracePhotons(PhotonBatch& batch, StageContext& ctx) override {
         if (m_seen.fetch_add(1) + 1 == m_failAt) throw std::bad_alloc();
-        m_inner.retrace(batch, ctx);
+        m_inner.retracePhotons(batch, ctx);
     }
 
 private:
@@ -72,13 +72,13 @@ TEST_CASE("Ray processor: a stage's exception stops every worker and run() rethr
     RayProcessor processor(intersector, stats, threads);
     PhotonStage photons(rc, /*causticPass=*/false, 16);
     FailingStage failing(photons, failAt);
-    processor.setStage(kPhotonRay, &failing);
+    processor.setStage(kPhotonRay, &failing, BatchType::Photons);
     PhotonEmitter emitter(lights, scene->worldBounds(), 200000, 1, 1);
     CHECK(runWithin(processor, emitter) == 1);
 
     // The processor is usable again: a run that does not fail completes.
     FailingStage never(photons, -1);
-    processor.setStage(kPhotonRay, &never);
+    processor.setStage(kPhotonRay, &never, BatchType::Photons);
     PhotonEmitter again(lights, scene->worldBounds(), 1000, 2, 1);
     CHECK(runWithin(processor, again) == 0);
 }
@@ -88,41 +88,59 @@ namespace {
 // One batch of `kind`: a ray from the sphere's centre out through its wall.
 class OneBatchEmitter : public Emitter {
 public:
-    // `occlusion`: the ray in an occlusion batch (ShadowBatch), else in a batch of rays.
-    OneBatchEmitter(RayKind kind, bool occlusion) : m_kind(kind), m_occlusion(occlusion) {}
+    // `type`: the batch the ray travels in.
+    OneBatchEmitter(RayKind kind, BatchType type) : m_kind(kind), m_type(type) {}
     bool emit(StageContext& ctx) override {
         if (m_done.exchange(true)) return false;
-        WorkBatch& b = m_occlusion ? static_cast<WorkBatch&>(ctx.outShadow(m_kind))
-                                   : ctx.out(m_kind);
-        b.push(0, 0, 0, 0, 0, -1, 0.0f, 100.0f);
+        open(ctx).push(0, 0, 0, 0, 0, -1, 0.0f, 100.0f);
         ctx.flush(m_kind);
         return true;
     }
 
 private:
+    WorkBatch& open(StageContext& ctx) {
+        switch (m_type) {
+        case BatchType::Shadow: return ctx.outShadow(m_kind);
+        case BatchType::Photons: return ctx.outPhotons(m_kind);
+        case BatchType::Rays: break;
+        }
+        return ctx.out(m_kind);
+    }
     RayKind m_kind;
-    bool m_occlusion;
+    BatchType m_type;
     std::atomic<bool> m_done{false};
 };
 
-// Keeps what the intersection handler wrote into the one ray it is handed.
+// Keeps what the intersection handler wrote into the one ray it is handed, and the type of
+// the batch the stage was handed.
 class ResultStage : public RetraceStage {
 public:
-    void retrace(RayBatch& b, StageContext&) override {
-        hit = b.hit(0);
-        ++batches;
-    }
+    void retrace(RayBatch& b, StageContext&) override { took(b, b.hit(0)); }
     void retraceShadows(ShadowBatch& b, StageContext&) override {
         occluded = b.occluded(0);
+        took(b, false);
+    }
+    void retracePhotons(PhotonBatch& b, StageContext&) override { took(b, b.hit(0)); }
+    bool occluded = false, hit = false;
+    BatchType type = BatchType::Rays;
+    int batches = 0;
+
+private:
+    void took(const WorkBatch& b, bool h) {
+        hit = h;
+        type = b.type;
         ++batches;
     }
-    bool occluded = false, hit = false;
-    int batches = 0;
 };
+
+const char* typeName(BatchType t) {
+    return t == BatchType::Shadow ? "occlusion rays" : t == BatchType::Photons ? "photons" : "rays";
+}
 
 } // namespace
 
-TEST_CASE("A mode's ray kind is traced as its route says: closest hit or occlusion",
+TEST_CASE("A mode's ray kind travels and is traced as its route says: rays and photons to "
+          "their closest hit, occlusion rays",
           "[engine][processor]") {
     auto scene = sceneFromJson(kClosedSphere);
     EmbreeScene accel(*scene);
@@ -130,13 +148,15 @@ TEST_CASE("A mode's ray kind is traced as its route says: closest hit or occlusi
     Stats stats;
     RayProcessor processor(intersector, stats, 1);
     const RayKind kind = modeRayKind(2);
-    const bool occlusion = GENERATE(false, true);
-    INFO((occlusion ? "occlusion" : "closest hit") << ", width " << intersector.width());
+    const BatchType type = GENERATE(BatchType::Rays, BatchType::Shadow, BatchType::Photons);
+    const bool occlusion = type == BatchType::Shadow;
+    INFO(typeName(type) << ", width " << intersector.width());
     ResultStage result;
-    processor.setStage(kind, &result, occlusion ? RayQuery::Occlusion : RayQuery::Closest);
-    OneBatchEmitter emitter(kind, occlusion);
+    processor.setStage(kind, &result, type);
+    OneBatchEmitter emitter(kind, type);
     processor.run(emitter, [] { return false; });
     REQUIRE(result.batches == 1);
+    CHECK(result.type == type);
     // An occlusion query writes only tfar (negative: occluded); a closest-hit query writes the
     // hit (the wall) and leaves tfar.
     CHECK(result.occluded == occlusion);
@@ -146,8 +166,8 @@ TEST_CASE("A mode's ray kind is traced as its route says: closest hit or occlusi
     if (!occlusion) CHECK(result.hit);
 }
 
-TEST_CASE("A batch of the other type than its kind's route is refused: an occlusion queue "
-          "takes only occlusion rays, a closest-hit queue only rays",
+TEST_CASE("A batch of another type than its kind's route is refused: each queue takes only "
+          "the batches its route names",
           "[engine][processor]") {
     auto scene = sceneFromJson(kClosedSphere);
     EmbreeScene accel(*scene);
@@ -155,12 +175,13 @@ TEST_CASE("A batch of the other type than its kind's route is refused: an occlus
     Stats stats;
     RayProcessor processor(intersector, stats, 1);
     const RayKind kind = modeRayKind(2);
-    const bool occlusion = GENERATE(false, true);
-    INFO((occlusion ? "occlusion route given rays" : "closest-hit route given occlusion rays"));
+    const BatchType route = GENERATE(BatchType::Rays, BatchType::Shadow, BatchType::Photons);
+    const BatchType given = BatchType((int(route) + GENERATE(1, 2)) % kBatchTypeCount);
+    INFO("a route of " << typeName(route) << " given " << typeName(given));
     ResultStage result;
-    processor.setStage(kind, &result, occlusion ? RayQuery::Occlusion : RayQuery::Closest);
-    OneBatchEmitter emitter(kind, !occlusion);
+    processor.setStage(kind, &result, route);
+    OneBatchEmitter emitter(kind, given);
     CHECK_THROWS_WITH(processor.run(emitter, [] { return false; }),
-                      Catch::Matchers::Contains("other type than its query"));
+                      Catch::Matchers::Contains("another type than its route's"));
     CHECK(result.batches == 0);
 }

@@ -68,6 +68,33 @@ TEST_CASE("RayBatch::push fills consecutive lanes, and a ShadowBatch says which 
     shadows->tfar[5] = -std::numeric_limits<float>::infinity();
     CHECK(shadows->occluded(5));
     CHECK_FALSE(shadows->occluded(6));
+    auto photons = std::make_unique<PhotonBatch>();
+    CHECK(photons->type == BatchType::Photons);
+    photons->push(0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 1.0f);
+    photons->geomId[0] = 0xffffffffu;
+    CHECK_FALSE(photons->hit(0));
+}
+
+TEST_CASE("BatchPool keeps each type's spent batches apart: a released photon batch comes "
+          "back only as a photon batch",
+          "[engine]") {
+    BatchPool pool;
+    PhotonBatch* photons = pool.acquire<PhotonBatch>(RayKind::Camera);
+    ShadowBatch* shadows = pool.acquire<ShadowBatch>(RayKind::Shadow);
+    CHECK(photons->type == BatchType::Photons);
+    CHECK(shadows->type == BatchType::Shadow);
+    pool.release(photons);
+    pool.release(shadows);
+    RayBatch* rays = pool.acquire<RayBatch>(RayKind::Reflection);
+    CHECK(static_cast<WorkBatch*>(rays) != static_cast<WorkBatch*>(photons));
+    CHECK(static_cast<WorkBatch*>(rays) != static_cast<WorkBatch*>(shadows));
+    CHECK(pool.acquire<PhotonBatch>(modeRayKind(0)) == photons);
+    CHECK(photons->kind == modeRayKind(0));
+    CHECK(pool.acquire<ShadowBatch>(RayKind::Shadow) == shadows);
+    CHECK(pool.allocated() == 3);
+    pool.release(rays);
+    pool.release(photons);
+    pool.release(shadows);
 }
 
 TEST_CASE("BatchPool recycles released batches", "[engine]") {
@@ -75,7 +102,7 @@ TEST_CASE("BatchPool recycles released batches", "[engine]") {
     CHECK(pool.allocated() == 0);
     std::set<RayBatch*> first;
     for (int i = 0; i < 4; ++i) {
-        RayBatch* b = pool.acquire(RayKind::Camera);
+        RayBatch* b = pool.acquire<RayBatch>(RayKind::Camera);
         b->count = 17; // dirty it: acquire must reset
         first.insert(b);
     }
@@ -85,7 +112,7 @@ TEST_CASE("BatchPool recycles released batches", "[engine]") {
 
     std::set<RayBatch*> second;
     for (int i = 0; i < 4; ++i) {
-        RayBatch* b = pool.acquire(RayKind::Shadow);
+        RayBatch* b = pool.acquire<RayBatch>(RayKind::Shadow);
         CHECK(b->kind == RayKind::Shadow);
         CHECK(b->count == 0);
         second.insert(b);
@@ -94,7 +121,7 @@ TEST_CASE("BatchPool recycles released batches", "[engine]") {
     CHECK(pool.allocated() == 4); // and none was allocated anew
 
     // One more than was ever released needs a new allocation.
-    RayBatch* extra = pool.acquire(RayKind::Reflection);
+    RayBatch* extra = pool.acquire<RayBatch>(RayKind::Reflection);
     CHECK(first.count(extra) == 0);
     CHECK(pool.allocated() == 5);
     pool.release(extra);
@@ -102,8 +129,8 @@ TEST_CASE("BatchPool recycles released batches", "[engine]") {
 
     // Many acquire/release cycles never grow the pool beyond what was held at once.
     for (int round = 0; round < 100; ++round) {
-        RayBatch* a = pool.acquire(RayKind::Camera);
-        RayBatch* b = pool.acquire(RayKind::Refraction);
+        RayBatch* a = pool.acquire<RayBatch>(RayKind::Camera);
+        RayBatch* b = pool.acquire<RayBatch>(RayKind::Refraction);
         pool.release(a);
         pool.release(b);
     }
@@ -119,7 +146,7 @@ TEST_CASE("BatchPool from two threads allocates at most what is held at once", "
             [&](int) {
                 for (int round = 0; round < 2000; ++round) {
                     RayBatch* held[3];
-                    for (auto& h : held) h = pool.acquire(RayKind::Camera);
+                    for (auto& h : held) h = pool.acquire<RayBatch>(RayKind::Camera);
                     for (auto& h : held) pool.release(h);
                 }
             },

@@ -3,7 +3,11 @@
 // replay traces the same rays); it changes nothing in the image; without a scope nothing is
 // recorded.
 #include "engine/intersect.h"
+#include "engine/pipeline.h"
 #include "engine/ray_recorder.h"
+#include "gi/gi_pipeline.h"
+#include "gi/photon_emitter.h"
+#include "gi/photon_stage.h"
 #include "test_util.h"
 
 #include <cstring>
@@ -60,12 +64,12 @@ TEST_CASE("the ray recorder sees every traced ray of a render, only while active
     }
 
     // Whole batches: at most the cap per kind, untraced (shadow rays keep their tfar >= 0).
-    auto shadows = recorder.fullShadowBatches(RayKind::Shadow);
-    CHECK(recorder.fullBatches(RayKind::Shadow).empty());
+    auto shadows = recorder.fullBatches<ShadowBatch>(RayKind::Shadow);
+    CHECK(recorder.fullBatches<RayBatch>(RayKind::Shadow).empty());
     CHECK(shadows.size() == 2);
     for (const auto& b : shadows)
         for (int i = 0; i < b->count; ++i) CHECK(b->tfar[i] >= 0.0f);
-    CHECK(recorder.fullBatches(RayKind::Camera).size() == 2);
+    CHECK(recorder.fullBatches<RayBatch>(RayKind::Camera).size() == 2);
 
     // Recording changes nothing, and nothing is recorded without a scope.
     RenderResult plain = render(*scene, accel, o);
@@ -129,7 +133,35 @@ TEST_CASE("recorded rays replayed through bare Embree give the engine's hits",
             }
         }
     };
-    replay(RayKind::Camera, recorder.fullBatches(RayKind::Camera));
-    replay(RayKind::Shadow, recorder.fullShadowBatches(RayKind::Shadow));
+    replay(RayKind::Camera, recorder.fullBatches<RayBatch>(RayKind::Camera));
+    replay(RayKind::Shadow, recorder.fullBatches<ShadowBatch>(RayKind::Shadow));
     CHECK(compared > 1000);
+}
+
+TEST_CASE("the ray recorder keeps gi's photons whole as photon batches", "[engine][recorder]") {
+    auto scene = loadSceneAt("cornell-box", 16, 16);
+    EmbreeScene accel(*scene);
+    LightSet lights = LightSet::build(*scene, accel);
+    Film film(1, 1);
+    ShadingPolicy policy;
+    RenderContext rc{*scene, accel, lights, policy, film, 1};
+    Stats stats;
+    PhotonStage stage(rc, /*causticPass=*/false, 8);
+    RayRecorder recorder(3);
+    {
+        RayRecorder::Scope scope(recorder);
+        Pipeline pipeline("photons", "photon", accel.root(), 16, stats, 1);
+        pipeline.stage("photon", {kPhotonQueue}, stage);
+        PhotonEmitter emitter(lights, scene->worldBounds(), 5000, 1, 1);
+        pipeline.run(emitter, [] { return false; });
+    }
+    CHECK(recorder.rayCount() == stats.merged().raysTraced);
+    auto photons = recorder.fullBatches<PhotonBatch>(kPhotonRay);
+    CHECK(photons.size() == 3);
+    CHECK(recorder.fullBatches<RayBatch>(kPhotonRay).empty());
+    for (const auto& b : photons) {
+        CHECK(b->type == BatchType::Photons);
+        CHECK(b->count > 0);
+    }
+    for (const RecordedBatch& r : recorder.batches()) CHECK_FALSE(r.occlusion);
 }
