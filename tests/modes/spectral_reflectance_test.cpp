@@ -62,6 +62,26 @@ Image render(Scene& scene, int spp, bool spectral) {
         .image;
 }
 
+// bsdfAt's parameters on `material` facing +z at three lanes: check(b, i, nm) for each of a
+// lane's wavelengths i, nm its nearest nanometre's index into a DenseSpectrum.
+template <class Check> void atLanes(const Scene& scene, int material, const Check& check) {
+    EmbreeScene accel(scene);
+    LightSet lights = LightSet::build(scene, accel);
+    SpectralRender spectral(scene, lights);
+    LaneShading wl(&spectral);
+    SurfaceHit hit;
+    hit.ng = hit.ns = Vec3(0, 0, 1);
+    hit.material = material;
+    for (float u : {0.1f, 0.35f, 0.6f}) {
+        wl.select(u);
+        const kernels::BsdfParams b = bsdfAt(scene, material, hit, 0, wl.shading());
+        for (int i = 0; i < 3; ++i) {
+            INFO("lambda " << wl.lane().w.lambda[i]);
+            check(b, i, std::size_t(wl.lane().nm[i]));
+        }
+    }
+}
+
 } // namespace
 
 TEST_CASE("pbrt reflectance spectra are kept for the spectral mode beside their colour",
@@ -118,22 +138,9 @@ TEST_CASE("A coated layer's sampled albedo is kept, and the spectral BSDF takes 
                      std::string(kPairsText))
               .albedoSpectrum);
     // At a lane's wavelengths the BSDF's albedo is the spectrum's, at the nearest nanometre.
-    EmbreeScene accel(*r.scene);
-    LightSet lights = LightSet::build(*r.scene, accel);
-    SpectralRender spectral(*r.scene, lights);
-    LaneShading wl(&spectral);
-    SurfaceHit hit;
-    hit.ng = hit.ns = Vec3(0, 0, 1);
-    hit.material = material;
-    for (float u : {0.1f, 0.35f, 0.6f}) {
-        wl.select(u);
-        const kernels::BsdfParams b = bsdfAt(*r.scene, material, hit, 0, wl.shading());
-        for (int i = 0; i < 3; ++i) {
-            const int nm = wl.lane().nm[i];
-            INFO("lambda " << wl.lane().w.lambda[i]);
-            CHECK(b.albedo[i] == m.albedoSpectrum->values.values[std::size_t(nm)]);
-        }
-    }
+    atLanes(*r.scene, material, [&](const kernels::BsdfParams& b, int i, std::size_t nm) {
+        CHECK(b.albedo[i] == m.albedoSpectrum->values.values[nm]);
+    });
 }
 
 TEST_CASE("Spectral mode: a sampled reflectance renders its own spectrum, RGB mode its colour",
@@ -219,23 +226,10 @@ TEST_CASE("A conductor's sampled eta and k are kept, and the spectral BSDF takes
         CHECK(rec.kSpectrum->values.at(nm) == Approx(k(nm)).epsilon(1e-5));
     CHECK(rec.kSpectrum->values.at(650.0f) > 1.0f);
     // At a lane's wavelengths the BSDF's eta and k are the spectra's, at the nearest nanometre.
-    EmbreeScene accel(*r.scene);
-    LightSet lights = LightSet::build(*r.scene, accel);
-    SpectralRender spectral(*r.scene, lights);
-    LaneShading wl(&spectral);
-    SurfaceHit hit;
-    hit.ng = hit.ns = Vec3(0, 0, 1);
-    hit.material = material;
-    for (float u : {0.1f, 0.35f, 0.6f}) {
-        wl.select(u);
-        const kernels::BsdfParams b = bsdfAt(*r.scene, material, hit, 0, wl.shading());
-        for (int i = 0; i < 3; ++i) {
-            const std::size_t nm = std::size_t(wl.lane().nm[i]);
-            INFO("lambda " << wl.lane().w.lambda[i]);
-            CHECK(b.eta[i] == m.etaSpectrum->values.values[nm]);
-            CHECK(b.k[i] == m.kSpectrum->values.values[nm]);
-        }
-    }
+    atLanes(*r.scene, material, [&](const kernels::BsdfParams& b, int i, std::size_t nm) {
+        CHECK(b.eta[i] == m.etaSpectrum->values.values[nm]);
+        CHECK(b.k[i] == m.kSpectrum->values.values[nm]);
+    });
 }
 
 TEST_CASE("Spectral mode: a conductor of sampled eta and k reflects its own Fresnel spectrum",
