@@ -62,6 +62,21 @@ Image render(Scene& scene, int spp, bool spectral) {
         .image;
 }
 
+// The spectral render of `scene` (64 spp) is `expected` in every channel within 4 standard
+// errors plus `tolerance`, with a standard error under 2 tolerances; `before` (what the mode
+// rendered until then) is only reported.
+void checkSpectralRender(Scene& scene, const Vec3& expected, const Vec3& before,
+                         double tolerance) {
+    Image img = render(scene, 64, true);
+    for (int c = 0; c < 3; ++c) {
+        PixelStats s = pixelStats(img, c);
+        INFO("channel " << c << ": rendered " << s.mean << " +- " << s.stdError << ", expected "
+                        << expected[c] << ", before " << before[c]);
+        CHECK(std::abs(s.mean - expected[c]) <= 4 * s.stdError + tolerance);
+        CHECK(s.stdError < 2 * tolerance);
+    }
+}
+
 // bsdfAt's parameters on `material` facing +z at three lanes: check(b, i, nm) for each of a
 // lane's wavelengths i, nm its nearest nanometre's index into a DenseSpectrum.
 template <class Check> void atLanes(const Scene& scene, int material, const Check& check) {
@@ -170,14 +185,7 @@ TEST_CASE("Spectral mode: a sampled reflectance renders its own spectrum, RGB mo
     INFO("expected " << expected.x << " " << expected.y << " " << expected.z << ", before "
                      << before.x << " " << before.y << " " << before.z);
     CHECK(missedBefore > 10 * tolerance);
-    Image img = render(*sampled.scene, 64, true);
-    for (int c = 0; c < 3; ++c) {
-        PixelStats s = pixelStats(img, c);
-        INFO("channel " << c << ": rendered " << s.mean << " +- " << s.stdError << ", expected "
-                        << expected[c] << ", before " << before[c]);
-        CHECK(std::abs(s.mean - expected[c]) <= 4 * s.stdError + tolerance);
-        CHECK(s.stdError < 2 * tolerance);
-    }
+    checkSpectralRender(*sampled.scene, expected, before, tolerance);
     // RGB mode takes the colour: the same image as the colour written as rgb, to the bit.
     CHECK(sameBits(render(*sampled.scene, 2, false), render(*rgb.scene, 2, false)));
 }
@@ -276,13 +284,7 @@ TEST_CASE("Spectral mode: a conductor of sampled eta and k reflects its own Fres
     INFO("expected " << expected.x << " " << expected.y << " " << expected.z << ", before "
                      << before.x << " " << before.y << " " << before.z);
     CHECK(std::abs(before.z - expected.z) > 10 * tolerance);
-    Image img = render(*sampled.scene, 64, true);
-    for (int c = 0; c < 3; ++c) {
-        PixelStats s = pixelStats(img, c);
-        INFO("channel " << c << ": rendered " << s.mean << " +- " << s.stdError << ", expected "
-                        << expected[c] << ", before " << before[c]);
-        CHECK(std::abs(s.mean - expected[c]) <= 4 * s.stdError + tolerance);
-    }
+    checkSpectralRender(*sampled.scene, expected, before, tolerance);
     // RGB mode takes the values at 587.6 nm: the same image as those written as rgb, to the bit.
     CHECK(sameBits(render(*sampled.scene, 2, false), render(*grey.scene, 2, false)));
 }
