@@ -10,11 +10,6 @@ namespace rayproc::pbrt {
 
 namespace {
 
-ColorParam colorParam(const ParamList& params, const ValueReader& values, std::string_view name,
-                      SpectrumUse use, Vec3 def) {
-    return values.colorParam(params, name, use, def);
-}
-
 FloatParam floatParam(const ParamList& params, const ValueReader& values, std::string_view name,
                       float def) {
     return values.floatParam(params, name, def);
