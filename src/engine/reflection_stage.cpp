@@ -44,7 +44,7 @@ public:
         // samples' at this hit (the same sequence key, other pairs of dimensions).
         const SampleNumbers numbers(m_b, i, m_policy.stratify, m_seedKey,
                                     1 + std::uint32_t(m_b.kind));
-        m_wl.select(m_b.lambdaU[i], m_rc.scene, h.material); // a dispersive one: the hero alone
+        m_wl.select(m_b.lambdaU[i]); // the surface stage marked a dispersive hit's lane
         if (!sampleMaterial(k, h, mat, wo, numbers, r)) return;
         if (r.transmitted) {
             if (!m_policy.refractionStage || !nextRay(i, r)) return;

@@ -17,7 +17,7 @@ void RefractionStage::spawn(const RayBatch& b, const HitList& hits, StageContext
         int i = hits.lane[k];
         const SurfaceHit& h = hits.hit[k];
         Vec3 wo = -laneDirection(b, i);
-        wl.select(b.lambdaU[i], m_rc.scene, h.material); // a dispersive one: the hero alone
+        wl.select(b.lambdaU[i]); // the surface stage marked a dispersive hit's lane
         const kernels::BsdfParams bsdf =
             bsdfAt(m_rc.scene, h.material, h, b.rngKey[i], wl.shading());
         const kernels::SmoothInterface s = kernels::smoothInterface(bsdf, wo, h.ng, h.ns);

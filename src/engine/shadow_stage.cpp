@@ -83,7 +83,7 @@ public:
           m_choose(choosesLights(rc.policy, rc.lights)), m_seedKey(sampleSeedKey(rc.seed)) {}
 
     void spawnAt(int i, const SurfaceHit& h) {
-        m_wl.select(m_b.lambdaU[i], m_rc.scene, h.material); // a dispersive one: the hero alone
+        m_wl.select(m_b.lambdaU[i]); // the surface stage marked a dispersive hit's lane
         const ShadedHit s = shadedHit(i, h);
         // Sobol points over the pixel's samples, a hit's n samples of a kind an aligned block
         // of n of them (SampleNumbers::get2D(dim, s, n)).
