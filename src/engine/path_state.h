@@ -25,11 +25,11 @@ inline void facingNormals(const SurfaceHit& h, const Vec3& wo, Vec3& ng, Vec3& n
     ns = front ? h.ns : -h.ns;
 }
 
-inline Vec3 laneThroughput(const RayBatch& b, int i) { return {b.wr[i], b.wg[i], b.wb[i]}; }
-// An occlusion ray's unoccluded contribution.
-inline Vec3 laneThroughput(const ShadowBatch& b, int i) { return {b.wr[i], b.wg[i], b.wb[i]}; }
-// A photon's power.
-inline Vec3 laneThroughput(const PhotonBatch& b, int i) { return {b.wr[i], b.wg[i], b.wb[i]}; }
+// Lane i's (wr, wg, wb): a ray's throughput (RayBatch), an occlusion ray's unoccluded
+// contribution (ShadowBatch), a photon's power (PhotonBatch).
+template <class Batch> Vec3 laneThroughput(const Batch& b, int i) {
+    return {b.wr[i], b.wg[i], b.wb[i]};
+}
 
 // Beer-Lambert absorption of a segment travelled inside a shape filled with an absorbing medium:
 // a ray from o along d that reaches the shape's surface from its back side (d along the outward
@@ -65,6 +65,12 @@ inline bool continuePath(const ShadingPolicy& policy, int newDepth, std::uint64_
     return newDepth <= policy.maxDepth && survivesRoulette(policy, key, branch, weight);
 }
 
+// The random stream of a successor that a ray (or photon) of stream `parent` spawns by
+// `branch`.
+inline std::uint64_t successorKey(std::uint64_t parent, std::uint32_t branch) {
+    return kernels::hashCombine(parent, 0x100u + branch);
+}
+
 // Writes a successor ray of `parent` lane i into `out`.
 inline void spawnRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& origin,
                      const Vec3& dir, const Vec3& weight, std::uint8_t depth,
@@ -76,7 +82,7 @@ inline void spawnRay(RayBatch& out, const RayBatch& parent, int i, const Vec3& o
     out.prevCos[j] = 0.0f;
     out.lambdaU[j] = parent.lambdaU[i];
     out.wr[j] = weight.x; out.wg[j] = weight.y; out.wb[j] = weight.z;
-    out.rngKey[j] = kernels::hashCombine(parent.rngKey[i], 0x100u + branch);
+    out.rngKey[j] = successorKey(parent.rngKey[i], branch);
     out.depth[j] = depth;
     out.specularDepth[j] = specularDepth;
     out.flags[j] = flags;

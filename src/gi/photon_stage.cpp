@@ -19,8 +19,8 @@ namespace rayproc {
 namespace {
 enum PhotonDim : std::uint32_t { kDimScatter = 30, kDimLobe = 32, kDimSurvive = 33 };
 
-// Writes the photon that lane i of `parent` scatters into, as gi has always keyed its random
-// stream: the successor's (branch 4) of spawnRay (engine/path_state.h).
+// Writes the photon that lane i of `parent` scatters into, its random stream keyed as gi has
+// always keyed it: the successor's of branch 4 (successorKey, engine/path_state.h).
 void spawnPhoton(PhotonBatch& out, const PhotonBatch& parent, int i, const Vec3& origin,
                  const Vec3& dir, const Vec3& power, std::uint8_t depth, std::uint8_t flags,
                  float lambdaU) {
@@ -28,7 +28,7 @@ void spawnPhoton(PhotonBatch& out, const PhotonBatch& parent, int i, const Vec3&
     int j = out.push(origin.x, origin.y, origin.z, dir.x, dir.y, dir.z, 0.0f, kInfinity);
     out.index[j] = parent.index[i];
     out.wr[j] = power.x; out.wg[j] = power.y; out.wb[j] = power.z;
-    out.rngKey[j] = kernels::hashCombine(parent.rngKey[i], 0x100u + kBranch);
+    out.rngKey[j] = successorKey(parent.rngKey[i], kBranch);
     out.depth[j] = depth;
     out.flags[j] = flags;
     out.lambdaU[j] = lambdaU;
