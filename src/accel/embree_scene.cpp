@@ -202,23 +202,35 @@ void alphaFilter(const RTCFilterFunctionNArguments* args) {
         const float ray[6] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
                               RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
                               RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
-        if (!alphaKeeps(*cut, prim, u, v, ray)) args->valid[i] = 0;
+        if (!alphaKeeps(*cut, args->context->instID[0], prim, u, v, ray)) args->valid[i] = 0;
     }
 }
 
 } // namespace
 
-bool alphaKeeps(const AlphaCutout& cut, unsigned prim, float u, float v, const float ray[6]) {
+bool alphaKeeps(const AlphaCutout& cut, unsigned instId, unsigned prim, float u, float v,
+                const float ray[6]) {
     const TriangleMesh& m = *cut.shape->mesh;
+    const std::uint32_t* corner = &m.indices[3 * std::size_t(prim)];
+    const float w = 1 - u - v;
     TextureContext tc;
     tc.uv = {u, v};
     if (!m.uvs.empty()) {
-        const Vec2& a = m.uvs[m.indices[3 * prim]];
-        const Vec2& b = m.uvs[m.indices[3 * prim + 1]];
-        const Vec2& c = m.uvs[m.indices[3 * prim + 2]];
-        float w = 1 - u - v;
+        const Vec2& a = m.uvs[corner[0]];
+        const Vec2& b = m.uvs[corner[1]];
+        const Vec2& c = m.uvs[corner[2]];
         tc.uv = {a.x * w + b.x * u + c.x * v, a.y * w + b.y * u + c.y * v};
     }
+    const Vec3& pa = m.positions[corner[0]];
+    const Vec3& pb = m.positions[corner[1]];
+    const Vec3& pc = m.positions[corner[2]];
+    tc.p = pa * w + pb * u + pc * v;
+    tc.n = cross(pb - pa, pc - pa);
+    if (const InstanceRecord* inst = cut.placements ? cut.placements->placement(instId) : nullptr) {
+        tc.p = inst->toWorld.point(tc.p);
+        tc.n = inst->toLocal.normalByInverse(tc.n);
+    }
+    tc.n = normalize(tc.n);
     float alpha = evalFloat(*cut.scene, cut.shape->alpha, tc);
     if (alpha >= 1) return true;
     if (!(alpha > 0)) return false;
@@ -312,7 +324,7 @@ void EmbreeScene::attachMesh(RTCScene target, const Shape& shape, std::vector<Ge
         embreePart = rest.get();
         m_embreeParts.push_back(std::move(rest));
         if (alpha) {
-            m_alpha.push_back(std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, nullptr}));
+            m_alpha.push_back(std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, nullptr, this}));
             exact->alpha = m_alpha.back().get();
         }
         m_stats.exactTriangles += exact->triangles.size();
@@ -322,7 +334,7 @@ void EmbreeScene::attachMesh(RTCScene target, const Shape& shape, std::vector<Ge
         RTCGeometry geom = newTriangleGeometry(m_device, m, embreePart, embreeCount);
         if (alpha) {
             m_alpha.push_back(
-                std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, embreePart}));
+                std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, embreePart, this}));
             rtcSetGeometryUserData(geom, m_alpha.back().get());
             rtcSetGeometryIntersectFilterFunction(geom, alphaFilter);
             rtcSetGeometryOccludedFilterFunction(geom, alphaFilter);
@@ -605,6 +617,11 @@ void placeSurface(const LocalSurface& l, const Affine* toWorld, const Affine* to
 }
 
 } // namespace
+
+const InstanceRecord* EmbreeScene::placement(unsigned instId) const {
+    if (instId == RTC_INVALID_GEOMETRY_ID) return nullptr;
+    return &m_instances[m_topEntries[instId].instance];
+}
 
 SurfaceHit EmbreeScene::surface(unsigned instId, unsigned geomId, unsigned primId, float u,
                                 float v, const Vec3& rayOrigin, const Vec3& rayDir,

@@ -59,17 +59,25 @@ struct SurfaceHit {
     int instance = -1; // index of the InstanceRecord, -1 for root-level leaves
 };
 
+class EmbreeScene;
+
 // What an alpha-tested mesh's Embree filter reads (embree_scene.cpp).
 struct AlphaCutout {
     const Scene* scene;
     const Shape* shape;
     const std::vector<unsigned>* triangles = nullptr; // the mesh triangle of each primID; null: the same
+    const EmbreeScene* placements = nullptr;          // the instance transforms (placementToWorld)
 };
 
-// Whether a candidate hit at (u, v) of the mesh's triangle `triangle` survives the cut-out: kept
-// where alpha is 1, dropped where it is 0, in between kept with probability alpha, decided by a
-// hash of the triangle and the ray (origin, direction) so every packet width and thread agrees.
-bool alphaKeeps(const AlphaCutout& cut, unsigned triangle, float u, float v, const float ray[6]);
+// Whether a candidate hit at (u, v) of the mesh's triangle `triangle`, reached through the
+// top-level instance `instId` (Embree's instID[0]; RTC_INVALID_GEOMETRY_ID at the root),
+// survives the cut-out: kept where alpha is 1, dropped where it is 0, in between kept with
+// probability alpha, decided by a hash of the triangle and the ray (origin, direction) so every
+// packet width and thread agrees. The texture sees the hit's uv, world point and geometric
+// normal, as a shading hit's (a spherical, cylindrical or planar mapping, a 3D checkerboard, a
+// direction mix).
+bool alphaKeeps(const AlphaCutout& cut, unsigned instId, unsigned triangle, float u, float v,
+                const float ray[6]);
 
 struct AccelStats {
     std::size_t prototypes = 0;
@@ -97,6 +105,9 @@ public:
     const std::vector<EmitterRecord>& emitters() const { return m_emitters; }
     const std::vector<InstanceRecord>& instances() const { return m_instances; }
 
+    // The world and local transforms of the top-level instance `instId` (Embree's instID[0]);
+    // null at the root (RTC_INVALID_GEOMETRY_ID), where leaves are in world space.
+    const InstanceRecord* placement(unsigned instId) const;
     // Resolves an Embree hit (instID[0], geomID, primID, u, v) and the ray into world space.
     SurfaceHit surface(unsigned instId, unsigned geomId, unsigned primId, float u, float v,
                        const Vec3& rayOrigin, const Vec3& rayDir, float t) const;

@@ -36,8 +36,8 @@ void exactBounds(const RTCBoundsFunctionArguments* args) {
 
 // The hit of lane i against primitive `prim`, if it lies in (tnear, tfar] and survives the
 // cut-out; Embree's triangle test accepts the same interval.
-bool hitLane(const ExactTriangles& x, unsigned prim, RTCRayN* ray, unsigned N, unsigned i,
-             kernels::ExactTriangleHit& h) {
+bool hitLane(const ExactTriangles& x, unsigned instId, unsigned prim, RTCRayN* ray, unsigned N,
+             unsigned i, kernels::ExactTriangleHit& h) {
     Vec3 o{RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i)};
     Vec3 d{RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i)};
     Corners c = corners(x, prim);
@@ -47,7 +47,8 @@ bool hitLane(const ExactTriangles& x, unsigned prim, RTCRayN* ray, unsigned N, u
         return false;
     if (x.alpha) {
         const float r[6] = {o.x, o.y, o.z, d.x, d.y, d.z};
-        if (!alphaKeeps(*x.alpha, x.triangles[prim], float(h.u), float(h.v), r)) return false;
+        if (!alphaKeeps(*x.alpha, instId, x.triangles[prim], float(h.u), float(h.v), r))
+            return false;
     }
     return true;
 }
@@ -61,7 +62,7 @@ void exactIntersect(const RTCIntersectFunctionNArguments* args) {
     for (unsigned i = 0; i < N; ++i) {
         if (args->valid[i] == 0) continue;
         kernels::ExactTriangleHit h;
-        if (!hitLane(x, prim, ray, N, i, h)) continue;
+        if (!hitLane(x, instId, prim, ray, N, i, h)) continue;
         float t = float(h.t);
         float& tfar = RTCRayN_tfar(ray, N, i);
         // A tie (a ray along the edge two triangles share) goes to the lower triangle index
@@ -94,7 +95,7 @@ void exactOccluded(const RTCOccludedFunctionNArguments* args) {
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] == 0) continue;
         kernels::ExactTriangleHit h;
-        if (hitLane(x, args->primID, args->ray, args->N, i, h))
+        if (hitLane(x, args->context->instID[0], args->primID, args->ray, args->N, i, h))
             RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
     }
 }

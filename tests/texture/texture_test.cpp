@@ -4,6 +4,10 @@
 #include "pbrt/pbrt_test_util.h"
 #include "test_util.h"
 
+#include "accel/embree_scene.h"
+#include "engine/intersect.h"
+#include "engine/ray_batch.h"
+#include "engine/stats.h"
 #include "image/image.h"
 #include "scene/scene_loader.h"
 #include "core/error.h"
@@ -11,6 +15,10 @@
 #include "texture/texture_image.h"
 
 #include <catch2/catch.hpp>
+
+#include <cmath>
+#include <utility>
+#include <vector>
 
 using namespace rayproc;
 using namespace rayproc::test;
@@ -376,4 +384,69 @@ TEST_CASE("Alpha cut-outs: alpha 0 hides a mesh from camera and shadow rays at e
         CHECK(g > 0.3);
         CHECK(g < 0.7);
     }
+}
+
+namespace {
+
+// Which of `rays` (origin, direction pairs) an occlusion query finds blocked.
+std::vector<bool> blockedRays(const Scene& scene, const std::vector<std::pair<Vec3, Vec3>>& rays) {
+    EmbreeScene accel(scene);
+    ShadowBatch b;
+    b.kind = RayKind::Shadow;
+    for (const auto& [o, d] : rays) b.push(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, kInfinity);
+    ThreadStats stats;
+    Intersector(accel.root(), 16).trace(b, stats);
+    std::vector<bool> blocked;
+    for (int i = 0; i < b.count; ++i) blocked.push_back(b.occluded(i));
+    return blocked;
+}
+
+} // namespace
+
+TEST_CASE("Alpha cut-outs: a texture of the point or the normal reads the world-space hit, instanced or not", "[texture][alpha]") {
+    // alpha: a checkerboard of unit squares planar-mapped in world space (s = x, t = y), 1 where
+    // floor(x) + floor(y) is even; or a direction mix, 1 where the quad faces z, 0 facing x.
+    const std::string textures =
+        "Texture \"check\" \"float\" \"checkerboard\" \"string mapping\" \"planar\" "
+        "\"vector3 v1\" [1 0 0] \"vector3 v2\" [0 1 0] \"float tex1\" 1 \"float tex2\" 0\n"
+        "Texture \"facing\" \"float\" \"directionmix\" \"vector3 dir\" [0 0 1] "
+        "\"float tex1\" 1 \"float tex2\" 0\n";
+    auto quad = [](const std::string& alpha) {
+        return "Shape \"trianglemesh\" \"point3 P\" [-4 -4 0 4 -4 0 4 4 0 -4 4 0] "
+               "\"integer indices\" [0 1 2 0 2 3] \"texture alpha\" \"" + alpha + "\"\n";
+    };
+    // Rays straight down -z through points off the squares' edges.
+    std::vector<std::pair<Vec3, Vec3>> down;
+    std::vector<bool> expected;
+    for (int i = 0; i < 11; ++i)
+        for (int j = 0; j < 11; ++j) {
+            float x = -2.75f + 0.5f * float(i), y = -2.75f + 0.5f * float(j);
+            down.push_back({{x, y, 5}, {0, 0, -1}});
+            expected.push_back(int(std::floor(x) + std::floor(y)) % 2 == 0);
+        }
+    // The quad moved by (0.25, 0.5, 1): at the root (its points made world-space at import),
+    // and as two placements of an object (an Embree instance; the filter sees object space).
+    auto root = loadWorld(textures + "AttributeBegin\nTranslate 0.25 0.5 1\n" + quad("check") +
+                          "AttributeEnd\n");
+    auto placed = loadWorld(textures + "ObjectBegin \"q\"\n" + quad("check") + "ObjectEnd\n" +
+                            "AttributeBegin\nTranslate 0.25 0.5 1\nObjectInstance \"q\"\n"
+                            "AttributeEnd\nAttributeBegin\nTranslate 100 0 0\n"
+                            "ObjectInstance \"q\"\nAttributeEnd\n");
+    REQUIRE(EmbreeScene(*placed.scene).stats().instances == 2);
+    for (const LoadedPbrt* loaded : {&root, &placed}) {
+        INFO((loaded == &root ? "at the root" : "instanced"));
+        CHECK(loaded->warnings.empty());
+        std::vector<bool> blocked = blockedRays(*loaded->scene, down);
+        int wrong = 0;
+        for (std::size_t k = 0; k < down.size(); ++k) wrong += blocked[k] != expected[k];
+        CHECK(wrong == 0);
+    }
+    // The direction mix: one placement facing z, one rotated to face x; rays along each normal.
+    auto facing = loadWorld(textures + "ObjectBegin \"q\"\n" + quad("facing") + "ObjectEnd\n" +
+                            "ObjectInstance \"q\"\nAttributeBegin\nTranslate 20 0 0\n"
+                            "Rotate 90 0 1 0\nObjectInstance \"q\"\nAttributeEnd\n");
+    std::vector<bool> blocked =
+        blockedRays(*facing.scene, {{{0.5f, 0.5f, 5}, {0, 0, -1}}, {{25, 0.5f, 0.5f}, {-1, 0, 0}}});
+    CHECK(blocked[0]);  // faces z: alpha 1
+    CHECK(!blocked[1]); // faces x: alpha 0
 }
