@@ -226,7 +226,7 @@ TEST_CASE("rayproc bench names what is wrong with --reference, --modes and --pro
 }
 
 TEST_CASE("rayproc bench --spectral renders every mode spectrally, its references too",
-          "[cli][bench]") {
+          "[cli][bench][heavy]") {
     test::TempDir dir;
     const std::string scenes = (test::sourceDir() / "scenes").string();
     std::string out = dir.file("bench");

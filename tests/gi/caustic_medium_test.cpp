@@ -65,7 +65,7 @@ TEST_CASE("Smooth refraction scales a photon's power by 1 / eta^2 into a medium,
 }
 
 TEST_CASE("A sun through flat open water: the caustic map's floor radiance in closed form",
-          "[gi][caustics][analytic]") {
+          "[gi][caustics][analytic][heavy]") {
     // The sun at 30 degrees from the vertical with irradiance E across its beam: the flat
     // surface keeps the beam's footprint, so the floor's irradiance is (1 - F(30)) E cos 30
     // and its basic radiance, seen from above through the surface at normal incidence,
@@ -119,7 +119,7 @@ TEST_CASE("An area light through flat open water onto a diffuse floor: gi's mean
 }
 
 TEST_CASE("The same through rough open water: the camera's rough transmission in basic radiance",
-          "[gi][caustics]") {
+          "[gi][caustics][heavy]") {
     // Rough transmission's f / eta^2 on the camera chain as well as on the photons counted the
     // factor twice. Measured: path 0.2704 (1024 spp; 0.2706 at 4096), gi 0.2763 (+2.1%: the
     // global map's own bias, +1.1% without precomputed irradiance); 0.1829 (-32%) before.

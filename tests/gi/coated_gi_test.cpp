@@ -24,7 +24,7 @@ std::unique_ptr<Scene> coatedCornellBox(float roughness) {
 
 } // namespace
 
-TEST_CASE("gi agrees with path on a coated Cornell box, smooth and rough coats", "[gi][coated]") {
+TEST_CASE("gi agrees with path on a coated Cornell box, smooth and rough coats", "[gi][coated][heavy]") {
     // Measured here (red channel, gi / path): before, 1.27 for the smooth coat and 1.17 for
     // the rough one (the base colour taken as the Lambertian albedo, the rough coat's
     // reflection dropped); now 1.002 and 1.002. At 64x64 with a coat of alpha 0.001 the coat's

@@ -79,7 +79,7 @@ TEST_CASE("Gather direct light: the gather's map leaves out the sun's first land
 }
 
 TEST_CASE("Gather direct light: gi's mean in a room lit through a hole matches path",
-          "[gi][gather-direct]") {
+          "[gi][gather-direct][heavy]") {
     auto scene = sunlitRoom();
     EmbreeScene accel(*scene);
     RenderOptions o;

@@ -47,7 +47,7 @@ Image pathReference(const Scene& scene, const EmbreeScene& accel) {
 
 // The path reference and the uncorrected render are made once for both corrections.
 TEST_CASE("gi's map corrections take a starved photon map's bias out, per pixel and per record",
-          "[gi][cache]") {
+          "[gi][cache][heavy]") {
     auto scene = loadSceneAt("cornell-box", 32, 32);
     EmbreeScene accel(*scene);
     Image reference = pathReference(*scene, accel);

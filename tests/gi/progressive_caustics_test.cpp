@@ -121,7 +121,7 @@ double ratioOver(const Image& img, const Image& ref, const std::vector<int>& pix
 } // namespace
 
 TEST_CASE("Per-pixel caustic radii keep the caustic's bright lines brighter than one sequence",
-          "[gi][progressive][golden]") {
+          "[gi][progressive][golden][heavy]") {
     // The brightest tenth of the pool's pixels (in the 131,072-spp golden) are the caustic's
     // lines: a wide disc spreads them into the dark cells beside them. Per pixel, a line's
     // radius starts at its own k-nearest distance and shrinks with the photons it receives.

@@ -176,7 +176,7 @@ TEST_CASE("Spectral mode: a black-based coat reflects a narrow band head-on by i
 
 TEST_CASE("Spectral mode: a dispersive coat over a white base in a furnace is invisible "
           "(unbiased termination)",
-          "[spectral-mode][dispersion]") {
+          "[spectral-mode][dispersion][heavy]") {
     // The furnace of spectral_dispersion_test.cpp (every ray carries 5) around a sphere whose
     // smooth SF11 coat lies over a white base with no absorption between them (the analytic
     // coat: lossless): a path that meets the coat keeps its hero alone, which must carry the

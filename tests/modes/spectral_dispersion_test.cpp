@@ -147,7 +147,7 @@ TEST_CASE("Spectral mode: an SF11 prism deviates blue and red by Snell's law wit
 
 TEST_CASE("Spectral mode: a dispersive glass sphere in a furnace is invisible (unbiased "
           "termination)",
-          "[spectral-mode][dispersion]") {
+          "[spectral-mode][dispersion][heavy]") {
     // A path that crosses the glass keeps its hero wavelength alone, which must carry the
     // whole estimate.
     // The glass's disc (17.5 degrees in radius) covers the whole view (16.7 degrees to a

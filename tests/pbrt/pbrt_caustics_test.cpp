@@ -35,7 +35,7 @@ TEST_CASE("The pbrt water pool: Integrator sppm's radius and maxdepth reach gi",
 }
 
 TEST_CASE("The pbrt water pool: gi's image mean is path's within 2% in every channel",
-          "[pbrt][caustics]") {
+          "[pbrt][caustics][heavy]") {
     // Both modes at full depth (the file's maxdepth 9 truncates gi's and path's paths
     // differently: path's camera paths, gi's photon paths plus the camera chain). At 128x128
     // against a path render of 8,192 spp, gi came out 0.998-1.004 at 16 to 256 spp

@@ -41,7 +41,7 @@ std::string angles(float a, float b) { return std::to_string(a) + ", " + std::to
 
 } // namespace
 
-TEST_CASE("Chi-square: rough conductor sampling follows its pdf", "[bsdf][statistical]") {
+TEST_CASE("Chi-square: rough conductor sampling follows its pdf", "[bsdf][statistical][heavy]") {
     // Isotropic: 9 tests, bins centred on the mirror direction as the glossy test.
     for (float alpha : {0.05f, 0.3f, 0.8f})
         for (float theta : {10.0f, 45.0f, 75.0f}) {
@@ -85,7 +85,7 @@ TEST_CASE("Chi-square: the test rejects the anisotropic conductor with swapped a
     CHECK(run.chi.pValue < 1e-12);
 }
 
-TEST_CASE("Chi-square: rough dielectric sampling follows its pdf", "[bsdf][statistical]") {
+TEST_CASE("Chi-square: rough dielectric sampling follows its pdf", "[bsdf][statistical][heavy]") {
     // Each configuration is tested with two histograms, one around the mirror direction and one
     // around the macroscopic refraction (the other lobe falls in the outside bin), or with one
     // over the whole sphere for wide lobes and total internal reflection. wo at 20 and 70 degrees
