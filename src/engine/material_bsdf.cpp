@@ -2,6 +2,7 @@
 
 #include "kernels/random.h"
 #include "scene/ior_spectrum.h"
+#include "scene/reflectance_spectrum.h"
 #include "texture/texture_eval.h"
 
 #include <algorithm>
@@ -26,6 +27,35 @@ Vec3 spectralValue(const SpectralShading& s, const UpsampledRgb& pre, const Vec3
     return unbounded ? s.render.unbounded(rgb, s.lane) : s.render.albedo(rgb, s.lane);
 }
 
+// A texture's leaves at the lane (evalTextureLanes): a colour upsampled as spectralValue does,
+// a constant operand's own spectrum (as a reflectance or an unbounded value) at the nearest
+// nanometres.
+class ShadingLanes final : public LaneReader {
+public:
+    ShadingLanes(const SpectralShading& s, bool unbounded) : m_s(s), m_unbounded(unbounded) {}
+    Vec3 rgb(const Vec3& colour) const override {
+        return m_unbounded ? m_s.render.unbounded(colour, m_s.lane)
+                           : m_s.render.albedo(colour, m_s.lane);
+    }
+    Vec3 spectrum(const OperandSpectrum& o) const override {
+        const float* v = (m_unbounded ? o.unbounded : o.albedo)->values.values.data();
+        return {v[m_s.lane.nm[0]], v[m_s.lane.nm[1]], v[m_s.lane.nm[2]]};
+    }
+
+private:
+    const SpectralShading& m_s;
+    bool m_unbounded;
+};
+
+// A texture with spectra (Texture::spectral) at the lane; a reflectance clamped to [0, 1] as
+// pbrt-v4's materials clamp what their textures give.
+Vec3 spectralTexture(const Scene& scene, int texture, const TextureContext& tc,
+                     const SpectralShading& s, bool unbounded) {
+    const Vec3 v = evalTextureLanes(scene, texture, tc, ShadingLanes(s, unbounded));
+    if (unbounded) return {std::max(v.x, 0.0f), std::max(v.y, 0.0f), std::max(v.z, 0.0f)};
+    return {std::clamp(v.x, 0.0f, 1.0f), std::clamp(v.y, 0.0f, 1.0f), std::clamp(v.z, 0.0f, 1.0f)};
+}
+
 using MS = SpectralRender::MaterialSpectra;
 using Field = UpsampledRgb MS::*;
 
@@ -40,7 +70,13 @@ struct ParamEval {
         return sp ? spectralValue(*sp, sp->render.material(mi).*f, rgb, unbounded) : rgb;
     }
     Vec3 color(const ColorParam& p, Field f, bool unbounded = false) const {
+        if (p.textured() && spectralTree(p.texture))
+            return spectralTexture(*scene, p.texture, *tc, *sp, unbounded);
         return upsample(scene && tc ? evalColor(*scene, p, *tc) : p.value, f, unbounded);
+    }
+    // Whether the spectral mode reads `texture` as a tree of spectra (Texture::spectral).
+    bool spectralTree(int texture) const {
+        return sp && scene && tc && scene->textures[std::size_t(texture)].spectral;
     }
     float operator()(const FloatParam& p) const {
         return scene && tc ? evalFloat(*scene, p, *tc) : p.value;
@@ -93,10 +129,13 @@ kernels::BsdfParams build(const Scene* scene, const Material& m, const TextureCo
                           const SpectralShading* sp = nullptr, int mi = 0) {
     const ParamEval eval{scene, tc, sp, mi};
     kernels::BsdfParams b;
-    b.color = eval.upsample(m.colorTexture >= 0 && scene && tc
-                                ? evalTexture(*scene, m.colorTexture, *tc)
-                                : m.color,
-                            &MS::color, false);
+    if (m.colorTexture >= 0 && eval.spectralTree(m.colorTexture))
+        b.color = spectralTexture(*scene, m.colorTexture, *tc, *sp, false);
+    else
+        b.color = eval.upsample(m.colorTexture >= 0 && scene && tc
+                                    ? evalTexture(*scene, m.colorTexture, *tc)
+                                    : m.color,
+                                &MS::color, false);
     b.ior = m.ior;
     // pbrt-v4's materials sample their eta at the hero wavelength, an index of 0 (a spectrum
     // past its ends) taken as 1.

@@ -12,6 +12,20 @@
 
 namespace rayproc {
 
+struct ReflectanceSpectrum; // scene/reflectance_spectrum.h
+using ReflectanceSpectrumRef = std::shared_ptr<const ReflectanceSpectrum>;
+
+// A combination's constant operand given as a spectrum (pbrt-v4's wavelength/value pairs, an
+// `rgb` under another colour space than sRGB), kept for the spectral mode beside the RGB value
+// RGB mode combines. `albedo` is the spectrum a reflectance reads (an `rgb`'s RGBAlbedoSpectrum),
+// `unbounded` the one any other parameter reads (RGBUnboundedSpectrum); pairs are the same
+// spectrum in both, unclamped (the material clamps what it evaluates, as pbrt-v4's do). Both
+// null: the operand is its RGB value.
+struct OperandSpectrum {
+    ReflectanceSpectrumRef albedo, unbounded;
+    explicit operator bool() const { return unbounded != nullptr; }
+};
+
 struct TextureImage; // texture/texture_image.h: decoded pixels and their MIP pyramid
 
 enum class TextureType { Constant, Image, Scale, Mix, Checkerboard, Bilerp, DirectionMix };
@@ -59,6 +73,14 @@ struct Texture {
     // Bilerp: the values at (s, t) = (0, 0), (1, 0), (0, 1), (1, 1), bilinear between them
     // (and beyond, as pbrt-v4 does not wrap them).
     std::array<Vec3, 4> corners{};
+
+    // The spectral mode's operands: aSpectrum, bSpectrum and cornerSpectra where the constants
+    // above were given as spectra; `spectral` when this texture or an operand texture has any.
+    // Such a texture is combined at a path's wavelengths (texture/texture_eval.h,
+    // evalTextureLanes), as pbrt-v4's spectrum textures are; RGB mode combines the colours.
+    OperandSpectrum aSpectrum, bSpectrum;
+    std::array<OperandSpectrum, 4> cornerSpectra{};
+    bool spectral = false;
 };
 
 } // namespace rayproc

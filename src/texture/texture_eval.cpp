@@ -130,6 +130,10 @@ bool evenCheck(const Texture& t, const TextureContext& ctx, float s, float tt) {
     return (long long)(std::floor(p.x) + std::floor(p.y) + std::floor(p.z)) % 2 == 0;
 }
 
+float mixAmount(const Scene& scene, const Texture& t, const TextureContext& ctx) {
+    return t.amountTexture >= 0 ? evalFloatTexture(scene, t.amountTexture, ctx) : t.amount;
+}
+
 Vec3 evaluate(const Scene& scene, const Texture& t, const TextureContext& ctx) {
     const Vec2 st = mapToSt(t, ctx);
     const float s = st.x, tt = st.y;
@@ -145,7 +149,7 @@ Vec3 evaluate(const Scene& scene, const Texture& t, const TextureContext& ctx) {
     case TextureType::Scale:
         return operand(scene, t.a, t.aValue, ctx) * operand(scene, t.b, t.bValue, ctx);
     case TextureType::Mix: {
-        float amount = t.amountTexture >= 0 ? evalFloatTexture(scene, t.amountTexture, ctx) : t.amount;
+        const float amount = mixAmount(scene, t, ctx);
         return operand(scene, t.a, t.aValue, ctx) * (1 - amount) +
                operand(scene, t.b, t.bValue, ctx) * amount;
     }
@@ -164,10 +168,59 @@ Vec3 evaluate(const Scene& scene, const Texture& t, const TextureContext& ctx) {
     return t.value;
 }
 
+// A combination's colour operand at the lanes: its texture's, its own spectrum's or its colour's.
+Vec3 laneOperand(const Scene& scene, int index, const Vec3& value, const OperandSpectrum& s,
+                 const TextureContext& ctx, const LaneReader& lanes);
+
+// `t` at the lanes: within a tree with spectra every combination combines its operands at the
+// lanes (and a combination without spectra of its own too: upsampling is not linear).
+Vec3 evaluateLanes(const Scene& scene, const Texture& t, const TextureContext& ctx,
+                   const LaneReader& lanes) {
+    auto a = [&] { return laneOperand(scene, t.a, t.aValue, t.aSpectrum, ctx, lanes); };
+    auto b = [&] { return laneOperand(scene, t.b, t.bValue, t.bSpectrum, ctx, lanes); };
+    const Vec2 st = mapToSt(t, ctx);
+    const float s = st.x, tt = st.y;
+    switch (t.type) {
+    case TextureType::Constant:
+    case TextureType::Image: return lanes.rgb(evaluate(scene, t, ctx));
+    case TextureType::Scale: // "scale" is a float
+        return a() * (t.b >= 0 ? evalFloatTexture(scene, t.b, ctx) : t.bValue.x);
+    case TextureType::Mix: {
+        const float amount = mixAmount(scene, t, ctx);
+        return a() * (1 - amount) + b() * amount;
+    }
+    case TextureType::Checkerboard: return evenCheck(t, ctx, s, tt) ? a() : b();
+    case TextureType::Bilerp: {
+        const float w[4] = {(1 - s) * (1 - tt), s * (1 - tt), (1 - s) * tt, s * tt};
+        Vec3 v(0.0f);
+        for (std::size_t k = 0; k < 4; ++k)
+            v += laneOperand(scene, -1, t.corners[k], t.cornerSpectra[k], ctx, lanes) * w[k];
+        return v;
+    }
+    case TextureType::DirectionMix: {
+        const float amount = std::abs(dot(ctx.n, t.direction));
+        return a() * amount + b() * (1 - amount);
+    }
+    }
+    return lanes.rgb(t.value);
+}
+
+Vec3 laneOperand(const Scene& scene, int index, const Vec3& value, const OperandSpectrum& s,
+                 const TextureContext& ctx, const LaneReader& lanes) {
+    if (index >= 0) return evaluateLanes(scene, scene.textures[std::size_t(index)], ctx, lanes);
+    return s ? lanes.spectrum(s) : lanes.rgb(value);
+}
+
 } // namespace
 
 Vec3 evalTexture(const Scene& scene, int index, const TextureContext& ctx) {
     return evaluate(scene, scene.textures[std::size_t(index)], ctx);
+}
+
+Vec3 evalTextureLanes(const Scene& scene, int index, const TextureContext& ctx,
+                      const LaneReader& lanes) {
+    const Texture& t = scene.textures[std::size_t(index)];
+    return t.spectral ? evaluateLanes(scene, t, ctx, lanes) : lanes.rgb(evaluate(scene, t, ctx));
 }
 
 float evalFloatTexture(const Scene& scene, int index, const TextureContext& ctx) {

@@ -18,6 +18,24 @@ struct TextureContext {
 
 // The colour of Scene::textures[index] (a float texture gives its value in all three channels).
 Vec3 evalTexture(const Scene& scene, int index, const TextureContext& ctx);
+
+// How the spectral mode reads a texture's leaves at a path's wavelengths (engine/
+// material_bsdf.cpp): a colour through its colour space's upsampling, a constant operand's
+// own spectrum at the wavelengths' nearest nanometres. Which spectrum (a reflectance's or an
+// unbounded value's) is the reader's choice.
+class LaneReader {
+public:
+    virtual ~LaneReader() = default;
+    virtual Vec3 rgb(const Vec3& colour) const = 0;
+    virtual Vec3 spectrum(const OperandSpectrum& s) const = 0;
+};
+
+// Scene::textures[index] at a path's three wavelengths. A texture with spectra
+// (Texture::spectral) combines its operands there, each leaf (an image's texel, a constant)
+// read by `lanes`, as pbrt-v4's spectrum textures evaluate theirs; any other is its colour
+// read by `lanes` (the same as lanes.rgb(evalTexture(...))).
+Vec3 evalTextureLanes(const Scene& scene, int index, const TextureContext& ctx,
+                      const LaneReader& lanes);
 // The scalar of a float texture (a colour texture gives its first channel).
 float evalFloatTexture(const Scene& scene, int index, const TextureContext& ctx);
 

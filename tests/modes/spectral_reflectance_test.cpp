@@ -13,6 +13,7 @@
 #include "spectral/color_space.h"
 #include "spectral/rgb_spectrum.h"
 #include "spectral/spectra.h"
+#include "texture/texture_eval.h"
 
 #include <cstdio>
 
@@ -287,4 +288,122 @@ TEST_CASE("Spectral mode: a conductor of sampled eta and k reflects its own Fres
     checkSpectralRender(*sampled.scene, expected, before, tolerance);
     // RGB mode takes the values at 587.6 nm: the same image as those written as rgb, to the bit.
     CHECK(sameBits(render(*sampled.scene, 2, false), render(*grey.scene, 2, false)));
+}
+
+namespace {
+
+// The texture the first shape's material reads as its reflectance.
+const rayproc::Texture& reflectanceTexture(const LoadedPbrt& r) {
+    const Material& m = r.scene->materials[std::size_t(rootShapes(*r.scene)[0].shape->material)];
+    REQUIRE(m.colorTexture >= 0);
+    return r.scene->textures[std::size_t(m.colorTexture)];
+}
+
+LoadedPbrt texturedSphere(const std::string& textures, const std::string& material = "diffuse",
+                          const std::string& parameter = "reflectance") {
+    auto r = loadWorld(textures + "Material \"" + material + "\" \"texture " + parameter +
+                       "\" \"t\"\nShape \"sphere\"\n");
+    REQUIRE(r.warnings.empty());
+    return r;
+}
+
+// A second sampled reflectance, a ramp.
+const std::vector<double> kRampPairs = {400, 0.9, 700, 0.2};
+
+} // namespace
+
+TEST_CASE("pbrt textures of spectra keep their operands' spectra", "[pbrt][spectral]") {
+    const std::string pairs(kPairsText);
+    // scale: "tex" given as pairs keeps them, unclamped and the same for both uses.
+    auto scaled = texturedSphere("Texture \"t\" \"spectrum\" \"scale\" \"spectrum tex\" " + pairs +
+                                 " \"float scale\" 0.5\n");
+    const rayproc::Texture& s = reflectanceTexture(scaled);
+    CHECK(s.spectral);
+    REQUIRE(s.aSpectrum);
+    CHECK(s.aSpectrum.unbounded->values.at(480) == Approx(0.8));
+    CHECK(s.aSpectrum.albedo == s.aSpectrum.unbounded);
+    // RGB mode's value as before: an operand is read as an unbounded value, pairs at 587.6 nm.
+    CHECK(s.aValue == Vec3(float(pbrt::sampledValueAt(kPairs, 587.6))));
+    // sRGB rgb operands keep none; a rec2020 rgb keeps its albedo and unbounded spectra.
+    CHECK_FALSE(reflectanceTexture(texturedSphere("Texture \"t\" \"spectrum\" \"mix\" "
+                                                  "\"rgb tex1\" [0.2 0.5 0.7]\n"))
+                    .spectral);
+    auto rec = texturedSphere("ColorSpace \"rec2020\"\nTexture \"t\" \"spectrum\" \"checkerboard\" "
+                              "\"rgb tex1\" [0.7 0.2 0.1]\n");
+    const rayproc::Texture& c = reflectanceTexture(rec);
+    CHECK(c.spectral);
+    REQUIRE(c.aSpectrum);
+    CHECK_FALSE(c.bSpectrum); // tex2's default, 0
+    spectral::RgbAlbedoSpectrum albedo(spectral::colorSpace(spectral::ColorSpaceId::Rec2020), 0.7f,
+                                       0.2f, 0.1f);
+    CHECK(c.aSpectrum.albedo->values.at(550) == Approx(albedo(550)).epsilon(1e-5));
+    CHECK(c.aSpectrum.albedo != c.aSpectrum.unbounded);
+    // A texture of such a texture, a constant texture's spectrum and a bilerp's corner.
+    auto nested = texturedSphere("Texture \"s\" \"spectrum\" \"scale\" \"spectrum tex\" " + pairs +
+                                 "\nTexture \"t\" \"spectrum\" \"directionmix\" \"texture tex1\" "
+                                 "\"s\"\n");
+    CHECK(reflectanceTexture(nested).spectral);
+    auto constant = texturedSphere("Texture \"k\" \"spectrum\" \"constant\" \"spectrum value\" " +
+                                   pairs + "\nTexture \"t\" \"spectrum\" \"mix\" \"texture tex2\" "
+                                   "\"k\"\n");
+    CHECK(reflectanceTexture(constant).bSpectrum);
+    auto corner = texturedSphere("Texture \"t\" \"spectrum\" \"bilerp\" \"spectrum v11\" " + pairs +
+                                 "\n");
+    CHECK(reflectanceTexture(corner).cornerSpectra[3]);
+    CHECK_FALSE(reflectanceTexture(corner).cornerSpectra[0]);
+    // A float texture has no spectra.
+    auto floats = texturedSphere("Texture \"t\" \"float\" \"scale\" \"float tex\" 0.5\n",
+                                 "conductor", "roughness");
+    CHECK_FALSE(floats.scene->textures.back().spectral);
+}
+
+TEST_CASE("Spectral mode: a mix and a scale of sampled spectra render the combined spectrum",
+          "[spectral-mode][spectral]") {
+    // rho(l) = 0.75 * (0.5 * pairs(l)) + 0.25 * ramp(l): pbrt-v4 combines its spectrum textures
+    // at the path's wavelengths. Before, the texture combined the operands' colours and the
+    // spectral mode upsampled the result with sRGB's table.
+    auto mixed = loadWorld(squareUnder(
+        std::string("Texture \"half\" \"spectrum\" \"scale\" \"spectrum tex\" ") + kPairsText +
+        " \"float scale\" 0.5\nTexture \"t\" \"spectrum\" \"mix\" \"texture tex1\" \"half\" "
+        "\"spectrum tex2\" [400 0.9 700 0.2] \"float amount\" 0.25\n"
+        "Material \"diffuse\" \"texture reflectance\" \"t\""));
+    REQUIRE(mixed.warnings.empty());
+    double planckY = 0;
+    for (int nm = 360; nm <= 830; ++nm)
+        planckY += spectral::cieY().at(float(nm)) * kernels::spectral::planck(nm, 4000);
+    const double unit = spectral::cieYIntegral() / planckY;
+    auto light = [&](double nm) { return kernels::spectral::planck(nm, 4000) * unit; };
+    const Vec3 expected = lambertianUnder(
+        [](double nm) {
+            return 0.75 * 0.5 * spectral::piecewiseLinear(kPairs, nm) +
+                   0.25 * spectral::piecewiseLinear(kRampPairs, nm);
+        },
+        light);
+    // The colour RGB mode combines (the texture is the same everywhere), upsampled.
+    const Vec3 colour = evalTexture(*mixed.scene, int(mixed.scene->textures.size()) - 1, {});
+    spectral::RgbAlbedoSpectrum metamer(srgb(), colour.x, colour.y, colour.z);
+    const Vec3 before = lambertianUnder([&](double nm) { return double(metamer(float(nm))); }, light);
+    const double tolerance = 1e-3 * maxComponent(expected);
+    double missedBefore = 0;
+    for (int ch = 0; ch < 3; ++ch)
+        missedBefore = std::max(missedBefore, double(std::abs(before[ch] - expected[ch])));
+    INFO("expected " << expected.x << " " << expected.y << " " << expected.z << ", before "
+                     << before.x << " " << before.y << " " << before.z);
+    CHECK(missedBefore > 4 * tolerance);
+    checkSpectralRender(*mixed.scene, expected, before, tolerance);
+}
+
+TEST_CASE("Spectral mode: a conductor's eta texture of pairs is read unclamped at the lane",
+          "[pbrt][spectral]") {
+    // eta = 1.0 x the pairs (above 1 in the blue): the unbounded spectrum, not clamped to 1.
+    auto r = loadWorld("Texture \"e\" \"spectrum\" \"scale\" \"spectrum tex\" [400 1.5 500 0.5 "
+                       "600 0.2 700 0.15] \"float scale\" 1\nMaterial \"conductor\" "
+                       "\"texture eta\" \"e\" \"spectrum k\" [400 1.8 700 4.2]\nShape \"sphere\"\n");
+    REQUIRE(r.warnings.empty());
+    const int material = rootShapes(*r.scene)[0].shape->material;
+    const rayproc::Texture& e = r.scene->textures.back();
+    REQUIRE(e.aSpectrum);
+    atLanes(*r.scene, material, [&](const kernels::BsdfParams& b, int i, std::size_t nm) {
+        CHECK(b.eta[i] == e.aSpectrum.unbounded->values.values[nm]);
+    });
 }

@@ -119,7 +119,7 @@ int ValueReader::normalMapTexture(const std::string& file, const SourceLoc& loc)
 }
 
 void ValueReader::operand(const ParamList& params, std::string_view name, bool isFloat, Vec3 def,
-                          int& index, Vec3& value) const {
+                          int& index, Vec3& value, OperandSpectrum* spectrum) const {
     index = -1;
     value = def;
     const Param* p = params.find(name);
@@ -127,13 +127,42 @@ void ValueReader::operand(const ParamList& params, std::string_view name, bool i
     if (p->type == "texture") {
         p->used = true;
         const Texture* t = texture(*p, isFloat);
-        if (t->constant)
+        if (t->constant) {
             value = convertConstant(*t, SpectrumUse::Unbounded, def);
-        else if (!t->missing)
+            if (spectrum && t->hasValue) *spectrum = operandSpectrum(t->value, *t->colorSpace);
+        } else if (!t->missing) {
             index = t->index;
+        }
         return;
     }
-    value = isFloat ? Vec3(scalar(params, name, def.x)) : color(params, name, SpectrumUse::Unbounded, def);
+    if (isFloat) {
+        value = Vec3(scalar(params, name, def.x));
+        return;
+    }
+    value = color(params, name, SpectrumUse::Unbounded, def);
+    if (spectrum) *spectrum = operandSpectrum(*p, *m_colorSpace);
+}
+
+// Called after convert() accepted the parameter: its values are valid.
+OperandSpectrum ValueReader::operandSpectrum(const Param& p, const spectral::ColorSpace& cs) {
+    OperandSpectrum s;
+    s.unbounded = ownSpectrum(p, SpectrumUse::Unbounded, cs);
+    if (!s.unbounded) return s;
+    // Pairs are read unclamped by either use; an rgb is the albedo or the unbounded spectrum.
+    s.albedo = p.type == "rgb" ? ownSpectrum(p, SpectrumUse::Albedo, cs) : s.unbounded;
+    if (!s.albedo) s.albedo = s.unbounded;
+    return s;
+}
+
+bool ValueReader::hasSpectra(const rayproc::Texture& t) const {
+    auto spectralTexture = [this](int index) {
+        return index >= 0 && (*m_table)[std::size_t(index)].spectral;
+    };
+    bool any = bool(t.aSpectrum) || bool(t.bSpectrum) || spectralTexture(t.a);
+    // Scale's second operand is a float ("scale"), never spectral.
+    if (t.type != TextureType::Scale) any = any || spectralTexture(t.b);
+    for (const OperandSpectrum& c : t.cornerSpectra) any = any || bool(c);
+    return any;
 }
 
 // A texture that combines others or values ("scale", "mix", "directionmix", "checkerboard",
@@ -143,14 +172,15 @@ rayproc::Texture ValueReader::combination(const std::string& className, const Pa
                                           const Mat4& worldFromTexture) const {
     rayproc::Texture rt;
     const Vec3 one(1.0f), zero(0.0f);
+    auto spectra = [isFloat](OperandSpectrum& s) { return isFloat ? nullptr : &s; };
     if (className == "scale") {
         rt.type = TextureType::Scale;
-        operand(params, "tex", isFloat, one, rt.a, rt.aValue);
+        operand(params, "tex", isFloat, one, rt.a, rt.aValue, spectra(rt.aSpectrum));
         operand(params, "scale", true, one, rt.b, rt.bValue);
     } else if (className == "mix" || className == "directionmix") {
         rt.type = className == "mix" ? TextureType::Mix : TextureType::DirectionMix;
-        operand(params, "tex1", isFloat, zero, rt.a, rt.aValue);
-        operand(params, "tex2", isFloat, one, rt.b, rt.bValue);
+        operand(params, "tex1", isFloat, zero, rt.a, rt.aValue, spectra(rt.aSpectrum));
+        operand(params, "tex2", isFloat, one, rt.b, rt.bValue, spectra(rt.bSpectrum));
         if (rt.type == TextureType::Mix) {
             Vec3 amount;
             operand(params, "amount", true, Vec3(0.5f), rt.amountTexture, amount);
@@ -166,19 +196,25 @@ rayproc::Texture ValueReader::combination(const std::string& className, const Pa
         rt.type = TextureType::Bilerp;
         const char* names[4] = {"v00", "v10", "v01", "v11"};
         const float defaults[4] = {0, 0, 1, 1};
-        for (int k = 0; k < 4; ++k)
-            rt.corners[std::size_t(k)] =
-                isFloat ? Vec3(scalar(params, names[k], defaults[k]))
-                        : color(params, names[k], SpectrumUse::Unbounded, Vec3(defaults[k]));
+        for (std::size_t k = 0; k < 4; ++k) {
+            if (isFloat) {
+                rt.corners[k] = Vec3(scalar(params, names[k], defaults[k]));
+                continue;
+            }
+            rt.corners[k] = color(params, names[k], SpectrumUse::Unbounded, Vec3(defaults[k]));
+            if (const Param* p = params.find(names[k]))
+                rt.cornerSpectra[k] = operandSpectrum(*p, *m_colorSpace);
+        }
     } else {
         rt.type = TextureType::Checkerboard;
         const long long dimension = params.getInt("dimension", 2);
         if (dimension == 3) rt.mapping = TextureMapping::Point;
         else if (dimension == 2) readMapping(params, rt, m_warnings, loc);
         else failAt(loc, "checkerboard's \"dimension\" must be 2 or 3");
-        operand(params, "tex1", isFloat, one, rt.a, rt.aValue);
-        operand(params, "tex2", isFloat, zero, rt.b, rt.bValue);
+        operand(params, "tex1", isFloat, one, rt.a, rt.aValue, spectra(rt.aSpectrum));
+        operand(params, "tex2", isFloat, zero, rt.b, rt.bValue, spectra(rt.bSpectrum));
     }
+    rt.spectral = hasSpectra(rt);
     return rt;
 }
 

@@ -90,9 +90,14 @@ private:
         bool missing = false; // an image map whose file could not be read
         const spectral::ColorSpace* colorSpace = nullptr; // where it was defined
     };
-    // A texture operand ("tex", "tex1", "amount", ...): a texture index or a value.
+    // A texture operand ("tex", "tex1", "amount", ...): a texture index or a value; with
+    // `spectrum`, a colour value's own spectrum where it has one (operandSpectrum).
     void operand(const ParamList& params, std::string_view name, bool isFloat, Vec3 def,
-                 int& index, Vec3& value) const;
+                 int& index, Vec3& value, OperandSpectrum* spectrum = nullptr) const;
+    // A constant colour operand's spectra (none for an sRGB `rgb`, a blackbody, a named one).
+    static OperandSpectrum operandSpectrum(const Param& p, const spectral::ColorSpace& cs);
+    // Whether a combination's operands have spectra (Texture::spectral).
+    bool hasSpectra(const rayproc::Texture& t) const;
     rayproc::Texture imageTexture(const std::string& name, const ParamList& params,
                                   bool isFloat, const SourceLoc& loc, bool& missing) const;
     rayproc::Texture combination(const std::string& className, const ParamList& params,
