@@ -20,9 +20,12 @@ using ReflectanceSpectrumRef = std::shared_ptr<const ReflectanceSpectrum>;
 // RGB mode combines. `albedo` is the spectrum a reflectance reads (an `rgb`'s RGBAlbedoSpectrum),
 // `unbounded` the one any other parameter reads (RGBUnboundedSpectrum); pairs are the same
 // spectrum in both, unclamped (the material clamps what it evaluates, as pbrt-v4's do). Both
-// null: the operand is its RGB value.
+// null: the operand is its RGB value. The operand's value beside it is RGB mode's as an
+// unbounded value (pairs: their value at 587.6 nm); `albedoColour` is its colour as a
+// reflectance, which the importer's reflectance copy of the texture combines instead.
 struct OperandSpectrum {
     ReflectanceSpectrumRef albedo, unbounded;
+    Vec3 albedoColour{0.0f, 0.0f, 0.0f};
     explicit operator bool() const { return unbounded != nullptr; }
 };
 

@@ -322,8 +322,12 @@ TEST_CASE("pbrt textures of spectra keep their operands' spectra", "[pbrt][spect
     REQUIRE(s.aSpectrum);
     CHECK(s.aSpectrum.unbounded->values.at(480) == Approx(0.8));
     CHECK(s.aSpectrum.albedo == s.aSpectrum.unbounded);
-    // RGB mode's value as before: an operand is read as an unbounded value, pairs at 587.6 nm.
-    CHECK(s.aValue == Vec3(float(pbrt::sampledValueAt(kPairs, 587.6))));
+    // RGB mode reads the texture as a reflectance through a copy whose operand is the pairs'
+    // colour as a reflectance; the texture itself keeps their unbounded value (at 587.6 nm).
+    CHECK(s.aValue == pbrt::sampledReflectanceRgb(kPairs));
+    CHECK(s.name == "t (as a reflectance)");
+    REQUIRE(scaled.scene->textures.size() == 2);
+    CHECK(scaled.scene->textures[0].aValue == Vec3(float(pbrt::sampledValueAt(kPairs, 587.6))));
     // sRGB rgb operands keep none; a rec2020 rgb keeps its albedo and unbounded spectra.
     CHECK_FALSE(reflectanceTexture(texturedSphere("Texture \"t\" \"spectrum\" \"mix\" "
                                                   "\"rgb tex1\" [0.2 0.5 0.7]\n"))
@@ -391,6 +395,26 @@ TEST_CASE("Spectral mode: a mix and a scale of sampled spectra render the combin
                      << before.x << " " << before.y << " " << before.z);
     CHECK(missedBefore > 4 * tolerance);
     checkSpectralRender(*mixed.scene, expected, before, tolerance);
+}
+
+TEST_CASE("RGB mode: a texture of sampled spectra read as a reflectance combines their colours",
+          "[pbrt][spectral]") {
+    // scale(pairs, 0.5) as a diffuse reflectance renders as the pairs' colour times 0.5 written
+    // as rgb (before, the pairs were read as an unbounded value: their 587.6 nm value, a grey).
+    auto scaled = loadWorld(squareUnder(std::string("Texture \"t\" \"spectrum\" \"scale\" ") +
+                                        "\"spectrum tex\" " + kPairsText + " \"float scale\" 0.5\n"
+                                        "Material \"diffuse\" \"texture reflectance\" \"t\""));
+    REQUIRE(scaled.warnings.empty());
+    const Vec3 colour = pbrt::sampledReflectanceRgb(kPairs) * 0.5f;
+    char rgbText[160];
+    std::snprintf(rgbText, sizeof rgbText, "Material \"diffuse\" \"rgb reflectance\" [%.9g %.9g %.9g]",
+                  colour.x, colour.y, colour.z);
+    auto rgb = loadWorld(squareUnder(rgbText));
+    const Image a = render(*scaled.scene, 4, false), b = render(*rgb.scene, 4, false);
+    for (int c = 0; c < 3; ++c) {
+        INFO("channel " << c);
+        CHECK(pixelStats(a, c).mean == Approx(pixelStats(b, c).mean).epsilon(1e-6));
+    }
 }
 
 TEST_CASE("Spectral mode: a conductor's eta texture of pairs is read unclamped at the lane",

@@ -144,14 +144,37 @@ void ValueReader::operand(const ParamList& params, std::string_view name, bool i
 }
 
 // Called after convert() accepted the parameter: its values are valid.
-OperandSpectrum ValueReader::operandSpectrum(const Param& p, const spectral::ColorSpace& cs) {
+OperandSpectrum ValueReader::operandSpectrum(const Param& p,
+                                             const spectral::ColorSpace& cs) const {
     OperandSpectrum s;
     s.unbounded = ownSpectrum(p, SpectrumUse::Unbounded, cs);
     if (!s.unbounded) return s;
+    s.albedoColour = convert(p, SpectrumUse::Albedo, Vec3(0.0f), cs);
     // Pairs are read unclamped by either use; an rgb is the albedo or the unbounded spectrum.
     s.albedo = p.type == "rgb" ? ownSpectrum(p, SpectrumUse::Albedo, cs) : s.unbounded;
     if (!s.albedo) s.albedo = s.unbounded;
     return s;
+}
+
+int ValueReader::reflectanceTexture(int index) const {
+    if (index < 0 || !(*m_table)[std::size_t(index)].spectral) return index;
+    if (auto it = m_reflectanceCopies.find(index); it != m_reflectanceCopies.end())
+        return it->second;
+    rayproc::Texture copy = (*m_table)[std::size_t(index)]; // the table grows below
+    auto asReflectance = [](Vec3& value, const OperandSpectrum& s) {
+        if (s) value = s.albedoColour;
+    };
+    asReflectance(copy.aValue, copy.aSpectrum);
+    asReflectance(copy.bValue, copy.bSpectrum);
+    for (std::size_t k = 0; k < copy.corners.size(); ++k)
+        asReflectance(copy.corners[k], copy.cornerSpectra[k]);
+    copy.a = reflectanceTexture(copy.a);
+    if (copy.type != TextureType::Scale) copy.b = reflectanceTexture(copy.b); // "scale": a float
+    copy.name += " (as a reflectance)";
+    m_table->push_back(std::move(copy));
+    const int made = int(m_table->size()) - 1;
+    m_reflectanceCopies[index] = made;
+    return made;
 }
 
 bool ValueReader::hasSpectra(const rayproc::Texture& t) const {
@@ -282,7 +305,7 @@ ColorParam ValueReader::colorParam(const ParamList& params, std::string_view nam
     if (t->constant)
         c.value = convertConstant(*t, use, def);
     else if (!t->missing)
-        c.texture = t->index;
+        c.texture = use == SpectrumUse::Albedo ? reflectanceTexture(t->index) : t->index;
     return c;
 }
 

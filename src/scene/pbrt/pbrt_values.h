@@ -95,7 +95,12 @@ private:
     void operand(const ParamList& params, std::string_view name, bool isFloat, Vec3 def,
                  int& index, Vec3& value, OperandSpectrum* spectrum = nullptr) const;
     // A constant colour operand's spectra (none for an sRGB `rgb`, a blackbody, a named one).
-    static OperandSpectrum operandSpectrum(const Param& p, const spectral::ColorSpace& cs);
+    OperandSpectrum operandSpectrum(const Param& p, const spectral::ColorSpace& cs) const;
+    // The table's texture `index` as a reflectance reads it: itself, or for a texture with
+    // operand spectra (Texture::spectral) a copy whose such operands (and operand textures)
+    // are their colours as reflectances, made once (pbrt-v4 instantiates a spectrum texture
+    // per use, reading an operand's spectrum as an albedo or an unbounded spectrum).
+    int reflectanceTexture(int index) const;
     // Whether a combination's operands have spectra (Texture::spectral).
     bool hasSpectra(const rayproc::Texture& t) const;
     rayproc::Texture imageTexture(const std::string& name, const ParamList& params,
@@ -122,6 +127,7 @@ private:
     std::unordered_map<std::string, Texture> m_floatTextures;
     std::unordered_map<std::string, Texture> m_spectrumTextures;
     std::vector<rayproc::Texture>* m_table = nullptr;
+    mutable std::unordered_map<int, int> m_reflectanceCopies; // reflectanceTexture's
     std::filesystem::path m_dir;
     const spectral::ColorSpace* m_colorSpace = &spectral::colorSpace(spectral::ColorSpaceId::Srgb);
 };
