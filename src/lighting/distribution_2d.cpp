@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace rayproc {
 
 namespace {
@@ -45,23 +48,31 @@ Distribution2D::Distribution2D(std::vector<float> weights, int width, int height
     : m_width(width), m_height(height), m_weights(std::move(weights)) {
     m_rowCdf.resize(m_weights.size());
     m_margCdf.resize(std::size_t(height));
+    m_rowGuide.resize(std::size_t(width + 1) * std::size_t(height));
+    // The rows are independent (an environment map's build is part of scene setup, which runs
+    // before the render's workers start); the marginal sums them in order after.
+    std::vector<double> rowTotal(static_cast<std::size_t>(height));
+    auto rows = [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y < r.end(); ++y) {
+            double row = 0;
+            for (int x = 0; x < width; ++x) {
+                float& w = m_weights[std::size_t(y) * width + x];
+                if (!(w > 0) || !std::isfinite(w)) w = 0;
+                row += w;
+                m_rowCdf[std::size_t(y) * width + x] = row;
+            }
+            rowTotal[std::size_t(y)] = row;
+            buildGuide(&m_rowCdf[std::size_t(y) * width], width,
+                       &m_rowGuide[std::size_t(y) * std::size_t(width + 1)]);
+        }
+    };
+    tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), rows);
     double total = 0;
     for (int y = 0; y < height; ++y) {
-        double row = 0;
-        for (int x = 0; x < width; ++x) {
-            float& w = m_weights[std::size_t(y) * width + x];
-            if (!(w > 0) || !std::isfinite(w)) w = 0;
-            row += w;
-            m_rowCdf[std::size_t(y) * width + x] = row;
-        }
-        total += row;
+        total += rowTotal[std::size_t(y)];
         m_margCdf[std::size_t(y)] = total;
     }
     m_total = total;
-    m_rowGuide.resize(std::size_t(width + 1) * std::size_t(height));
-    for (int y = 0; y < height; ++y)
-        buildGuide(&m_rowCdf[std::size_t(y) * width], width,
-                   &m_rowGuide[std::size_t(y) * std::size_t(width + 1)]);
     m_margGuide.resize(std::size_t(height) + 1);
     buildGuide(m_margCdf.data(), height, m_margGuide.data());
 }

@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace rayproc {
 
 namespace {
@@ -37,18 +40,22 @@ EnvironmentLight::Map::Map(const Light& light)
         average = sum * float(2 * kPi * kPi / (4 * kPi * double(w) * h));
     else
         average = sum / float(sumW);
-    // The compensated density: each pixel's excess over the sphere's mean, times its area.
+    // The compensated density: each pixel's excess over the sphere's mean, times its area
+    // (rows in parallel: no sum crosses them; the sum above stays in one order).
     const float mean = channelMean(average);
     std::vector<float> excess(weights.size());
-    bool any = false;
-    for (int y = 0; y < h; ++y) {
-        float area = mapping == EnvironmentMapping::LatLong ? rowSinTheta(y, h) : 1.0f;
-        for (int x = 0; x < w; ++x) {
-            float e = std::max(0.0f, channelMean(pixelRadiance(x, y)) - mean) * area;
-            excess[std::size_t(y) * w + x] = e;
-            any |= e > 0;
+    std::vector<char> rowAny(std::size_t(h), 0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y < r.end(); ++y) {
+            float area = mapping == EnvironmentMapping::LatLong ? rowSinTheta(y, h) : 1.0f;
+            for (int x = 0; x < w; ++x) {
+                float e = std::max(0.0f, channelMean(pixelRadiance(x, y)) - mean) * area;
+                excess[std::size_t(y) * w + x] = e;
+                rowAny[std::size_t(y)] |= char(e > 0);
+            }
         }
-    }
+    });
+    const bool any = std::find(rowAny.begin(), rowAny.end(), char(1)) != rowAny.end();
     distribution = Distribution2D(std::move(weights), w, h);
     compensated = any ? Distribution2D(std::move(excess), w, h) : distribution;
 }

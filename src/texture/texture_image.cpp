@@ -14,6 +14,9 @@
 
 #include <sys/stat.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace rayproc {
 
 namespace {
@@ -120,19 +123,39 @@ std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
         img->hasAlpha = true;
         img->alpha.resize(std::size_t(w) * h);
     }
-    DecodeMemo decoded(e);
-    for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
-        const float* p = &raw.pixels[i * nch];
-        for (int c = 0; c < 3; ++c) {
-            // Grey (and grey + alpha) files repeat their one colour channel.
-            int src = nch >= 3 ? c : 0;
-            base.rgb[3 * i + c] = decoded(p[src]);
+    // Rows in parallel, each range with its own memo (the same decode of the same bits).
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 32), [&](const tbb::blocked_range<int>& r) {
+        DecodeMemo decoded(e);
+        const std::size_t end = std::size_t(r.end()) * std::size_t(w);
+        for (std::size_t i = std::size_t(r.begin()) * std::size_t(w); i < end; ++i) {
+            const float* p = &raw.pixels[i * nch];
+            for (int c = 0; c < 3; ++c) {
+                // Grey (and grey + alpha) files repeat their one colour channel.
+                int src = nch >= 3 ? c : 0;
+                base.rgb[3 * i + c] = decoded(p[src]);
+            }
+            if (alphaChannel >= 0) img->alpha[i] = p[alphaChannel]; // alpha is never encoded
         }
-        if (alphaChannel >= 0) img->alpha[i] = p[alphaChannel]; // alpha is never encoded
-    }
+    });
     img->levels.push_back(std::move(base));
     buildMipLevels(*img);
     return img;
+}
+
+// Texel (x, y) of the coarser level c: the mean of the finer level f's 2x2 texels under it
+// (edge texels repeated where f's size is odd).
+void downsample(const TextureImage::Level& f, int x, int y, TextureImage::Level& c) {
+    float sum[3] = {0, 0, 0};
+    int n = 0;
+    for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+            int fx = std::min(2 * x + dx, f.width - 1), fy = std::min(2 * y + dy, f.height - 1);
+            const float* p = f.at(fx, fy);
+            for (int k = 0; k < 3; ++k) sum[k] += p[k];
+            ++n;
+        }
+    float* q = &c.rgb[3 * (std::size_t(y) * c.width + x)];
+    for (int k = 0; k < 3; ++k) q[k] = sum[k] / float(n);
 }
 
 } // namespace
@@ -145,20 +168,11 @@ void buildMipLevels(TextureImage& img) {
         c.width = (f.width + 1) / 2;
         c.height = (f.height + 1) / 2;
         c.rgb.assign(std::size_t(c.width) * c.height * 3, 0.0f);
-        for (int y = 0; y < c.height; ++y)
-            for (int x = 0; x < c.width; ++x) {
-                float sum[3] = {0, 0, 0};
-                int n = 0;
-                for (int dy = 0; dy < 2; ++dy)
-                    for (int dx = 0; dx < 2; ++dx) {
-                        int fx = std::min(2 * x + dx, f.width - 1), fy = std::min(2 * y + dy, f.height - 1);
-                        const float* p = f.at(fx, fy);
-                        for (int k = 0; k < 3; ++k) sum[k] += p[k];
-                        ++n;
-                    }
-                float* q = &c.rgb[3 * (std::size_t(y) * c.width + x)];
-                for (int k = 0; k < 3; ++k) q[k] = sum[k] / float(n);
-            }
+        auto rows = [&](const tbb::blocked_range<int>& r) {
+            for (int y = r.begin(); y < r.end(); ++y)
+                for (int x = 0; x < c.width; ++x) downsample(f, x, y, c);
+        };
+        tbb::parallel_for(tbb::blocked_range<int>(0, c.height, 32), rows);
         img.levels.push_back(std::move(c));
     }
 }
