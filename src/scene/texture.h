@@ -31,7 +31,10 @@ struct OperandSpectrum {
 
 struct TextureImage; // texture/texture_image.h: decoded pixels and their MIP pyramid
 
-enum class TextureType { Constant, Image, Scale, Mix, Checkerboard, Bilerp, DirectionMix };
+enum class TextureType {
+    Constant, Image, Scale, Mix, Checkerboard, Bilerp, DirectionMix,
+    Fbm, Wrinkled, Windy, Marble, Dots // pbrt-v4's noise textures (texture/noise.h)
+};
 // Where a texture is looked up (pbrt-v4's TextureMapping2D, and its 3D point mapping):
 // - Uv: (s, t) = (su u + du, sv v + dv);
 // - Spherical: p' = textureFromWorld(p), (s, t) = (theta / pi, phi / 2 pi) of p' from the origin;
@@ -76,6 +79,12 @@ struct Texture {
     // Bilerp: the values at (s, t) = (0, 0), (1, 0), (0, 1), (1, 1), bilinear between them
     // (and beyond, as pbrt-v4 does not wrap them).
     std::array<Vec3, 4> corners{};
+    // Fbm, Wrinkled, Windy and Marble: noise of the point in the directive's space (the Point
+    // mapping); Fbm, Wrinkled and Marble sum `octaves` octaves weighted by omega^i (pbrt-v4's
+    // "roughness"), Marble scales the point by noiseScale and its stripes' noise by
+    // `variation`. Dots: the 2D mapping; tex(a) inside a dot, tex(b) outside.
+    int octaves = 8;
+    float omega = 0.5f, noiseScale = 1.0f, variation = 0.2f;
 
     // The spectral mode's operands: aSpectrum, bSpectrum and cornerSpectra where the constants
     // above were given as spectra; `spectral` when this texture or an operand texture has any.

@@ -5,6 +5,7 @@
 #include "texture/texture_eval.h"
 
 #include "lighting/sphere_mapping.h"
+#include "texture/noise.h"
 #include "texture/texture_image.h"
 
 #include <algorithm>
@@ -130,6 +131,20 @@ bool evenCheck(const Texture& t, const TextureContext& ctx, float s, float tt) {
     return (long long)(std::floor(p.x) + std::floor(p.y) + std::floor(p.z)) % 2 == 0;
 }
 
+// A noise texture's value at the hit's point in the directive's space (a float one's in all
+// three channels; marble, a colour in pbrt-v4, gives a float its channels' mean).
+Vec3 solid(const Texture& t, const TextureContext& ctx) {
+    const Vec3 p = t.textureFromWorld.point(ctx.p);
+    switch (t.type) {
+    case TextureType::Fbm: return Vec3(fbmNoise(p, t.omega, t.octaves));
+    case TextureType::Wrinkled: return Vec3(turbulenceNoise(p, t.omega, t.octaves));
+    case TextureType::Windy: return Vec3(windyNoise(p));
+    default: break;
+    }
+    const Vec3 c = marbleColour(p, t.noiseScale, t.variation, t.omega, t.octaves);
+    return t.isFloat ? Vec3((c.x + c.y + c.z) / 3.0f) : c;
+}
+
 float mixAmount(const Scene& scene, const Texture& t, const TextureContext& ctx) {
     return t.amountTexture >= 0 ? evalFloatTexture(scene, t.amountTexture, ctx) : t.amount;
 }
@@ -164,6 +179,13 @@ Vec3 evaluate(const Scene& scene, const Texture& t, const TextureContext& ctx) {
         return operand(scene, t.a, t.aValue, ctx) * amount +
                operand(scene, t.b, t.bValue, ctx) * (1 - amount);
     }
+    case TextureType::Dots:
+        return insidePolkaDot(s, tt) ? operand(scene, t.a, t.aValue, ctx)
+                                     : operand(scene, t.b, t.bValue, ctx);
+    case TextureType::Fbm:
+    case TextureType::Wrinkled:
+    case TextureType::Windy:
+    case TextureType::Marble: return solid(t, ctx);
     }
     return t.value;
 }
@@ -190,6 +212,11 @@ Vec3 evaluateLanes(const Scene& scene, const Texture& t, const TextureContext& c
         return a() * (1 - amount) + b() * amount;
     }
     case TextureType::Checkerboard: return evenCheck(t, ctx, s, tt) ? a() : b();
+    case TextureType::Dots: return insidePolkaDot(s, tt) ? a() : b();
+    case TextureType::Fbm:
+    case TextureType::Wrinkled:
+    case TextureType::Windy:
+    case TextureType::Marble: return lanes.rgb(evaluate(scene, t, ctx));
     case TextureType::Bilerp: {
         const float w[4] = {(1 - s) * (1 - tt), s * (1 - tt), (1 - s) * tt, s * tt};
         Vec3 v(0.0f);

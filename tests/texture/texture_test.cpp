@@ -12,11 +12,14 @@
 #include "scene/scene_loader.h"
 #include "core/error.h"
 #include "texture/texture_eval.h"
+#include "texture/noise.h"
 #include "texture/texture_image.h"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -449,4 +452,102 @@ TEST_CASE("Alpha cut-outs: a texture of the point or the normal reads the world-
         blockedRays(*facing.scene, {{{0.5f, 0.5f, 5}, {0, 0, -1}}, {{25, 0.5f, 0.5f}, {-1, 0, 0}}});
     CHECK(blocked[0]);  // faces z: alpha 1
     CHECK(!blocked[1]); // faces x: alpha 0
+}
+
+TEST_CASE("Solid noise: zero on the lattice, within [-1, 1], smooth, and pbrt-v4's values",
+          "[texture][noise]") {
+    for (Vec3 p : {Vec3(0, 0, 0), Vec3(3, -5, 7), Vec3(-200, 41, 1000), Vec3(255, 256, -257)})
+        CHECK(solidNoise(p) == 0.0f);
+    std::uint64_t h = 7;
+    double sum = 0, sum2 = 0, largestStep = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+        Vec3 p;
+        for (float* c : {&p.x, &p.y, &p.z}) {
+            h = h * 6364136223846793005ull + 1442695040888963407ull;
+            *c = float(h >> 40) * 0x1p-24f * 200.0f - 100.0f;
+        }
+        const float v = solidNoise(p);
+        CHECK(std::abs(v) <= 1.0f);
+        sum += v;
+        sum2 += double(v) * v;
+        largestStep = std::max(largestStep, double(std::abs(solidNoise(p + Vec3(1e-3f)) - v)));
+    }
+    CHECK(std::abs(sum / n) < 0.02);
+    CHECK(std::sqrt(sum2 / n) > 0.15);
+    CHECK(largestStep < 0.01); // continuous: a 1.7e-3 step moves it less than 0.01
+    // Values from an independent double-precision reading of pbrt-v4's definitions (Perlin's
+    // permutation, pbrt's gradients, 1.99 lacunarity; a Python script), at float's precision.
+    const float eps = 2e-5f;
+    CHECK(solidNoise(0.3f, 1.7f, 2.2f) == Approx(-0.2725179399).margin(eps));
+    CHECK(solidNoise(-3.25f, 7.5f, 0.125f) == Approx(0.4425694272).margin(eps));
+    CHECK(solidNoise(100.6f, -20.2f, 5.9f) == Approx(-0.5259283876).margin(eps));
+    const Vec3 p(0.37f, -1.21f, 2.63f);
+    CHECK(fbmNoise(p, 0.5f, 8) == Approx(-0.2994776023).margin(eps));
+    CHECK(turbulenceNoise(p, 0.5f, 8) == Approx(0.4101191135).margin(eps));
+    CHECK(fbmNoise(p, 0.7f, 6) == Approx(-0.3044278459).margin(eps));
+    CHECK(windyNoise(Vec3(3.1f, 0.4f, -2.2f)) == Approx(-0.0231272920).margin(eps));
+    const Vec3 m = marbleColour(Vec3(0.7f, 1.3f, -0.4f), 1, 0.2f, 0.5f, 8);
+    CHECK(m.x == Approx(0.7595169972).margin(eps));
+    CHECK(m.y == Approx(0.7595169972).margin(eps));
+    CHECK(m.z == Approx(0.8214989191).margin(eps));
+    const Vec3 m2 = marbleColour(Vec3(2.0f, -0.8f, 1.1f), 2, 0.5f, 0.6f, 5);
+    CHECK(m2.x == Approx(0.8699255197).margin(eps));
+    CHECK(m2.z == Approx(0.8999068997).margin(eps));
+    // The dots on a quarter-unit grid over [-2, 2]^2: 53 of its points, the first ones these.
+    int inside = 0;
+    for (int s = -8; s <= 8; ++s)
+        for (int t = -8; t <= 8; ++t) inside += insidePolkaDot(float(s) / 4, float(t) / 4);
+    CHECK(inside == 53);
+    CHECK(insidePolkaDot(-2.0f, -1.75f));
+    CHECK(insidePolkaDot(-1.25f, 1.75f));
+    CHECK_FALSE(insidePolkaDot(-1.5f, -2.0f));
+}
+
+TEST_CASE("pbrt noise textures: fbm, wrinkled, windy, marble and dots as pbrt-v4 defines them",
+          "[pbrt][texture][noise]") {
+    // Defined under Translate 1 2 3: the 3D ones read the point in the directive's space.
+    auto r = loadWorld(
+        "AttributeBegin\nTranslate 1 2 3\n"
+        "Texture \"f\" \"float\" \"fbm\" \"integer octaves\" 5 \"float roughness\" 0.7\n"
+        "Texture \"w\" \"float\" \"wrinkled\"\nTexture \"y\" \"float\" \"windy\"\n"
+        "Texture \"m\" \"spectrum\" \"marble\" \"float scale\" 2 \"float variation\" 0.5\n"
+        "AttributeEnd\n"
+        "Texture \"d\" \"spectrum\" \"dots\" \"rgb inside\" [1 0 0] \"rgb outside\" [0 0 1]\n"
+        "Material \"diffuse\" \"texture reflectance\" \"m\"\nShape \"sphere\"\n"
+        "Material \"diffuse\" \"texture reflectance\" \"d\"\nShape \"sphere\"\n"
+        "Material \"conductor\" \"texture roughness\" \"f\"\nShape \"sphere\"\n"
+        "Material \"conductor\" \"texture roughness\" \"w\"\nShape \"sphere\"\n"
+        "Material \"conductor\" \"texture roughness\" \"y\"\nShape \"sphere\"\n");
+    CHECK(r.warnings.empty());
+    const Scene& scene = *r.scene;
+    REQUIRE(scene.textures.size() == 5);
+    const rayproc::Texture& f = scene.textures[0];
+    CHECK(f.type == TextureType::Fbm);
+    CHECK(f.octaves == 5);
+    CHECK(f.omega == 0.7f);
+    CHECK(scene.textures[1].octaves == 8); // pbrt-v4's defaults
+    CHECK(scene.textures[1].omega == 0.5f);
+    CHECK(scene.textures[3].noiseScale == 2.0f);
+    CHECK(scene.textures[3].variation == 0.5f);
+    TextureContext tc;
+    tc.p = {1.5f, 1.25f, 4.75f};
+    const Vec3 local = tc.p - Vec3(1, 2, 3);
+    CHECK(evalFloatTexture(scene, 0, tc) == fbmNoise(local, 0.7f, 5));
+    CHECK(evalFloatTexture(scene, 1, tc) == turbulenceNoise(local, 0.5f, 8));
+    CHECK(evalFloatTexture(scene, 2, tc) == windyNoise(local));
+    CHECK(evalTexture(scene, 3, tc) == marbleColour(local, 2, 0.5f, 0.5f, 8));
+    // dots: uv mapping; inside the dot of the cell at (-2, -2) (see the noise test), not at
+    // (-1.5, -2).
+    tc.uv = {-2.0f, -1.75f};
+    CHECK(evalTexture(scene, 4, tc) == Vec3(1, 0, 0));
+    tc.uv = {-1.5f, -2.0f};
+    CHECK(evalTexture(scene, 4, tc) == Vec3(0, 0, 1));
+    CHECK_THAT(pbrtErrorOf(std::string(kPbrtHeader) +
+                           "Texture \"f\" \"float\" \"fbm\" \"integer octaves\" -1\n"),
+               Catch::Contains("\"octaves\" must be from 0 to 64"));
+    // ptex is still not read: it warns and the parameter keeps its default.
+    auto ptex = loadWorld("Texture \"p\" \"spectrum\" \"ptex\" \"string filename\" \"x.ptx\"\n"
+                          "Material \"diffuse\" \"texture reflectance\" \"p\"\nShape \"sphere\"\n");
+    CHECK(ptex.warned("Texture class \"ptex\" is not supported"));
 }

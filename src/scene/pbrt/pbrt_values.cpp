@@ -43,6 +43,11 @@ TextureEncoding parseEncoding(const std::string& e, const SourceLoc& loc) {
 
 // pbrt-v4's 2D mapping ("mapping" and its own parameters, as pbrt-v4's TextureMapping2D reads
 // them), shared by image maps, 2D checkerboards and bilerp. An unknown name warns and is uv.
+static bool isNoise(const std::string& className) {
+    return className == "fbm" || className == "wrinkled" || className == "windy" ||
+           className == "marble";
+}
+
 static void readMapping(const ParamList& params, rayproc::Texture& t, Warnings& warnings,
                         const SourceLoc& loc) {
     std::string mapping = params.getString("mapping", "uv");
@@ -214,6 +219,11 @@ rayproc::Texture ValueReader::combination(const std::string& className, const Pa
             if (!(lengthSquared(rt.direction) > 0) || !isFinite(rt.direction))
                 failAt(loc, "directionmix's \"dir\" must be a non-zero direction");
         }
+    } else if (className == "dots") {
+        readMapping(params, rt, m_warnings, loc);
+        rt.type = TextureType::Dots;
+        operand(params, "inside", isFloat, one, rt.a, rt.aValue, spectra(rt.aSpectrum));
+        operand(params, "outside", isFloat, zero, rt.b, rt.bValue, spectra(rt.bSpectrum));
     } else if (className == "bilerp") {
         readMapping(params, rt, m_warnings, loc);
         rt.type = TextureType::Bilerp;
@@ -241,6 +251,30 @@ rayproc::Texture ValueReader::combination(const std::string& className, const Pa
     return rt;
 }
 
+// pbrt-v4's noise textures of the point ("fbm", "wrinkled", "windy", "marble"), with its
+// parameters and defaults (texture/noise.h).
+rayproc::Texture ValueReader::noiseTexture(const std::string& className, const ParamList& params,
+                                           const SourceLoc& loc) const {
+    rayproc::Texture rt;
+    rt.mapping = TextureMapping::Point;
+    rt.type = className == "fbm"        ? TextureType::Fbm
+              : className == "wrinkled" ? TextureType::Wrinkled
+              : className == "windy"    ? TextureType::Windy
+                                        : TextureType::Marble;
+    if (rt.type == TextureType::Windy) return rt; // pbrt-v4's has no parameters
+    const long long octaves = params.getInt("octaves", 8);
+    if (octaves < 0 || octaves > 64)
+        failAt(loc, className + "'s \"octaves\" must be from 0 to 64, got " +
+                        std::to_string(octaves));
+    rt.octaves = int(octaves);
+    rt.omega = float(params.getFloat("roughness", 0.5));
+    if (rt.type == TextureType::Marble) {
+        rt.noiseScale = float(params.getFloat("scale", 1.0));
+        rt.variation = float(params.getFloat("variation", 0.2));
+    }
+    return rt;
+}
+
 void ValueReader::defineTexture(const std::string& name, const std::string& type,
                                 const std::string& className, const ParamList& params,
                                 const SourceLoc& loc, const Mat4& worldFromTexture) {
@@ -258,9 +292,12 @@ void ValueReader::defineTexture(const std::string& name, const std::string& type
         }
     } else if (m_table && (className == "imagemap" || className == "scale" ||
                            className == "mix" || className == "directionmix" ||
-                           className == "checkerboard" || className == "bilerp")) {
+                           className == "checkerboard" || className == "bilerp" ||
+                           className == "dots" || isNoise(className))) {
         rayproc::Texture rt = className == "imagemap"
                                   ? imageTexture(name, params, t.isFloat, loc, t.missing)
+                              : isNoise(className)
+                                  ? noiseTexture(className, params, loc)
                                   : combination(className, params, t.isFloat, loc,
                                                 worldFromTexture);
         rt.name = name;

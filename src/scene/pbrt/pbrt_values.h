@@ -105,6 +105,8 @@ private:
     bool hasSpectra(const rayproc::Texture& t) const;
     rayproc::Texture imageTexture(const std::string& name, const ParamList& params,
                                   bool isFloat, const SourceLoc& loc, bool& missing) const;
+    rayproc::Texture noiseTexture(const std::string& className, const ParamList& params,
+                                  const SourceLoc& loc) const;
     rayproc::Texture combination(const std::string& className, const ParamList& params,
                                  bool isFloat, const SourceLoc& loc,
                                  const Mat4& worldFromTexture) const;
