@@ -50,10 +50,13 @@ struct SurfaceHit {
     Vec3 pError;   // per-component bound on |p - true surface point| (kernels/ray_offset.h)
     Vec3 ng;       // unit geometric normal (front side by the shape's winding/outward rule)
     Vec3 ns;       // unit shading normal, on the same side as ng
-    Vec2 uv;
+    Vec2 uv;       // pbrt-v4's: a mesh's, a sphere's (phi / 2 pi, 1 - theta / pi), a disk's
     Vec3 dpdu;     // world-space dp/du (the tangent of anisotropic roughness), not normalised
     Vec3 dpdv;     // world-space dp/dv (bump mapping); a mesh without uvs: the third vertex
                    // minus the first; spheres and disks: ns x dpdu
+    // How far (u, v) move per unit of dpdu and of dpdv (bump mapping's steps): 1 where they
+    // are dp/du and dp/dv (meshes); a sphere's are dp/dphi and ns x dp/dphi (sphereUv).
+    Vec2 uvStep{1.0f, 1.0f};
     const Shape* shape = nullptr;
     int material = 0;
     int instance = -1; // index of the InstanceRecord, -1 for root-level leaves

@@ -251,10 +251,10 @@ void bumpMapped(const Scene& scene, int texture, const SurfaceHit& hit, const Te
     const float d = evalFloatTexture(scene, texture, tc);
     TextureContext shifted = tc;
     shifted.p = hit.p + dpdu * kStep;
-    shifted.uv = {tc.uv.x + kStep, tc.uv.y};
+    shifted.uv = {tc.uv.x + kStep * hit.uvStep.x, tc.uv.y};
     const float du = evalFloatTexture(scene, texture, shifted);
     shifted.p = hit.p + dpdv * kStep;
-    shifted.uv = {tc.uv.x, tc.uv.y + kStep};
+    shifted.uv = {tc.uv.x, tc.uv.y + kStep * hit.uvStep.y};
     const float dv = evalFloatTexture(scene, texture, shifted);
     dpdu = dpdu + n * ((du - d) / kStep);
     dpdv = dpdv + n * ((dv - d) / kStep);

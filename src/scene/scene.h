@@ -43,6 +43,10 @@ struct Shape {
     Vec3 center{0, 0, 0};
     float radius = 1.0f;
     Vec3 normal{0, 1, 0}; // disk only: the front side
+    // The shape's own axes in the space of its group (unit; pbrt-v4's object space, whose z is
+    // a sphere's pole and a disk's normal): where (u, v) are measured, phi from frameX towards
+    // frameY about frameZ (accel/embree_scene.cpp, sphereUv and diskUv).
+    Vec3 frameX{1, 0, 0}, frameY{0, 1, 0}, frameZ{0, 0, 1};
     // Cut-out (pbrt-v4's shape "alpha"): a hit where alpha(uv) is 0 is ignored; between 0 and 1
     // it is kept with that probability (a hash of the ray), as pbrt-v4 does.
     FloatParam alpha{1.0f};

@@ -247,6 +247,9 @@ void parseShapeGeometry(const JsonRef& v, std::string_view type, Shape& shape,
         if (v.has("center")) shape.center = v["center"].vec3();
         if (v.has("normal")) shape.normal = v["normal"].direction();
         shape.radius = v["radius"].positive();
+        // (u, v) about the normal (Shape::frameZ), phi from an axis orthonormalBasis picks.
+        shape.frameZ = normalize(shape.normal);
+        orthonormalBasis(shape.frameZ, shape.frameX, shape.frameY);
     } else {
         v.fail("not a shape type: \"" + std::string(type) + "\"");
     }

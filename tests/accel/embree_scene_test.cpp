@@ -1,6 +1,7 @@
 // The Embree mapping against closed forms: spheres from outside and inside, disks, an
 // ellipsoid (a non-uniformly scaled sphere instance), nested instances resolved to the right
 // shape, material and composed transform, and the placed / unique geometry counts.
+#include "pbrt/pbrt_test_util.h"
 #include "test_util.h"
 
 #include <embree3/rtcore.h>
@@ -377,4 +378,53 @@ TEST_CASE("AccelStats count placed and unique geometry of an instanced scene", "
     CHECK(s.leaves == 7 * 2 + 1);
     CHECK(accel.instances().size() == 7);
     CHECK(accel.emitters().empty());
+}
+
+namespace {
+
+// Where rayproc puts pbrt-v4 world points (the importer may mirror the world for its camera):
+// a marker mesh through them, loaded under the same header.
+std::vector<Vec3> placedPoints(const std::vector<Vec3>& pbrtWorld) {
+    std::string p;
+    for (const Vec3& q : pbrtWorld)
+        p += std::to_string(q.x) + " " + std::to_string(q.y) + " " + std::to_string(q.z) + " ";
+    auto r = loadWorld("Shape \"trianglemesh\" \"point3 P\" [" + p + "] \"integer indices\" [" +
+                       std::string(pbrtWorld.size() == 3 ? "0 1 2" : "0 1 2 0 2 3") + "]\n");
+    return rootShapes(*r.scene)[0].shape->mesh->positions;
+}
+
+} // namespace
+
+TEST_CASE("Spheres and disks have pbrt-v4's (u, v) in their own space", "[accel][pbrt]") {
+    // A sphere of radius 2, translated by (1, 2, 3) and rotated 90 degrees about x: object
+    // (x, y, z) is pbrt world (1 + x, 2 - z, 3 + y). u = phi / 2 pi, v = 1 - theta / pi.
+    auto sphere = loadWorld("AttributeBegin\nTranslate 1 2 3\nRotate 90 1 0 0\n"
+                            "Shape \"sphere\" \"float radius\" 2\nAttributeEnd\n");
+    EmbreeScene accel(*sphere.scene);
+    const Vec3 c = placedPoints({{1, 2, 3}, {2, 2, 3}, {1, 3, 3}})[0];
+    const float r2 = std::sqrt(2.0f);
+    // Object points (0, 2, 0), (-2, 0, 0), (sqrt 2, 0, -sqrt 2), (0, 2 sin 60, 2 cos 60).
+    const std::vector<Vec3> at = placedPoints({{1, 2, 5}, {-1, 2, 3}, {1 + r2, 2 + r2, 3},
+                                               {1, 1, 3 + 2 * std::sin(kPi / 3)}});
+    const Vec2 expected[] = {{0.25f, 0.5f}, {0.5f, 0.5f}, {0.0f, 0.25f}, {0.25f, 2.0f / 3}};
+    for (std::size_t k = 0; k < at.size(); ++k) {
+        INFO("point " << k);
+        const Vec3 o = at[k] + (at[k] - c); // outside, along the normal
+        Traced t = traceOne(accel, o, normalize(c - o));
+        REQUIRE(t.hit);
+        // u wraps at phi = 0: 0 and 1 are the same meridian.
+        CHECK(std::min(std::abs(t.s.uv.x - expected[k].x),
+                       std::abs(std::abs(t.s.uv.x - expected[k].x) - 1.0f)) < 1e-4f);
+        CHECK(t.s.uv.y == Approx(expected[k].y).margin(1e-4));
+    }
+    // A disk of radius 2 at z = 1, rotated 90 degrees about z: object (0, 1) is pbrt world
+    // (-1, 0, 1): phi 90 degrees, r = 1: (0.25, 0.5).
+    auto disk = loadWorld("AttributeBegin\nTranslate 0 0 1\nRotate 90 0 0 1\n"
+                          "Shape \"disk\" \"float radius\" 2\nAttributeEnd\n");
+    EmbreeScene diskAccel(*disk.scene);
+    const std::vector<Vec3> d = placedPoints({{-1, 0, 1}, {-1, 0, 2}, {0, 0, 2}});
+    Traced t = traceOne(diskAccel, d[1], normalize(d[0] - d[1]));
+    REQUIRE(t.hit);
+    CHECK(t.s.uv.x == Approx(0.25f).margin(1e-4));
+    CHECK(t.s.uv.y == Approx(0.5f).margin(1e-4));
 }

@@ -183,6 +183,9 @@ ShapeResult analytic(Shape s, const Vec3d& center, const Vec3d& normal, const Sh
         s.center = ctx.toWorld.point(center).toFloat();
         s.normal = normalize(ctx.toWorld.vector(normal)).toFloat();
         s.radius = float(s.radius * scale);
+        s.frameX = normalize(ctx.toWorld.vector({1, 0, 0})).toFloat();
+        s.frameY = normalize(ctx.toWorld.vector({0, 1, 0})).toFloat();
+        s.frameZ = normalize(ctx.toWorld.vector({0, 0, 1})).toFloat();
     } else {
         s.center = center.toFloat();
         s.normal = normal.toFloat();
