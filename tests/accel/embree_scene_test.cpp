@@ -1,6 +1,7 @@
 // The Embree mapping against closed forms: spheres from outside and inside, disks, an
 // ellipsoid (a non-uniformly scaled sphere instance), nested instances resolved to the right
 // shape, material and composed transform, and the placed / unique geometry counts.
+#include "engine/material_bsdf.h"
 #include "pbrt/pbrt_test_util.h"
 #include "test_util.h"
 
@@ -427,4 +428,26 @@ TEST_CASE("Spheres and disks have pbrt-v4's (u, v) in their own space", "[accel]
     REQUIRE(t.hit);
     CHECK(t.s.uv.x == Approx(0.25f).margin(1e-4));
     CHECK(t.s.uv.y == Approx(0.5f).margin(1e-4));
+}
+
+TEST_CASE("Bump mapping on a sphere steps (u, v) with its dp/du: d = a v tilts the equator's "
+          "normal by atan(a / pi r)",
+          "[accel][pbrt][bump]") {
+    // v = 1 - theta / pi rises towards the +z pole; at the equator |dp/dv| = pi r, so the
+    // displaced surface's normal leans towards -z by atan(a / (pi r)).
+    const float a = 0.5f;
+    auto r = loadWorld("Texture \"d\" \"float\" \"bilerp\" \"float v00\" 0 \"float v10\" 0 "
+                       "\"float v01\" 0.5 \"float v11\" 0.5\n"
+                       "Material \"diffuse\" \"texture displacement\" \"d\"\n"
+                       "Shape \"sphere\" \"float radius\" 1\n");
+    REQUIRE(r.warnings.empty());
+    EmbreeScene accel(*r.scene);
+    const std::vector<Vec3> p = placedPoints({{0, 0, 0}, {1, 0, 0}, {0, 0, 1}});
+    const Vec3 pole = normalize(p[2] - p[0]);
+    const Vec3 o = p[1] * 3.0f - p[0] * 2.0f; // two radii out from the equator point (1, 0, 0)
+    Traced t = traceOne(accel, o, normalize(p[1] - o));
+    REQUIRE(t.hit);
+    SurfaceHit h = t.s;
+    resolveShading(*r.scene, h, normalize(o - p[1]));
+    CHECK(dot(h.ns, pole) == Approx(-std::sin(std::atan(a / kPi))).margin(2e-3));
 }
