@@ -324,7 +324,8 @@ void EmbreeScene::attachMesh(RTCScene target, const Shape& shape, std::vector<Ge
         embreePart = rest.get();
         m_embreeParts.push_back(std::move(rest));
         if (alpha) {
-            m_alpha.push_back(std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, nullptr, this}));
+            m_alpha.push_back(
+                std::make_unique<AlphaCutout>(AlphaCutout{&m_scene, &shape, nullptr, this}));
             exact->alpha = m_alpha.back().get();
         }
         m_stats.exactTriangles += exact->triangles.size();

@@ -15,7 +15,9 @@
 #include "spectral/spectra.h"
 #include "texture/texture_eval.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <functional>
 
 using namespace rayproc;
 using namespace rayproc::test;
@@ -45,6 +47,19 @@ Vec3 lambertianUnder(const std::function<double(double)>& rho,
         [&](double nm) { return rho(nm) * irradiance(nm) / 3.14159265358979323846; });
     spectral::ColorSpace::Rgb c = srgb().fromXyz({xyz.x, xyz.y, xyz.z});
     return {float(c.r), float(c.g), float(c.b)};
+}
+
+// The spectrum sRGB's table upsamples `colour` to, as a reflectance.
+std::function<double(double)> upsampled(const Vec3& colour) {
+    const spectral::RgbAlbedoSpectrum metamer(srgb(), colour.x, colour.y, colour.z);
+    return [metamer](double nm) { return double(metamer(float(nm))); };
+}
+
+// The largest difference between two colours' channels.
+double largestGap(const Vec3& a, const Vec3& b) {
+    double gap = 0;
+    for (int c = 0; c < 3; ++c) gap = std::max(gap, double(std::abs(a[c] - b[c])));
+    return gap;
 }
 
 std::string squareUnder(const std::string& material) {
@@ -177,15 +192,11 @@ TEST_CASE("Spectral mode: a sampled reflectance renders its own spectrum, RGB mo
     const Vec3 expected = lambertianUnder(
         [](double nm) { return spectral::piecewiseLinear(kPairs, nm); }, light);
     // What the mode rendered before: the sRGB upsampled spectrum of the colour.
-    spectral::RgbAlbedoSpectrum metamer(srgb(), colour.x, colour.y, colour.z);
-    const Vec3 before = lambertianUnder([&](double nm) { return double(metamer(float(nm))); }, light);
+    const Vec3 before = lambertianUnder(upsampled(colour), light);
     const double tolerance = 1e-3 * maxComponent(expected);
-    double missedBefore = 0;
-    for (int c = 0; c < 3; ++c)
-        missedBefore = std::max(missedBefore, double(std::abs(before[c] - expected[c])));
     INFO("expected " << expected.x << " " << expected.y << " " << expected.z << ", before "
                      << before.x << " " << before.y << " " << before.z);
-    CHECK(missedBefore > 10 * tolerance);
+    CHECK(largestGap(before, expected) > 10 * tolerance);
     checkSpectralRender(*sampled.scene, expected, before, tolerance);
     // RGB mode takes the colour: the same image as the colour written as rgb, to the bit.
     CHECK(sameBits(render(*sampled.scene, 2, false), render(*rgb.scene, 2, false)));
@@ -385,15 +396,11 @@ TEST_CASE("Spectral mode: a mix and a scale of sampled spectra render the combin
         light);
     // The colour RGB mode combines (the texture is the same everywhere), upsampled.
     const Vec3 colour = evalTexture(*mixed.scene, int(mixed.scene->textures.size()) - 1, {});
-    spectral::RgbAlbedoSpectrum metamer(srgb(), colour.x, colour.y, colour.z);
-    const Vec3 before = lambertianUnder([&](double nm) { return double(metamer(float(nm))); }, light);
+    const Vec3 before = lambertianUnder(upsampled(colour), light);
     const double tolerance = 1e-3 * maxComponent(expected);
-    double missedBefore = 0;
-    for (int ch = 0; ch < 3; ++ch)
-        missedBefore = std::max(missedBefore, double(std::abs(before[ch] - expected[ch])));
     INFO("expected " << expected.x << " " << expected.y << " " << expected.z << ", before "
                      << before.x << " " << before.y << " " << before.z);
-    CHECK(missedBefore > 4 * tolerance);
+    CHECK(largestGap(before, expected) > 4 * tolerance);
     checkSpectralRender(*mixed.scene, expected, before, tolerance);
 }
 
@@ -407,8 +414,9 @@ TEST_CASE("RGB mode: a texture of sampled spectra read as a reflectance combines
     REQUIRE(scaled.warnings.empty());
     const Vec3 colour = pbrt::sampledReflectanceRgb(kPairs) * 0.5f;
     char rgbText[160];
-    std::snprintf(rgbText, sizeof rgbText, "Material \"diffuse\" \"rgb reflectance\" [%.9g %.9g %.9g]",
-                  colour.x, colour.y, colour.z);
+    std::snprintf(rgbText, sizeof rgbText,
+                  "Material \"diffuse\" \"rgb reflectance\" [%.9g %.9g %.9g]", colour.x,
+                  colour.y, colour.z);
     auto rgb = loadWorld(squareUnder(rgbText));
     const Image a = render(*scaled.scene, 4, false), b = render(*rgb.scene, 4, false);
     for (int c = 0; c < 3; ++c) {
@@ -422,7 +430,8 @@ TEST_CASE("Spectral mode: a conductor's eta texture of pairs is read unclamped a
     // eta = 1.0 x the pairs (above 1 in the blue): the unbounded spectrum, not clamped to 1.
     auto r = loadWorld("Texture \"e\" \"spectrum\" \"scale\" \"spectrum tex\" [400 1.5 500 0.5 "
                        "600 0.2 700 0.15] \"float scale\" 1\nMaterial \"conductor\" "
-                       "\"texture eta\" \"e\" \"spectrum k\" [400 1.8 700 4.2]\nShape \"sphere\"\n");
+                       "\"texture eta\" \"e\" \"spectrum k\" [400 1.8 700 4.2]\n"
+                       "Shape \"sphere\"\n");
     REQUIRE(r.warnings.empty());
     const int material = rootShapes(*r.scene)[0].shape->material;
     const rayproc::Texture& e = r.scene->textures.back();

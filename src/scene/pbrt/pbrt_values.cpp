@@ -41,13 +41,15 @@ TextureEncoding parseEncoding(const std::string& e, const SourceLoc& loc) {
 
 } // namespace
 
-// pbrt-v4's 2D mapping ("mapping" and its own parameters, as pbrt-v4's TextureMapping2D reads
-// them), shared by image maps, 2D checkerboards and bilerp. An unknown name warns and is uv.
+// pbrt-v4's noise textures of the point (ValueReader::noiseTexture).
 static bool isNoise(const std::string& className) {
     return className == "fbm" || className == "wrinkled" || className == "windy" ||
            className == "marble";
 }
 
+// pbrt-v4's 2D mapping ("mapping" and its own parameters, as pbrt-v4's TextureMapping2D reads
+// them), shared by image maps, 2D checkerboards, bilerp and dots. An unknown name warns and is
+// uv.
 static void readMapping(const ParamList& params, rayproc::Texture& t, Warnings& warnings,
                         const SourceLoc& loc) {
     std::string mapping = params.getString("mapping", "uv");
