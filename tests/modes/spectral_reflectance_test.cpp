@@ -62,6 +62,16 @@ double largestGap(const Vec3& a, const Vec3& b) {
     return gap;
 }
 
+// A 4000 K blackbody's spectral irradiance as pbrt-v4 scales a light's (Planck's law over its
+// photometric integral): irradiance 1 head-on.
+std::function<double(double)> planck4000() {
+    double planckY = 0;
+    for (int nm = 360; nm <= 830; ++nm)
+        planckY += spectral::cieY().at(float(nm)) * kernels::spectral::planck(nm, 4000);
+    const double unit = spectral::cieYIntegral() / planckY;
+    return [unit](double nm) { return kernels::spectral::planck(nm, 4000) * unit; };
+}
+
 std::string squareUnder(const std::string& material) {
     return "LightSource \"distant\" \"blackbody L\" 4000 \"point3 from\" [0 0 1] "
            "\"point3 to\" [0 0 0]\n" +
@@ -184,11 +194,7 @@ TEST_CASE("Spectral mode: a sampled reflectance renders its own spectrum, RGB mo
                   colour.x, colour.y, colour.z);
     auto rgb = loadWorld(squareUnder(rgbText));
     // The light: Planck's law over its photometric integral (pbrt-v4's), irradiance 1 head-on.
-    double planckY = 0;
-    for (int nm = 360; nm <= 830; ++nm)
-        planckY += spectral::cieY().at(float(nm)) * kernels::spectral::planck(nm, 4000);
-    const double unit = spectral::cieYIntegral() / planckY;
-    auto light = [&](double nm) { return kernels::spectral::planck(nm, 4000) * unit; };
+    const auto light = planck4000();
     const Vec3 expected = lambertianUnder(
         [](double nm) { return spectral::piecewiseLinear(kPairs, nm); }, light);
     // What the mode rendered before: the sRGB upsampled spectrum of the colour.
@@ -272,16 +278,13 @@ TEST_CASE("Spectral mode: a conductor of sampled eta and k reflects its own Fres
                   eta587, eta587, eta587, k587, k587, k587);
     auto grey = loadPbrt(head + rgbText + square, "grey.pbrt");
     REQUIRE(grey.warnings.empty());
-    double planckY = 0;
-    for (int nm = 360; nm <= 830; ++nm)
-        planckY += spectral::cieY().at(float(nm)) * kernels::spectral::planck(nm, 4000);
-    const double unit = spectral::cieYIntegral() / planckY;
+    const auto light = planck4000();
     auto f0 = [](double n, double k) {
         return ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k);
     };
     auto reflected = [&](const std::function<double(double)>& f) {
         spectral::Xyz xyz = spectral::toXyz(
-            [&](double nm) { return f(nm) * kernels::spectral::planck(nm, 4000) * unit; });
+            [&](double nm) { return f(nm) * light(nm); });
         spectral::ColorSpace::Rgb c = srgb().fromXyz({xyz.x, xyz.y, xyz.z});
         return Vec3(float(c.r), float(c.g), float(c.b));
     };
@@ -383,11 +386,7 @@ TEST_CASE("Spectral mode: a mix and a scale of sampled spectra render the combin
         "\"spectrum tex2\" [400 0.9 700 0.2] \"float amount\" 0.25\n"
         "Material \"diffuse\" \"texture reflectance\" \"t\""));
     REQUIRE(mixed.warnings.empty());
-    double planckY = 0;
-    for (int nm = 360; nm <= 830; ++nm)
-        planckY += spectral::cieY().at(float(nm)) * kernels::spectral::planck(nm, 4000);
-    const double unit = spectral::cieYIntegral() / planckY;
-    auto light = [&](double nm) { return kernels::spectral::planck(nm, 4000) * unit; };
+    const auto light = planck4000();
     const Vec3 expected = lambertianUnder(
         [](double nm) {
             return 0.75 * 0.5 * spectral::piecewiseLinear(kPairs, nm) +
