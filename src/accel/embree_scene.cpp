@@ -573,24 +573,27 @@ void sphereSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
 // about frameZ from frameX towards frameY in [0, 2 pi), and v = 1 - theta / pi, theta from the
 // pole frameZ. `step`: how far (u, v) move per unit of the hit's dp/du and dp/dv (sphereSurface's
 // are dp/dphi and ns x dp/dphi): 1 / 2 pi and rho / (pi r), rho the distance from the axis.
+// phi / 2 pi of the point (x, y) in the shape's frame, phi in [0, 2 pi).
+float azimuthU(float x, float y) {
+    float phi = std::atan2(y, x);
+    if (phi < 0) phi += 2 * kPi;
+    return phi * 0.5f * kInvPi;
+}
+
 Vec2 sphereUv(const Shape& s, const Vec3& p, Vec2& step) {
     const Vec3 q = p - s.center;
     const float x = dot(q, s.frameX), y = dot(q, s.frameY), z = dot(q, s.frameZ);
-    float phi = std::atan2(y, x);
-    if (phi < 0) phi += 2 * kPi;
     const float theta = std::acos(std::clamp(z / s.radius, -1.0f, 1.0f));
     const float rho = std::sqrt(x * x + y * y);
     step = {0.5f * kInvPi, rho * kInvPi / s.radius};
-    return {phi * 0.5f * kInvPi, 1.0f - theta * kInvPi};
+    return {azimuthU(x, y), 1.0f - theta * kInvPi};
 }
 
 // pbrt-v4's (u, v) of a whole disk's point: u = phi / 2 pi as a sphere's, v = 1 - r / radius.
 Vec2 diskUv(const Shape& s, const Vec3& p) {
     const Vec3 q = p - s.center;
     const float x = dot(q, s.frameX), y = dot(q, s.frameY);
-    float phi = std::atan2(y, x);
-    if (phi < 0) phi += 2 * kPi;
-    return {phi * 0.5f * kInvPi, 1.0f - std::sqrt(x * x + y * y) / s.radius};
+    return {azimuthU(x, y), 1.0f - std::sqrt(x * x + y * y) / s.radius};
 }
 
 // A disk's point projected onto its plane.

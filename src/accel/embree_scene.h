@@ -69,7 +69,7 @@ struct AlphaCutout {
     const Scene* scene;
     const Shape* shape;
     const std::vector<unsigned>* triangles = nullptr; // the mesh triangle of each primID; null: the same
-    const EmbreeScene* placements = nullptr;          // the instance transforms (placementToWorld)
+    const EmbreeScene* placements = nullptr;          // the instance transforms (placement)
 };
 
 // Whether a candidate hit at (u, v) of the mesh's triangle `triangle`, reached through the

@@ -19,12 +19,18 @@ std::uint32_t floatBits(float f) {
     return u;
 }
 
+// A colour at the lane's wavelengths: its colour space's spectrum as a reflectance or as an
+// unbounded value.
+Vec3 upsampledAt(const SpectralShading& s, const Vec3& rgb, bool unbounded) {
+    return unbounded ? s.render.unbounded(rgb, s.lane) : s.render.albedo(rgb, s.lane);
+}
+
 // An RGB parameter at a spectral lane's wavelengths: the precomputed spectrum of a constant,
 // the table's of a texel.
 Vec3 spectralValue(const SpectralShading& s, const UpsampledRgb& pre, const Vec3& rgb,
                    bool unbounded) {
     if (pre.valid) return SpectralRender::evaluate(pre, s.lane, false);
-    return unbounded ? s.render.unbounded(rgb, s.lane) : s.render.albedo(rgb, s.lane);
+    return upsampledAt(s, rgb, unbounded);
 }
 
 // A texture's leaves at the lane (evalTextureLanes): a colour upsampled as spectralValue does,
@@ -33,10 +39,7 @@ Vec3 spectralValue(const SpectralShading& s, const UpsampledRgb& pre, const Vec3
 class ShadingLanes final : public LaneReader {
 public:
     ShadingLanes(const SpectralShading& s, bool unbounded) : m_s(s), m_unbounded(unbounded) {}
-    Vec3 rgb(const Vec3& colour) const override {
-        return m_unbounded ? m_s.render.unbounded(colour, m_s.lane)
-                           : m_s.render.albedo(colour, m_s.lane);
-    }
+    Vec3 rgb(const Vec3& colour) const override { return upsampledAt(m_s, colour, m_unbounded); }
     Vec3 spectrum(const OperandSpectrum& o) const override {
         const float* v = (m_unbounded ? o.unbounded : o.albedo)->values.values.data();
         return {v[m_s.lane.nm[0]], v[m_s.lane.nm[1]], v[m_s.lane.nm[2]]};
