@@ -87,51 +87,60 @@ Xyz RgbFitter::reflectedXyz(const SigmoidCoefficients& c) const {
 }
 
 Xyz RgbFitter::reflectedXyz(const SigmoidCoefficients& c, double jac[3][3]) const {
-    Xyz r;
-    for (int k = 0; k < 3; ++k)
-        for (int j = 0; j < 3; ++j) jac[k][j] = 0;
+    // Four sums at a time: the colour's (x, y, z, -) and each Jacobian row's (d/dc0, d/dc1,
+    // d/dc2, -). Every lane adds the same products in the same order as one scalar sum would,
+    // so the result is the scalar loop's, bit for bit; the build's table fits spend most of
+    // their time here.
+    using V4 = double __attribute__((vector_size(32)));
+    V4 colour = {0, 0, 0, 0}, row[3] = {colour, colour, colour};
     for (int i = 0; i < kDenseCount; ++i) {
         double t = m_t[i];
         double x = (c[0] * t + c[1]) * t + c[2];
         double q = 1 + x * x, sq = std::sqrt(q);
         double s = 0.5 + x / (2 * sq);
         double ds = 1 / (2 * q * sq); // S'(x)
-        double dc[3] = {ds * t * t, ds * t, ds};
-        double w[3] = {m_wx[i], m_wy[i], m_wz[i]};
-        r.x += s * w[0];
-        r.y += s * w[1];
-        r.z += s * w[2];
-        for (int k = 0; k < 3; ++k)
-            for (int j = 0; j < 3; ++j) jac[k][j] += w[k] * dc[j];
+        V4 dc = {ds * t * t, ds * t, ds, 0};
+        V4 w = {m_wx[i], m_wy[i], m_wz[i], 0};
+        colour += s * w;
+        row[0] += m_wx[i] * dc;
+        row[1] += m_wy[i] * dc;
+        row[2] += m_wz[i] * dc;
     }
-    return r;
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j) jac[k][j] = row[k][j];
+    return {colour[0], colour[1], colour[2]};
 }
 
 double RgbFitter::fit(const std::array<double, 3>& rgb, SigmoidCoefficients& c) const {
     const Xyz white = m_cs.white;
     std::array<double, 3> target = toLab(m_cs.toXyz(rgb[0], rgb[1], rgb[2]), white, nullptr);
+    // The colour at c and its Jacobian. A candidate step is evaluated with the Jacobian, so an
+    // accepted step's evaluation is the next iteration's (the sums are the same, in the same
+    // order, as the plain reflectedXyz's: the tables do not change).
+    auto evaluate = [&](const SigmoidCoefficients& k, double r[3], double j[3][3]) {
+        double jx[3][3], jl[3][3];
+        std::array<double, 3> lab = toLab(reflectedXyz(k, jx), white, jl);
+        for (int a = 0; a < 3; ++a) r[a] = lab[a] - target[a];
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+                j[a][b] = jl[a][0] * jx[0][b] + jl[a][1] * jx[1][b] + jl[a][2] * jx[2][b];
+        return std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    };
     auto residualOf = [&](const SigmoidCoefficients& k) {
         std::array<double, 3> lab = toLab(reflectedXyz(k), white, nullptr);
         double r0 = lab[0] - target[0], r1 = lab[1] - target[1], r2 = lab[2] - target[2];
         return std::sqrt(r0 * r0 + r1 * r1 + r2 * r2);
     };
-    double residual = 0;
+    double r[3], j[3][3];
+    double residual = evaluate(c, r, j);
     for (int it = 0; it < 50; ++it) {
-        double jx[3][3], jl[3][3];
-        Xyz xyz = reflectedXyz(c, jx);
-        std::array<double, 3> lab = toLab(xyz, white, jl);
-        double r[3] = {lab[0] - target[0], lab[1] - target[1], lab[2] - target[2]};
-        residual = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
         if (residual < 1e-6) break;
-        double j[3][3];
-        for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b)
-                j[a][b] = jl[a][0] * jx[0][b] + jl[a][1] * jx[1][b] + jl[a][2] * jx[2][b];
         double step[3];
         if (!solve3(j, r, step)) break;
         // Backtracking: halve the Gauss-Newton step until the residual falls (far from the
         // solution the full step can overshoot into the sigmoid's flat tails).
         SigmoidCoefficients next = c;
+        double nextR[3], nextJ[3][3];
         double nextResidual = residual;
         for (double scale = 1; scale > 1e-4; scale *= 0.5) {
             for (int k = 0; k < 3; ++k) next[k] = c[k] - scale * step[k];
@@ -142,11 +151,19 @@ double RgbFitter::fit(const std::array<double, 3>& rgb, SigmoidCoefficients& c) 
             double m = std::max({std::fabs(next[0]), std::fabs(next[1]), std::fabs(next[2])});
             if (m > kCoefficientBound)
                 for (double& v : next) v *= kCoefficientBound / m;
-            nextResidual = residualOf(next);
-            if (nextResidual < residual) break;
+            // The full step is evaluated with its Jacobian (usually taken); a shorter one by
+            // its colour alone, and with the Jacobian once taken.
+            nextResidual = scale == 1 ? evaluate(next, nextR, nextJ) : residualOf(next);
+            if (nextResidual < residual) {
+                if (scale != 1) evaluate(next, nextR, nextJ);
+                break;
+            }
         }
         if (!(nextResidual < residual)) break; // no descent left: the closest the model gets
         c = next;
+        residual = nextResidual;
+        std::copy(nextR, nextR + 3, r);
+        std::copy(&nextJ[0][0], &nextJ[0][0] + 9, &j[0][0]);
     }
     return residual;
 }
