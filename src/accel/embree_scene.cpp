@@ -565,7 +565,9 @@ void sphereSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
     l.p = s.center + robustNormalize(l.ng) * s.radius;
     l.err = kernels::roundSurfaceError(l.p, s.center, s.radius);
     l.ns = l.ng;
-    l.dpdu = {-(l.p.y - s.center.y), l.p.x - s.center.x, 0.0f}; // along phi about z
+    // Along phi about the pole frameZ (sphereUv's u), |dp/dphi| = the distance from the axis.
+    const Vec3 q = l.p - s.center;
+    l.dpdu = s.frameY * dot(q, s.frameX) - s.frameX * dot(q, s.frameY);
     l.dpdv = cross(l.ns, l.dpdu);
 }
 
@@ -596,7 +598,9 @@ Vec2 diskUv(const Shape& s, const Vec3& p) {
     return {azimuthU(x, y), 1.0f - std::sqrt(x * x + y * y) / s.radius};
 }
 
-// A disk's point projected onto its plane.
+// A disk's point projected onto its plane, with pbrt-v4's dp/du = 2 pi (-y, x) and dp/dv =
+// -(radius / r) (x, y) in the disk's frame (diskUv's u and v). At the centre, where neither is
+// defined, both are zero and shading takes a frame about the normal.
 void diskSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
                  const Vec3& rayDir, float t, const LocalSurface& l) {
     Vec3 pw = rayOrigin + rayDir * t;
@@ -605,7 +609,11 @@ void diskSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
     l.p = p - l.ng * (dot(p - s.center, l.ng) / dot(l.ng, l.ng));
     l.err = kernels::roundSurfaceError(l.p, s.center, s.radius);
     l.ns = l.ng;
-    l.dpdv = cross(l.ns, l.dpdu);
+    const Vec3 q = l.p - s.center;
+    const float x = dot(q, s.frameX), y = dot(q, s.frameY), r = std::sqrt(x * x + y * y);
+    if (!(r > 0)) return;
+    l.dpdu = (s.frameY * x - s.frameX * y) * (2 * kPi);
+    l.dpdv = (s.frameX * x + s.frameY * y) * (-s.radius / r);
 }
 
 // Whether two vectors are the same bits (== would take -0 for 0 and never NaN for NaN).

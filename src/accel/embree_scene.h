@@ -53,7 +53,7 @@ struct SurfaceHit {
     Vec2 uv;       // pbrt-v4's: a mesh's, a sphere's (phi / 2 pi, 1 - theta / pi), a disk's
     Vec3 dpdu;     // world-space dp/du (the tangent of anisotropic roughness), not normalised
     Vec3 dpdv;     // world-space dp/dv (bump mapping); a mesh without uvs: the third vertex
-                   // minus the first; spheres and disks: ns x dpdu
+                   // minus the first; spheres: ns x dpdu; disks: pbrt-v4's (0 at the centre)
     // How far (u, v) move per unit of dpdu and of dpdv (bump mapping's steps): 1 where they
     // are dp/du and dp/dv (meshes); a sphere's are dp/dphi and ns x dp/dphi (sphereUv).
     Vec2 uvStep{1.0f, 1.0f};

@@ -451,3 +451,62 @@ TEST_CASE("Bump mapping on a sphere steps (u, v) with its dp/du: d = a v tilts t
     resolveShading(*r.scene, h, normalize(o - p[1]));
     CHECK(dot(h.ns, pole) == Approx(-std::sin(std::atan(a / kPi))).margin(2e-3));
 }
+
+TEST_CASE("Bump mapping on a disk steps (u, v) with pbrt-v4's dp/du and dp/dv", "[accel][pbrt][bump]") {
+    // A disk of radius 2 at z = 1, rotated 90 degrees about z, hit at object (0, 1): pbrt world
+    // (-1, 0, 1). There dp/dv = -(radius / r) (x, y) points inwards with length 2, and dp/du =
+    // 2 pi (-y, x) has length 2 pi: d = a v leans the normal outwards by atan(a / 2), and
+    // d = a u against dp/du (towards pbrt world +y) by atan(a / 2 pi).
+    const float a = 0.5f;
+    const std::vector<Vec3> p = placedPoints({{-1, 0, 1}, {-1, 0, 2}, {-2, 0, 1}, {-1, 1, 1}});
+    const Vec3 outwards = normalize(p[2] - p[0]), along = normalize(p[3] - p[0]);
+    struct Case {
+        const char* corners; // bilerp's v10 and v01
+        Vec3 towards;
+        float tilt;
+    };
+    const Case cases[] = {{"\"float v10\" 0 \"float v01\" 0.5 \"float v11\" 0.5", outwards,
+                           std::atan(a / 2)},
+                          {"\"float v10\" 0.5 \"float v01\" 0 \"float v11\" 0.5", along,
+                           std::atan(a / (2 * kPi))}};
+    for (const Case& c : cases) {
+        INFO(c.corners);
+        std::string world = "Texture \"d\" \"float\" \"bilerp\" \"float v00\" 0 ";
+        world += c.corners;
+        world += "\nMaterial \"diffuse\" \"texture displacement\" \"d\"\n"
+                 "AttributeBegin\nTranslate 0 0 1\nRotate 90 0 0 1\n"
+                 "Shape \"disk\" \"float radius\" 2\nAttributeEnd\n";
+        auto r = loadWorld(world);
+        REQUIRE(r.warnings.empty());
+        EmbreeScene accel(*r.scene);
+        Traced t = traceOne(accel, p[1], normalize(p[0] - p[1]));
+        REQUIRE(t.hit);
+        SurfaceHit h = t.s;
+        resolveShading(*r.scene, h, normalize(p[1] - p[0]));
+        CHECK(dot(h.ns, c.towards) == Approx(std::sin(c.tilt)).margin(2e-3));
+        CHECK(dot(h.ns, h.ng) == Approx(std::cos(c.tilt)).margin(2e-3));
+    }
+}
+
+TEST_CASE("Bump mapping on a rotated sphere steps u about the sphere's own pole",
+          "[accel][pbrt][bump]") {
+    // Rotate 90 about x: object (1, 0, 0) stays at pbrt world (1, 0, 0), and dp/du there (phi
+    // about the object's z) points along object +y, pbrt world +z, with length 2 pi r. So
+    // d = a u leans the normal towards pbrt world -z by atan(a / 2 pi r).
+    const float a = 0.5f;
+    auto r = loadWorld("Texture \"d\" \"float\" \"bilerp\" \"float v00\" 0 \"float v10\" 0.5 "
+                       "\"float v01\" 0 \"float v11\" 0.5\n"
+                       "Material \"diffuse\" \"texture displacement\" \"d\"\n"
+                       "AttributeBegin\nRotate 90 1 0 0\nShape \"sphere\" \"float radius\" 1\n"
+                       "AttributeEnd\n");
+    REQUIRE(r.warnings.empty());
+    EmbreeScene accel(*r.scene);
+    const std::vector<Vec3> p = placedPoints({{0, 0, 0}, {1, 0, 0}, {0, 0, -1}});
+    const Vec3 down = normalize(p[2] - p[0]);
+    const Vec3 o = p[1] * 3.0f - p[0] * 2.0f;
+    Traced t = traceOne(accel, o, normalize(p[1] - o));
+    REQUIRE(t.hit);
+    SurfaceHit h = t.s;
+    resolveShading(*r.scene, h, normalize(o - p[1]));
+    CHECK(dot(h.ns, down) == Approx(std::sin(std::atan(a / (2 * kPi)))).margin(2e-3));
+}
