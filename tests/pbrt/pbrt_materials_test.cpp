@@ -204,6 +204,20 @@ TEST_CASE("Constant textures stand for values, other classes fall back with a wa
     CHECK(img.colorTexture == -1);
     CHECK(anyContains(w, "cannot read the texture"));
     CHECK(anyContains(w, "parameters that use texture \"wood\" keep their default values"));
+    // Where pbrt-v4 takes a value, not a texture (a dielectric's eta), a constant texture gives
+    // its value and a varying one warns and keeps the default.
+    w.clear();
+    Material eta = materialOf("Texture \"e\" \"float\" \"constant\" \"float value\" 1.7\n"
+                              "Material \"dielectric\" \"texture eta\" \"e\"", &w);
+    CHECK(eta.ior == Approx(1.7f));
+    CHECK(w.empty());
+    Material varying = materialOf("Texture \"e\" \"float\" \"checkerboard\" \"float tex1\" 1.3 "
+                                  "\"float tex2\" 1.7\nMaterial \"dielectric\" \"texture eta\" "
+                                  "\"e\"",
+                                  &w);
+    CHECK(varying.ior == Approx(1.5f));
+    CHECK(anyContains(w, "parameter \"texture eta\": a texture that varies over the surface is "
+                         "not supported here; using the default 1.5"));
     std::string e = pbrtErrorOf(std::string(kPbrtHeader) +
                                 "Material \"diffuse\" \"texture reflectance\" \"nope\"\n");
     CHECK_THAT(e, Catch::Contains(":5:20: no spectrum texture named \"nope\""));

@@ -6,6 +6,7 @@
 #include "texture/texture_image.h"
 
 #include <cstdlib>
+#include <sstream>
 
 namespace rayproc::pbrt {
 
@@ -531,7 +532,17 @@ float ValueReader::scalar(const ParamList& params, std::string_view name, float 
                "parameter " + p->decl() + " expects one value, got " + std::to_string(p->size()));
     if (p->type == "float") return float(p->numbers[0]);
     const Texture* t = texture(*p, true);
-    if (!t->constant) return def;
+    if (!t->constant) {
+        // Where pbrt-v4 takes no texture (a dielectric's eta, a layer's g, ...), a varying one
+        // cannot be honoured; a missing file has warned already.
+        if (!t->missing) {
+            std::ostringstream text;
+            text << "parameter " << p->decl() << ": a texture that varies over the surface is "
+                 << "not supported here; using the default " << def;
+            m_warnings.add(p->loc, text.str());
+        }
+        return def;
+    }
     return t->hasValue ? float(t->value.numbers[0]) : 1.0f;
 }
 
