@@ -40,24 +40,22 @@ bool plainTga(const std::string& path) {
     return size >= 0 && std::uint64_t(size) >= need;
 }
 
-// 8-bit samples as OpenImageIO converts them to float: v times the reciprocal of 255.
-float fromByte(unsigned char v) { return float(v) * (1.0f / 255.0f); }
-
 bool readTga(const std::string& path, RawPixels& out) {
     int w = 0, h = 0, n = 0;
     if (!plainTga(path) || !stbi_info(path.c_str(), &w, &h, &n)) return false;
     if (w <= 0 || h <= 0 || std::int64_t(w) * h > (std::int64_t(1) << 28)) return false;
     checkImageDimensions(path, w, h);
-    std::unique_ptr<unsigned char, void (*)(void*)> data(stbi_load(path.c_str(), &w, &h, &n, 0),
-                                                          stbi_image_free);
+    std::shared_ptr<const unsigned char> data(stbi_load(path.c_str(), &w, &h, &n, 0),
+                                              [](const unsigned char* p) {
+                                                  stbi_image_free(const_cast<unsigned char*>(p));
+                                              });
     if (!data || (n != 1 && n != 3)) return false;
     out.width = w;
     out.height = h;
     out.channels = n;
     out.alphaChannel = -1;
     out.isFloat = false;
-    out.pixels.resize(std::size_t(w) * h * n);
-    for (std::size_t i = 0; i < out.pixels.size(); ++i) out.pixels[i] = fromByte(data.get()[i]);
+    out.bytes = std::move(data);
     return true;
 }
 

@@ -9,6 +9,7 @@
 // Anything else, or a file these readers refuse, goes to OpenImageIO as before.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,13 @@ struct RawPixels {
     int alphaChannel = -1; // -1: none named
     bool isFloat = false;  // floating-point samples (linear), else integers (encoded)
     std::vector<float> pixels;
+    // Or 8-bit samples kept as the decoder's bytes (the TGA reader; `pixels` then empty):
+    // each is byteSample(b), so a decode is a table of 256.
+    std::shared_ptr<const unsigned char> bytes;
 };
+
+// An 8-bit sample as OpenImageIO converts it to float: v times the reciprocal of 255.
+inline float byteSample(unsigned char v) { return float(v) * (1.0f / 255.0f); }
 
 // Reads `path` when it is one of the formats above: true with out filled, false when the file
 // is not one of them (or is one these readers cannot read), for OpenImageIO to read.

@@ -5,6 +5,7 @@
 #include "texture/oiio_module.h"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -123,20 +124,29 @@ std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
         img->hasAlpha = true;
         img->alpha.resize(std::size_t(w) * h);
     }
-    // Rows in parallel, each range with its own memo (the same decode of the same bits).
-    tbb::parallel_for(tbb::blocked_range<int>(0, h, 32), [&](const tbb::blocked_range<int>& r) {
-        DecodeMemo decoded(e);
-        const std::size_t end = std::size_t(r.end()) * std::size_t(w);
-        for (std::size_t i = std::size_t(r.begin()) * std::size_t(w); i < end; ++i) {
-            const float* p = &raw.pixels[i * nch];
-            for (int c = 0; c < 3; ++c) {
-                // Grey (and grey + alpha) files repeat their one colour channel.
-                int src = nch >= 3 ? c : 0;
-                base.rgb[3 * i + c] = decoded(p[src]);
+    // Rows in parallel, each texel's samples through `decoded` (alpha is never encoded).
+    auto rows = [&](const auto* samples, auto&& decoded, auto&& asFloat) {
+        tbb::parallel_for(tbb::blocked_range<int>(0, h, 32), [&](const tbb::blocked_range<int>& r) {
+            auto decode = decoded(); // per range: a memo is not shared between threads
+            const std::size_t end = std::size_t(r.end()) * std::size_t(w);
+            for (std::size_t i = std::size_t(r.begin()) * std::size_t(w); i < end; ++i) {
+                const auto* p = &samples[i * nch];
+                for (int c = 0; c < 3; ++c) // grey (+ alpha) files repeat their one channel
+                    base.rgb[3 * i + c] = decode(p[nch >= 3 ? c : 0]);
+                if (alphaChannel >= 0) img->alpha[i] = asFloat(p[alphaChannel]);
             }
-            if (alphaChannel >= 0) img->alpha[i] = p[alphaChannel]; // alpha is never encoded
-        }
-    });
+        });
+    };
+    if (raw.bytes) {
+        // 8-bit samples: their 256 decodes, the same values the memo gives their floats.
+        std::array<float, 256> table;
+        DecodeMemo memo(e);
+        for (int b = 0; b < 256; ++b) table[b] = memo(byteSample((unsigned char)b));
+        rows(raw.bytes.get(), [&] { return [&](unsigned char b) { return table[b]; }; },
+             [](unsigned char b) { return byteSample(b); });
+    } else {
+        rows(raw.pixels.data(), [&] { return DecodeMemo(e); }, [](float v) { return v; });
+    }
     img->levels.push_back(std::move(base));
     buildMipLevels(*img);
     return img;
@@ -167,7 +177,7 @@ void buildMipLevels(TextureImage& img) {
         TextureImage::Level c;
         c.width = (f.width + 1) / 2;
         c.height = (f.height + 1) / 2;
-        c.rgb.assign(std::size_t(c.width) * c.height * 3, 0.0f);
+        c.rgb.resize(std::size_t(c.width) * c.height * 3); // downsample writes every texel
         auto rows = [&](const tbb::blocked_range<int>& r) {
             for (int y = r.begin(); y < r.end(); ++y)
                 for (int x = 0; x < c.width; ++x) downsample(f, x, y, c);

@@ -3,6 +3,8 @@
 // textures is decoded once (a process-wide cache keyed by path and encoding).
 #pragma once
 
+#include "core/uninitialized.h"
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,7 +22,7 @@ struct TextureEncoding {
 struct TextureImage {
     struct Level {
         int width = 0, height = 0;
-        std::vector<float> rgb; // row 0 is the top row of the file
+        UninitializedFloats rgb; // row 0 is the top row of the file; every texel written
         const float* at(int x, int y) const { return &rgb[3 * (std::size_t(y) * width + x)]; }
     };
     std::vector<Level> levels; // levels[0]: the full resolution, then halved down to 1x1
