@@ -158,6 +158,74 @@ TEST_CASE("PLY errors name the file and the problem", "[pbrt]") {
                       Catch::Contains("out of range"));
 }
 
+// PLY files are read by TBB tasks while the parser goes on (scene/pbrt/deferred_loads.h); the
+// load must come out as a sequential one would: meshes in directive order, warnings in order
+// of first occurrence, the first failing directive's error.
+TEST_CASE("PLY files read in the background load as in directive order", "[pbrt]") {
+    // Twenty meshes, each a triangle at x = i, then a quad: each shape holds its own file.
+    std::string world;
+    for (int i = 0; i < 20; ++i) {
+        PlyData d;
+        d.positions = {float(i), 0, 0, float(i) + 1, 0, 0, float(i), 1, 0};
+        d.faces = {{0, 1, 2}};
+        writePbrtFile("bg/m" + std::to_string(i) + ".ply", makePly(d, "binary_little_endian"));
+        world += "Shape \"plymesh\" \"string filename\" \"m" + std::to_string(i) + ".ply\"\n";
+    }
+    PlyData quad;
+    quad.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    quad.faces = {{0, 1, 2, 3}};
+    writePbrtFile("bg/quad.ply", makePly(quad, "ascii"));
+    world += "Shape \"plymesh\" \"string filename\" \"quad.ply\"\n";
+    auto r = loadWorld(world, "bg/scene.pbrt");
+    auto shapes = rootShapes(*r.scene);
+    REQUIRE(shapes.size() == 21);
+    for (int i = 0; i < 20; ++i) {
+        INFO("mesh " << i);
+        REQUIRE(shapes[std::size_t(i)].shape->mesh->positions.size() == 3);
+        CHECK(shapes[std::size_t(i)].shape->mesh->positions[0].x == float(i));
+        CHECK_FALSE(shapes[std::size_t(i)].shape->isQuad);
+    }
+    CHECK(shapes[20].shape->isQuad); // known only once its file was read
+    CHECK(r.warnings.empty());
+
+    // A pentagon warns (fanned) at line 5, a cylinder at line 6, a second pentagon is counted
+    // with the first: the order and the counts of a sequential load.
+    PlyData pentagon;
+    pentagon.positions = {0, 0, 0, 1, 0, 0, 2, 1, 0, 1, 2, 0, 0, 1, 0};
+    pentagon.faces = {{0, 1, 2, 3, 4}};
+    writePbrtFile("bg/pentagon.ply", makePly(pentagon, "ascii"));
+    auto w = loadWorld("Shape \"plymesh\" \"string filename\" \"pentagon.ply\"\n"
+                       "Shape \"cylinder\"\n"
+                       "Shape \"plymesh\" \"string filename\" \"pentagon.ply\"\n",
+                       "bg/warn.pbrt");
+    REQUIRE(w.warnings.size() == 2);
+    CHECK_THAT(w.warnings[0], Catch::Contains("warn.pbrt:5: warning: PLY faces of more than four "
+                                              "vertices are split into triangle fans (2 times"));
+    CHECK_THAT(w.warnings[1], Catch::Contains("warn.pbrt:6: warning: Shape \"cylinder\""));
+
+    // A broken file at line 6 fails the load, though the parser fails later (line 8) and a
+    // second broken file follows; the warning before it is kept, the one after it is not.
+    PlyData bad = smallPly();
+    bad.faces.push_back({0, 1, 9});
+    writePbrtFile("bg/broken.ply", makePly(bad, "binary_little_endian"));
+    std::string path = writePbrtFile(
+        "bg/fail.pbrt", std::string(kPbrtHeader) + "Shape \"cylinder\"\n"
+                        "Shape \"plymesh\" \"string filename\" \"broken.ply\"\n"
+                        "Shape \"plymesh\" \"string filename\" \"broken.ply\"\n"
+                        "Shape \"cone\"\nNoSuchDirective\n");
+    std::vector<std::string> warnings;
+    std::string error;
+    try {
+        loadPbrtScene(path, &warnings);
+    } catch (const InputError& e) {
+        error = e.what();
+    }
+    CHECK_THAT(error, Catch::Contains("fail.pbrt:6:17: cannot read the PLY file: ") &&
+                          Catch::Contains("out of range"));
+    REQUIRE(warnings.size() == 1);
+    CHECK_THAT(warnings[0], Catch::Contains("cylinder"));
+}
+
 // How fast it parses is not a unit test's claim (it was "under 1 s", measured ~0.01 s, which a
 // loaded machine or a sanitizer build can break): this checks that every face and vertex of a
 // large binary file arrives in order.

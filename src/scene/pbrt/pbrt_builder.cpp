@@ -3,6 +3,7 @@
 #include "scene/pbrt/pbrt_builder.h"
 
 #include "core/error.h"
+#include "scene/pbrt/pbrt_shapes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +17,17 @@ SceneBuilder::SceneBuilder(Scene& scene, Warnings& warnings, const std::filesyst
     m_scene.root = std::make_unique<Node>();
     m_scene.root->kind = Node::Kind::Group;
     m_scene.root->name = "root";
+    m_warnings.setBeforeAdd([this] { m_loads.join(m_warnings); });
+}
+
+SceneBuilder::~SceneBuilder() {
+    m_warnings.setBeforeAdd(nullptr); // the list outlives the builder; m_loads waits
+}
+
+void SceneBuilder::joinLoads() {
+    m_loads.join(m_warnings);
+    for (Node* n : m_deferredMeshes) n->shape.isQuad = isQuadMesh(*n->shape.mesh);
+    m_deferredMeshes.clear();
 }
 
 // Transformations ------------------------------------------------------------------------------

@@ -9,6 +9,7 @@
 // finish().
 #pragma once
 
+#include "scene/pbrt/deferred_loads.h"
 #include "scene/pbrt/pbrt_camera.h"
 #include "scene/pbrt/pbrt_lights.h"
 #include "scene/pbrt/pbrt_values.h"
@@ -23,6 +24,9 @@ namespace rayproc::pbrt {
 class SceneBuilder {
 public:
     SceneBuilder(Scene& scene, Warnings& warnings, const std::filesystem::path& mainFile);
+    ~SceneBuilder();
+    SceneBuilder(const SceneBuilder&) = delete;
+    SceneBuilder& operator=(const SceneBuilder&) = delete;
 
     // Transformations (CTM = CTM * M) and named coordinate systems.
     void identity();
@@ -76,8 +80,12 @@ public:
     void requireOptions(const std::string& directive, const SourceLoc& loc) const;
     void requireWorld(const std::string& directive, const SourceLoc& loc) const;
 
-    // Checks the blocks are closed, resolves names, and computes the scene's bounds.
+    // Checks the blocks are closed, resolves names, and computes the scene's bounds; first
+    // waits for the PLY files read in the background.
     void finish();
+    // Waits for the background reads and throws the first one's error (DeferredLoads): the
+    // load's error when the parser fails later in the file.
+    void joinLoads();
 
 private:
     struct GraphicsState {
@@ -145,6 +153,8 @@ private:
     std::unordered_map<std::string, Node*> m_objects;
     Node* m_object = nullptr; // the prototype being defined
     std::vector<Pending> m_instances;
+    DeferredLoads m_loads;              // PLY files read while the parser goes on
+    std::vector<Node*> m_deferredMeshes; // their shapes: isQuad is known once joined
 };
 
 } // namespace rayproc::pbrt

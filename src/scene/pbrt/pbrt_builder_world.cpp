@@ -116,7 +116,8 @@ void SceneBuilder::shape(const std::string& type, const ParamList& params, const
                          const std::filesystem::path& dir) {
     requireWorld("Shape", loc);
     bool emissive = m_state.area && !isBlack(m_state.area->radiance);
-    ShapeContext ctx{placement(), m_state.reverseOrientation, emissive, dir, m_mainDir, loc};
+    ShapeContext ctx{placement(), m_state.reverseOrientation, emissive, dir, m_mainDir, loc,
+                     &m_loads};
     ShapeResult r = convertShape(type, params, ctx, m_warnings);
     FloatParam alpha = m_values.floatParam(params, "alpha", 1.0f); // cut-outs
     if (alpha.value < 0 || alpha.value > 1) failAt(loc, "shape \"alpha\" must lie in [0, 1]");
@@ -161,6 +162,7 @@ void SceneBuilder::shape(const std::string& type, const ParamList& params, const
         }
     }
     for (Node* n : place(r.shapes, r.grouped, r.groupTransform)) {
+        if (r.deferred) m_deferredMeshes.push_back(n);
         if (pending) m_pendingMaterials.push_back({n, m_state.materialName, m_state.materialLoc});
         if (!m_state.mediumInside.empty())
             m_interiorMedia.push_back({n, m_state.mediumInside, loc});
@@ -274,6 +276,7 @@ void SceneBuilder::setInteriorAbsorption(Node& n, const Vec3& sigmaA) {
 }
 
 void SceneBuilder::finish() {
+    joinLoads();
     if (!m_stack.empty()) {
         const Frame& f = m_stack.back();
         failAt(f.loc, f.kind + "Begin has no matching " + f.kind + "End");

@@ -25,7 +25,12 @@ std::unique_ptr<Scene> load(std::string_view text, const std::string& path,
     std::deque<std::string> names; // outlives every SourceLoc of this load
     try {
         pbrt::SceneBuilder builder(*scene, warnings, path);
-        pbrt::parsePbrt(text, path, builder, names);
+        try {
+            pbrt::parsePbrt(text, path, builder, names);
+        } catch (...) {
+            builder.joinLoads(); // a PLY file before the parser's error fails first
+            throw;
+        }
         builder.finish();
     } catch (...) {
         report(); // what was understood before the error may explain it

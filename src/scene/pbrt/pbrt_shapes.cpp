@@ -75,10 +75,9 @@ MeshInput readMeshParams(const std::string& type, const ParamList& params, const
     return m;
 }
 
-// Bakes the transform, orients the triangles as pbrt would, and flags two-triangle quads.
-std::shared_ptr<TriangleMesh> finishMesh(MeshInput&& in, const ShapeContext& ctx,
-                                         Warnings& warnings) {
-    auto mesh = std::make_shared<TriangleMesh>();
+// Bakes the transform and orients the triangles as pbrt would, into `mesh`.
+void finishMesh(MeshInput&& in, const ShapeContext& ctx, Warnings& warnings,
+                TriangleMesh* mesh) {
     mesh->positions = std::move(in.positions);
     mesh->normals = std::move(in.normals);
     mesh->uvs = std::move(in.uvs);
@@ -121,19 +120,21 @@ std::shared_ptr<TriangleMesh> finishMesh(MeshInput&& in, const ShapeContext& ctx
     } else if (ctx.reverseOrientation != (m.det3() < 0)) {
         for (std::size_t t = 0; t + 2 < idx.size(); t += 3) std::swap(idx[t + 1], idx[t + 2]);
     }
-    return mesh;
 }
 
-// Four corners as triangles (0, 1, 2), (0, 2, 3) are a quad, as a JSON "quad" node is (preview
-// mode puts a point light at each corner of a quad light).
+// A mesh shape; a quad is flagged (isQuadMesh).
 Shape meshShape(std::shared_ptr<TriangleMesh> mesh) {
-    static const std::uint32_t kQuad[6] = {0, 1, 2, 0, 2, 3};
     Shape s;
     s.type = ShapeType::Mesh;
-    s.isQuad = mesh->positions.size() == 4 && mesh->indices.size() == 6 &&
-               std::equal(mesh->indices.begin(), mesh->indices.end(), kQuad);
+    s.isQuad = isQuadMesh(*mesh);
     s.mesh = std::move(mesh);
     return s;
+}
+
+Shape finishedMeshShape(MeshInput&& in, const ShapeContext& ctx, Warnings& warnings) {
+    auto mesh = std::make_shared<TriangleMesh>();
+    finishMesh(std::move(in), ctx, warnings, mesh.get());
+    return meshShape(std::move(mesh));
 }
 
 // Bilinear patches (p00, p10, p01, p11) as the triangles (p00, p10, p11) and (p00, p11, p01);
@@ -243,21 +244,39 @@ ShapeResult plyMesh(const ParamList& params, const ShapeContext& ctx, Warnings& 
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
         failAt(file->loc, "PLY file not found: " + path.string());
-    PlyMesh ply;
-    try {
-        ply = readPly(path.string());
-    } catch (const InputError& e) {
-        failAt(file->loc, std::string("cannot read the PLY file: ") + e.what());
-    }
-    if (ply.polygons > 0)
-        warnings.add(ctx.loc, "PLY faces of more than four vertices are split into triangle fans");
-    if (ply.degenerate > 0)
-        warnings.add(ctx.loc, "PLY faces of fewer than three vertices are dropped");
     params.ignore({"edgelength"}); // only meaningful with displacement
-    MeshInput m{std::move(ply.positions), std::move(ply.normals), std::move(ply.uvs),
-                std::move(ply.indices)};
+    auto mesh = std::make_shared<TriangleMesh>();
+    ShapeContext at = ctx;
+    at.loads = nullptr;
+    auto read = [at, path = path.string(), fileLoc = file->loc,
+                 target = mesh.get()](Warnings& out) {
+        PlyMesh ply;
+        try {
+            ply = readPly(path);
+        } catch (const InputError& e) {
+            failAt(fileLoc, std::string("cannot read the PLY file: ") + e.what());
+        }
+        if (ply.polygons > 0)
+            out.add(at.loc, "PLY faces of more than four vertices are split into triangle fans");
+        if (ply.degenerate > 0)
+            out.add(at.loc, "PLY faces of fewer than three vertices are dropped");
+        MeshInput m{std::move(ply.positions), std::move(ply.normals), std::move(ply.uvs),
+                    std::move(ply.indices)};
+        finishMesh(std::move(m), at, out, target);
+    };
     ShapeResult r;
-    r.shapes.push_back(meshShape(finishMesh(std::move(m), ctx, warnings)));
+    // An emitter's mesh is read now: "power" needs its area while the directive is read.
+    r.deferred = ctx.loads && !ctx.emissive;
+    if (r.deferred) {
+        ctx.loads->start(std::move(read));
+        Shape s;
+        s.type = ShapeType::Mesh;
+        s.mesh = std::move(mesh);
+        r.shapes.push_back(std::move(s));
+    } else {
+        read(warnings);
+        r.shapes.push_back(meshShape(std::move(mesh)));
+    }
     return r;
 }
 
@@ -300,8 +319,14 @@ ShapeResult convertShape(const std::string& type, const ParamList& params, const
                               "subdivided)");
     }
     ShapeResult r;
-    r.shapes.push_back(meshShape(finishMesh(std::move(m), ctx, warnings)));
+    r.shapes.push_back(finishedMeshShape(std::move(m), ctx, warnings));
     return r;
+}
+
+bool isQuadMesh(const TriangleMesh& mesh) {
+    static const std::uint32_t kQuad[6] = {0, 1, 2, 0, 2, 3};
+    return mesh.positions.size() == 4 && mesh.indices.size() == 6 &&
+           std::equal(mesh.indices.begin(), mesh.indices.end(), kQuad);
 }
 
 } // namespace rayproc::pbrt

@@ -9,6 +9,7 @@
 // is the side the normals point to.
 #pragma once
 
+#include "scene/pbrt/deferred_loads.h"
 #include "scene/pbrt/pbrt_params.h"
 #include "scene/pbrt/pbrt_transform.h"
 #include "scene/pbrt/pbrt_warnings.h"
@@ -27,13 +28,22 @@ struct ShapeContext {
     std::filesystem::path dir;     // of the file that names the shape
     std::filesystem::path mainDir; // of the scene file (pbrt resolves paths from there)
     SourceLoc loc;
+    // Where a PLY file may be read in the background; null: read here and now.
+    DeferredLoads* loads = nullptr;
 };
 
 struct ShapeResult {
     std::vector<Shape> shapes; // geometry only: material and emission are the caller's
     bool grouped = false;      // true: the shapes need a group with `groupTransform`
     Affine groupTransform;
+    // true: the meshes are being read (ShapeContext::loads); they are empty until the loads
+    // are joined, after which `isQuadMesh` gives each shape's isQuad.
+    bool deferred = false;
 };
+
+// Whether a mesh is one quad: four corners as triangles (0, 1, 2), (0, 2, 3), as a JSON
+// "quad" node is (preview mode puts a point light at each corner of a quad light).
+bool isQuadMesh(const TriangleMesh& mesh);
 
 // Converts one Shape directive; an unsupported type warns and returns no shapes. Malformed
 // geometry (indices out of range, counts that disagree, missing PLY files) is an InputError.

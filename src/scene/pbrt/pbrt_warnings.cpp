@@ -3,9 +3,18 @@
 namespace rayproc::pbrt {
 
 void Warnings::add(const SourceLoc& loc, const std::string& message) {
+    if (m_beforeAdd) m_beforeAdd();
     auto [it, inserted] = m_index.emplace(message, m_entries.size());
     if (inserted) m_entries.push_back({loc.fileAndLine(), message, 0});
     ++m_entries[it->second].count;
+}
+
+void Warnings::merge(const Warnings& other) {
+    for (const Entry& e : other.m_entries) {
+        auto [it, inserted] = m_index.emplace(e.message, m_entries.size());
+        if (inserted) m_entries.push_back({e.where, e.message, 0});
+        m_entries[it->second].count += e.count;
+    }
 }
 
 std::vector<std::string> Warnings::lines() const {

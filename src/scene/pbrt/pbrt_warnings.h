@@ -5,6 +5,7 @@
 
 #include "scene/pbrt/pbrt_tokenizer.h"
 
+#include <functional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -15,6 +16,11 @@ class Warnings {
 public:
     // Repeated messages are counted, not repeated.
     void add(const SourceLoc& loc, const std::string& message);
+    // Another list's entries, as if each had been added here in its order (with its count).
+    void merge(const Warnings& other);
+    // Called at the start of every add() (not of merge()): the scene's deferred file reads
+    // merge their warnings first, so the list keeps directive order (DeferredLoads).
+    void setBeforeAdd(std::function<void()> hook) { m_beforeAdd = std::move(hook); }
     // "file:line: warning: message", in order of first occurrence.
     std::vector<std::string> lines() const;
 
@@ -26,6 +32,7 @@ private:
     };
     std::vector<Entry> m_entries;
     std::unordered_map<std::string, std::size_t> m_index;
+    std::function<void()> m_beforeAdd;
 };
 
 } // namespace rayproc::pbrt
