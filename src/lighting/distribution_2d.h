@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "core/uninitialized.h"
 
 #include <cstdint>
 #include <vector>
@@ -28,10 +29,13 @@ public:
 private:
     int m_width = 0, m_height = 0;
     std::vector<float> m_weights;  // cell weights
-    std::vector<double> m_rowCdf;  // per row: cumulative weights within it (width entries)
+    // Per row: cumulative weights within it (width entries); the rows' loop writes every entry
+    // (of this and the row guides), so neither is zero-filled first.
+    std::vector<double, DefaultInitAllocator<double>> m_rowCdf;
     std::vector<double> m_margCdf; // cumulative row totals (height entries)
     // Guide tables: per row (width + 1 entries each), then the marginal's (height + 1).
-    std::vector<std::uint32_t> m_rowGuide, m_margGuide;
+    std::vector<std::uint32_t, DefaultInitAllocator<std::uint32_t>> m_rowGuide;
+    std::vector<std::uint32_t> m_margGuide;
     double m_total = 0;
 };
 

@@ -23,16 +23,34 @@ EnvironmentLight::Map::Map(const Light& light)
     : image(light.image), scale(light.intensity), mapping(light.mapping), toWorld(light.toWorld),
       toLight(light.toWorld.inverse()) {
     const int w = image->width, h = image->height;
-    std::vector<float> weights(std::size_t(w) * std::size_t(h));
+    const std::size_t n = std::size_t(w) * std::size_t(h);
+    std::vector<float> weights(n);
     // Equal-area pixels all cover 4 pi / N; lat-long pixels cover 2 pi^2 sin(theta) / N.
+    auto areaOf = [&](int y) {
+        return mapping == EnvironmentMapping::LatLong ? rowSinTheta(y, h) : 1.0f;
+    };
+    // Each pixel's radiance times its area and channel mean, rows in parallel; then the sums
+    // over the pixels in one order, as one loop over them made them.
+    UninitializedFloats weighted(3 * n), means(n);
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y < r.end(); ++y) {
+            const float area = areaOf(y);
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * w + x;
+                const Vec3 L = pixelRadiance(x, y), a = L * area;
+                means[i] = channelMean(L);
+                weights[i] = means[i] * area;
+                weighted[3 * i] = a.x, weighted[3 * i + 1] = a.y, weighted[3 * i + 2] = a.z;
+            }
+        }
+    });
     double sumW = 0;
     Vec3 sum{0, 0, 0};
     for (int y = 0; y < h; ++y) {
-        float area = mapping == EnvironmentMapping::LatLong ? rowSinTheta(y, h) : 1.0f;
+        const float area = areaOf(y);
         for (int x = 0; x < w; ++x) {
-            Vec3 L = pixelRadiance(x, y);
-            weights[std::size_t(y) * w + x] = channelMean(L) * area;
-            sum += L * area;
+            const std::size_t i = std::size_t(y) * w + x;
+            sum += Vec3(weighted[3 * i], weighted[3 * i + 1], weighted[3 * i + 2]);
             sumW += area;
         }
     }
@@ -47,9 +65,9 @@ EnvironmentLight::Map::Map(const Light& light)
     std::vector<char> rowAny(std::size_t(h), 0);
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& r) {
         for (int y = r.begin(); y < r.end(); ++y) {
-            float area = mapping == EnvironmentMapping::LatLong ? rowSinTheta(y, h) : 1.0f;
+            const float area = areaOf(y);
             for (int x = 0; x < w; ++x) {
-                float e = std::max(0.0f, channelMean(pixelRadiance(x, y)) - mean) * area;
+                float e = std::max(0.0f, means[std::size_t(y) * w + x] - mean) * area;
                 excess[std::size_t(y) * w + x] = e;
                 rowAny[std::size_t(y)] |= char(e > 0);
             }
