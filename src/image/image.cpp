@@ -127,7 +127,7 @@ void checkImageHeader(const std::string& path) {
     if (!image_detail::checkInputFile(path)) return; // the reader says why it cannot open it
     // The checks are of EXR and PNG files, each a no-op on any other: the first bytes say which
     // applies, where the EXR check read the whole file to find out and OpenEXR then refused it
-    // (4 of the classroom's 20 ms of loading, for a 2.4 MB TGA). A file that cannot be read
+    // (about 4 ms of the classroom's load, for a 2.4 MB TGA). A file that cannot be read
     // here goes through them all, which say why.
     unsigned char head[8] = {};
     std::size_t got = 0;

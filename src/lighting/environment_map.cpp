@@ -1,5 +1,6 @@
 #include "lighting/environment_map.h"
 
+#include "core/uninitialized.h"
 #include "lighting/sphere_mapping.h"
 
 #include <algorithm>
