@@ -8,6 +8,8 @@
 #include <iterator>
 #include <limits>
 
+#include <tbb/parallel_for.h>
+
 namespace rayproc {
 
 namespace {
@@ -95,29 +97,81 @@ void forEachPlacedLeaf(const Node& group, const Affine& toWorld,
     }
 }
 
+// A leaf as placed in the world.
+struct PlacedLeaf {
+    const Shape* shape;
+    Affine toWorld;
+};
+
+// The triangles of `m`, placed by `w`, that are huge (ascending); none when its world bounds
+// `lb` pass both tests.
+template <class IsHuge>
+std::vector<unsigned> hugeOf(const TriangleMesh& m, const Bounds3& lb, const Affine& w,
+                             const DVec& cam, const IsHuge& isHuge) {
+    DBox box;
+    for (int k = 0; k < 8; ++k) {
+        Vec3 corner{(k & 1) ? lb.hi.x : lb.lo.x, (k & 2) ? lb.hi.y : lb.lo.y,
+                    (k & 4) ? lb.hi.z : lb.lo.z};
+        box.extend(toWorld(w, corner));
+    }
+    // No triangle is larger, reaches farther or comes closer than the mesh's bounds.
+    std::vector<unsigned> found;
+    if (!isHuge(box.extent(), box.reach(cam), box.distance(cam))) return found;
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+        DVec p[3];
+        DBox tb;
+        for (int k = 0; k < 3; ++k) {
+            p[k] = toWorld(w, m.positions[m.indices[3 * t + k]]);
+            tb.extend(p[k]);
+        }
+        // The camera's distance to the triangle is at least its distance to the triangle's
+        // bounding box and to its plane.
+        DVec e{p[1].x - p[0].x, p[1].y - p[0].y, p[1].z - p[0].z};
+        DVec f{p[2].x - p[0].x, p[2].y - p[0].y, p[2].z - p[0].z};
+        DVec n{e.y * f.z - e.z * f.y, e.z * f.x - e.x * f.z, e.x * f.y - e.y * f.x};
+        double nl = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+        double plane = 0;
+        if (nl > 0 && std::isfinite(nl))
+            plane = std::abs(n.x * (cam.x - p[0].x) + n.y * (cam.y - p[0].y) +
+                             n.z * (cam.z - p[0].z)) /
+                    nl;
+        double distance = std::max(tb.distance(cam), plane);
+        if (isHuge(tb.extent(), tb.reach(cam), distance)) found.push_back(unsigned(t));
+    }
+    return found;
+}
+
 } // namespace
 
 HugeTriangles findHugeTriangles(const Scene& scene) {
     HugeTriangles huge;
     if (!scene.root) return huge;
-    const Affine& rootTransform = scene.root->transform;
-
-    // F: the typical size of the smallest shape, in the world.
-    std::unordered_map<const TriangleMesh*, double> median;
-    std::unordered_map<const TriangleMesh*, Bounds3> localBounds;
-    double smallest = std::numeric_limits<double>::infinity();
-    forEachPlacedLeaf(*scene.root, rootTransform, [&](const Shape& s, const Affine& w) {
-        double size;
-        if (s.type == ShapeType::Mesh) {
-            auto it = median.find(s.mesh.get());
-            if (it == median.end()) it = median.emplace(s.mesh.get(), medianExtent(*s.mesh)).first;
-            size = it->second;
-        } else {
-            size = 2.0 * std::abs(double(s.radius));
-        }
-        size *= lengthScale(w);
-        if (size > 0 && std::isfinite(size)) smallest = std::min(smallest, size);
+    std::vector<PlacedLeaf> leaves;
+    forEachPlacedLeaf(*scene.root, scene.root->transform,
+                      [&](const Shape& s, const Affine& w) { leaves.push_back({&s, w}); });
+    // Each mesh's median triangle extent and bounds once, the meshes in parallel (a mesh
+    // placed many times is one task).
+    std::vector<const TriangleMesh*> meshes;
+    std::unordered_map<const TriangleMesh*, std::size_t> meshIndex;
+    for (const PlacedLeaf& l : leaves)
+        if (l.shape->type == ShapeType::Mesh && meshIndex.emplace(l.shape->mesh.get(),
+                                                                  meshes.size()).second)
+            meshes.push_back(l.shape->mesh.get());
+    std::vector<double> median(meshes.size());
+    std::vector<Bounds3> localBounds(meshes.size());
+    tbb::parallel_for(std::size_t(0), meshes.size(), [&](std::size_t i) {
+        median[i] = medianExtent(*meshes[i]);
+        localBounds[i] = meshes[i]->bounds();
     });
+    // F: the typical size of the smallest shape, in the world.
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const PlacedLeaf& l : leaves) {
+        const Shape& s = *l.shape;
+        double size = s.type == ShapeType::Mesh ? median[meshIndex.at(s.mesh.get())]
+                                                : 2.0 * std::abs(double(s.radius));
+        size *= lengthScale(l.toWorld);
+        if (size > 0 && std::isfinite(size)) smallest = std::min(smallest, size);
+    }
 
     const DVec cam{scene.camera.position.x, scene.camera.position.y, scene.camera.position.z};
     const double lens = std::abs(double(scene.camera.apertureRadius));
@@ -125,50 +179,22 @@ HugeTriangles findHugeTriangles(const Scene& scene) {
         return kFloatTestError * extent > kTolerance * smallest ||
                kFloatTestError * reach > kTolerance * std::max(0.0, distance - lens);
     };
-
-    forEachPlacedLeaf(*scene.root, rootTransform, [&](const Shape& s, const Affine& w) {
+    // Each placement's huge triangles in parallel; merged per shape in placement order.
+    std::vector<std::vector<unsigned>> found(leaves.size());
+    tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t i) {
+        const Shape& s = *leaves[i].shape;
         if (s.type != ShapeType::Mesh || s.mesh->triangleCount() == 0) return;
-        const TriangleMesh& m = *s.mesh;
-        auto lb = localBounds.find(&m);
-        if (lb == localBounds.end()) lb = localBounds.emplace(&m, m.bounds()).first;
-        DBox box;
-        for (int k = 0; k < 8; ++k) {
-            Vec3 corner{(k & 1) ? lb->second.hi.x : lb->second.lo.x,
-                        (k & 2) ? lb->second.hi.y : lb->second.lo.y,
-                        (k & 4) ? lb->second.hi.z : lb->second.lo.z};
-            box.extend(toWorld(w, corner));
-        }
-        // No triangle is larger, reaches farther or comes closer than the mesh's bounds.
-        if (!isHuge(box.extent(), box.reach(cam), box.distance(cam))) return;
-        std::vector<unsigned> found;
-        for (std::size_t t = 0; t < m.triangleCount(); ++t) {
-            DVec p[3];
-            DBox tb;
-            for (int k = 0; k < 3; ++k) {
-                p[k] = toWorld(w, m.positions[m.indices[3 * t + k]]);
-                tb.extend(p[k]);
-            }
-            // The camera's distance to the triangle is at least its distance to the
-            // triangle's bounding box and to its plane.
-            DVec e{p[1].x - p[0].x, p[1].y - p[0].y, p[1].z - p[0].z};
-            DVec f{p[2].x - p[0].x, p[2].y - p[0].y, p[2].z - p[0].z};
-            DVec n{e.y * f.z - e.z * f.y, e.z * f.x - e.x * f.z, e.x * f.y - e.y * f.x};
-            double nl = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
-            double plane = 0;
-            if (nl > 0 && std::isfinite(nl))
-                plane = std::abs(n.x * (cam.x - p[0].x) + n.y * (cam.y - p[0].y) +
-                                 n.z * (cam.z - p[0].z)) /
-                        nl;
-            double distance = std::max(tb.distance(cam), plane);
-            if (isHuge(tb.extent(), tb.reach(cam), distance)) found.push_back(unsigned(t));
-        }
-        if (found.empty()) return;
-        std::vector<unsigned>& list = huge[&s];
+        found[i] = hugeOf(*s.mesh, localBounds[meshIndex.at(s.mesh.get())], leaves[i].toWorld,
+                          cam, isHuge);
+    });
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+        if (found[i].empty()) continue;
+        std::vector<unsigned>& list = huge[leaves[i].shape];
         std::vector<unsigned> merged;
-        std::set_union(list.begin(), list.end(), found.begin(), found.end(),
+        std::set_union(list.begin(), list.end(), found[i].begin(), found[i].end(),
                        std::back_inserter(merged));
         list = std::move(merged);
-    });
+    }
     return huge;
 }
 
