@@ -58,6 +58,7 @@ void verifyExrChecksum(const std::string& path, const Imf::Header& header, const
 void checkExrChecksum(const std::string& path) {
     bool has = false;
     try {
+        if (!startsAsExr(path)) return; // OpenEXR would refuse it, after opening it
         Imf::InputFile file(path.c_str());
         has = file.header().findTypedAttribute<Imf::IntAttribute>(kExrChecksumAttribute);
     } catch (const std::exception&) {

@@ -20,6 +20,8 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <iterator>
 #include <new>
 #include <utility>
@@ -27,6 +29,9 @@
 namespace rayproc::image_detail {
 
 namespace {
+
+// An OpenEXR file's first four bytes.
+constexpr char kExrMagic[4] = {'\x76', '\x2f', '\x31', '\x01'};
 
 constexpr const char* kChannels[3] = {"R", "G", "B"};
 constexpr std::size_t kPixelStride = 3 * sizeof(float);
@@ -334,9 +339,18 @@ void checkWithOpenExrCore(const std::string& path) {
 
 } // namespace
 
+bool startsAsExr(const std::string& path) {
+    FileReader in(path);
+    char head[4];
+    return std::fread(head, 1, sizeof head, in.get()) == sizeof head &&
+           std::memcmp(head, kExrMagic, sizeof head) == 0;
+}
+
 void checkExrHeader(const std::string& path) {
+    // The magic number first: a texture of another format is not read whole to find it out.
+    if (!startsAsExr(path)) return;
     const std::string bytes = readFileBytes(path);
-    if (bytes.size() < 8 || bytes.compare(0, 4, "\x76\x2f\x31\x01") != 0) return;
+    if (bytes.size() < 8) return;
     walkExrHeaders(path, bytes);
     checkWithOpenExrCore(path);
 }

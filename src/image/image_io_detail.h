@@ -41,8 +41,12 @@ bool checkInputFile(const std::string& path);
 // Throws a read error when an attribute claims more bytes than the file has left or has a size
 // the C++ library would not read it by, when the header runs past the end of the file, or when
 // a part's chunk offset table or decoding buffer would be larger than the file accounts for.
-// Returns normally for files without the EXR magic number.
+// Returns normally for files without the EXR magic number, having read only their first bytes.
 void checkExrHeader(const std::string& path);
+
+// Whether the file starts with the EXR magic number (its first 4 bytes); throws a read error
+// when it cannot be opened.
+bool startsAsExr(const std::string& path);
 
 // For readers other than readExr (the texture loader's OpenImageIO): an EXR file that carries
 // rayproc's pixel checksum is decoded once here and refused when its pixels do not match it
