@@ -544,6 +544,10 @@ void triangleSurface(const TriangleMesh& m, unsigned tri, bool exact, float u, f
     }
 }
 
+// The direction of growing phi at the point (x, y) of the shape's frame: (-y, x) in it, of
+// length r (a sphere's and a disk's dp/du, up to the disk's 2 pi).
+Vec3 alongPhi(const Shape& s, float x, float y) { return s.frameY * x - s.frameX * y; }
+
 // Embree's single-ray and packet kernels round a sphere's t differently (by an ulp or so).
 // Solving the quadratic again in double precision, and taking the root Embree found, makes the
 // hit point independent of the packet width and more accurate.
@@ -567,14 +571,10 @@ void sphereSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
     l.ns = l.ng;
     // Along phi about the pole frameZ (sphereUv's u), |dp/dphi| = the distance from the axis.
     const Vec3 q = l.p - s.center;
-    l.dpdu = s.frameY * dot(q, s.frameX) - s.frameX * dot(q, s.frameY);
+    l.dpdu = alongPhi(s, dot(q, s.frameX), dot(q, s.frameY));
     l.dpdv = cross(l.ns, l.dpdu);
 }
 
-// pbrt-v4's (u, v) of a whole sphere's point p (in the sphere's space): u = phi / 2 pi, phi
-// about frameZ from frameX towards frameY in [0, 2 pi), and v = 1 - theta / pi, theta from the
-// pole frameZ. `step`: how far (u, v) move per unit of the hit's dp/du and dp/dv (sphereSurface's
-// are dp/dphi and ns x dp/dphi): 1 / 2 pi and rho / (pi r), rho the distance from the axis.
 // phi / 2 pi of the point (x, y) in the shape's frame, phi in [0, 2 pi).
 float azimuthU(float x, float y) {
     float phi = std::atan2(y, x);
@@ -582,6 +582,10 @@ float azimuthU(float x, float y) {
     return phi * 0.5f * kInvPi;
 }
 
+// pbrt-v4's (u, v) of a whole sphere's point p (in the sphere's space): u = phi / 2 pi, phi
+// about frameZ from frameX towards frameY in [0, 2 pi), and v = 1 - theta / pi, theta from the
+// pole frameZ. `step`: how far (u, v) move per unit of the hit's dp/du and dp/dv (sphereSurface's
+// are dp/dphi and ns x dp/dphi): 1 / 2 pi and rho / (pi r), rho the distance from the axis.
 Vec2 sphereUv(const Shape& s, const Vec3& p, Vec2& step) {
     const Vec3 q = p - s.center;
     const float x = dot(q, s.frameX), y = dot(q, s.frameY), z = dot(q, s.frameZ);
@@ -612,7 +616,7 @@ void diskSurface(const Shape& s, const Affine* toLocal, const Vec3& rayOrigin,
     const Vec3 q = l.p - s.center;
     const float x = dot(q, s.frameX), y = dot(q, s.frameY), r = std::sqrt(x * x + y * y);
     if (!(r > 0)) return;
-    l.dpdu = (s.frameY * x - s.frameX * y) * (2 * kPi);
+    l.dpdu = alongPhi(s, x, y) * (2 * kPi);
     l.dpdv = (s.frameX * x + s.frameY * y) * (-s.radius / r);
 }
 

@@ -246,9 +246,7 @@ ShapeResult plyMesh(const ParamList& params, const ShapeContext& ctx, Warnings& 
         failAt(file->loc, "PLY file not found: " + path.string());
     params.ignore({"edgelength"}); // only meaningful with displacement
     auto mesh = std::make_shared<TriangleMesh>();
-    ShapeContext at = ctx;
-    at.loads = nullptr;
-    auto read = [at, path = path.string(), fileLoc = file->loc,
+    auto read = [at = ctx, path = path.string(), fileLoc = file->loc,
                  target = mesh.get()](Warnings& out) {
         PlyMesh ply;
         try {
@@ -265,18 +263,14 @@ ShapeResult plyMesh(const ParamList& params, const ShapeContext& ctx, Warnings& 
         finishMesh(std::move(m), at, out, target);
     };
     ShapeResult r;
-    // An emitter's mesh is read now: "power" needs its area while the directive is read.
+    // An emitter's mesh is read now: "power" needs its area while the directive is read. A
+    // mesh being read is empty, so not a quad until the builder joins the reads.
     r.deferred = ctx.loads && !ctx.emissive;
-    if (r.deferred) {
+    if (r.deferred)
         ctx.loads->start(std::move(read));
-        Shape s;
-        s.type = ShapeType::Mesh;
-        s.mesh = std::move(mesh);
-        r.shapes.push_back(std::move(s));
-    } else {
+    else
         read(warnings);
-        r.shapes.push_back(meshShape(std::move(mesh)));
-    }
+    r.shapes.push_back(meshShape(std::move(mesh)));
     return r;
 }
 
