@@ -46,10 +46,10 @@ SurfacePoint randomOnRoom(std::mt19937& rng) {
     return {p, n};
 }
 
-std::vector<PhotonRecord> roomPhotons(int count) {
+PhotonList roomPhotons(int count) {
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> uni(0, 1);
-    std::vector<PhotonRecord> photons;
+    PhotonList photons;
     photons.reserve(std::size_t(count));
     for (int i = 0; i < count; ++i) {
         SurfacePoint s = randomOnRoom(rng);
@@ -94,11 +94,11 @@ void setRate(benchmark::State& state, const char* name) {
 }
 
 void build(benchmark::State& state) {
-    std::vector<PhotonRecord> photons = roomPhotons(int(state.range(0)));
+    PhotonList photons = roomPhotons(int(state.range(0)));
     PhotonMap map;
     for (auto _ : state) {
         state.PauseTiming();
-        std::vector<PhotonRecord> copy = photons;
+        PhotonList copy = photons;
         state.ResumeTiming();
         map.build(std::move(copy));
         benchmark::DoNotOptimize(map.size());

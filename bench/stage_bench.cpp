@@ -184,7 +184,7 @@ void shadowRetrace(benchmark::State& state, std::string sceneName) {
 // ---- photons and gather
 
 struct PhotonRun {
-    std::vector<PhotonRecord> photons;
+    PhotonList photons;
     std::uint64_t raysTraced = 0;
 };
 

@@ -37,4 +37,35 @@ struct DefaultInitAllocator : std::allocator<T> {
 // Floats that resize() leaves unwritten: every element must be written before it is read.
 using UninitializedFloats = std::vector<float, DefaultInitAllocator<float>>;
 
+// As DefaultInitAllocator, for structs whose members have default values (a Vec3's zeros), so
+// default-initialising them would still write every byte: resize(n) and vector(n) construct
+// nothing. Only for implicit-lifetime types, which begin to exist in the allocated storage
+// without a constructor call: aggregates and classes with a trivial copy constructor and
+// destructor (std::pair of such). Every element must be written before it is read.
+template <class T>
+struct UnwrittenAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UnwrittenAllocator<U>;
+    };
+    UnwrittenAllocator() = default;
+    template <class U>
+    UnwrittenAllocator(const UnwrittenAllocator<U>&) noexcept {}
+
+    template <class U>
+    void construct(U*) noexcept {
+        static_assert(std::is_trivially_copy_constructible_v<U> &&
+                          std::is_trivially_destructible_v<U>,
+                      "only for types that exist without a constructor call");
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
+// A vector that resize() and vector(n) leave unwritten (UnwrittenAllocator).
+template <class T>
+using UnwrittenVector = std::vector<T, UnwrittenAllocator<T>>;
+
 } // namespace rayproc

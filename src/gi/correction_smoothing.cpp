@@ -14,6 +14,17 @@ namespace rayproc {
 
 namespace {
 
+// Records per task of the loops over records (each record's sums are its own).
+constexpr std::size_t kRecordGrain = 256;
+
+// body(i) for every record i, on every thread.
+template <typename Body>
+void forEachRecord(std::size_t n, const Body& body) {
+    orderedParallelFor(0, n, kRecordGrain, [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) body(i);
+    });
+}
+
 struct RecordNode {
     float pos[3];
     std::uint8_t split = 0;
@@ -27,7 +38,7 @@ RecordNeighbours::RecordNeighbours(const std::vector<IrradianceRecord>& records)
     m_lists.assign(n * kMaxSmoothing, 0);
     m_counts.assign(n, 0);
     if (n == 0) return;
-    std::vector<kdtree::BuildKey> keys(n);
+    kdtree::BuildKeys keys(n);
     for (std::size_t i = 0; i < n; ++i) {
         const Vec3& p = records[i].position;
         keys[i] = {{p.x, p.y, p.z}, std::uint32_t(i)};
@@ -73,8 +84,8 @@ RecordNeighbours::RecordNeighbours(const std::vector<IrradianceRecord>& records)
 void RecordNeighbours::smooth(const std::vector<double>& values, int channels, int s,
                               std::vector<double>& out) const {
     const std::size_t n = size(), ch = std::size_t(channels);
-    out.assign(n * ch, 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
+    out.resize(n * ch);
+    forEachRecord(n, [&](std::size_t i) {
         const int m = std::min(s, m_counts[i]);
         const std::uint32_t* l = list(i);
         for (std::size_t c = 0; c < ch; ++c) {
@@ -82,44 +93,58 @@ void RecordNeighbours::smooth(const std::vector<double>& values, int channels, i
             for (int k = 0; k < m; ++k) sum += values[std::size_t(l[k]) * ch + c];
             out[i * ch + c] = sum / double(m);
         }
-    }
+    });
 }
 
 void RecordNeighbours::smoothVariance(const std::vector<double>& v, int s,
                                       std::vector<double>& out) const {
     const std::size_t n = size();
-    out.assign(n, 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
+    out.resize(n);
+    forEachRecord(n, [&](std::size_t i) {
         const int m = std::min(s, m_counts[i]);
         const std::uint32_t* l = list(i);
         double sum = 0.0;
         for (int k = 0; k < m; ++k) sum += v[l[k]];
         out[i] = sum / (double(m) * double(m));
-    }
+    });
 }
 
 int RecordNeighbours::chooseSize(const std::vector<double>& c, const std::vector<double>& v,
                                  std::vector<double>& smoothed, std::vector<double>* risks) const {
     if (risks) risks->clear();
-    int best = 1;
-    double bestRisk = 0.0;
-    std::vector<double> trial;
-    for (int s = 1; s <= kMaxSmoothing; s *= 2) {
-        smooth(c, 1, s, trial);
-        double risk = 0.0;
-        for (std::size_t i = 0; i < size(); ++i) {
-            const double d = trial[i] - c[i];
-            const int m = std::min(s, m_counts[i]);
-            risk += d * d - v[i] + 2.0 * v[i] / double(m);
+    // Every size's mean in one walk along each record's list, on every thread: the mean over
+    // the first m neighbours is the running sum at m, the sum smooth() makes, in its order.
+    // Then each size's risk, its records' terms summed in record order.
+    constexpr int kSizes = 7; // 1, 2, 4, ..., kMaxSmoothing
+    static_assert(1 << (kSizes - 1) == kMaxSmoothing);
+    const std::size_t n = size();
+    std::vector<double> trials(kSizes * n), terms(kSizes * n);
+    forEachRecord(n, [&](std::size_t i) {
+        const std::uint32_t* l = list(i);
+        double sum = 0.0;
+        int k = 0;
+        for (int t = 0; t < kSizes; ++t) {
+            const int m = std::min(1 << t, m_counts[i]);
+            for (; k < m; ++k) sum += c[l[k]];
+            const double mean = sum / double(m), d = mean - c[i];
+            trials[std::size_t(t) * n + i] = mean;
+            terms[std::size_t(t) * n + i] = d * d - v[i] + 2.0 * v[i] / double(m);
         }
+    });
+    int best = 0;
+    double bestRisk = 0.0;
+    for (int t = 0; t < kSizes; ++t) {
+        double risk = 0.0;
+        for (std::size_t i = 0; i < n; ++i) risk += terms[std::size_t(t) * n + i];
         if (risks) risks->push_back(risk);
-        if (s == 1 || risk < bestRisk) {
-            best = s;
+        if (t == 0 || risk < bestRisk) {
+            best = t;
             bestRisk = risk;
-            smoothed.swap(trial);
         }
     }
-    return best;
+    smoothed.assign(trials.begin() + std::ptrdiff_t(std::size_t(best) * n),
+                    trials.begin() + std::ptrdiff_t(std::size_t(best + 1) * n));
+    return 1 << best;
 }
 
 } // namespace rayproc

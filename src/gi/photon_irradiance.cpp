@@ -242,7 +242,7 @@ Rgbe PhotonMap::subsetEstimate(const PrecomputedPhoton& s, int k, float maxDista
 
 void PhotonMap::buildPrecomputedTree(std::vector<PrecomputedPhoton> subset) {
     const std::size_t count = subset.size();
-    std::vector<kdtree::BuildKey> keys(count);
+    kdtree::BuildKeys keys(count);
     for (std::size_t j = 0; j < count; ++j) {
         const PrecomputedPhoton& s = subset[j];
         keys[j] = {{s.pos[0], s.pos[1], s.pos[2]}, std::uint32_t(j)};

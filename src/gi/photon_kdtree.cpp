@@ -73,8 +73,7 @@ void buildRange(BuildKey* keys, std::uint8_t* axis, std::size_t n, StopCheck& st
 
 } // namespace
 
-bool build(std::vector<BuildKey>& keys, std::vector<std::uint8_t>& axis,
-           const std::function<bool()>& stop) {
+bool build(BuildKeys& keys, std::vector<std::uint8_t>& axis, const std::function<bool()>& stop) {
     RAYPROC_CHECK(keys.size() < (std::size_t(1) << 32));
     std::atomic<bool> finite{true};
     orderedParallelFor(0, keys.size(), 16384,

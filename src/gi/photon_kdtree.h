@@ -22,6 +22,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "core/uninitialized.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -38,13 +39,15 @@ struct BuildKey {
     float p[3];
     std::uint32_t index; // the caller's index of the point
 };
+// Keys that vector(n) leaves unwritten: the callers' parallel loops write every one.
+using BuildKeys = std::vector<BuildKey, DefaultInitAllocator<BuildKey>>;
 
 // Reorders keys into the tree and sets axis[i] to the split axis (0, 1, 2) of position i when
 // it is a node (0 in leaves). Afterwards keys[i].index says which input point sits at position
 // i. Parallel over subtrees, same result whatever the thread count. Positions must be finite.
 // When `stop` (optional, polled once per large subtree) turns true the build is abandoned, the
 // tree is not valid and false is returned.
-bool build(std::vector<BuildKey>& keys, std::vector<std::uint8_t>& axis,
+bool build(BuildKeys& keys, std::vector<std::uint8_t>& axis,
            const std::function<bool()>& stop = {});
 
 // Squared distance, always evaluated as (dx dx + dy dy) + dz dz, so that callers comparing with

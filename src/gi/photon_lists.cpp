@@ -20,7 +20,7 @@ constexpr std::size_t kFilterBlock = 65536;
 
 } // namespace
 
-std::vector<KeyedPhoton> keyedInOrder(std::vector<std::vector<KeyedPhoton>*> runs) {
+KeyedPhotons keyedInOrder(std::vector<std::vector<KeyedPhoton>*> runs) {
     // Each run's key range, on its own thread.
     std::vector<std::pair<std::uint64_t, std::uint64_t>> ranges(
         runs.size(), {std::numeric_limits<std::uint64_t>::max(), 0});
@@ -37,7 +37,7 @@ std::vector<KeyedPhoton> keyedInOrder(std::vector<std::vector<KeyedPhoton>*> run
         lo = std::min(lo, ranges[r].first);
         hi = std::max(hi, ranges[r].second);
     }
-    std::vector<KeyedPhoton> all(total);
+    KeyedPhotons all(total); // every element written by the scatter below
     if (total == 0) return all;
     // Buckets of `width` consecutive keys: bucket b holds keys lo + b width ... + width - 1.
     const std::size_t wanted = std::clamp<std::size_t>(total / kPhotonsPerBucket, 1, kMaxBuckets);
@@ -73,13 +73,17 @@ std::vector<KeyedPhoton> keyedInOrder(std::vector<std::vector<KeyedPhoton>*> run
     return all;
 }
 
-std::vector<PhotonRecord> joinRounds(std::vector<std::vector<PhotonRecord>>& rounds,
-                                     float divisor) {
+PhotonList joinRounds(std::vector<PhotonList>& rounds, float divisor) {
+    if (rounds.size() == 1 && divisor == 1.0f) { // the one round as it is, not a copy
+        PhotonList one = std::move(rounds[0]);
+        rounds.clear();
+        return one;
+    }
     std::vector<std::size_t> start(rounds.size() + 1, 0);
     for (std::size_t r = 0; r < rounds.size(); ++r) start[r + 1] = start[r] + rounds[r].size();
-    std::vector<PhotonRecord> all(start.back());
+    PhotonList all(start.back());
     orderedParallelForEach(0, rounds.size(), [&](std::size_t r) {
-        const std::vector<PhotonRecord>& round = rounds[r];
+        const PhotonList& round = rounds[r];
         orderedParallelFor(0, round.size(), kFilterBlock,
                           [&](const tbb::blocked_range<std::size_t>& range) {
                               for (std::size_t i = range.begin(); i != range.end(); ++i) {
@@ -93,7 +97,7 @@ std::vector<PhotonRecord> joinRounds(std::vector<std::vector<PhotonRecord>>& rou
     return all;
 }
 
-std::vector<PhotonRecord> scatteredPhotons(const std::vector<PhotonRecord>& photons) {
+PhotonList scatteredPhotons(const PhotonList& photons) {
     // Count per block, then each block copies its photons from its prefix.
     const std::size_t blocks = (photons.size() + kFilterBlock - 1) / kFilterBlock;
     std::vector<std::size_t> start(blocks + 1, 0);
@@ -109,7 +113,7 @@ std::vector<PhotonRecord> scatteredPhotons(const std::vector<PhotonRecord>& phot
                                                  }));
     });
     for (std::size_t b = 0; b < blocks; ++b) start[b + 1] += start[b];
-    std::vector<PhotonRecord> out(start[blocks]);
+    PhotonList out(start[blocks]);
     orderedParallelForEach(0, blocks, [&](std::size_t b) {
         const auto [first, last] = blockRange(b);
         std::size_t to = start[b];

@@ -18,7 +18,7 @@
 
 namespace rayproc {
 
-bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<bool()>& stop) {
+bool PhotonMap::build(PhotonList photons, const std::function<bool()>& stop) {
     m_photons.clear();
     m_photons.shrink_to_fit();
     m_wavelength.clear();
@@ -30,7 +30,7 @@ bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<boo
     m_hasPrecomputed = false;
     RAYPROC_CHECK(photons.size() < (std::size_t(1) << 32));
 
-    std::vector<kdtree::BuildKey> keys(photons.size());
+    kdtree::BuildKeys keys(photons.size());
     std::atomic<bool> finite{true}, oneWavelength{false};
     orderedParallelFor(0, photons.size(), 16384,
                       [&](const tbb::blocked_range<std::size_t>& r) {
@@ -51,7 +51,7 @@ bool PhotonMap::build(std::vector<PhotonRecord> photons, const std::function<boo
 
     // Encode each photon into its node.
     std::atomic<bool> stopped{false};
-    std::vector<StoredPhoton> stored(photons.size());
+    UnwrittenVector<StoredPhoton> stored(photons.size());
     std::vector<float> wavelength(oneWavelength ? photons.size() : 0);
     orderedParallelFor(0, photons.size(), 4096,
                       [&](const tbb::blocked_range<std::size_t>& r) {

@@ -16,6 +16,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "core/uninitialized.h"
 #include "gi/photon_encoding.h"
 
 #include <algorithm>
@@ -44,6 +45,11 @@ struct PhotonRecord {
     // is that wavelength's alone, SpectralRender::lane), 0 for a photon of three.
     float wavelength = 0;
 };
+
+// The photon lists between the tracer and the map. vector(n) and resize(n) leave the records
+// unwritten (core/uninitialized.h): their parallel loops write every one, and the page faults of
+// a few hundred thousand photons fall on those loops' threads, not on one thread's zero-fill.
+using PhotonList = UnwrittenVector<PhotonRecord>;
 
 class PhotonMap {
 public:
@@ -83,7 +89,7 @@ public:
     // Positions and powers must be finite (checked); negative power channels are stored as 0;
     // direction and normal are normalised (a zero vector becomes +z). When `stop` (optional)
     // turns true during the build the map is left empty and false is returned.
-    bool build(std::vector<PhotonRecord> photons, const std::function<bool()>& stop = {});
+    bool build(PhotonList photons, const std::function<bool()>& stop = {});
     std::size_t size() const { return m_photons.size(); }
     // Heap bytes held: the stored photons and the precomputed subset.
     std::size_t memoryBytes() const;
@@ -239,7 +245,7 @@ private:
     // The irradiance of precomputed photon i (tree order), made now if deferred and not yet made.
     Rgbe precomputedIrradiance(std::size_t i) const;
 
-    std::vector<StoredPhoton> m_photons;
+    UnwrittenVector<StoredPhoton> m_photons; // every one written by build()
     // Per stored photon (tree order) its PhotonRecord::wavelength; empty where none has one.
     std::vector<float> m_wavelength;
     double m_unit = 1; // setPowerUnit

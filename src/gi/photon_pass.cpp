@@ -18,12 +18,10 @@
 
 namespace rayproc {
 
-std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const EmbreeScene& accel,
-                                                   const LightSet& lights, const GiSettings& s,
-                                                   const EngineSettings& engine,
-                                                   const Cluster& cluster, PhaseLog* phases,
-                                                   const PhotonPassSpec& pass,
-                                                   const FocusRegion& focus, Stats& stats) {
+KeyedPhotons tracePhotons(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
+                          const GiSettings& s, const EngineSettings& engine, const Cluster& cluster,
+                          PhaseLog* phases, const PhotonPassSpec& pass, const FocusRegion& focus,
+                          Stats& stats) {
     Film film(1, 1);
     ShadingPolicy policy;
     policy.rouletteEnabled = s.roulette;
@@ -64,8 +62,7 @@ std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const Emb
     return stage.takeKeyedPhotons([] { return interruptRequested(); });
 }
 
-std::vector<PhotonRecord> mergePhotonShares(const Cluster& cluster,
-                                            std::vector<PhotonStage::KeyedPhoton> mine) {
+PhotonList mergePhotonShares(const Cluster& cluster, KeyedPhotons mine) {
     auto stop = [] { return interruptRequested(); };
     if (!cluster.distributed()) return PhotonStage::photonsInKeyOrder(std::move(mine), stop);
     constexpr std::size_t kKey = sizeof(std::uint64_t), kItem = kKey + sizeof(PhotonRecord);
@@ -77,7 +74,7 @@ std::vector<PhotonRecord> mergePhotonShares(const Cluster& cluster,
     mine = {};
     std::vector<std::uint8_t> all = cluster.gatherAll(bytes);
     bytes = {};
-    std::vector<PhotonStage::KeyedPhoton> keyed(all.size() / kItem);
+    KeyedPhotons keyed(all.size() / kItem);
     for (std::size_t i = 0; i < keyed.size(); ++i) {
         std::memcpy(&keyed[i].first, &all[i * kItem], kKey);
         std::memcpy(&keyed[i].second, &all[i * kItem + kKey], sizeof(PhotonRecord));
@@ -105,7 +102,7 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
         if (indirect && p.sampledDirect) return false;
         return !focus.active || focus.bounds.contains(p.position);
     };
-    std::vector<std::vector<PhotonRecord>> traced;
+    std::vector<PhotonList> traced;
     std::size_t& landed = done.inView;
     int& rounds = done.rounds;
     while (rounds < std::max(1, pass.maxRounds)) {
@@ -114,7 +111,7 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
             round.tag = kernels::hashCombine(pass.tag, std::uint64_t(rounds));
             round.label = "gi photons, another round";
         }
-        std::vector<PhotonStage::KeyedPhoton> keyed =
+        KeyedPhotons keyed =
             tracePhotons(scene, accel, lights, s, engine, cluster, phases, round, focus, stats);
         PhaseTimer mergePhase(phases, "photon_sort", PhaseKind::Parallel);
         traced.push_back(mergePhotonShares(cluster, std::move(keyed)));
@@ -125,7 +122,7 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
         if (landed >= pass.inViewTarget) break;
     }
     // Each round alone carries the lights' whole power.
-    std::vector<PhotonRecord> photons = joinRounds(traced, rounds > 1 ? float(rounds) : 1.0f);
+    PhotonList photons = joinRounds(traced, rounds > 1 ? float(rounds) : 1.0f);
     double unit = PhotonEmitter::powerUnit(lights, scene.worldBounds());
     if (indirect) indirect->setPowerUnit(unit);
     map.setPowerUnit(unit);
@@ -135,7 +132,7 @@ PhotonRounds buildPhotonMap(PhotonMap& map, const Scene& scene, const EmbreeScen
         return done;
     }
     // The two kd-trees at once: each one's top levels run on one thread.
-    std::vector<PhotonRecord> scattered = scatteredPhotons(photons);
+    PhotonList scattered = scatteredPhotons(photons);
     bool indirectBuilt = true;
     orderedParallelInvoke(
         [&] { indirectBuilt = indirect->build(std::move(scattered), stop); },

@@ -43,17 +43,14 @@ struct PhotonPassSpec {
 
 // Traces this rank's share of the pass and returns what the photon stage stored, keyed;
 // nothing once an interrupt is requested (emission stops, photons in flight finish).
-std::vector<PhotonStage::KeyedPhoton> tracePhotons(const Scene& scene, const EmbreeScene& accel,
-                                                   const LightSet& lights, const GiSettings& s,
-                                                   const EngineSettings& engine,
-                                                   const Cluster& cluster, PhaseLog* phases,
-                                                   const PhotonPassSpec& pass,
-                                                   const FocusRegion& focus, Stats& stats);
+KeyedPhotons tracePhotons(const Scene& scene, const EmbreeScene& accel, const LightSet& lights,
+                          const GiSettings& s, const EngineSettings& engine, const Cluster& cluster,
+                          PhaseLog* phases, const PhotonPassSpec& pass, const FocusRegion& focus,
+                          Stats& stats);
 
 // Every rank's photons in key order, on every rank: the map one process would have traced.
 // A collective.
-std::vector<PhotonRecord> mergePhotonShares(const Cluster& cluster,
-                                            std::vector<PhotonStage::KeyedPhoton> mine);
+PhotonList mergePhotonShares(const Cluster& cluster, KeyedPhotons mine);
 
 // Whether any rank was interrupted (one process: whether this one was). A collective.
 bool stopped(const Cluster& cluster);

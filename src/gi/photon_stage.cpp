@@ -12,6 +12,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace rayproc {
@@ -32,6 +33,21 @@ void spawnPhoton(PhotonBatch& out, const PhotonBatch& parent, int i, const Vec3&
     out.depth[j] = depth;
     out.flags[j] = flags;
     out.lambdaU[j] = lambdaU;
+}
+
+// std::is_sorted over blocks of `all` on every thread: each block, and its first element
+// against the element before it.
+template <typename Less>
+bool sortedInParallel(const KeyedPhotons& all, const Less& less) {
+    constexpr std::size_t kBlock = 65536;
+    std::atomic<bool> sorted{true};
+    orderedParallelFor(0, all.size(), kBlock, [&](const tbb::blocked_range<std::size_t>& r) {
+        const std::size_t first = r.begin() > 0 ? r.begin() - 1 : 0;
+        if (!std::is_sorted(all.begin() + std::ptrdiff_t(first),
+                            all.begin() + std::ptrdiff_t(r.end()), less))
+            sorted.store(false, std::memory_order_relaxed);
+    });
+    return sorted.load();
 }
 
 } // namespace
@@ -124,26 +140,23 @@ void PhotonStage::retracePhotons(PhotonBatch& b, StageContext& ctx) {
     stats.stages[int(kPhotonStageId)].raysOut += spawned;
 }
 
-std::vector<PhotonStage::KeyedPhoton> PhotonStage::takeKeyedPhotons(
-    const std::function<bool()>& stop) {
+KeyedPhotons PhotonStage::takeKeyedPhotons(const std::function<bool()>& stop) {
     if (stop && stop()) return {};
     // Keys (photon index, depth) are unique, so key order is the only order, whatever thread
     // stored which photon.
     std::vector<std::vector<KeyedPhoton>*> runs;
     for (auto& v : m_stored) runs.push_back(&v);
-    std::vector<KeyedPhoton> all = keyedInOrder(std::move(runs));
+    KeyedPhotons all = keyedInOrder(std::move(runs));
     if (stop && stop()) return {};
     return all;
 }
 
-std::vector<PhotonRecord> PhotonStage::photonsInKeyOrder(std::vector<KeyedPhoton> all,
-                                                         const std::function<bool()>& stop) {
+PhotonList PhotonStage::photonsInKeyOrder(KeyedPhotons all, const std::function<bool()>& stop) {
     // Shares of contiguous index ranges arrive in order; anything else is sorted here.
     auto byKey = [](const auto& a, const auto& b) { return a.first < b.first; };
-    if (!std::is_sorted(all.begin(), all.end(), byKey))
-        tbb::parallel_sort(all.begin(), all.end(), byKey);
+    if (!sortedInParallel(all, byKey)) tbb::parallel_sort(all.begin(), all.end(), byKey);
     if (stop && stop()) return {};
-    std::vector<PhotonRecord> out(all.size());
+    PhotonList out(all.size()); // every record written below
     orderedParallelFor(0, all.size(), 65536,
                       [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = all[i].second;
@@ -151,8 +164,8 @@ std::vector<PhotonRecord> PhotonStage::photonsInKeyOrder(std::vector<KeyedPhoton
     return out;
 }
 
-std::vector<PhotonRecord> PhotonStage::takePhotons(const std::function<bool()>& stop) {
-    std::vector<KeyedPhoton> all = takeKeyedPhotons(stop);
+PhotonList PhotonStage::takePhotons(const std::function<bool()>& stop) {
+    KeyedPhotons all = takeKeyedPhotons(stop);
     if (stop && stop()) return {};
     return photonsInKeyOrder(std::move(all), stop);
 }

@@ -48,12 +48,11 @@ public:
     using KeyedPhoton = rayproc::KeyedPhoton;
     // The stored photons in key order (photon index, then bounce), whatever the threads;
     // nothing when `stop` turns true.
-    std::vector<KeyedPhoton> takeKeyedPhotons(const std::function<bool()>& stop = {});
+    KeyedPhotons takeKeyedPhotons(const std::function<bool()>& stop = {});
     // The same without keys.
-    std::vector<PhotonRecord> takePhotons(const std::function<bool()>& stop = {});
+    PhotonList takePhotons(const std::function<bool()>& stop = {});
     // Records of keyed, sorted lists (the shares of a distributed photon pass) in key order.
-    static std::vector<PhotonRecord> photonsInKeyOrder(std::vector<KeyedPhoton> keyed,
-                                                       const std::function<bool()>& stop = {});
+    static PhotonList photonsInKeyOrder(KeyedPhotons keyed, const std::function<bool()>& stop = {});
 
 private:
     // The photon lane i of b leaves at its hit h (power: its flux there; wl: its lane).

@@ -50,7 +50,7 @@ TEST_CASE("Photon power unit: 1 for ordinary scenes, a power of two beyond float
 }
 
 TEST_CASE("Photon map estimates are scaled by the power unit, exactly", "[gi]") {
-    std::vector<PhotonRecord> photons;
+    PhotonList photons;
     for (int i = 0; i < 64; ++i)
         photons.push_back({Vec3(float(i % 8) * 0.1f, 0, float(i / 8) * 0.1f),
                            Vec3(0.25f, 0.5f, 1.0f), Vec3(0, 1, 0), Vec3(0, 1, 0)});

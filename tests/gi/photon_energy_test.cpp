@@ -26,7 +26,7 @@ using namespace rayproc::test;
 namespace {
 
 // Traces `count` global-map photons and returns what the photon stage stored.
-std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& accel, std::uint32_t count,
+PhotonList tracePhotons(const Scene& scene, const EmbreeScene& accel, std::uint32_t count,
                        int maxPhotonDepth, std::uint64_t seed) {
     LightSet lights = LightSet::build(scene, accel);
     Film film(1, 1);
@@ -41,7 +41,7 @@ std::vector<PhotonRecord> tracePhotons(const Scene& scene, const EmbreeScene& ac
     return stage.takePhotons();
 }
 
-Vec3 storedPower(const std::vector<PhotonRecord>& photons) {
+Vec3 storedPower(const PhotonList& photons) {
     double s[3] = {0, 0, 0};
     for (const PhotonRecord& p : photons)
         for (int c = 0; c < 3; ++c) s[c] += p.power[c];
@@ -49,7 +49,7 @@ Vec3 storedPower(const std::vector<PhotonRecord>& photons) {
 }
 
 // The same sum as the built map decodes it (RGBE).
-Vec3 decodedPower(const std::vector<PhotonRecord>& photons) {
+Vec3 decodedPower(const PhotonList& photons) {
     PhotonMap map;
     map.build(photons);
     double s[3] = {0, 0, 0};
@@ -84,7 +84,7 @@ TEST_CASE("Photon pass: a point light in a closed sphere stores Phi at the first
     const std::uint32_t n = 200000;
 
     SECTION("first bounce only: exactly Phi") {
-        std::vector<PhotonRecord> photons = tracePhotons(*scene, accel, n, 1, 7);
+        PhotonList photons = tracePhotons(*scene, accel, n, 1, 7);
         CHECK(photons.size() == n); // every photon hits the wall once and stops
         Vec3 stored = storedPower(photons), decoded = decodedPower(photons);
         for (int c = 0; c < 3; ++c) {
@@ -98,7 +98,7 @@ TEST_CASE("Photon pass: a point light in a closed sphere stores Phi at the first
 
     SECTION("all bounces: the geometric series, within 4 sigma of the random walk") {
         const int depth = 16;
-        std::vector<PhotonRecord> photons = tracePhotons(*scene, accel, n, depth, 7);
+        PhotonList photons = tracePhotons(*scene, accel, n, depth, 7);
         Vec3 stored = storedPower(photons), decoded = decodedPower(photons);
         // Per path and channel the stored sum is (Phi / n) sum_{k=0}^{L} (a / q)^k, where
         // q = max(a) is the roulette's survival probability and P(L >= k) = q^k for k < D:
@@ -144,7 +144,7 @@ TEST_CASE("Photon pass: an emitting sphere's inward photons start off the surfac
     const float area = 4 * kPi * 2.0f * 2.0f;
     const Vec3 inward = le * (kPi * area);
     const std::uint32_t n = 100000;
-    std::vector<PhotonRecord> photons = tracePhotons(*scene, accel, n, 1, 3);
+    PhotonList photons = tracePhotons(*scene, accel, n, 1, 3);
     Vec3 stored = storedPower(photons);
     INFO("stored " << stored.x << ", " << stored.y << ", " << stored.z << " of " << photons.size()
                    << " photons; inward flux " << inward.x << ", " << inward.y << ", " << inward.z);

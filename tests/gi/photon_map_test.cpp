@@ -74,10 +74,10 @@ struct LitPlane {
     LitPlane() { orthonormalBasis(n, t, b); }
     Vec3 at(float u, float v) const { return origin + t * u + b * v; }
 
-    std::vector<PhotonRecord> photons(int count, unsigned seed) const {
+    PhotonList photons(int count, unsigned seed) const {
         std::mt19937 rng(seed);
         std::uniform_real_distribution<float> uni(0, 1);
-        std::vector<PhotonRecord> out;
+        PhotonList out;
         for (int i = 0; i < count; ++i) {
             float r = std::sqrt(uni(rng)), a = 2 * kPi * uni(rng);
             float z = std::sqrt(std::max(0.0f, 1 - r * r));
@@ -164,7 +164,7 @@ TEST_CASE("k nearest photons equal brute force, ties and empty results included"
     std::uniform_real_distribution<float> uni(-1, 1);
     std::normal_distribution<float> gauss(0, 0.05f);
     auto makeSet = [&](int kind, int count) {
-        std::vector<PhotonRecord> v;
+        PhotonList v;
         Vec3 centres[4] = {Vec3(0.5f, 0.5f, 0), Vec3(-0.5f, 0, 0.2f), Vec3(0),
                            Vec3(0.9f, -0.9f, 0.9f)};
         for (int i = 0; i < count; ++i) {
@@ -231,7 +231,7 @@ TEST_CASE("k nearest photons equal brute force, ties and empty results included"
 TEST_CASE("Decoded photon powers sum to the input flux within RGBE precision", "[gi]") {
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> uni(0, 1), exponent(-3, 1);
-    std::vector<PhotonRecord> photons;
+    PhotonList photons;
     double inputSum[3] = {0, 0, 0}, bound = 0;
     for (int i = 0; i < 100000; ++i) {
         float s = std::pow(10.0f, exponent(rng));
@@ -290,7 +290,7 @@ TEST_CASE("Density estimates of a uniformly lit plane equal flux over area", "[g
         // (the direction test must drop them), and a wall perpendicular to the plane through
         // the query region (the normal test must drop those): the k nearest photons span a
         // smaller disc, but only the photons from above on this plane are summed over it.
-        std::vector<PhotonRecord> photons = plane.photons(kPhotons, 1);
+        PhotonList photons = plane.photons(kPhotons, 1);
         for (PhotonRecord ph : plane.photons(kPhotons, 3)) {
             ph.direction = -ph.direction;
             ph.power = ph.power * 5.0f;
@@ -344,7 +344,7 @@ TEST_CASE("Density estimates of a uniformly lit plane equal flux over area", "[g
         // gi's caustic estimate for a path of one wavelength (spectral mode, dispersive glass):
         // every third photon carries one wavelength (400-699 nm); the others go to `others`,
         // those to `oneWavelength` through the caller's function, under the same cone filter.
-        std::vector<PhotonRecord> all = plane.photons(kPhotons, 1), three, blueOne;
+        PhotonList all = plane.photons(kPhotons, 1), three, blueOne;
         for (std::size_t i = 0; i < all.size(); ++i) {
             if (i % 3 == 0) {
                 all[i].wavelength = 400.0f + float(i % 300);
@@ -462,7 +462,7 @@ TEST_CASE("Precomputed irradiance matches the direct estimate", "[gi]") {
 
 TEST_CASE("Building and precomputing give the same map on 1 and 2 threads", "[gi]") {
     LitPlane plane;
-    std::vector<PhotonRecord> photons = plane.photons(100000, 8);
+    PhotonList photons = plane.photons(100000, 8);
     PhotonMap one, two;
     tbb::task_arena(1).execute([&] {
         one.build(photons);
@@ -488,7 +488,7 @@ TEST_CASE("Deferred irradiance equals the precomputed one bit for bit and is mad
           "lookups land",
           "[gi]") {
     LitPlane plane;
-    std::vector<PhotonRecord> photons = plane.photons(100000, 12);
+    PhotonList photons = plane.photons(100000, 12);
     PhotonMap eager, lazy;
     eager.build(photons);
     eager.precomputeIrradiance(50, 1.0f, 4);
@@ -565,7 +565,7 @@ TEST_CASE("Concurrent queries give the serial results", "[gi]") {
 
 TEST_CASE("A stop request abandons building and precomputing and leaves no half-made map", "[gi]") {
     LitPlane plane;
-    std::vector<PhotonRecord> photons = plane.photons(100000, 12);
+    PhotonList photons = plane.photons(100000, 12);
     // The request arrives after some of the work: the build checks again and gives up.
     std::atomic<int> polls{0};
     auto stopLater = [&] { return ++polls > 3; };
