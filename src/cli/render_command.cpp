@@ -416,6 +416,7 @@ int runRender(const RenderArgs& a) {
     // Where the command's time goes (--stats, --stats-json "phases"; engine/phases.h).
     const auto processStart = std::chrono::steady_clock::now();
     PhaseLog phases;
+    LoopLog::Scope namedLoops(&phases); // this thread's named loops are phases of their own
     // Under mpirun every rank runs this with the same arguments; rank 0 writes the files
     // (docs/distributed.md), the others render their share quietly.
     const Cluster& cluster = Cluster::world();

@@ -9,6 +9,8 @@
 // is on the per-ray path.
 #pragma once
 
+#include "core/named_loop.h"
+
 #include <chrono>
 #include <string>
 #include <vector>
@@ -35,9 +37,13 @@ struct PhaseStats {
     double busyFraction() const;
 };
 
-// The phases in the order they first ran; a phase entered again adds to its entry.
-class PhaseLog {
+// The phases in the order they first ran; a phase entered again adds to its entry. Installed
+// as a thread's LoopLog, it records that thread's named loops as Parallel phases.
+class PhaseLog : public LoopLog {
 public:
+    void loopTimed(const char* name, double seconds) override {
+        add(name, PhaseKind::Parallel, seconds);
+    }
     void add(const std::string& name, PhaseKind kind, double seconds, double busySeconds = 0,
              int threads = 1);
     const std::vector<PhaseStats>& phases() const { return m_phases; }

@@ -1,5 +1,6 @@
 #include "gi/correction_smoothing.h"
 
+#include "core/named_loop.h"
 #include "core/ordered_parallel.h"
 #include "gi/photon_heap.h"
 #include "gi/photon_kdtree.h"
@@ -20,8 +21,10 @@ constexpr std::size_t kRecordGrain = 256;
 // body(i) for every record i, on every thread.
 template <typename Body>
 void forEachRecord(std::size_t n, const Body& body) {
-    orderedParallelFor(0, n, kRecordGrain, [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) body(i);
+    namedLoop("correction_smoothing", [&] {
+        orderedParallelFor(0, n, kRecordGrain, [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) body(i);
+        });
     });
 }
 

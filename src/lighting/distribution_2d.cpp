@@ -1,5 +1,7 @@
 #include "lighting/distribution_2d.h"
 
+#include "core/named_loop.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -66,7 +68,8 @@ Distribution2D::Distribution2D(std::vector<float> weights, int width, int height
                        &m_rowGuide[std::size_t(y) * std::size_t(width + 1)]);
         }
     };
-    tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), rows);
+    namedLoop("distribution_rows",
+              [&] { tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), rows); });
     double total = 0;
     for (int y = 0; y < height; ++y) {
         total += rowTotal[std::size_t(y)];

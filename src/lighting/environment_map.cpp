@@ -1,5 +1,6 @@
 #include "lighting/environment_map.h"
 
+#include "core/named_loop.h"
 #include "core/uninitialized.h"
 #include "lighting/sphere_mapping.h"
 
@@ -18,6 +19,13 @@ float channelMean(const Vec3& c) { return (c.x + c.y + c.z) / 3.0f; }
 // sin theta at the centre of lat-long row y of h rows.
 float rowSinTheta(int y, int h) { return std::sin(kPi * (float(y) + 0.5f) / float(h)); }
 
+// body(rows) over blocks of the map's h rows, on every thread.
+template <typename Body>
+void forEachRowBlock(int h, const Body& body) {
+    namedLoop("environment_rows",
+              [&] { tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), body); });
+}
+
 } // namespace
 
 EnvironmentLight::Map::Map(const Light& light)
@@ -33,7 +41,7 @@ EnvironmentLight::Map::Map(const Light& light)
     // Each pixel's radiance times its area and channel mean, rows in parallel; then the sums
     // over the pixels in one order, as one loop over them made them.
     UninitializedFloats weighted(3 * n), means(n);
-    tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& r) {
+    forEachRowBlock(h, [&](const tbb::blocked_range<int>& r) {
         for (int y = r.begin(); y < r.end(); ++y) {
             const float area = areaOf(y);
             for (int x = 0; x < w; ++x) {
@@ -64,7 +72,7 @@ EnvironmentLight::Map::Map(const Light& light)
     const float mean = channelMean(average);
     std::vector<float> excess(weights.size());
     std::vector<char> rowAny(std::size_t(h), 0);
-    tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& r) {
+    forEachRowBlock(h, [&](const tbb::blocked_range<int>& r) {
         for (int y = r.begin(); y < r.end(); ++y) {
             const float area = areaOf(y);
             for (int x = 0; x < w; ++x) {

@@ -1,5 +1,6 @@
 #include "texture/texture_image.h"
 
+#include "core/named_loop.h"
 #include "image/image.h"
 #include "texture/direct_readers.h"
 #include "texture/oiio_module.h"
@@ -137,16 +138,18 @@ std::shared_ptr<const TextureImage> decodeFile(const std::string& path,
             }
         });
     };
-    if (raw.bytes) {
-        // 8-bit samples: their 256 decodes, the same values the memo gives their floats.
-        std::array<float, 256> table;
-        DecodeMemo memo(e);
-        for (int b = 0; b < 256; ++b) table[b] = memo(byteSample((unsigned char)b));
-        rows(raw.bytes.get(), [&] { return [&](unsigned char b) { return table[b]; }; },
-             [](unsigned char b) { return byteSample(b); });
-    } else {
-        rows(raw.pixels.data(), [&] { return DecodeMemo(e); }, [](float v) { return v; });
-    }
+    namedLoop("texture_decode", [&] {
+        if (raw.bytes) {
+            // 8-bit samples: their 256 decodes, the same values the memo gives their floats.
+            std::array<float, 256> table;
+            DecodeMemo memo(e);
+            for (int b = 0; b < 256; ++b) table[b] = memo(byteSample((unsigned char)b));
+            rows(raw.bytes.get(), [&] { return [&](unsigned char b) { return table[b]; }; },
+                 [](unsigned char b) { return byteSample(b); });
+        } else {
+            rows(raw.pixels.data(), [&] { return DecodeMemo(e); }, [](float v) { return v; });
+        }
+    });
     img->levels.push_back(std::move(base));
     buildMipLevels(*img);
     return img;
@@ -182,7 +185,8 @@ void buildMipLevels(TextureImage& img) {
             for (int y = r.begin(); y < r.end(); ++y)
                 for (int x = 0; x < c.width; ++x) downsample(f, x, y, c);
         };
-        tbb::parallel_for(tbb::blocked_range<int>(0, c.height, 32), rows);
+        namedLoop("texture_mips",
+                  [&] { tbb::parallel_for(tbb::blocked_range<int>(0, c.height, 32), rows); });
         img.levels.push_back(std::move(c));
     }
 }

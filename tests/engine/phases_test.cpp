@@ -1,12 +1,16 @@
 // The phase log behind --stats' phases: entries add up by name in first-use order, a timer
-// around nested timers keeps only its own time, the summary's fractions follow the kinds.
+// around nested timers keeps only its own time, a named loop is a parallel phase of its own, the
+// summary's fractions follow the kinds.
 #include "engine/phases.h"
 #include "engine/stats.h"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <thread>
 
@@ -45,6 +49,39 @@ TEST_CASE("A timer around nested timers records only its own time", "[engine]") 
     PhaseTimer none(nullptr, "no log"); // records nothing, fails nothing
     none.stop();
     CHECK(log.phases().size() == 3);
+}
+
+TEST_CASE("A named loop is a parallel phase of the thread whose log is installed", "[engine]") {
+    PhaseLog log;
+    std::atomic<int> bodies{0};
+    auto loop = [&] {
+        tbb::parallel_for(0, 64, [&](int) { bodies.fetch_add(1); });
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    };
+    namedLoop("unlogged", loop); // no log installed: nothing recorded
+    CHECK(log.phases().empty());
+    {
+        LoopLog::Scope scope(&log);
+        {
+            PhaseTimer outer(&log, "load");
+            namedLoop("decode", loop);
+            namedLoop("decode", [&] { namedLoop("inner", loop); }); // nested: only the outer
+        }
+        std::thread other([&] { namedLoop("elsewhere", loop); }); // another thread: no log
+        other.join();
+    }
+    namedLoop("after", loop); // the scope ended
+    CHECK(bodies.load() == 5 * 64); // every loop ran, logged or not
+    REQUIRE(log.phases().size() == 2);
+    const PhaseStats& decode = log.phases()[0];
+    CHECK(decode.name == "decode");
+    CHECK(decode.kind == PhaseKind::Parallel);
+    CHECK(decode.count == 2);
+    CHECK(decode.seconds >= 0.010);
+    // The serial phase around the loops keeps only its own time: none beyond them here.
+    CHECK(log.phases()[1].name == "load");
+    CHECK(log.phases()[1].seconds < decode.seconds);
+    CHECK(log.recordedSeconds() == Approx(decode.seconds + log.phases()[1].seconds));
 }
 
 TEST_CASE("The summary's serial seconds and busy fraction", "[engine]") {
