@@ -1,7 +1,7 @@
 // A buffer whose resize leaves its new elements unwritten, for arrays a parallel loop fills in
 // full right after: the kernel's first-touch page faults then fall on the loop's threads, not on
 // one thread zero-filling megabytes the loop overwrites (issue 35: a texture's 9.5 MB of texels
-// took 4 ms of a serial memset in the classroom's load).
+// took 4 ms of a serial memset in the classroom's load; gi's photon lists 17 ms).
 #pragma once
 
 #include <memory>
@@ -12,36 +12,12 @@
 
 namespace rayproc {
 
-// std::allocator, but a value-initialising construct() (what resize(n) and vector(n) call)
-// default-initialises: nothing for trivial types. Constructors with arguments are unchanged.
-template <class T>
-struct DefaultInitAllocator : std::allocator<T> {
-    template <class U>
-    struct rebind {
-        using other = DefaultInitAllocator<U>;
-    };
-    DefaultInitAllocator() = default;
-    template <class U>
-    DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
-
-    template <class U>
-    void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
-        ::new (static_cast<void*>(p)) U;
-    }
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-};
-
-// Floats that resize() leaves unwritten: every element must be written before it is read.
-using UninitializedFloats = std::vector<float, DefaultInitAllocator<float>>;
-
-// As DefaultInitAllocator, for structs whose members have default values (a Vec3's zeros), so
-// default-initialising them would still write every byte: resize(n) and vector(n) construct
-// nothing. Only for implicit-lifetime types, which begin to exist in the allocated storage
-// without a constructor call: aggregates and classes with a trivial copy constructor and
-// destructor (std::pair of such). Every element must be written before it is read.
+// std::allocator, but the value-initialising construct() that resize(n) and vector(n) call
+// constructs nothing, also for structs whose members have default values (a Vec3's zeros),
+// where default-initialisation would still write every byte. Only for implicit-lifetime types,
+// which begin to exist in the allocated storage without a constructor call: scalars,
+// aggregates, and classes with a trivial copy constructor and destructor (std::pair of such).
+// Constructors with arguments are unchanged. Every element must be written before it is read.
 template <class T>
 struct UnwrittenAllocator : std::allocator<T> {
     template <class U>
@@ -67,5 +43,8 @@ struct UnwrittenAllocator : std::allocator<T> {
 // A vector that resize() and vector(n) leave unwritten (UnwrittenAllocator).
 template <class T>
 using UnwrittenVector = std::vector<T, UnwrittenAllocator<T>>;
+
+// Floats that resize() leaves unwritten.
+using UninitializedFloats = UnwrittenVector<float>;
 
 } // namespace rayproc

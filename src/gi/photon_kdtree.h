@@ -40,7 +40,7 @@ struct BuildKey {
     std::uint32_t index; // the caller's index of the point
 };
 // Keys that vector(n) leaves unwritten: the callers' parallel loops write every one.
-using BuildKeys = std::vector<BuildKey, DefaultInitAllocator<BuildKey>>;
+using BuildKeys = UnwrittenVector<BuildKey>;
 
 // Reorders keys into the tree and sets axis[i] to the split axis (0, 1, 2) of position i when
 // it is a node (0 in leaves). Afterwards keys[i].index says which input point sits at position

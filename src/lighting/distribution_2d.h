@@ -31,10 +31,10 @@ private:
     std::vector<float> m_weights;  // cell weights
     // Per row: cumulative weights within it (width entries); the rows' loop writes every entry
     // (of this and the row guides), so neither is zero-filled first.
-    std::vector<double, DefaultInitAllocator<double>> m_rowCdf;
+    UnwrittenVector<double> m_rowCdf;
     std::vector<double> m_margCdf; // cumulative row totals (height entries)
     // Guide tables: per row (width + 1 entries each), then the marginal's (height + 1).
-    std::vector<std::uint32_t, DefaultInitAllocator<std::uint32_t>> m_rowGuide;
+    UnwrittenVector<std::uint32_t> m_rowGuide;
     std::vector<std::uint32_t> m_margGuide;
     double m_total = 0;
 };
